@@ -1,0 +1,94 @@
+"""Typed errors and warnings.
+
+Every error a user can cause names *where* (file, table, entry, sample) and *what*: the CLI prints
+``str(error)`` as one paragraph and exits non-zero, never a traceback.
+"""
+
+from __future__ import annotations
+
+
+class ExcavkinError(Exception):
+    """Base of all errors excavkin raises on purpose."""
+
+
+class ModelError(ExcavkinError):
+    """A mechanism description is wrong: unknown names, bad units, impossible geometry.
+
+    Parameters
+    ----------
+    problem : str
+        What is wrong, in one sentence.
+    table, entry : str, optional
+        Where in the model (``"bodies"``, ``"rocker"``).
+    source : str, optional
+        The file the model came from.
+    """
+
+    def __init__(
+        self,
+        problem: str,
+        *,
+        table: str | None = None,
+        entry: str | None = None,
+        source: str | None = None,
+    ) -> None:
+        self.problem = problem
+        self.table = table
+        self.entry = entry
+        self.source = source
+        super().__init__(self._text())
+
+    def _text(self) -> str:
+        where = []
+        if self.source:
+            where.append(self.source)
+        if self.table:
+            where.append(f"[{self.table}]")
+        if self.entry:
+            where.append(f"{self.entry!r}")
+        prefix = " ".join(where)
+        return f"{prefix}: {self.problem}" if prefix else self.problem
+
+    def with_source(self, source: str) -> ModelError:
+        """Return a copy of this error that also names the file."""
+        err = type(self).__new__(type(self))
+        ModelError.__init__(err, self.problem, table=self.table, entry=self.entry, source=source)
+        return err
+
+
+class UnitError(ModelError):
+    """A quantity has a wrong, missing or unknown unit."""
+
+
+class MobilityError(ModelError):
+    """The driver count does not match the mobility, or a sub-chain is over/under-constrained."""
+
+
+class AssemblyError(ModelError):
+    """The mechanism cannot be assembled at its sketch with the given lengths."""
+
+
+class InputError(ExcavkinError):
+    """A solve request is wrong: an unknown driver, mismatched array shapes, a bad value."""
+
+
+class SolveFailure(ExcavkinError):
+    """Some samples could not be solved (no closure, dead position) and the caller asked to stop.
+
+    Attributes
+    ----------
+    result : object
+        The partial result, with its per-sample status.
+    """
+
+    def __init__(self, message: str, result: object) -> None:
+        self.result = result
+        super().__init__(message)
+
+
+class ExcavkinWarning(UserWarning):
+    """Base of excavkin's warnings."""
+
+
+class SingularityWarning(ExcavkinWarning):
+    """Some samples lie at a dead (singular) position."""

@@ -1,0 +1,193 @@
+"""Read a mechanism from TOML (``schema_version = 1``) into an SI :class:`Model`.
+
+Every number may carry its own unit (``"48 mm"``, ``"50 deg"``); a bare number takes the
+file's ``[units]`` default for its kind, and is an error without one.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from excavkin.errors import ModelError, UnitError
+from excavkin.model.entities import Body, LinearDriver, Model, RotaryDriver, Slider
+from excavkin.model.validate import validate
+from excavkin.units import KINDS, check_unit, to_si
+
+SCHEMA_VERSION = 1
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_TOP = {"schema_version", "name", "description", "units", "points", "bodies", "lengths",
+        "drivers", "sliders", "loads", "gravity"}
+
+
+class _Reader:
+    def __init__(self, data: dict[str, Any], source: str | None) -> None:
+        self.data = data
+        self.source = source
+        units = data.get("units", {})
+        if not isinstance(units, dict):
+            raise self.err("must be a table of unit names", "units")
+        self.units: dict[str, str] = {}
+        for kind, unit in units.items():
+            if kind not in KINDS or kind == "dimensionless":
+                raise self.err(f"unknown quantity kind (known: {', '.join(k for k in KINDS if k != 'dimensionless')})",
+                               "units", kind)
+            if not isinstance(unit, str):
+                raise self.err("the unit must be a string such as \"mm\"", "units", kind)
+            try:
+                check_unit(unit, kind)
+            except UnitError as exc:
+                raise UnitError(exc.problem, table="units", entry=kind, source=source) from None
+            self.units[kind] = unit
+
+    def err(self, problem: str, table: str | None = None, entry: str | None = None) -> ModelError:
+        return ModelError(problem, table=table, entry=entry, source=self.source)
+
+    def qty(self, value: Any, kind: str, table: str, entry: str) -> float:
+        try:
+            return to_si(value, kind, self.units.get(kind))
+        except UnitError as exc:
+            raise UnitError(exc.problem, table=table, entry=entry, source=self.source) from None
+
+    def xy(self, value: Any, table: str, entry: str) -> tuple[float, float]:
+        if not isinstance(value, list) or len(value) != 2:
+            raise self.err("expected two coordinates [x, y]", table, entry)
+        return (self.qty(value[0], "length", table, entry),
+                self.qty(value[1], "length", table, entry))
+
+    def name(self, value: Any, table: str, entry: str | None = None) -> str:
+        if not isinstance(value, str) or not _NAME.match(value):
+            raise self.err(f"{value!r} is not a valid name (letters, digits and _, not starting "
+                           "with a digit)", table, entry)
+        return value
+
+    def table(self, key: str, required: bool = False) -> dict[str, Any]:
+        t = self.data.get(key, {})
+        if not isinstance(t, dict):
+            raise self.err("must be a table", key)
+        if required and not t:
+            raise self.err("is missing or empty", key)
+        return t
+
+    def keys(self, entry: dict[str, Any], allowed: set[str], table: str, name: str) -> None:
+        extra = set(entry) - allowed
+        if extra:
+            raise self.err(f"unknown key{'s' if len(extra) > 1 else ''} "
+                           f"{', '.join(sorted(extra))} (allowed: {', '.join(sorted(allowed))})",
+                           table, name)
+
+
+def loads_model(text: str, source: str | None = None) -> Model:
+    """Parse a mechanism from TOML text; see :func:`load_model`."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(f"not valid TOML: {exc}", source=source) from None
+    return _build(data, source)
+
+
+def load_model(path: str | Path) -> Model:
+    """Read and validate a mechanism file.
+
+    Raises
+    ------
+    ModelError
+        Naming the file, the table and the entry of the first problem found.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ModelError(f"cannot read the file: {exc.strerror}", source=str(path)) from None
+    return loads_model(text, str(path))
+
+
+def _build(data: dict[str, Any], source: str | None) -> Model:
+    r = _Reader(data, source)
+    ver = data.get("schema_version")
+    if ver is None:
+        raise r.err(f"schema_version is missing (this version of excavkin reads "
+                    f"schema_version = {SCHEMA_VERSION})")
+    if ver != SCHEMA_VERSION:
+        raise r.err(f"schema_version = {ver!r} is not supported (this version of excavkin "
+                    f"reads {SCHEMA_VERSION})")
+    unknown = set(data) - _TOP
+    if unknown:
+        raise r.err(f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
+                    f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})")
+    name = data.get("name", Path(source).stem if source else "mechanism")
+    points = {r.name(k, "points"): r.xy(v, "points", k) for k, v in r.table("points", True).items()}
+
+    bodies = []
+    for bname, spec in r.table("bodies", True).items():
+        r.name(bname, "bodies")
+        if not isinstance(spec, dict):
+            raise r.err("must be a table such as { points = [\"A\", \"B\"] }", "bodies", bname)
+        r.keys(spec, {"points", "ground", "mass", "inertia", "center_of_mass"}, "bodies", bname)
+        pts = spec.get("points")
+        if not isinstance(pts, list) or not all(isinstance(p, str) for p in pts):
+            raise r.err("points must be a list of point names", "bodies", bname)
+        ground = spec.get("ground", False)
+        if not isinstance(ground, bool):
+            raise r.err("ground must be true or false", "bodies", bname)
+        mass = r.qty(spec["mass"], "mass", "bodies", bname) if "mass" in spec else None
+        inertia = r.qty(spec["inertia"], "inertia", "bodies", bname) if "inertia" in spec else None
+        com = r.xy(spec["center_of_mass"], "bodies", bname) if "center_of_mass" in spec else None
+        bodies.append(Body(bname, tuple(pts), ground, mass, inertia, com))
+
+    rotary, linear = [], []
+    for dname, spec in r.table("drivers").items():
+        r.name(dname, "drivers")
+        table = f"drivers.{dname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", table)
+        kind = spec.get("type")
+        if kind == "rotary":
+            r.keys(spec, {"type", "body", "pivot", "reference"}, "drivers", dname)
+            for key in ("body", "pivot"):
+                if key not in spec:
+                    raise r.err(f"a rotary driver needs {key!r}", table)
+            rotary.append(RotaryDriver(dname, str(spec["body"]), str(spec["pivot"]),
+                                       str(spec.get("reference", _ground_name(bodies)))))
+        elif kind == "linear":
+            r.keys(spec, {"type", "between", "mode"}, "drivers", dname)
+            between = spec.get("between")
+            if not isinstance(between, list) or len(between) != 2:
+                raise r.err("between must list two point names", table, "between")
+            mode = spec.get("mode", "driven")
+            if mode not in ("driven", "locked", "free"):
+                raise r.err(f"mode must be 'driven', 'locked' or 'free', not {mode!r}", table,
+                            "mode")
+            linear.append(LinearDriver(dname, (str(between[0]), str(between[1])), mode))
+        else:
+            raise r.err(f"type must be 'rotary' or 'linear', not {kind!r}", table, "type")
+
+    sliders = []
+    for sname, spec in r.table("sliders").items():
+        r.name(sname, "sliders")
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", f"sliders.{sname}")
+        r.keys(spec, {"point", "along"}, "sliders", sname)
+        along = spec.get("along")
+        if not isinstance(along, list) or len(along) != 2 or "point" not in spec:
+            raise r.err("needs point = \"P\" and along = [\"L1\", \"L2\"]", f"sliders.{sname}")
+        sliders.append(Slider(sname, str(spec["point"]), (str(along[0]), str(along[1]))))
+
+    lengths: dict[tuple[str, str], float] = {}
+    for key, value in r.table("lengths").items():
+        parts = key.split("-")
+        if len(parts) != 2 or not all(parts):
+            raise r.err("a length's key is two point names joined by '-', such as \"A-B\"",
+                        "lengths", key)
+        lengths[(parts[0], parts[1])] = r.qty(value, "length", "lengths", key)
+
+    model = Model(str(name), points, tuple(bodies), tuple(rotary), tuple(linear), tuple(sliders),
+                  lengths, source)
+    validate(model)
+    return model
+
+
+def _ground_name(bodies: list[Body]) -> str:
+    return next((b.name for b in bodies if b.ground), "ground")

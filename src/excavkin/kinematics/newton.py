@@ -1,0 +1,228 @@
+"""Batched Newton–Raphson for the points no closed-form step reaches.
+
+Unknowns are the group's point coordinates; equations are the constraints of
+:mod:`excavkin.structure.plan` (distances, rigid frames, point-on-line, driver angles). Each
+iteration solves ``J·Δ = −Φ`` for every sample at once. Velocities and accelerations solve the
+same Jacobian with the differentiated constraints (DESIGN.md §4)::
+
+    J·ẋ = −Φ̇|ẋ_group=0          J·ẍ = −Φ̈|ẍ_group=0
+
+where ``Φ̇|ẋ_group=0`` is the time derivative of Φ with the group's own velocities set to zero
+(the contribution of known points and driver rates), and likewise for Φ̈.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import numpy as np
+
+from excavkin.kinematics.kernels import Chunk, Code, F, dist, flag
+from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, NewtonGroup
+
+Grad = list[tuple[int, F | float, F | float]]
+
+
+def _cross(ax: F, ay: F, bx: F, by: F) -> F:
+    return ax * by - ay * bx
+
+
+def _equations(
+    c: Chunk, g: NewtonGroup, x: F, v: F | None, a: F | None
+) -> Iterator[tuple[F, Grad, F | None, F | None]]:
+    """Yield, per equation: residual, gradient per point, Φ̇ and Φ̈ (when v, a given)."""
+    zero = np.zeros(x.shape[-1])
+    for con in g.constraints:
+        if isinstance(con, CDist):
+            d, dd, ddd = dist(c, con.dist)
+            rx, ry = x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1]
+            f = rx * rx + ry * ry - d * d
+            grad: Grad = [(con.p, 2 * rx, 2 * ry), (con.q, -2 * rx, -2 * ry)]
+            f1 = f2 = None
+            if v is not None:
+                wx, wy = v[con.p, 0] - v[con.q, 0], v[con.p, 1] - v[con.q, 1]
+                f1 = 2 * (rx * wx + ry * wy) - 2 * d * dd + zero
+                if a is not None:
+                    ax_, ay_ = a[con.p, 0] - a[con.q, 0], a[con.p, 1] - a[con.q, 1]
+                    f2 = (2 * (rx * ax_ + ry * ay_) + 2 * (wx * wx + wy * wy)
+                          - 2 * (dd * dd + d * ddd) + zero)
+            yield f, grad, f1, f2
+        elif isinstance(con, CFrame):
+            s, t = con.s, con.t
+
+            def frame(arr: F, comp: int) -> F:
+                wx = arr[con.b, 0] - arr[con.a, 0]
+                wy = arr[con.b, 1] - arr[con.a, 1]
+                if comp == 0:
+                    return arr[con.p, 0] - arr[con.a, 0] - s * wx + t * wy
+                return arr[con.p, 1] - arr[con.a, 1] - s * wy - t * wx
+
+            gx: Grad = [(con.p, 1.0, 0.0), (con.a, s - 1.0, -t), (con.b, -s, t)]
+            gy: Grad = [(con.p, 0.0, 1.0), (con.a, t, s - 1.0), (con.b, -t, -s)]
+            for comp, gr in ((0, gx), (1, gy)):
+                yield (frame(x, comp), gr, None if v is None else frame(v, comp),
+                       None if a is None else frame(a, comp))
+        elif isinstance(con, CLine):
+            ux = x[con.l2, 0] - x[con.l1, 0]
+            uy = x[con.l2, 1] - x[con.l1, 1]
+            gx_, gy_ = x[con.p, 0] - x[con.l1, 0], x[con.p, 1] - x[con.l1, 1]
+            f = _cross(ux, uy, gx_, gy_)
+            grad = [(con.p, -uy, ux), (con.l2, gy_, -gx_), (con.l1, uy - gy_, gx_ - ux)]
+            f1 = f2 = None
+            if v is not None:
+                udx, udy = v[con.l2, 0] - v[con.l1, 0], v[con.l2, 1] - v[con.l1, 1]
+                gdx, gdy = v[con.p, 0] - v[con.l1, 0], v[con.p, 1] - v[con.l1, 1]
+                f1 = _cross(udx, udy, gx_, gy_) + _cross(ux, uy, gdx, gdy)
+                if a is not None:
+                    uax, uay = a[con.l2, 0] - a[con.l1, 0], a[con.l2, 1] - a[con.l1, 1]
+                    gax, gay = a[con.p, 0] - a[con.l1, 0], a[con.p, 1] - a[con.l1, 1]
+                    f2 = (_cross(uax, uay, gx_, gy_) + 2 * _cross(udx, udy, gdx, gdy)
+                          + _cross(ux, uy, gax, gay))
+            yield f, grad, f1, f2
+        else:
+            yield _angle(c, con, x, v, a)
+
+
+def _angle(
+    c: Chunk, con: CAngle, x: F, v: F | None, a: F | None
+) -> tuple[F, Grad, F | None, F | None]:
+    q, qd, qdd = c.q[con.input], c.qd[con.input], c.qdd[con.input]
+    cs, sn = np.cos(q), np.sin(q)
+    zero = np.zeros_like(q)
+    if con.ref is None:
+        vx, vy = 1.0 + zero, zero
+    else:
+        vx = x[con.ref[1], 0] - x[con.ref[0], 0]
+        vy = x[con.ref[1], 1] - x[con.ref[0], 1]
+    ex, ey = cs * vx - sn * vy, sn * vx + cs * vy
+    dpx, dpy = x[con.p, 0] - x[con.pivot, 0], x[con.p, 1] - x[con.pivot, 1]
+    f = _cross(ex, ey, dpx, dpy)
+    grad: Grad = [(con.p, -ey, ex), (con.pivot, ey, -ex)]
+    if con.ref is not None:
+        gvx, gvy = cs * dpy - sn * dpx, -sn * dpy - cs * dpx
+        grad += [(con.ref[1], gvx, gvy), (con.ref[0], -gvx, -gvy)]
+    f1 = f2 = None
+    if v is not None:
+        if con.ref is None:
+            vdx = vdy = zero
+        else:
+            vdx = v[con.ref[1], 0] - v[con.ref[0], 0]
+            vdy = v[con.ref[1], 1] - v[con.ref[0], 1]
+        rvdx, rvdy = cs * vdx - sn * vdy, sn * vdx + cs * vdy
+        edx, edy = rvdx - qd * ey, rvdy + qd * ex
+        ddx, ddy = v[con.p, 0] - v[con.pivot, 0], v[con.p, 1] - v[con.pivot, 1]
+        f1 = _cross(edx, edy, dpx, dpy) + _cross(ex, ey, ddx, ddy)
+        if a is not None:
+            if con.ref is None:
+                vax = vay = zero
+            else:
+                vax = a[con.ref[1], 0] - a[con.ref[0], 0]
+                vay = a[con.ref[1], 1] - a[con.ref[0], 1]
+            eax = cs * vax - sn * vay - 2 * qd * rvdy - qdd * ey - qd * qd * ex
+            eay = sn * vax + cs * vay + 2 * qd * rvdx + qdd * ex - qd * qd * ey
+            dax, day = a[con.p, 0] - a[con.pivot, 0], a[con.p, 1] - a[con.pivot, 1]
+            f2 = (_cross(eax, eay, dpx, dpy) + 2 * _cross(edx, edy, ddx, ddy)
+                  + _cross(ex, ey, dax, day))
+    return f, grad, f1, f2
+
+
+def _system(c: Chunk, g: NewtonGroup, order: int) -> tuple[F, F, F | None, F | None]:
+    n = c.x.shape[-1]
+    col = {p: 2 * k for k, p in enumerate(g.points)}
+    m = 2 * len(g.points)
+    jac = np.zeros((n, m, m))
+    res = np.empty((n, m))
+    r1 = np.empty((n, m)) if order else None
+    r2 = np.empty((n, m)) if order else None
+    for row, (f, grad, f1, f2) in enumerate(
+        _equations(c, g, c.x, c.v if order else None, c.a if order else None)
+    ):
+        res[:, row] = f
+        for p, gx, gy in grad:
+            if p in col:
+                jac[:, row, col[p]] += gx
+                jac[:, row, col[p] + 1] += gy
+        if r1 is not None and r2 is not None:
+            r1[:, row] = f1  # type: ignore[assignment]
+            r2[:, row] = f2  # type: ignore[assignment]
+    return res, jac, r1, r2
+
+
+def _safe_solve(jac: F, rhs: F, tol: float) -> tuple[F, np.ndarray]:
+    """Solve per sample; singular samples get NaN and a True in the mask."""
+    sign, logdet = np.linalg.slogdet(jac)
+    # scale-free test: determinant against the product of row norms (Hadamard bound)
+    rows = np.linalg.norm(jac, axis=2)
+    bound = np.sum(np.log(np.where(rows > 0, rows, 1.0)), axis=1)
+    sing = (sign == 0) | (logdet - bound < np.log(tol))
+    if sing.any():
+        jac = jac.copy()
+        jac[sing] = np.eye(jac.shape[1])
+    out = np.linalg.solve(jac, rhs[..., None])[..., 0]
+    out[sing] = np.nan
+    return out, sing
+
+
+def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: int = 50) -> None:
+    """Newton iterations from the current ``c.x`` of the group's points."""
+    pts = list(g.points)
+    active = np.ones(c.x.shape[-1], dtype=bool)
+    for _ in range(max_iter):
+        res, jac, _, _ = _system(c, g, 0)
+        step, sing = _safe_solve(jac, -res, 1e-13)
+        step[~active] = 0.0
+        step[sing] = 0.0
+        for j, p in enumerate(pts):
+            c.x[p, 0] += step[:, 2 * j]
+            c.x[p, 1] += step[:, 2 * j + 1]
+        size = np.max(np.abs(step), axis=1)
+        active &= ~(size <= 1e-14 * scale) & ~sing
+        if not active.any():
+            break
+    res, _, _, _ = _system(c, g, 0)
+    bad = ~(np.max(np.abs(res), axis=1) <= 1e-10 * scale * scale) | ~np.isfinite(res).all(axis=1)
+    flag(c, bad, Code.NO_CONVERGENCE, k)
+    for p in pts:
+        c.x[p, :, bad] = np.nan
+
+
+def newton_rates(c: Chunk, g: NewtonGroup, k: int) -> F:
+    """Velocities and accelerations of the group's points; returns the Jacobian's log-det sign."""
+    pts = list(g.points)
+    for p in pts:
+        c.v[p] = 0.0
+        c.a[p] = 0.0
+    _, jac, r1, _ = _system(c, g, 1)
+    assert r1 is not None
+    vel, sing = _safe_solve(jac, -r1, c.singular_tol**2)
+    flag(c, sing, Code.SINGULAR, k)
+    for j, p in enumerate(pts):
+        c.v[p, 0] = vel[:, 2 * j]
+        c.v[p, 1] = vel[:, 2 * j + 1]
+    _, _, _, r2 = _system(c, g, 1)
+    assert r2 is not None
+    acc, _ = _safe_solve(jac, -r2, c.singular_tol**2)
+    for j, p in enumerate(pts):
+        c.a[p, 0] = acc[:, 2 * j]
+        c.a[p, 1] = acc[:, 2 * j + 1]
+    sign, _ = np.linalg.slogdet(jac)
+    return np.asarray(sign, dtype=np.float64)
+
+
+def rotary_branch_ok(c: Chunk, g: NewtonGroup) -> F:
+    """True where every driver-angle constraint points its body the driven way (not θ + π)."""
+    ok = np.ones(c.x.shape[-1], dtype=bool)
+    for con in g.constraints:
+        if isinstance(con, CAngle):
+            q = c.q[con.input]
+            if con.ref is None:
+                vx, vy = np.ones_like(q), np.zeros_like(q)
+            else:
+                vx = c.x[con.ref[1], 0] - c.x[con.ref[0], 0]
+                vy = c.x[con.ref[1], 1] - c.x[con.ref[0], 1]
+            cs, sn = np.cos(q), np.sin(q)
+            ex, ey = cs * vx - sn * vy, sn * vx + cs * vy
+            dpx = c.x[con.p, 0] - c.x[con.pivot, 0]
+            dpy = c.x[con.p, 1] - c.x[con.pivot, 1]
+            ok &= ex * dpx + ey * dpy > 0
+    return ok

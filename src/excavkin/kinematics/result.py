@@ -1,0 +1,276 @@
+"""Kinematic results: arrays with the batch axis first, a per-sample status, a tidy table."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from excavkin.kinematics.kernels import Code, F
+from excavkin.structure.plan import Dyad, NewtonGroup, SliderStep, SolvePlan
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+_REASON = {
+    Code.NO_CLOSURE: "cannot close",
+    Code.SINGULAR: "dead position",
+    Code.NO_CONVERGENCE: "Newton did not converge",
+    Code.BRANCH_CHANGED: "assembly branch changed",
+    Code.BAD_INPUT: "input is NaN or infinite",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Status:
+    """Per-sample outcome.
+
+    Attributes
+    ----------
+    code : ndarray of int8, shape (n,)
+        0 where the sample solved; otherwise a :class:`~excavkin.kinematics.kernels.Code`.
+    step : ndarray of int16, shape (n,)
+        Index of the plan step that failed first, −1 where none did.
+    """
+
+    code: np.ndarray
+    step: np.ndarray
+    plan: SolvePlan
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Boolean mask of solved samples, shape (n,)."""
+        return np.asarray(self.code == 0)
+
+    @property
+    def all_ok(self) -> bool:
+        """Whether every sample solved."""
+        return bool(np.all(self.code == 0))
+
+    def where(self, k: int) -> str:
+        """The step a failure happened at, in words."""
+        st = self.plan.steps[k]
+        pts = self.plan.points
+        if isinstance(st, Dyad):
+            return f"dyad {pts[st.point]} (from {pts[st.a]} and {pts[st.b]})"
+        if isinstance(st, SliderStep):
+            return f"slider {st.slider!r} ({pts[st.point]} on {pts[st.l1]}→{pts[st.l2]})"
+        if isinstance(st, NewtonGroup):
+            return f"group {', '.join(pts[i] for i in st.points)}"
+        return f"step {k + 1}"
+
+    def message(self, i: int) -> str:
+        """Why sample ``i`` failed, or ``"ok"``."""
+        code = Code(int(self.code[i]))
+        if code == Code.OK:
+            return "ok"
+        if code == Code.BAD_INPUT:
+            return _REASON[code]
+        return f"{_REASON[code]} at {self.where(int(self.step[i]))}"
+
+    def labels(self) -> np.ndarray:
+        """A short label per sample (``"ok"`` or the reason and place), shape (n,)."""
+        out = np.full(self.code.shape, "ok", dtype=object)
+        bad = np.flatnonzero(self.code != 0)
+        if bad.size:
+            keys = self.code[bad].astype(np.int32) * 100000 + self.step[bad].astype(np.int32)
+            uniq, first = np.unique(keys, return_index=True)
+            text = {int(k): self.message(int(bad[f])) for k, f in zip(uniq, first, strict=True)}
+            out[bad] = [text[int(k)] for k in keys]
+        return out
+
+    def summary(self, limit: int = 10) -> str:
+        """One paragraph listing the failing samples, grouped by reason."""
+        bad = np.flatnonzero(self.code != 0)
+        if not bad.size:
+            return "all samples solved"
+        labels = self.labels()
+        parts = []
+        for lab in dict.fromkeys(labels[bad]):
+            idx = bad[labels[bad] == lab]
+            shown = ", ".join(str(int(i)) for i in idx[:limit])
+            more = f" and {idx.size - limit} more" if idx.size > limit else ""
+            parts.append(f"{lab}: sample{'s' if idx.size > 1 else ''} {shown}{more}")
+        return f"{bad.size} of {self.code.size} samples failed — " + "; ".join(parts)
+
+
+@dataclass(frozen=True, slots=True)
+class KinematicResult:
+    """Positions, velocities and accelerations of a mechanism over n samples (SI).
+
+    Attributes
+    ----------
+    plan : SolvePlan
+    positions, velocities, accelerations : ndarray, shape (n, n_points, 2)
+        Views of the solver's struct-of-arrays storage.
+    body_angle, body_omega, body_epsilon : ndarray, shape (n, n_bodies)
+        Orientation (first→second point, CCW from +x, in (−π, π]), ω and ε.
+    inputs, input_rates, input_accels : ndarray, shape (n, n_inputs)
+    element_length, element_rate, element_accel : ndarray, shape (n, n_elements)
+        Every linear element (driven, locked or free).
+    element_angle, element_omega, element_epsilon : ndarray, shape (n, n_elements)
+        Direction of each element from its first point to its second, and its rates.
+    transmission : ndarray, shape (n, n_transmissions)
+        Transmission angle of each dyad (between its two links, in [0, π]) and each slider
+        (between the link and the slide's normal, in [0, π/2]); dead at 0 or π.
+    status : Status
+    """
+
+    plan: SolvePlan
+    positions: F
+    velocities: F
+    accelerations: F
+    body_angle: F
+    body_omega: F
+    body_epsilon: F
+    inputs: F
+    input_rates: F
+    input_accels: F
+    element_length: F
+    element_rate: F
+    element_accel: F
+    element_angle: F
+    element_omega: F
+    element_epsilon: F
+    transmission: F
+    status: Status
+    time: F | None = None
+
+    @classmethod
+    def build(
+        cls, plan: SolvePlan, x: F, v: F, a: F, q: F, qd: F, qdd: F, trans: F, status: Status
+    ) -> KinematicResult:
+        """Derive body and element quantities from the solved point arrays (n_points, 2, n)."""
+        n = x.shape[-1]
+        nb = len(plan.bodies)
+        b_ang, b_om, b_eps = (np.zeros((nb, n)) for _ in range(3))
+        for j, (p0, p1) in enumerate(plan.body_base):
+            if j == plan.ground or p0 < 0:
+                continue
+            b_ang[j], b_om[j], b_eps[j], _, _, _ = _segment(x, v, a, p0, p1)
+        ne = len(plan.elements)
+        el = [np.empty((ne, n)) for _ in range(6)]
+        for j, e in enumerate(plan.elements):
+            ang, om, eps, ln, rt, ac = _segment(x, v, a, e.p, e.q)
+            for arr, val in zip(el, (ln, rt, ac, ang, om, eps), strict=True):
+                arr[j] = val
+        return cls(
+            plan=plan,
+            positions=np.moveaxis(x, -1, 0),
+            velocities=np.moveaxis(v, -1, 0),
+            accelerations=np.moveaxis(a, -1, 0),
+            body_angle=b_ang.T,
+            body_omega=b_om.T,
+            body_epsilon=b_eps.T,
+            inputs=q.T,
+            input_rates=qd.T,
+            input_accels=qdd.T,
+            element_length=el[0].T,
+            element_rate=el[1].T,
+            element_accel=el[2].T,
+            element_angle=el[3].T,
+            element_omega=el[4].T,
+            element_epsilon=el[5].T,
+            transmission=trans.T,
+            status=status,
+        )
+
+    def __len__(self) -> int:
+        return int(self.positions.shape[0])
+
+    # ---- lookups by name
+    def point(self, name: str) -> tuple[F, F, F]:
+        """Position, velocity and acceleration of a point, each shape (n, 2)."""
+        i = self.plan.points.index(name)
+        return self.positions[:, i], self.velocities[:, i], self.accelerations[:, i]
+
+    def body(self, name: str) -> tuple[F, F, F]:
+        """Angle, ω and ε of a body, each shape (n,)."""
+        j = self.plan.bodies.index(name)
+        return self.body_angle[:, j], self.body_omega[:, j], self.body_epsilon[:, j]
+
+    def driver(self, name: str) -> tuple[F, F, F]:
+        """Value, rate and acceleration of any driver (rotary, driven, locked or free)."""
+        if name in self.plan.inputs:
+            i = self.plan.inputs.index(name)
+            if self.plan.input_kinds[i] == "angle":
+                return self.inputs[:, i], self.input_rates[:, i], self.input_accels[:, i]
+        j = [e.name for e in self.plan.elements].index(name)
+        return self.element_length[:, j], self.element_rate[:, j], self.element_accel[:, j]
+
+    def column(self, name: str) -> F:
+        """One column of :meth:`to_frame` by name, without building the table."""
+        owner, _, qty = name.rpartition(".")
+        if not owner:
+            raise KeyError(f"no column {name!r}: columns are named <name>.<quantity>")
+        for key, arr in self._columns():
+            if key == name:
+                return arr
+        raise KeyError(f"no column {name!r}")
+
+    def _columns(self) -> list[tuple[str, Any]]:
+        cols: list[tuple[str, Any]] = []
+        if self.time is not None:
+            cols.append(("t", self.time))
+        for i, p in enumerate(self.plan.points):
+            for qty, arr, c in (("x", self.positions, 0), ("y", self.positions, 1),
+                                ("vx", self.velocities, 0), ("vy", self.velocities, 1),
+                                ("ax", self.accelerations, 0), ("ay", self.accelerations, 1)):
+                cols.append((f"{p}.{qty}", arr[:, i, c]))
+        for j, b in enumerate(self.plan.bodies):
+            if j == self.plan.ground:
+                continue
+            cols += [(f"{b}.angle", self.body_angle[:, j]), (f"{b}.omega", self.body_omega[:, j]),
+                     (f"{b}.epsilon", self.body_epsilon[:, j])]
+        for i, name in enumerate(self.plan.inputs):
+            if self.plan.input_kinds[i] == "angle":
+                cols += [(f"{name}.value", self.inputs[:, i]),
+                         (f"{name}.rate", self.input_rates[:, i]),
+                         (f"{name}.accel", self.input_accels[:, i])]
+        for j, e in enumerate(self.plan.elements):
+            cols += [(f"{e.name}.value", self.element_length[:, j]),
+                     (f"{e.name}.rate", self.element_rate[:, j]),
+                     (f"{e.name}.accel", self.element_accel[:, j]),
+                     (f"{e.name}.angle", self.element_angle[:, j]),
+                     (f"{e.name}.omega", self.element_omega[:, j]),
+                     (f"{e.name}.epsilon", self.element_epsilon[:, j])]
+        for k, p in enumerate(self.plan.transmissions):
+            cols.append((f"{p}.transmission", self.transmission[:, k]))
+        return cols
+
+    def to_frame(self) -> pd.DataFrame:
+        """A table with one row per sample, SI units (m, rad, s).
+
+        Columns: ``t`` (when solved in time), ``<point>.x .y .vx .vy .ax .ay``,
+        ``<body>.angle .omega .epsilon`` (moving bodies), ``<driver>.value .rate .accel`` (every
+        driver; linear ones also ``.angle .omega .epsilon`` of the line between their points),
+        ``<point>.transmission`` for each dyad and slider, and ``status`` ("ok" or why not).
+        """
+        import pandas as pd
+
+        cols = dict(self._columns())
+        frame = pd.DataFrame(cols)
+        frame["status"] = pd.Categorical(self.status.labels())
+        return frame
+
+    def with_time(self, t: F) -> KinematicResult:
+        """The same result with a time column, shape (n,)."""
+        import dataclasses
+
+        return dataclasses.replace(self, time=np.asarray(t, dtype=np.float64))
+
+
+def _segment(x: F, v: F, a: F, p: int, q: int) -> tuple[F, F, F, F, F, F]:
+    """Angle, ω, ε, length, rate and acceleration of the segment p→q (any length)."""
+    rx, ry = x[q, 0] - x[p, 0], x[q, 1] - x[p, 1]
+    vx, vy = v[q, 0] - v[p, 0], v[q, 1] - v[p, 1]
+    ax, ay = a[q, 0] - a[p, 0], a[q, 1] - a[p, 1]
+    r2 = rx * rx + ry * ry
+    length = np.sqrt(r2)
+    dot = rx * vx + ry * vy
+    rate = dot / length
+    accel = (rx * ax + ry * ay + vx * vx + vy * vy - rate * rate) / length
+    omega = (rx * vy - ry * vx) / r2
+    eps = (rx * ay - ry * ax - 2.0 * dot * omega) / r2
+    return np.arctan2(ry, rx), omega, eps, length, rate, accel

@@ -1,0 +1,213 @@
+"""Run a :class:`~excavkin.structure.plan.SolvePlan` over a batch of driver inputs.
+
+Inputs are arrays of shape (n,) per driver: values, rates and accelerations. The plan's steps
+run in order over cache-sized chunks of samples; there is no Python loop over samples. When the
+plan has a Newton group, positions are found by continuation from the assembled sketch: the
+inputs move from their sketch values to the requested ones in a few stages, each corrected by
+Newton, so that every sample stays on the sketch's assembly branch.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from excavkin.errors import AssemblyError
+from excavkin.kinematics import kernels
+from excavkin.kinematics.kernels import Chunk, Code, F
+from excavkin.kinematics.newton import newton_positions, newton_rates, rotary_branch_ok
+from excavkin.kinematics.result import KinematicResult, Status
+from excavkin.structure.plan import (
+    Attach,
+    Dyad,
+    Fixed,
+    NewtonGroup,
+    Rotate,
+    SliderStep,
+    SolvePlan,
+)
+
+
+@dataclass(frozen=True, slots=True)
+class Tolerances:
+    """Thresholds for declaring a sample failed.
+
+    Attributes
+    ----------
+    close : float
+        A dyad whose squared half-chord (relative to the base) is below ``-close`` cannot close;
+        between ``-close`` and ``close`` it is taken as just closing (a dead position).
+    singular : float
+        A dyad is at a dead position where sin(transmission angle) ≤ ``singular``.
+    """
+
+    close: float = 1e-10
+    singular: float = 1e-7
+
+
+@dataclass(frozen=True, slots=True)
+class Assembly:
+    """The sketch re-assembled to the model's exact lengths.
+
+    Attributes
+    ----------
+    positions : ndarray, shape (n_points, 2)
+    newton_signs : tuple of float
+        Sign of each Newton group's Jacobian determinant at the sketch (its assembly branch).
+    """
+
+    positions: F
+    newton_signs: tuple[float, ...]
+
+
+def _run_steps(
+    plan: SolvePlan, c: Chunk, order: int, newton: bool = True
+) -> list[F]:
+    signs: list[F] = []
+    for k, st in enumerate(plan.steps):
+        if isinstance(st, Dyad):
+            kernels.dyad(c, st, order, k)
+        elif isinstance(st, Attach):
+            kernels.attach(c, st, order)
+        elif isinstance(st, Rotate):
+            kernels.rotate(c, st, order)
+        elif isinstance(st, SliderStep):
+            kernels.slider(c, st, order, k)
+        elif isinstance(st, Fixed):
+            kernels.fixed(c, st, order)
+        elif isinstance(st, NewtonGroup):
+            if newton:
+                newton_positions(c, st, k, plan.scale)
+            if order:
+                signs.append(newton_rates(c, st, k))
+    return signs
+
+
+def _stages(plan: SolvePlan, q: F) -> int:
+    """Continuation stages so that no input moves more than ~0.1 rad or 5 % of the size a stage."""
+    if not plan.has_newton or q.shape[1] == 0:
+        return 0
+    worst = 0.0
+    for i, kind in enumerate(plan.input_kinds):
+        dq = np.nanmax(np.abs(q[i] - plan.input_sketch[i])) if q.shape[1] else 0.0
+        step = 0.1 if kind == "angle" else 0.05 * plan.scale
+        worst = max(worst, float(dq) / step)
+    return int(min(max(math.ceil(worst), 1), 400))
+
+
+def solve_kinematics(
+    plan: SolvePlan,
+    assembly: Assembly,
+    q: F,
+    qd: F,
+    qdd: F,
+    *,
+    tol: Tolerances = Tolerances(),
+    chunk: int = 16384,
+) -> KinematicResult:
+    """Positions, velocities and accelerations of every point for every sample.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+    assembly : Assembly
+        From :func:`assemble`.
+    q, qd, qdd : ndarray, shape (n_inputs, n)
+        Driver values, rates and accelerations, SI, in ``plan.inputs`` order.
+    tol : Tolerances
+    chunk : int
+        Samples per pass; chosen so a chunk's temporaries stay in cache.
+
+    Returns
+    -------
+    KinematicResult
+    """
+    n_in, n = q.shape
+    n_pts = len(plan.points)
+    x = np.empty((n_pts, 2, n))
+    v = np.empty((n_pts, 2, n))
+    a = np.empty((n_pts, 2, n))
+    trans = np.empty((len(plan.transmissions), n))
+    status = np.zeros(n, dtype=np.int8)
+    failed = np.full(n, -1, dtype=np.int16)
+    bad_in = ~(np.isfinite(q).all(axis=0) & np.isfinite(qd).all(axis=0)
+               & np.isfinite(qdd).all(axis=0))
+    status[bad_in] = Code.BAD_INPUT
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if plan.has_newton:
+            _solve_newton(plan, assembly, q, qd, qdd, x, v, a, trans, status, failed, tol)
+        else:
+            for s in range(0, n, chunk):
+                e = min(s + chunk, n)
+                c = Chunk(x[:, :, s:e], v[:, :, s:e], a[:, :, s:e], q[:, s:e], qd[:, s:e],
+                          qdd[:, s:e], trans[:, s:e], status[s:e], failed[s:e], tol.close,
+                          tol.singular)
+                _run_steps(plan, c, 2)
+    return KinematicResult.build(plan, x, v, a, q, qd, qdd, trans, Status(status, failed, plan))
+
+
+def _solve_newton(
+    plan: SolvePlan,
+    assembly: Assembly,
+    q: F,
+    qd: F,
+    qdd: F,
+    x: F,
+    v: F,
+    a: F,
+    trans: F,
+    status: np.ndarray,
+    failed: np.ndarray,
+    tol: Tolerances,
+) -> None:
+    n = q.shape[1]
+    x[:] = assembly.positions[:, :, None]
+    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
+    stages = _stages(plan, q)
+    zero = np.zeros_like(q)
+    c = Chunk(x, v, a, q0 + zero, zero, zero, trans, status, failed, tol.close, tol.singular)
+    for k in range(1, stages):
+        c.q = q0 + (q - q0) * (k / stages)
+        _run_steps(plan, c, 0)
+    c = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular)
+    _run_steps(plan, c, 0)
+    signs = _run_steps(plan, c, 2, newton=False)
+    groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
+    for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
+        flipped = (sign != ref) | ~rotary_branch_ok(c, st)
+        kernels.flag(c, flipped & np.isfinite(x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
+    del n
+
+
+def assemble(plan: SolvePlan) -> Assembly:
+    """Re-assemble the sketch to the exact lengths, with every driver at its sketch value.
+
+    Raises
+    ------
+    AssemblyError
+        When the lengths cannot be assembled, naming the step that does not close.
+    """
+    n_in = len(plan.inputs)
+    q = np.asarray(plan.input_sketch, dtype=np.float64).reshape(n_in, 1)
+    zero = np.zeros_like(q)
+    n_pts = len(plan.points)
+    x = np.asarray(plan.sketch, dtype=np.float64).reshape(n_pts, 2, 1).copy()
+    v = np.zeros_like(x)
+    a = np.zeros_like(x)
+    trans = np.zeros((len(plan.transmissions), 1))
+    status = np.zeros(1, dtype=np.int8)
+    failed = np.full(1, -1, dtype=np.int16)
+    tol = Tolerances()
+    c = Chunk(x, v, a, q, zero, zero.copy(), trans, status, failed, tol.close, tol.singular)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        _run_steps(plan, c, 0)
+        signs = _run_steps(plan, c, 2, newton=False) if status[0] == 0 else []
+    if status[0] not in (Code.OK, Code.SINGULAR):
+        st = Status(status, failed, plan)
+        raise AssemblyError(
+            f"the lengths cannot be assembled at the sketch: {st.message(0)}",
+            table="lengths", source=plan.model.source,
+        )
+    return Assembly(x[:, :, 0].copy(), tuple(float(s[0]) for s in signs))

@@ -1,0 +1,182 @@
+"""The user-facing mechanism: a validated model compiled once into a solve plan.
+
+>>> import numpy as np, excavkin
+>>> mech = excavkin.load(excavkin.example_path("fourbar"))
+>>> res = mech.solve({"crank": np.radians([0.0, 90.0])})
+>>> res.status.all_ok
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from excavkin.errors import InputError, SolveFailure
+from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble, solve_kinematics
+from excavkin.model.entities import Model
+from excavkin.model.validate import validate
+from excavkin.structure.plan import SolvePlan, compile_plan
+
+F = np.ndarray
+
+
+class Mechanism:
+    """A planar mechanism ready to solve.
+
+    Parameters
+    ----------
+    model : Model
+        From :func:`excavkin.load` or built in Python.
+    method : {"closed-form", "newton"}
+        ``"newton"`` solves every moving point with the generic Newton–Raphson solver instead of
+        the closed-form steps (slower; for cross-checking).
+    """
+
+    def __init__(
+        self, model: Model, *, method: Literal["closed-form", "newton"] = "closed-form"
+    ) -> None:
+        validate(model)
+        self.model: Model = model
+        self.plan: SolvePlan = compile_plan(model, method=method)
+        self.assembly: Assembly = assemble(self.plan)
+
+    @property
+    def name(self) -> str:
+        """The model's name."""
+        return self.model.name
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """Names of the drivers whose values are inputs."""
+        return self.plan.inputs
+
+    def sketch_values(self) -> dict[str, float]:
+        """Each input's value at the (re-assembled) sketch, SI."""
+        return dict(zip(self.plan.inputs, self.plan.input_sketch, strict=True))
+
+    def input_kind(self, name: str) -> str:
+        """``"angle"`` or ``"length"``."""
+        self._check_names([name])
+        return self.plan.input_kinds[self.plan.inputs.index(name)]
+
+    def _check_names(self, names: object) -> None:
+        for n in names:  # type: ignore[attr-defined]
+            if n not in self.plan.inputs:
+                raise InputError(
+                    f"unknown driver {n!r} for {self.name!r}: its inputs are "
+                    f"{', '.join(self.plan.inputs) or 'none'}"
+                )
+
+    def solve(
+        self,
+        values: Mapping[str, ArrayLike] | None = None,
+        rates: Mapping[str, ArrayLike] | None = None,
+        accels: Mapping[str, ArrayLike] | None = None,
+        *,
+        time: ArrayLike | None = None,
+        strict: bool = False,
+        tol: Tolerances | None = None,
+    ) -> KinematicResult:
+        """Positions, velocities and accelerations for a batch of driver inputs.
+
+        Parameters
+        ----------
+        values : mapping of str to array_like, shape (n,) or scalar
+            Driver values in SI (rad, m). A driver not given is held at its sketch value.
+        rates, accels : mapping of str to array_like, optional
+            First and second time derivatives of the driver values. Defaults: rate 1 and
+            acceleration 0 for a driver given as an array — which makes the velocities the
+            first-order transfer functions d(·)/dq and the accelerations the second-order ones —
+            and rate 0 for a driver held at a scalar.
+        time : array_like, shape (n,), optional
+            Sample times; adds a ``t`` column.
+        strict : bool
+            Raise :class:`~excavkin.errors.SolveFailure` if any sample fails (the default marks
+            the samples in ``result.status`` and leaves their values NaN).
+        tol : Tolerances, optional
+
+        Returns
+        -------
+        KinematicResult
+        """
+        values = dict(values or {})
+        rates = dict(rates or {})
+        accels = dict(accels or {})
+        self._check_names([*values, *rates, *accels])
+        arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
+        for k, v in arrays.items():
+            if v.ndim > 1:
+                raise InputError(f"driver {k!r}: values must be a scalar or a 1-D array, got "
+                                 f"shape {v.shape}")
+        sizes = {k: v.size for k, v in arrays.items() if v.ndim == 1}
+        for src in (rates, accels):
+            for k, v in src.items():
+                a = np.asarray(v, dtype=np.float64)
+                if a.ndim > 1:
+                    raise InputError(f"driver {k!r}: rates and accelerations must be scalars or "
+                                     f"1-D arrays, got shape {a.shape}")
+                if a.ndim == 1:
+                    sizes[k + " (rate/accel)"] = a.size
+        if time is not None:
+            sizes["time"] = np.asarray(time).size
+        distinct = set(sizes.values())
+        if len(distinct) > 1:
+            listing = ", ".join(f"{k}: {v}" for k, v in sizes.items())
+            raise InputError(f"input arrays have different lengths ({listing})")
+        n = distinct.pop() if distinct else 1
+        n_in = len(self.plan.inputs)
+        q = np.empty((n_in, n))
+        qd = np.empty((n_in, n))
+        qdd = np.empty((n_in, n))
+        for i, name in enumerate(self.plan.inputs):
+            val = arrays.get(name)
+            swept = val is not None and val.ndim == 1
+            q[i] = self.plan.input_sketch[i] if val is None else val
+            qd[i] = rates.get(name, 1.0 if swept else 0.0)
+            qdd[i] = accels.get(name, 0.0)
+        result = solve_kinematics(self.plan, self.assembly, q, qd, qdd, tol=tol or Tolerances())
+        if time is not None:
+            result = result.with_time(np.asarray(time, dtype=np.float64).reshape(n))
+        if strict and not result.status.all_ok:
+            raise SolveFailure(result.status.summary(), result)
+        return result
+
+    def describe(self) -> str:
+        """Bodies, joints, drivers, mobility and the solve plan, as text."""
+        m = self.model
+        lines = [f"mechanism {m.name!r}" + (f" ({m.source})" if m.source else "")]
+        lines.append(f"  points  : {len(m.points)}")
+        lines.append("  bodies  :")
+        for b in m.bodies:
+            extra = " (ground)" if b.ground else ""
+            if b.mass is not None:
+                extra += f", m = {b.mass:g} kg"
+                if b.inertia is not None:
+                    extra += f", J = {b.inertia:g} kg·m²"
+            lines.append(f"    {b.name:<12} {', '.join(b.points)}{extra}")
+        joints = []
+        for p in m.points:
+            owners = [b.name for b in m.bodies if p in b.points]
+            if len(owners) > 1:
+                joints.append(f"{p} ({' + '.join(owners)})")
+        lines.append(f"  joints  : {', '.join(joints) or 'none'}")
+        for d in m.rotary:
+            lines.append(f"  driver  : {d.name} rotary — body {d.body} about {d.pivot} from "
+                         f"{d.reference}")
+        for ld in m.linear:
+            lines.append(f"  driver  : {ld.name} linear {ld.mode} — {ld.between[0]}–"
+                         f"{ld.between[1]}")
+        for s in m.sliders:
+            lines.append(f"  slider  : {s.name} — {s.point} on {s.along[0]}→{s.along[1]}")
+        mob = self.plan.mobility
+        lines.append(f"  mobility: {mob.describe()}; inputs: {', '.join(self.inputs) or 'none'}")
+        lines.append("  plan    :")
+        lines += ["    " + line for line in self.plan.describe().splitlines()]
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return f"Mechanism({self.name!r}, inputs={list(self.inputs)})"

@@ -1,0 +1,204 @@
+"""Checks on a :class:`~excavkin.model.entities.Model` that need no geometry solving.
+
+Each problem raises :class:`~excavkin.errors.ModelError` naming the table and entry.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from excavkin.errors import MobilityError, ModelError
+from excavkin.model.entities import Model
+
+
+def validate(model: Model) -> None:
+    """Check names, references, counts and values of ``model``; raise on the first problem."""
+    src = model.source
+    if not model.points:
+        raise ModelError("the model has no points", table="points", source=src)
+    for name, xy in model.points.items():
+        if len(xy) != 2 or not all(math.isfinite(c) for c in xy):
+            raise ModelError("a point needs two finite coordinates [x, y]", table="points",
+                             entry=name, source=src)
+    _unique([b.name for b in model.bodies], "bodies", src)
+    _unique([d.name for d in (*model.rotary, *model.linear)], "drivers", src)
+    _unique([s.name for s in model.sliders], "sliders", src)
+
+    grounds = [b.name for b in model.bodies if b.ground]
+    if len(grounds) != 1:
+        raise ModelError(
+            "exactly one body must have ground = true"
+            + (f" (found {len(grounds)}: {', '.join(grounds)})" if grounds else " (found none)"),
+            table="bodies", source=src,
+        )
+    body_names = {b.name for b in model.bodies}
+    in_some_body: set[str] = set()
+    for b in model.bodies:
+        need = 1 if b.ground else 2
+        if len(b.points) < need:
+            raise ModelError(
+                f"a body needs at least {need} point{'s' if need > 1 else ''}, it has "
+                f"{len(b.points)}", table="bodies", entry=b.name, source=src,
+            )
+        _known_points(model, b.points, "bodies", b.name)
+        if len(set(b.points)) != len(b.points):
+            raise ModelError("a point is listed twice", table="bodies", entry=b.name, source=src)
+        in_some_body.update(b.points)
+        if not b.ground and len(b.points) >= 2:
+            p, q = (model.points[n] for n in b.points[:2])
+            if math.dist(p, q) == 0.0:
+                raise ModelError(
+                    f"its first two points {b.points[0]} and {b.points[1]} coincide in the "
+                    "sketch, so the body has no orientation", table="bodies", entry=b.name,
+                    source=src,
+                )
+        if b.mass is not None and not b.mass > 0:
+            raise ModelError(f"mass must be positive, got {b.mass} kg", table="bodies",
+                             entry=b.name, source=src)
+        if b.inertia is not None and not b.inertia >= 0:
+            raise ModelError(f"inertia must not be negative, got {b.inertia} kg*m^2",
+                             table="bodies", entry=b.name, source=src)
+        if (b.inertia is not None or b.center_of_mass is not None) and b.mass is None:
+            raise ModelError("inertia or center_of_mass is given without a mass",
+                             table="bodies", entry=b.name, source=src)
+    orphans = [p for p in model.points if p not in in_some_body]
+    if orphans:
+        raise ModelError(
+            f"point{'s' if len(orphans) > 1 else ''} {', '.join(orphans)} belong{'' if len(orphans) > 1 else 's'} "
+            "to no body (add it to a body's points list)", table="points", source=src,
+        )
+
+    for d in model.rotary:
+        if d.body not in body_names:
+            raise ModelError(f"unknown body {d.body!r}", table=f"drivers.{d.name}", entry="body",
+                             source=src)
+        if d.reference not in body_names:
+            raise ModelError(f"unknown body {d.reference!r}", table=f"drivers.{d.name}",
+                             entry="reference", source=src)
+        body = model.body(d.body)
+        if body.ground:
+            raise ModelError("the ground cannot be driven", table=f"drivers.{d.name}",
+                             entry="body", source=src)
+        if d.reference == d.body:
+            raise ModelError("a body cannot be its own reference", table=f"drivers.{d.name}",
+                             entry="reference", source=src)
+        if d.pivot not in body.points:
+            raise ModelError(f"pivot {d.pivot!r} is not a point of body {d.body!r}",
+                             table=f"drivers.{d.name}", entry="pivot", source=src)
+    for ld in model.linear:
+        _known_points(model, ld.between, f"drivers.{ld.name}", "between")
+        p, q = ld.between
+        if p == q:
+            raise ModelError("its two points are the same", table=f"drivers.{ld.name}",
+                             entry="between", source=src)
+        common = [b.name for b in model.bodies if p in b.points and q in b.points]
+        if common and ld.mode != "free":
+            raise ModelError(
+                f"{p} and {q} are both points of body {common[0]!r}, so their distance cannot "
+                "change", table=f"drivers.{ld.name}", entry="between", source=src,
+            )
+    for s in model.sliders:
+        _known_points(model, (s.point, *s.along), f"sliders.{s.name}", "point/along")
+        if s.along[0] == s.along[1]:
+            raise ModelError("the line needs two different points", table=f"sliders.{s.name}",
+                             entry="along", source=src)
+        carriers = [b for b in model.bodies if s.along[0] in b.points and s.along[1] in b.points]
+        if not carriers:
+            raise ModelError(f"{s.along[0]} and {s.along[1]} are not points of one body",
+                             table=f"sliders.{s.name}", entry="along", source=src)
+        if any(s.point in b.points for b in carriers):
+            raise ModelError(f"{s.point} is a point of the body that carries the line",
+                             table=f"sliders.{s.name}", entry="point", source=src)
+    for (p, q), value in model.lengths.items():
+        key = f"{p}-{q}"
+        if p not in model.points or q not in model.points:
+            missing = p if p not in model.points else q
+            raise ModelError(f"unknown point {missing!r}", table="lengths", entry=key, source=src)
+        if not value > 0:
+            raise ModelError(f"a length must be positive, got {value} m", table="lengths",
+                             entry=key, source=src)
+    mobility_check(model)
+
+
+def _unique(names: list[str], table: str, src: str | None) -> None:
+    seen: set[str] = set()
+    for n in names:
+        if n in seen:
+            raise ModelError("duplicate name", table=table, entry=n, source=src)
+        seen.add(n)
+
+
+def _known_points(model: Model, names: tuple[str, ...], table: str, entry: str) -> None:
+    for n in names:
+        if n not in model.points:
+            raise ModelError(f"unknown point {n!r} (known: {', '.join(model.points)})",
+                             table=table, entry=entry, source=model.source)
+
+
+@dataclass(frozen=True, slots=True)
+class Mobility:
+    """The Chebyshev–Grübler count of a model.
+
+    ``M = 3 (n − 1) − 2 p1 − p2`` with n links (each cylinder or rope counted as two links,
+    barrel and rod, joined by a prismatic pair), p1 lower pairs (revolute and prismatic) and p2
+    two-freedom pairs (a point sliding in a slot); locked cylinders then take one freedom each.
+    """
+
+    links: int
+    lower_pairs: int
+    slot_pairs: int
+    locked: int
+    inputs: int
+
+    @property
+    def mobility(self) -> int:
+        """Freedoms of the mechanism with its locked elements locked."""
+        return 3 * (self.links - 1) - 2 * self.lower_pairs - self.slot_pairs - self.locked
+
+    def describe(self) -> str:
+        """The count written out."""
+        n, p1, p2 = self.links, self.lower_pairs, self.slot_pairs
+        text = f"M = 3·({n} − 1) − 2·{p1} − {p2}"
+        if self.locked:
+            text += f" − {self.locked} locked"
+        return f"{text} = {self.mobility}"
+
+
+def mobility(model: Model) -> Mobility:
+    """Count links and pairs (Chebyshev–Grübler) for ``model``."""
+    links = len(model.bodies)
+    lower = 0
+    for p in model.points:
+        k = sum(1 for b in model.bodies if p in b.points)
+        lower += max(k - 1, 0)
+    # each cylinder/rope: barrel + rod (2 links), a revolute at each end and a prismatic pair
+    links += 2 * len(model.linear)
+    lower += 3 * len(model.linear)
+    locked = sum(1 for d in model.linear if d.mode == "locked")
+    return Mobility(links, lower, len(model.sliders), locked, len(model.inputs))
+
+
+def mobility_check(model: Model) -> None:
+    """Raise :class:`MobilityError` unless the number of inputs equals the mobility."""
+    m = mobility(model)
+    if m.mobility == m.inputs:
+        return
+    inputs = ", ".join(model.inputs) or "none"
+    if m.inputs < m.mobility:
+        missing = m.mobility - m.inputs
+        msg = (
+            f"the mechanism has mobility {m.mobility} ({m.describe()}) but "
+            f"{m.inputs} driver{'s' if m.inputs != 1 else ''} ({inputs}): {missing} driver"
+            f"{'s are' if missing > 1 else ' is'} missing — add a rotary driver or make a "
+            "cylinder 'driven'"
+        )
+    else:
+        extra = m.inputs - m.mobility
+        msg = (
+            f"the mechanism has mobility {m.mobility} ({m.describe()}) but "
+            f"{m.inputs} drivers ({inputs}): {extra} "
+            f"{'are' if extra > 1 else 'is'} redundant — remove one or set a cylinder's mode "
+            "to 'free'"
+        )
+    raise MobilityError(msg, table="drivers", source=model.source)

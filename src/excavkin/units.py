@@ -1,0 +1,136 @@
+"""The single unit registry: quantities at the edges, SI floats inside.
+
+Only the file and command-line boundaries (``excavkin.io``, ``excavkin.cli``, ``excavkin.outputs``)
+import this module. Kernels receive plain floats in SI units: m, rad, s, kg, N, N·m, Pa.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import Any
+
+import pint
+
+from excavkin.errors import UnitError
+
+ureg: pint.UnitRegistry[Any] = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
+
+#: Each kind of quantity: its SI unit (what kernels use) and a human name.
+KINDS: dict[str, str] = {
+    "length": "m",
+    "angle": "rad",
+    "mass": "kg",
+    "inertia": "kg*m^2",
+    "time": "s",
+    "force": "N",
+    "torque": "N*m",
+    "pressure": "Pa",
+    "velocity": "m/s",
+    "acceleration": "m/s^2",
+    "angular_velocity": "rad/s",
+    "angular_acceleration": "rad/s^2",
+    "area": "m^2",
+    "frequency": "1/s",
+    "dimensionless": "",
+}
+
+
+@lru_cache(maxsize=None)
+def _si_unit(kind: str) -> Any:
+    return ureg.Unit(KINDS[kind]) if KINDS[kind] else ureg.dimensionless
+
+
+def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str = "") -> float:
+    """Convert ``value`` to a float in the SI unit of ``kind``.
+
+    Parameters
+    ----------
+    value : float, int or str
+        A bare number or a string such as ``"48 mm"``, ``"50 deg"``, ``"250 bar"``.
+    kind : str
+        One of :data:`KINDS` (``"length"``, ``"angle"``, ...).
+    default_unit : str, optional
+        The unit of a bare number. Without it a bare number is an error (angles included):
+        a dimensional input is never given a silent default.
+    where : str
+        Used in the error message.
+
+    Raises
+    ------
+    UnitError
+        On an unparseable string, an unknown unit, a unit of the wrong dimension or a bare number
+        with no default unit.
+    """
+    if kind not in KINDS:
+        raise ValueError(f"unknown quantity kind {kind!r}")
+    target = _si_unit(kind)
+    if isinstance(value, bool):
+        raise UnitError(f"{where}expected {_article(kind)} {kind}, got a boolean {value!r}")
+    if isinstance(value, int | float):
+        if kind == "dimensionless":
+            return float(value)
+        if default_unit is None:
+            raise UnitError(
+                f"{where}the bare number {value!r} needs a unit (write it as a string such as "
+                f"\"{value} {_example_unit(kind)}\", or declare a default in the file's [units])"
+            )
+        q = ureg.Quantity(float(value), default_unit)
+    elif isinstance(value, str):
+        try:
+            q = ureg.Quantity(value.strip())
+        except Exception as exc:  # pint raises several unrelated types on bad input
+            raise UnitError(f"{where}cannot read {value!r} as {_article(kind)} {kind}: {exc}") from None
+        if not isinstance(q, pint.Quantity) or q.unitless:  # a bare number in a string: "48"
+            return to_si(float(getattr(q, "magnitude", q)), kind, default_unit, where=where)
+    else:
+        raise UnitError(f"{where}expected a number or a string with a unit, got {value!r}")
+    try:
+        out = float(q.to(target).magnitude)
+    except pint.DimensionalityError:
+        raise UnitError(
+            f"{where}{value!r} is not {_article(kind)} {kind} (expected units like {_example_unit(kind)})"
+        ) from None
+    if not math.isfinite(out):
+        raise UnitError(f"{where}{value!r} is not a finite number")
+    return out
+
+
+def _example_unit(kind: str) -> str:
+    return {
+        "length": "mm",
+        "angle": "deg",
+        "mass": "kg",
+        "inertia": "kg*m^2",
+        "time": "s",
+        "force": "kN",
+        "torque": "N*m",
+        "pressure": "bar",
+        "velocity": "m/s",
+        "acceleration": "m/s^2",
+        "angular_velocity": "rad/s",
+        "angular_acceleration": "rad/s^2",
+        "area": "mm^2",
+        "frequency": "1/s",
+    }.get(kind, KINDS[kind])
+
+
+def check_unit(unit: str, kind: str, *, where: str = "") -> str:
+    """Check that ``unit`` names a unit of ``kind``; return it unchanged."""
+    try:
+        u = ureg.Unit(unit)
+    except Exception:
+        raise UnitError(f"{where}unknown unit {unit!r}") from None
+    if u.dimensionality != _si_unit(kind).dimensionality:
+        raise UnitError(f"{where}{unit!r} is not a unit of {kind}")
+    return unit
+
+
+def from_si(value: Any, kind: str, unit: str) -> Any:
+    """Convert an SI float or array to ``unit`` for display."""
+    factor = ureg.Quantity(1.0, _si_unit(kind)).to(unit).magnitude
+    return value * factor
+
+
+def _article(word: str) -> str:
+    return "an" if word[:1] in "aeiou" else "a"
