@@ -81,7 +81,11 @@ def example_path(name: str) -> Path:
         if candidate.is_file():
             return candidate
     known = sorted(
-        {p.stem for f in (here / "examples", here.parents[1] / "examples") if f.is_dir()
-         for p in f.glob("*.toml")}
+        {
+            p.stem
+            for f in (here / "examples", here.parents[1] / "examples")
+            if f.is_dir()
+            for p in f.glob("*.toml")
+        }
     )
     raise ModelError(f"no built-in example {name!r} (known: {', '.join(known)})")

@@ -110,15 +110,18 @@ class Mechanism:
         arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
         for k, v in arrays.items():
             if v.ndim > 1:
-                raise InputError(f"driver {k!r}: values must be a scalar or a 1-D array, got "
-                                 f"shape {v.shape}")
+                raise InputError(
+                    f"driver {k!r}: values must be a scalar or a 1-D array, got shape {v.shape}"
+                )
         sizes = {k: v.size for k, v in arrays.items() if v.ndim == 1}
         for src in (rates, accels):
-            for k, v in src.items():
-                a = np.asarray(v, dtype=np.float64)
+            for k, given in src.items():
+                a = np.asarray(given, dtype=np.float64)
                 if a.ndim > 1:
-                    raise InputError(f"driver {k!r}: rates and accelerations must be scalars or "
-                                     f"1-D arrays, got shape {a.shape}")
+                    raise InputError(
+                        f"driver {k!r}: rates and accelerations must be scalars or "
+                        f"1-D arrays, got shape {a.shape}"
+                    )
                 if a.ndim == 1:
                     sizes[k + " (rate/accel)"] = a.size
         if time is not None:
@@ -165,11 +168,13 @@ class Mechanism:
                 joints.append(f"{p} ({' + '.join(owners)})")
         lines.append(f"  joints  : {', '.join(joints) or 'none'}")
         for d in m.rotary:
-            lines.append(f"  driver  : {d.name} rotary — body {d.body} about {d.pivot} from "
-                         f"{d.reference}")
+            lines.append(
+                f"  driver  : {d.name} rotary — body {d.body} about {d.pivot} from {d.reference}"
+            )
         for ld in m.linear:
-            lines.append(f"  driver  : {ld.name} linear {ld.mode} — {ld.between[0]}–"
-                         f"{ld.between[1]}")
+            lines.append(
+                f"  driver  : {ld.name} linear {ld.mode} — {ld.between[0]}–{ld.between[1]}"
+            )
         for s in m.sliders:
             lines.append(f"  slider  : {s.name} — {s.point} on {s.along[0]}→{s.along[1]}")
         mob = self.plan.mobility

@@ -7,7 +7,7 @@ import this module. Kernels receive plain floats in SI units: m, rad, s, kg, N, 
 from __future__ import annotations
 
 import math
-from functools import lru_cache
+from functools import cache
 from typing import Any
 
 import pint
@@ -36,7 +36,7 @@ KINDS: dict[str, str] = {
 }
 
 
-@lru_cache(maxsize=None)
+@cache
 def _si_unit(kind: str) -> Any:
     return ureg.Unit(KINDS[kind]) if KINDS[kind] else ureg.dimensionless
 
@@ -73,14 +73,16 @@ def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str 
         if default_unit is None:
             raise UnitError(
                 f"{where}the bare number {value!r} needs a unit (write it as a string such as "
-                f"\"{value} {_example_unit(kind)}\", or declare a default in the file's [units])"
+                f'"{value} {_example_unit(kind)}", or declare a default in the file\'s [units])'
             )
         q = ureg.Quantity(float(value), default_unit)
     elif isinstance(value, str):
         try:
             q = ureg.Quantity(value.strip())
         except Exception as exc:  # pint raises several unrelated types on bad input
-            raise UnitError(f"{where}cannot read {value!r} as {_article(kind)} {kind}: {exc}") from None
+            raise UnitError(
+                f"{where}cannot read {value!r} as {_article(kind)} {kind}: {exc}"
+            ) from None
         if not isinstance(q, pint.Quantity) or q.unitless:  # a bare number in a string: "48"
             return to_si(float(getattr(q, "magnitude", q)), kind, default_unit, where=where)
     else:
@@ -89,7 +91,8 @@ def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str 
         out = float(q.to(target).magnitude)
     except pint.DimensionalityError:
         raise UnitError(
-            f"{where}{value!r} is not {_article(kind)} {kind} (expected units like {_example_unit(kind)})"
+            f"{where}{value!r} is not {_article(kind)} {kind} "
+            f"(expected units like {_example_unit(kind)})"
         ) from None
     if not math.isfinite(out):
         raise UnitError(f"{where}{value!r} is not a finite number")

@@ -230,8 +230,11 @@ def slider(c: Chunk, st: SliderStep, order: int, k: int) -> None:
     uddx = a[st.l2, 0] - a[st.l1, 0]
     uddy = a[st.l2, 1] - a[st.l1, 1]
     wx, wy = vpx - vax, vpy - vay
-    f1 = ((ux * a[st.l1, 1] - uy * a[st.l1, 0]) - (uddx * gy - uddy * gx)
-          - 2.0 * (udx * gdy - udy * gdx))
+    f1 = (
+        (ux * a[st.l1, 1] - uy * a[st.l1, 0])
+        - (uddx * gy - uddy * gx)
+        - 2.0 * (udx * gdy - udy * gdx)
+    )
     f2 = r1x * a[st.a, 0] + r1y * a[st.a, 1] + d * ddd + dd * dd - (wx * wx + wy * wy)
     a[st.point, 0] = (f1 * r1y - ux * f2) * inv
     a[st.point, 1] = (-uy * f2 - r1x * f1) * inv

@@ -16,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 
 import numpy as np
+from numpy.typing import NDArray
 
 from excavkin.kinematics.kernels import Chunk, Code, F, dist, flag
 from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, NewtonGroup
@@ -44,24 +45,24 @@ def _equations(
                 f1 = 2 * (rx * wx + ry * wy) - 2 * d * dd + zero
                 if a is not None:
                     ax_, ay_ = a[con.p, 0] - a[con.q, 0], a[con.p, 1] - a[con.q, 1]
-                    f2 = (2 * (rx * ax_ + ry * ay_) + 2 * (wx * wx + wy * wy)
-                          - 2 * (dd * dd + d * ddd) + zero)
+                    f2 = (
+                        2 * (rx * ax_ + ry * ay_)
+                        + 2 * (wx * wx + wy * wy)
+                        - 2 * (dd * dd + d * ddd)
+                        + zero
+                    )
             yield f, grad, f1, f2
         elif isinstance(con, CFrame):
             s, t = con.s, con.t
-
-            def frame(arr: F, comp: int) -> F:
-                wx = arr[con.b, 0] - arr[con.a, 0]
-                wy = arr[con.b, 1] - arr[con.a, 1]
-                if comp == 0:
-                    return arr[con.p, 0] - arr[con.a, 0] - s * wx + t * wy
-                return arr[con.p, 1] - arr[con.a, 1] - s * wy - t * wx
-
             gx: Grad = [(con.p, 1.0, 0.0), (con.a, s - 1.0, -t), (con.b, -s, t)]
             gy: Grad = [(con.p, 0.0, 1.0), (con.a, t, s - 1.0), (con.b, -t, -s)]
             for comp, gr in ((0, gx), (1, gy)):
-                yield (frame(x, comp), gr, None if v is None else frame(v, comp),
-                       None if a is None else frame(a, comp))
+                yield (
+                    _frame(x, con, comp),
+                    gr,
+                    None if v is None else _frame(v, con, comp),
+                    None if a is None else _frame(a, con, comp),
+                )
         elif isinstance(con, CLine):
             ux = x[con.l2, 0] - x[con.l1, 0]
             uy = x[con.l2, 1] - x[con.l1, 1]
@@ -76,11 +77,25 @@ def _equations(
                 if a is not None:
                     uax, uay = a[con.l2, 0] - a[con.l1, 0], a[con.l2, 1] - a[con.l1, 1]
                     gax, gay = a[con.p, 0] - a[con.l1, 0], a[con.p, 1] - a[con.l1, 1]
-                    f2 = (_cross(uax, uay, gx_, gy_) + 2 * _cross(udx, udy, gdx, gdy)
-                          + _cross(ux, uy, gax, gay))
+                    f2 = (
+                        _cross(uax, uay, gx_, gy_)
+                        + 2 * _cross(udx, udy, gdx, gdy)
+                        + _cross(ux, uy, gax, gay)
+                    )
             yield f, grad, f1, f2
         else:
             yield _angle(c, con, x, v, a)
+
+
+def _frame(arr: F, con: CFrame, comp: int) -> F:
+    """Residual of ``p = a + s·(b − a) + t·perp(b − a)``; linear, so any order alike."""
+    wx = arr[con.b, 0] - arr[con.a, 0]
+    wy = arr[con.b, 1] - arr[con.a, 1]
+    if comp == 0:
+        out = arr[con.p, 0] - arr[con.a, 0] - con.s * wx + con.t * wy
+    else:
+        out = arr[con.p, 1] - arr[con.a, 1] - con.s * wy - con.t * wx
+    return np.asarray(out, dtype=np.float64)
 
 
 def _angle(
@@ -121,8 +136,11 @@ def _angle(
             eax = cs * vax - sn * vay - 2 * qd * rvdy - qdd * ey - qd * qd * ex
             eay = sn * vax + cs * vay + 2 * qd * rvdx + qdd * ex - qd * qd * ey
             dax, day = a[con.p, 0] - a[con.pivot, 0], a[con.p, 1] - a[con.pivot, 1]
-            f2 = (_cross(eax, eay, dpx, dpy) + 2 * _cross(edx, edy, ddx, ddy)
-                  + _cross(ex, ey, dax, day))
+            f2 = (
+                _cross(eax, eay, dpx, dpy)
+                + 2 * _cross(edx, edy, ddx, ddy)
+                + _cross(ex, ey, dax, day)
+            )
     return f, grad, f1, f2
 
 
@@ -148,7 +166,7 @@ def _system(c: Chunk, g: NewtonGroup, order: int) -> tuple[F, F, F | None, F | N
     return res, jac, r1, r2
 
 
-def _safe_solve(jac: F, rhs: F, tol: float) -> tuple[F, np.ndarray]:
+def _safe_solve(jac: F, rhs: F, tol: float) -> tuple[F, NDArray[np.bool_]]:
     """Solve per sample; singular samples get NaN and a True in the mask."""
     sign, logdet = np.linalg.slogdet(jac)
     # scale-free test: determinant against the product of row norms (Hadamard bound)
@@ -160,7 +178,7 @@ def _safe_solve(jac: F, rhs: F, tol: float) -> tuple[F, np.ndarray]:
         jac[sing] = np.eye(jac.shape[1])
     out = np.linalg.solve(jac, rhs[..., None])[..., 0]
     out[sing] = np.nan
-    return out, sing
+    return np.asarray(out, dtype=np.float64), np.asarray(sing, dtype=bool)
 
 
 def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: int = 50) -> None:
@@ -209,7 +227,7 @@ def newton_rates(c: Chunk, g: NewtonGroup, k: int) -> F:
     return np.asarray(sign, dtype=np.float64)
 
 
-def rotary_branch_ok(c: Chunk, g: NewtonGroup) -> F:
+def rotary_branch_ok(c: Chunk, g: NewtonGroup) -> NDArray[np.bool_]:
     """True where every driver-angle constraint points its body the driven way (not θ + π)."""
     ok = np.ones(c.x.shape[-1], dtype=bool)
     for con in g.constraints:

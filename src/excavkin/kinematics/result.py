@@ -139,39 +139,36 @@ class KinematicResult:
 
     @classmethod
     def build(
-        cls, plan: SolvePlan, x: F, v: F, a: F, q: F, qd: F, qdd: F, trans: F, status: Status
+        cls,
+        plan: SolvePlan,
+        x: F,
+        v: F,
+        a: F,
+        q: F,
+        qd: F,
+        qdd: F,
+        trans: F,
+        derived: Derived,
+        status: Status,
     ) -> KinematicResult:
-        """Derive body and element quantities from the solved point arrays (n_points, 2, n)."""
-        n = x.shape[-1]
-        nb = len(plan.bodies)
-        b_ang, b_om, b_eps = (np.zeros((nb, n)) for _ in range(3))
-        for j, (p0, p1) in enumerate(plan.body_base):
-            if j == plan.ground or p0 < 0:
-                continue
-            b_ang[j], b_om[j], b_eps[j], _, _, _ = _segment(x, v, a, p0, p1)
-        ne = len(plan.elements)
-        el = [np.empty((ne, n)) for _ in range(6)]
-        for j, e in enumerate(plan.elements):
-            ang, om, eps, ln, rt, ac = _segment(x, v, a, e.p, e.q)
-            for arr, val in zip(el, (ln, rt, ac, ang, om, eps), strict=True):
-                arr[j] = val
+        """Wrap the solver's arrays (n_points, 2, n) etc. as batch-first views."""
         return cls(
             plan=plan,
             positions=np.moveaxis(x, -1, 0),
             velocities=np.moveaxis(v, -1, 0),
             accelerations=np.moveaxis(a, -1, 0),
-            body_angle=b_ang.T,
-            body_omega=b_om.T,
-            body_epsilon=b_eps.T,
+            body_angle=derived.body[0].T,
+            body_omega=derived.body[1].T,
+            body_epsilon=derived.body[2].T,
             inputs=q.T,
             input_rates=qd.T,
             input_accels=qdd.T,
-            element_length=el[0].T,
-            element_rate=el[1].T,
-            element_accel=el[2].T,
-            element_angle=el[3].T,
-            element_omega=el[4].T,
-            element_epsilon=el[5].T,
+            element_length=derived.element[0].T,
+            element_rate=derived.element[1].T,
+            element_accel=derived.element[2].T,
+            element_angle=derived.element[3].T,
+            element_omega=derived.element[4].T,
+            element_epsilon=derived.element[5].T,
             transmission=trans.T,
             status=status,
         )
@@ -206,7 +203,7 @@ class KinematicResult:
             raise KeyError(f"no column {name!r}: columns are named <name>.<quantity>")
         for key, arr in self._columns():
             if key == name:
-                return arr
+                return np.asarray(arr, dtype=np.float64)
         raise KeyError(f"no column {name!r}")
 
     def _columns(self) -> list[tuple[str, Any]]:
@@ -214,27 +211,39 @@ class KinematicResult:
         if self.time is not None:
             cols.append(("t", self.time))
         for i, p in enumerate(self.plan.points):
-            for qty, arr, c in (("x", self.positions, 0), ("y", self.positions, 1),
-                                ("vx", self.velocities, 0), ("vy", self.velocities, 1),
-                                ("ax", self.accelerations, 0), ("ay", self.accelerations, 1)):
+            for qty, arr, c in (
+                ("x", self.positions, 0),
+                ("y", self.positions, 1),
+                ("vx", self.velocities, 0),
+                ("vy", self.velocities, 1),
+                ("ax", self.accelerations, 0),
+                ("ay", self.accelerations, 1),
+            ):
                 cols.append((f"{p}.{qty}", arr[:, i, c]))
         for j, b in enumerate(self.plan.bodies):
             if j == self.plan.ground:
                 continue
-            cols += [(f"{b}.angle", self.body_angle[:, j]), (f"{b}.omega", self.body_omega[:, j]),
-                     (f"{b}.epsilon", self.body_epsilon[:, j])]
+            cols += [
+                (f"{b}.angle", self.body_angle[:, j]),
+                (f"{b}.omega", self.body_omega[:, j]),
+                (f"{b}.epsilon", self.body_epsilon[:, j]),
+            ]
         for i, name in enumerate(self.plan.inputs):
             if self.plan.input_kinds[i] == "angle":
-                cols += [(f"{name}.value", self.inputs[:, i]),
-                         (f"{name}.rate", self.input_rates[:, i]),
-                         (f"{name}.accel", self.input_accels[:, i])]
+                cols += [
+                    (f"{name}.value", self.inputs[:, i]),
+                    (f"{name}.rate", self.input_rates[:, i]),
+                    (f"{name}.accel", self.input_accels[:, i]),
+                ]
         for j, e in enumerate(self.plan.elements):
-            cols += [(f"{e.name}.value", self.element_length[:, j]),
-                     (f"{e.name}.rate", self.element_rate[:, j]),
-                     (f"{e.name}.accel", self.element_accel[:, j]),
-                     (f"{e.name}.angle", self.element_angle[:, j]),
-                     (f"{e.name}.omega", self.element_omega[:, j]),
-                     (f"{e.name}.epsilon", self.element_epsilon[:, j])]
+            cols += [
+                (f"{e.name}.value", self.element_length[:, j]),
+                (f"{e.name}.rate", self.element_rate[:, j]),
+                (f"{e.name}.accel", self.element_accel[:, j]),
+                (f"{e.name}.angle", self.element_angle[:, j]),
+                (f"{e.name}.omega", self.element_omega[:, j]),
+                (f"{e.name}.epsilon", self.element_epsilon[:, j]),
+            ]
         for k, p in enumerate(self.plan.transmissions):
             cols.append((f"{p}.transmission", self.transmission[:, k]))
         return cols
@@ -261,16 +270,48 @@ class KinematicResult:
         return dataclasses.replace(self, time=np.asarray(t, dtype=np.float64))
 
 
-def _segment(x: F, v: F, a: F, p: int, q: int) -> tuple[F, F, F, F, F, F]:
+@dataclass(frozen=True, slots=True)
+class Derived:
+    """Body and element quantities derived from the points.
+
+    ``body`` has shape (3, n_bodies, n): angle, ω, ε. ``element`` has shape (6, n_elements, n):
+    length, rate, acceleration, angle, ω, ε.
+    """
+
+    body: F
+    element: F
+
+    @classmethod
+    def empty(cls, plan: SolvePlan, n: int) -> Derived:
+        """Arrays to fill chunk by chunk (the ground's row stays zero)."""
+        return cls(np.zeros((3, len(plan.bodies), n)), np.empty((6, len(plan.elements), n)))
+
+    def fill(self, plan: SolvePlan, x: F, v: F, a: F, s: slice) -> None:
+        """Compute the chunk ``s`` from its point arrays (n_points, 2, chunk)."""
+        for j, (p0, p1) in enumerate(plan.body_base):
+            if j != plan.ground and p0 >= 0:
+                ang, om, eps, _, _, _ = _segment(x, v, a, p0, p1, lengths=False)
+                self.body[0, j, s], self.body[1, j, s], self.body[2, j, s] = ang, om, eps
+        for j, e in enumerate(plan.elements):
+            ang, om, eps, ln, rt, ac = _segment(x, v, a, e.p, e.q)
+            for k, val in enumerate((ln, rt, ac, ang, om, eps)):
+                self.element[k, j, s] = val
+
+
+def _segment(
+    x: F, v: F, a: F, p: int, q: int, lengths: bool = True
+) -> tuple[F, F, F, F | None, F | None, F | None]:
     """Angle, ω, ε, length, rate and acceleration of the segment p→q (any length)."""
     rx, ry = x[q, 0] - x[p, 0], x[q, 1] - x[p, 1]
     vx, vy = v[q, 0] - v[p, 0], v[q, 1] - v[p, 1]
     ax, ay = a[q, 0] - a[p, 0], a[q, 1] - a[p, 1]
     r2 = rx * rx + ry * ry
-    length = np.sqrt(r2)
+    omega = (rx * vy - ry * vx) / r2
+    if not lengths:  # a rigid segment: r·ṙ = 0
+        return np.arctan2(ry, rx), omega, (rx * ay - ry * ax) / r2, None, None, None
     dot = rx * vx + ry * vy
+    eps = (rx * ay - ry * ax - 2.0 * dot * omega) / r2
+    length = np.sqrt(r2)
     rate = dot / length
     accel = (rx * ax + ry * ay + vx * vx + vy * vy - rate * rate) / length
-    omega = (rx * vy - ry * vx) / r2
-    eps = (rx * ay - ry * ax - 2.0 * dot * omega) / r2
     return np.arctan2(ry, rx), omega, eps, length, rate, accel

@@ -18,7 +18,7 @@ from excavkin.errors import AssemblyError
 from excavkin.kinematics import kernels
 from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.newton import newton_positions, newton_rates, rotary_branch_ok
-from excavkin.kinematics.result import KinematicResult, Status
+from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.structure.plan import (
     Attach,
     Dyad,
@@ -62,9 +62,7 @@ class Assembly:
     newton_signs: tuple[float, ...]
 
 
-def _run_steps(
-    plan: SolvePlan, c: Chunk, order: int, newton: bool = True
-) -> list[F]:
+def _run_steps(plan: SolvePlan, c: Chunk, order: int, newton: bool = True) -> list[F]:
     signs: list[F] = []
     for k, st in enumerate(plan.steps):
         if isinstance(st, Dyad):
@@ -132,20 +130,37 @@ def solve_kinematics(
     trans = np.empty((len(plan.transmissions), n))
     status = np.zeros(n, dtype=np.int8)
     failed = np.full(n, -1, dtype=np.int16)
-    bad_in = ~(np.isfinite(q).all(axis=0) & np.isfinite(qd).all(axis=0)
-               & np.isfinite(qdd).all(axis=0))
+    bad_in = ~(
+        np.isfinite(q).all(axis=0) & np.isfinite(qd).all(axis=0) & np.isfinite(qdd).all(axis=0)
+    )
     status[bad_in] = Code.BAD_INPUT
+    derived = Derived.empty(plan, n)
     with np.errstate(divide="ignore", invalid="ignore"):
         if plan.has_newton:
             _solve_newton(plan, assembly, q, qd, qdd, x, v, a, trans, status, failed, tol)
+            derived.fill(plan, x, v, a, slice(None))
         else:
+            # one pass per chunk: steps, then derived quantities while the chunk is in cache
             for s in range(0, n, chunk):
                 e = min(s + chunk, n)
-                c = Chunk(x[:, :, s:e], v[:, :, s:e], a[:, :, s:e], q[:, s:e], qd[:, s:e],
-                          qdd[:, s:e], trans[:, s:e], status[s:e], failed[s:e], tol.close,
-                          tol.singular)
+                c = Chunk(
+                    x[:, :, s:e],
+                    v[:, :, s:e],
+                    a[:, :, s:e],
+                    q[:, s:e],
+                    qd[:, s:e],
+                    qdd[:, s:e],
+                    trans[:, s:e],
+                    status[s:e],
+                    failed[s:e],
+                    tol.close,
+                    tol.singular,
+                )
                 _run_steps(plan, c, 2)
-    return KinematicResult.build(plan, x, v, a, q, qd, qdd, trans, Status(status, failed, plan))
+                derived.fill(plan, c.x, c.v, c.a, slice(s, e))
+    return KinematicResult.build(
+        plan, x, v, a, q, qd, qdd, trans, derived, Status(status, failed, plan)
+    )
 
 
 def _solve_newton(
@@ -162,7 +177,6 @@ def _solve_newton(
     failed: np.ndarray,
     tol: Tolerances,
 ) -> None:
-    n = q.shape[1]
     x[:] = assembly.positions[:, :, None]
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
     stages = _stages(plan, q)
@@ -178,7 +192,6 @@ def _solve_newton(
     for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
         flipped = (sign != ref) | ~rotary_branch_ok(c, st)
         kernels.flag(c, flipped & np.isfinite(x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
-    del n
 
 
 def assemble(plan: SolvePlan) -> Assembly:
@@ -208,6 +221,7 @@ def assemble(plan: SolvePlan) -> Assembly:
         st = Status(status, failed, plan)
         raise AssemblyError(
             f"the lengths cannot be assembled at the sketch: {st.message(0)}",
-            table="lengths", source=plan.model.source,
+            table="lengths",
+            source=plan.model.source,
         )
     return Assembly(x[:, :, 0].copy(), tuple(float(s[0]) for s in signs))

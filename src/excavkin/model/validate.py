@@ -19,10 +19,14 @@ def validate(model: Model) -> None:
         raise ModelError("the model has no points", table="points", source=src)
     for name, xy in model.points.items():
         if len(xy) != 2 or not all(math.isfinite(c) for c in xy):
-            raise ModelError("a point needs two finite coordinates [x, y]", table="points",
-                             entry=name, source=src)
+            raise ModelError(
+                "a point needs two finite coordinates [x, y]",
+                table="points",
+                entry=name,
+                source=src,
+            )
     _unique([b.name for b in model.bodies], "bodies", src)
-    _unique([d.name for d in (*model.rotary, *model.linear)], "drivers", src)
+    _unique([d.name for d in model.rotary] + [d.name for d in model.linear], "drivers", src)
     _unique([s.name for s in model.sliders], "sliders", src)
 
     grounds = [b.name for b in model.bodies if b.ground]
@@ -30,7 +34,8 @@ def validate(model: Model) -> None:
         raise ModelError(
             "exactly one body must have ground = true"
             + (f" (found {len(grounds)}: {', '.join(grounds)})" if grounds else " (found none)"),
-            table="bodies", source=src,
+            table="bodies",
+            source=src,
         )
     body_names = {b.name for b in model.bodies}
     in_some_body: set[str] = set()
@@ -39,85 +44,136 @@ def validate(model: Model) -> None:
         if len(b.points) < need:
             raise ModelError(
                 f"a body needs at least {need} point{'s' if need > 1 else ''}, it has "
-                f"{len(b.points)}", table="bodies", entry=b.name, source=src,
+                f"{len(b.points)}",
+                table="bodies",
+                entry=b.name,
+                source=src,
             )
         _known_points(model, b.points, "bodies", b.name)
         if len(set(b.points)) != len(b.points):
             raise ModelError("a point is listed twice", table="bodies", entry=b.name, source=src)
         in_some_body.update(b.points)
         if not b.ground and len(b.points) >= 2:
-            p, q = (model.points[n] for n in b.points[:2])
-            if math.dist(p, q) == 0.0:
+            first, second = (model.points[n] for n in b.points[:2])
+            if math.dist(first, second) == 0.0:
                 raise ModelError(
                     f"its first two points {b.points[0]} and {b.points[1]} coincide in the "
-                    "sketch, so the body has no orientation", table="bodies", entry=b.name,
+                    "sketch, so the body has no orientation",
+                    table="bodies",
+                    entry=b.name,
                     source=src,
                 )
         if b.mass is not None and not b.mass > 0:
-            raise ModelError(f"mass must be positive, got {b.mass} kg", table="bodies",
-                             entry=b.name, source=src)
+            raise ModelError(
+                f"mass must be positive, got {b.mass} kg", table="bodies", entry=b.name, source=src
+            )
         if b.inertia is not None and not b.inertia >= 0:
-            raise ModelError(f"inertia must not be negative, got {b.inertia} kg*m^2",
-                             table="bodies", entry=b.name, source=src)
+            raise ModelError(
+                f"inertia must not be negative, got {b.inertia} kg*m^2",
+                table="bodies",
+                entry=b.name,
+                source=src,
+            )
         if (b.inertia is not None or b.center_of_mass is not None) and b.mass is None:
-            raise ModelError("inertia or center_of_mass is given without a mass",
-                             table="bodies", entry=b.name, source=src)
+            raise ModelError(
+                "inertia or center_of_mass is given without a mass",
+                table="bodies",
+                entry=b.name,
+                source=src,
+            )
     orphans = [p for p in model.points if p not in in_some_body]
     if orphans:
         raise ModelError(
-            f"point{'s' if len(orphans) > 1 else ''} {', '.join(orphans)} belong{'' if len(orphans) > 1 else 's'} "
-            "to no body (add it to a body's points list)", table="points", source=src,
+            f"{', '.join(orphans)}: "
+            + ("these points belong" if len(orphans) > 1 else "point belongs")
+            + " to no body (add it to a body's points list)",
+            table="points",
+            source=src,
         )
 
     for d in model.rotary:
         if d.body not in body_names:
-            raise ModelError(f"unknown body {d.body!r}", table=f"drivers.{d.name}", entry="body",
-                             source=src)
+            raise ModelError(
+                f"unknown body {d.body!r}", table=f"drivers.{d.name}", entry="body", source=src
+            )
         if d.reference not in body_names:
-            raise ModelError(f"unknown body {d.reference!r}", table=f"drivers.{d.name}",
-                             entry="reference", source=src)
+            raise ModelError(
+                f"unknown body {d.reference!r}",
+                table=f"drivers.{d.name}",
+                entry="reference",
+                source=src,
+            )
         body = model.body(d.body)
         if body.ground:
-            raise ModelError("the ground cannot be driven", table=f"drivers.{d.name}",
-                             entry="body", source=src)
+            raise ModelError(
+                "the ground cannot be driven", table=f"drivers.{d.name}", entry="body", source=src
+            )
         if d.reference == d.body:
-            raise ModelError("a body cannot be its own reference", table=f"drivers.{d.name}",
-                             entry="reference", source=src)
+            raise ModelError(
+                "a body cannot be its own reference",
+                table=f"drivers.{d.name}",
+                entry="reference",
+                source=src,
+            )
         if d.pivot not in body.points:
-            raise ModelError(f"pivot {d.pivot!r} is not a point of body {d.body!r}",
-                             table=f"drivers.{d.name}", entry="pivot", source=src)
+            raise ModelError(
+                f"pivot {d.pivot!r} is not a point of body {d.body!r}",
+                table=f"drivers.{d.name}",
+                entry="pivot",
+                source=src,
+            )
     for ld in model.linear:
         _known_points(model, ld.between, f"drivers.{ld.name}", "between")
         p, q = ld.between
         if p == q:
-            raise ModelError("its two points are the same", table=f"drivers.{ld.name}",
-                             entry="between", source=src)
+            raise ModelError(
+                "its two points are the same",
+                table=f"drivers.{ld.name}",
+                entry="between",
+                source=src,
+            )
         common = [b.name for b in model.bodies if p in b.points and q in b.points]
         if common and ld.mode != "free":
             raise ModelError(
                 f"{p} and {q} are both points of body {common[0]!r}, so their distance cannot "
-                "change", table=f"drivers.{ld.name}", entry="between", source=src,
+                "change",
+                table=f"drivers.{ld.name}",
+                entry="between",
+                source=src,
             )
     for s in model.sliders:
         _known_points(model, (s.point, *s.along), f"sliders.{s.name}", "point/along")
         if s.along[0] == s.along[1]:
-            raise ModelError("the line needs two different points", table=f"sliders.{s.name}",
-                             entry="along", source=src)
+            raise ModelError(
+                "the line needs two different points",
+                table=f"sliders.{s.name}",
+                entry="along",
+                source=src,
+            )
         carriers = [b for b in model.bodies if s.along[0] in b.points and s.along[1] in b.points]
         if not carriers:
-            raise ModelError(f"{s.along[0]} and {s.along[1]} are not points of one body",
-                             table=f"sliders.{s.name}", entry="along", source=src)
+            raise ModelError(
+                f"{s.along[0]} and {s.along[1]} are not points of one body",
+                table=f"sliders.{s.name}",
+                entry="along",
+                source=src,
+            )
         if any(s.point in b.points for b in carriers):
-            raise ModelError(f"{s.point} is a point of the body that carries the line",
-                             table=f"sliders.{s.name}", entry="point", source=src)
+            raise ModelError(
+                f"{s.point} is a point of the body that carries the line",
+                table=f"sliders.{s.name}",
+                entry="point",
+                source=src,
+            )
     for (p, q), value in model.lengths.items():
         key = f"{p}-{q}"
         if p not in model.points or q not in model.points:
             missing = p if p not in model.points else q
             raise ModelError(f"unknown point {missing!r}", table="lengths", entry=key, source=src)
         if not value > 0:
-            raise ModelError(f"a length must be positive, got {value} m", table="lengths",
-                             entry=key, source=src)
+            raise ModelError(
+                f"a length must be positive, got {value} m", table="lengths", entry=key, source=src
+            )
     mobility_check(model)
 
 
@@ -132,8 +188,12 @@ def _unique(names: list[str], table: str, src: str | None) -> None:
 def _known_points(model: Model, names: tuple[str, ...], table: str, entry: str) -> None:
     for n in names:
         if n not in model.points:
-            raise ModelError(f"unknown point {n!r} (known: {', '.join(model.points)})",
-                             table=table, entry=entry, source=model.source)
+            raise ModelError(
+                f"unknown point {n!r} (known: {', '.join(model.points)})",
+                table=table,
+                entry=entry,
+                source=model.source,
+            )
 
 
 @dataclass(frozen=True, slots=True)

@@ -225,20 +225,30 @@ class SolvePlan:
                 text = f"fixed    {', '.join(name(i) for i in st.points)} (ground)"
             elif isinstance(st, Rotate):
                 ref = "ground" if st.ref is None else f"{name(st.ref[0])}→{name(st.ref[1])}"
-                text = (f"rotate   {name(st.point)} about {name(st.pivot)} by driver "
-                        f"{st.driver!r} (from {ref}, r = {st.radius:.6g} m)")
+                text = (
+                    f"rotate   {name(st.point)} about {name(st.pivot)} by driver "
+                    f"{st.driver!r} (from {ref}, r = {st.radius:.6g} m)"
+                )
             elif isinstance(st, Attach):
-                text = f"attach   {name(st.point)} to body {st.body!r} via {name(st.a)}, {name(st.b)}"
+                text = (
+                    f"attach   {name(st.point)} to body {st.body!r} via {name(st.a)}, {name(st.b)}"
+                )
             elif isinstance(st, Dyad):
-                text = (f"dyad     {name(st.point)} from {name(st.a)} ({_d(st.da)}) and "
-                        f"{name(st.b)} ({_d(st.db)}), branch {'+' if st.sign > 0 else '−'}")
+                text = (
+                    f"dyad     {name(st.point)} from {name(st.a)} ({_d(st.da)}) and "
+                    f"{name(st.b)} ({_d(st.db)}), branch {'+' if st.sign > 0 else '−'}"
+                )
             elif isinstance(st, SliderStep):
-                text = (f"slider   {name(st.point)} on line {name(st.l1)}→{name(st.l2)} "
-                        f"({st.slider!r}) at {_d(st.da)} from {name(st.a)}, "
-                        f"branch {'+' if st.sign > 0 else '−'}")
+                text = (
+                    f"slider   {name(st.point)} on line {name(st.l1)}→{name(st.l2)} "
+                    f"({st.slider!r}) at {_d(st.da)} from {name(st.a)}, "
+                    f"branch {'+' if st.sign > 0 else '−'}"
+                )
             else:
-                text = (f"newton   {', '.join(name(i) for i in st.points)} together "
-                        f"({len(st.constraints)} constraints)")
+                text = (
+                    f"newton   {', '.join(name(i) for i in st.points)} together "
+                    f"({len(st.constraints)} constraints)"
+                )
             lines.append(f"{k:3d}. {text}")
         return "\n".join(lines)
 
@@ -257,7 +267,9 @@ def _cross(ax: float, ay: float, bx: float, by: float) -> float:
     return ax * by - ay * bx
 
 
-def compile_plan(model: Model, *, method: Literal["closed-form", "newton"] = "closed-form") -> SolvePlan:
+def compile_plan(
+    model: Model, *, method: Literal["closed-form", "newton"] = "closed-form"
+) -> SolvePlan:
     """Order the model's points into solve steps.
 
     Parameters
@@ -303,21 +315,35 @@ def compile_plan(model: Model, *, method: Literal["closed-form", "newton"] = "cl
         p, q = ld.between
         length = _override(model, p, q) or math.dist(sk[p], sk[q])
         if ld.mode == "free" and _override(model, p, q) is not None:
-            raise AssemblyError("a free element's length follows the mechanism; it cannot be "
-                                "set in [lengths]", table="lengths", entry=f"{p}-{q}", source=src)
+            raise AssemblyError(
+                "a free element's length follows the mechanism; it cannot be set in [lengths]",
+                table="lengths",
+                entry=f"{p}-{q}",
+                source=src,
+            )
         if ld.mode == "driven":
             kinds.append("length")
             sketch_vals.append(length)
-        elements.append(Element(ld.name, idx[p], idx[q], ld.mode,
-                                in_idx.get(ld.name, -1) if ld.mode == "driven" else -1, length))
-    for (p, q) in model.lengths:
+        elements.append(
+            Element(
+                ld.name,
+                idx[p],
+                idx[q],
+                ld.mode,
+                in_idx.get(ld.name, -1) if ld.mode == "driven" else -1,
+                length,
+            )
+        )
+    for p, q in model.lengths:
         on_body = any(p in b.points and q in b.points for b in bodies)
         on_elem = any({p, q} == set(ld.between) for ld in model.linear)
         if not (on_body or on_elem):
             raise AssemblyError(
                 f"{p} and {q} are on no common body and no cylinder joins them, so their "
-                "distance is not a dimension of the mechanism", table="lengths",
-                entry=f"{p}-{q}", source=src,
+                "distance is not a dimension of the mechanism",
+                table="lengths",
+                entry=f"{p}-{q}",
+                source=src,
             )
 
     point_bodies: dict[str, list[int]] = {n: [] for n in names}
@@ -390,8 +416,10 @@ def compile_plan(model: Model, *, method: Literal["closed-form", "newton"] = "cl
                 if len(kn) < 2 or not unknown:
                     continue
                 sh = shapes[b.name]
-                a, c = max(((u, v) for i, u in enumerate(kn) for v in kn[i + 1:]),
-                           key=lambda uv: sh.distance(*uv))
+                a, c = max(
+                    ((u, v) for i, u in enumerate(kn) for v in kn[i + 1 :]),
+                    key=lambda uv: sh.distance(*uv),
+                )
                 for n in unknown:
                     s, t = sh.frame_coords(n, a, c)
                     steps.append(Attach(idx[n], idx[a], idx[c], s, t, b.name))
@@ -401,17 +429,36 @@ def compile_plan(model: Model, *, method: Literal["closed-form", "newton"] = "cl
             if progress:
                 continue
             for ri, d in enumerate(model.rotary):
-                if ri in used_rotary or d.pivot not in known or not body_known(
-                        next(i for i, b in enumerate(bodies) if b.name == d.reference)):
+                if (
+                    ri in used_rotary
+                    or d.pivot not in known
+                    or not body_known(
+                        next(i for i, b in enumerate(bodies) if b.name == d.reference)
+                    )
+                ):
                     continue
                 body = model.body(d.body)
                 p = next(n for n in body.points if n != d.pivot)
                 if p in known:
                     continue
-                ref = None if model.body(d.reference).ground else (
-                    idx[model.body(d.reference).points[0]], idx[model.body(d.reference).points[1]])
-                steps.append(Rotate(idx[p], idx[d.pivot], shapes[d.body].distance(p, d.pivot),
-                                    in_idx[d.name], ref, d.name))
+                ref = (
+                    None
+                    if model.body(d.reference).ground
+                    else (
+                        idx[model.body(d.reference).points[0]],
+                        idx[model.body(d.reference).points[1]],
+                    )
+                )
+                steps.append(
+                    Rotate(
+                        idx[p],
+                        idx[d.pivot],
+                        shapes[d.body].distance(p, d.pivot),
+                        in_idx[d.name],
+                        ref,
+                        d.name,
+                    )
+                )
                 known.add(p)
                 used_rotary.add(ri)
                 body_used[next(i for i, b in enumerate(bodies) if b.name == d.body)] += 1
@@ -423,21 +470,37 @@ def compile_plan(model: Model, *, method: Literal["closed-form", "newton"] = "cl
                 if p in known:
                     continue
                 opts = dist_options(p)
-                pair = next(((o1, o2) for i, o1 in enumerate(opts) for o2 in opts[i + 1:]
-                             if o1[0] != o2[0]), None)
+                pair = next(
+                    (
+                        (o1, o2)
+                        for i, o1 in enumerate(opts)
+                        for o2 in opts[i + 1 :]
+                        if o1[0] != o2[0]
+                    ),
+                    None,
+                )
                 if pair is None:
                     continue
                 o1, o2 = pair
-                a, b = o1[0], o2[0]
-                cr = _cross(sk[b][0] - sk[a][0], sk[b][1] - sk[a][1],
-                            sk[p][0] - sk[a][0], sk[p][1] - sk[a][1])
+                a, pb = o1[0], o2[0]
+                cr = _cross(
+                    sk[pb][0] - sk[a][0],
+                    sk[pb][1] - sk[a][1],
+                    sk[p][0] - sk[a][0],
+                    sk[p][1] - sk[a][1],
+                )
                 if abs(cr) <= 1e-12 * scale * scale:
                     raise AssemblyError(
-                        f"point {p} lies on the line through {a} and {b} in the sketch, so the "
+                        f"point {p} lies on the line through {a} and {pb} in the sketch, so the "
                         "sketch does not show which way the dyad is assembled; move it to the "
-                        "intended side", table="points", entry=p, source=src)
-                steps.append(Dyad(idx[p], idx[a], idx[b], o1[1], o2[1], math.copysign(1.0, cr),
-                                  len(n_trans)))
+                        "intended side",
+                        table="points",
+                        entry=p,
+                        source=src,
+                    )
+                steps.append(
+                    Dyad(idx[p], idx[a], idx[pb], o1[1], o2[1], math.copysign(1.0, cr), len(n_trans))
+                )
                 n_trans.append(p)
                 consume(o1)
                 consume(o2)
@@ -446,24 +509,37 @@ def compile_plan(model: Model, *, method: Literal["closed-form", "newton"] = "cl
                 break
             if progress:
                 continue
-            for si, s in enumerate(model.sliders):
-                if si in used_slider or s.point in known or not all(n in known for n in s.along):
+            for si, sl in enumerate(model.sliders):
+                if si in used_slider or sl.point in known or not all(n in known for n in sl.along):
                     continue
-                opts = dist_options(s.point)
+                opts = dist_options(sl.point)
                 if not opts:
                     continue
                 o = opts[0]
-                a, p = o[0], s.point
-                l1, l2 = s.along
+                a, p = o[0], sl.point
+                l1, l2 = sl.along
                 ux, uy = _unit(sk[l2], sk[l1])
                 along = (sk[p][0] - sk[a][0]) * ux + (sk[p][1] - sk[a][1]) * uy
                 if abs(along) <= 1e-12 * scale:
                     raise AssemblyError(
                         f"point {p} is at the foot of the perpendicular from {a} to its slide "
-                        "in the sketch, so the sketch does not show the branch", table="points",
-                        entry=p, source=src)
-                steps.append(SliderStep(idx[p], idx[a], o[1], idx[l1], idx[l2],
-                                        math.copysign(1.0, along), len(n_trans), s.name))
+                        "in the sketch, so the sketch does not show the branch",
+                        table="points",
+                        entry=p,
+                        source=src,
+                    )
+                steps.append(
+                    SliderStep(
+                        idx[p],
+                        idx[a],
+                        o[1],
+                        idx[l1],
+                        idx[l2],
+                        math.copysign(1.0, along),
+                        len(n_trans),
+                        sl.name,
+                    )
+                )
                 n_trans.append(p)
                 consume(o)
                 used_slider.add(si)
@@ -473,16 +549,29 @@ def compile_plan(model: Model, *, method: Literal["closed-form", "newton"] = "cl
 
     unknown = [n for n in names if n not in known]
     if unknown:
-        steps.append(_newton_group(model, shapes, idx, unknown, known, elements, used_elem,
-                                   used_slider, used_rotary, body_used))
+        steps.append(
+            _newton_group(
+                model,
+                shapes,
+                idx,
+                unknown,
+                known,
+                elements,
+                used_elem,
+                used_slider,
+                used_rotary,
+                body_used,
+            )
+        )
     _check_all_used(model, shapes, elements, used_elem, used_slider, used_rotary, body_used)
     return SolvePlan(
         model=model,
         points=names,
         bodies=tuple(b.name for b in bodies),
         ground=gidx,
-        body_base=tuple((idx[b.points[0]], idx[b.points[1]]) if len(b.points) >= 2 else (-1, -1)
-                        for b in bodies),
+        body_base=tuple(
+            (idx[b.points[0]], idx[b.points[1]]) if len(b.points) >= 2 else (-1, -1) for b in bodies
+        ),
         inputs=inputs,
         input_kinds=tuple(kinds),
         input_sketch=tuple(sketch_vals),
@@ -530,8 +619,9 @@ def _newton_group(
             continue
         p0, p1 = b.points[0], b.points[1]
         sh = shapes[b.name]
-        cons.append(CDist(idx[p0], idx[p1], Dist("fixed", sh.distance(p0, p1),
-                                                 label=f"body {b.name!r}")))
+        cons.append(
+            CDist(idx[p0], idx[p1], Dist("fixed", sh.distance(p0, p1), label=f"body {b.name!r}"))
+        )
         for pi in b.points[2:]:
             s, t = sh.frame_coords(pi, p0, p1)
             cons.append(CFrame(idx[pi], idx[p0], idx[p1], s, t))
@@ -540,25 +630,28 @@ def _newton_group(
         if ei in used_elem or el.mode == "free":
             continue
         if {names[el.p], names[el.q]} & unk:
-            d = (Dist("input", el.length, el.input, label=el.name) if el.mode == "driven"
-                 else Dist("fixed", el.length, label=f"locked {el.name!r}"))
+            d = (
+                Dist("input", el.length, el.input, label=el.name)
+                if el.mode == "driven"
+                else Dist("fixed", el.length, label=f"locked {el.name!r}")
+            )
             cons.append(CDist(el.p, el.q, d))
             used_elem.add(ei)
-    for si, s in enumerate(model.sliders):
-        if si not in used_slider and {s.point, *s.along} & unk:
-            cons.append(CLine(idx[s.point], idx[s.along[0]], idx[s.along[1]]))
+    for si, sl in enumerate(model.sliders):
+        if si not in used_slider and {sl.point, *sl.along} & unk:
+            cons.append(CLine(idx[sl.point], idx[sl.along[0]], idx[sl.along[1]]))
             used_slider.add(si)
     inputs = model.inputs
-    for ri, d in enumerate(model.rotary):
+    for ri, rd in enumerate(model.rotary):
         if ri in used_rotary:
             continue
-        body = model.body(d.body)
-        p = next(n for n in body.points if n != d.pivot)
-        refb = model.body(d.reference)
+        body = model.body(rd.body)
+        p = next(n for n in body.points if n != rd.pivot)
+        refb = model.body(rd.reference)
         ref = None if refb.ground else (idx[refb.points[0]], idx[refb.points[1]])
-        involved = {p, d.pivot} | (set() if refb.ground else set(refb.points[:2]))
+        involved = {p, rd.pivot} | (set() if refb.ground else set(refb.points[:2]))
         if involved & unk:
-            cons.append(CAngle(idx[p], idx[d.pivot], ref, inputs.index(d.name)))
+            cons.append(CAngle(idx[p], idx[rd.pivot], ref, inputs.index(rd.name)))
             used_rotary.add(ri)
     n_eq = sum(2 if isinstance(c, CFrame) else 1 for c in cons)
     if n_eq != 2 * len(unknown):
@@ -566,7 +659,8 @@ def _newton_group(
         raise MobilityError(
             f"points {', '.join(unknown)} are {what}-constrained: {n_eq} equations for "
             f"{2 * len(unknown)} coordinates (check the drivers and joints that reach them)",
-            table="bodies", source=model.source,
+            table="bodies",
+            source=model.source,
         )
     return NewtonGroup(tuple(idx[n] for n in unknown), tuple(cons))
 
@@ -587,21 +681,32 @@ def _check_all_used(
             raise MobilityError(
                 f"{kind} {el.name!r} is redundant: both its points are already fixed by the rest "
                 "of the mechanism (over-constrained; make it 'free' or remove a joint)",
-                table=f"drivers.{el.name}", source=src)
+                table=f"drivers.{el.name}",
+                source=src,
+            )
     for si, s in enumerate(model.sliders):
         if si not in used_slider:
             raise MobilityError(
                 f"slider {s.name!r} is redundant: its point and line are already fixed by the "
-                "rest of the mechanism (over-constrained)", table=f"sliders.{s.name}", source=src)
+                "rest of the mechanism (over-constrained)",
+                table=f"sliders.{s.name}",
+                source=src,
+            )
     for ri, d in enumerate(model.rotary):
         if ri not in used_rotary:
             raise MobilityError(
                 f"rotary driver {d.name!r} is redundant: body {d.body!r} is already fixed by the "
-                "rest of the mechanism (over-constrained)", table=f"drivers.{d.name}", source=src)
+                "rest of the mechanism (over-constrained)",
+                table=f"drivers.{d.name}",
+                source=src,
+            )
     for bi, b in enumerate(model.bodies):
         need = 0 if b.ground else 2 * len(b.points) - 3
         if body_used[bi] < need:
             raise MobilityError(
                 f"body {b.name!r} is over-constrained: its points are fixed through other "
                 "bodies, so its own shape would be a redundant constraint (check its joints)",
-                table="bodies", entry=b.name, source=src)
+                table="bodies",
+                entry=b.name,
+                source=src,
+            )

@@ -64,8 +64,12 @@ def body_shape(model: Model, body: Body) -> BodyShape:
     ux, uy = x1 - x0, y1 - y0
     sketch_len = math.hypot(ux, uy)
     if sketch_len == 0.0:
-        raise ModelError(f"its first two points {p0} and {p1} coincide in the sketch",
-                         table="bodies", entry=body.name, source=src)
+        raise ModelError(
+            f"its first two points {p0} and {p1} coincide in the sketch",
+            table="bodies",
+            entry=body.name,
+            source=src,
+        )
     ex, ey = ux / sketch_len, uy / sketch_len
     defining = {frozenset((p0, p1))}
     d01 = _override(model, p0, p1) or sketch_len
@@ -85,17 +89,21 @@ def body_shape(model: Model, body: Body) -> BodyShape:
         if h2 < -1e-12 * d0 * d0:
             raise AssemblyError(
                 f"distances {p0}-{pi} = {d0:.6g} m, {p1}-{pi} = {d1:.6g} m and {p0}-{p1} = "
-                f"{d01:.6g} m cannot form a triangle", table="bodies", entry=body.name,
+                f"{d01:.6g} m cannot form a triangle",
+                table="bodies",
+                entry=body.name,
                 source=src,
             )
         side = 1.0 if sy >= 0.0 else -1.0
         local[pi] = (x, side * math.sqrt(max(h2, 0.0)))
-    for (p, q) in model.lengths:
+    for p, q in model.lengths:
         if p in pts and q in pts and frozenset((p, q)) not in defining:
             raise ModelError(
                 f"{p}-{q} is not one of body {body.name!r}'s defining distances (its first two "
                 "points to each other, and each further point to those two); list the points "
-                "in another order or give those distances", table="lengths", entry=f"{p}-{q}",
+                "in another order or give those distances",
+                table="lengths",
+                entry=f"{p}-{q}",
                 source=src,
             )
     com = None

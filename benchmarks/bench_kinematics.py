@@ -1,0 +1,127 @@
+"""Full kinematic state of the crank-rocker at 10⁶ crank angles: excavkin vs hand-written NumPy.
+
+Run: ``python benchmarks/bench_kinematics.py [N]``. Prints samples/s of ``Mechanism.solve`` and of
+a hand-written NumPy closed form computing the same quantities (positions, velocities and
+accelerations of every point, angle/ω/ε of every body, the driver columns and the transmission
+angle), and their ratio — the target is ≤ 1.5. When pylinkage is installed (``pip install
+'excavkin[bench]'``) its figure for positions of the same linkage is printed beside ours.
+Not a test: machines differ; the ratio is what is tracked.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+import excavkin
+
+A, B, C, D = 0.040, 0.120, 0.090, 0.100
+
+
+def hand_numpy(th: np.ndarray, w: float, al: float) -> dict[str, np.ndarray]:
+    """The four-bar state by hand: A from the crank, B from the dyad A–B / O4–B."""
+    cs, sn = np.cos(th), np.sin(th)
+    ax, ay = A * cs, A * sn
+    vax, vay = -A * w * sn, A * w * cs
+    aax = -A * (al * sn + w * w * cs)
+    aay = A * (al * cs - w * w * sn)
+    ex, ey = D - ax, -ay
+    l2 = ex * ex + ey * ey
+    k = (B * B - C * C + l2) / (2 * l2)
+    h = np.sqrt(B * B / l2 - k * k)
+    bx = ax + k * ex - h * ey
+    by = ay + k * ey + h * ex
+    r1x, r1y, r2x, r2y = bx - ax, by - ay, bx - D, by
+    det = r1x * r2y - r1y * r2x
+    f1 = r1x * vax + r1y * vay
+    vbx = f1 * r2y / det
+    vby = -r2x * f1 / det
+    wx, wy = vbx - vax, vby - vay
+    g1 = r1x * aax + r1y * aay - (wx * wx + wy * wy)
+    g2 = -(vbx * vbx + vby * vby)
+    abx = (g1 * r2y - g2 * r1y) / det
+    aby = (r1x * g2 - r2x * g1) / det
+    out = {
+        "ax": ax,
+        "ay": ay,
+        "vax": vax,
+        "vay": vay,
+        "aax": aax,
+        "aay": aay,
+        "bx": bx,
+        "by": by,
+        "vbx": vbx,
+        "vby": vby,
+        "abx": abx,
+        "aby": aby,
+        "mu": np.arctan2(np.abs(det), r1x * r2x + r1y * r2y),
+    }
+    for name, (rx, ry, vx, vy, ax_, ay_) in {
+        "crank": (ax, ay, vax, vay, aax, aay),
+        "coupler": (r1x, r1y, wx, wy, abx - aax, aby - aay),
+        "rocker": (r2x, r2y, vbx, vby, abx, aby),
+    }.items():
+        r2 = rx * rx + ry * ry
+        out[name + ".angle"] = np.arctan2(ry, rx)
+        out[name + ".omega"] = (rx * vy - ry * vx) / r2
+        out[name + ".epsilon"] = (rx * ay_ - ry * ax_) / r2
+    return out
+
+
+def best_of(fn: Callable[[], object], repeat: int = 5) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def pylinkage_rate(n: int) -> float | None:
+    try:
+        import pylinkage as pl  # type: ignore[import-not-found]
+    except ImportError:
+        return None
+    try:
+        crank = pl.Crank(0, 0.04, joint0=(0, 0), angle=2 * np.pi / n, distance=0.04)
+        pin = pl.Revolute(
+            0.11, 0.09, joint0=crank, joint1=(0.1, 0.0), distance0=0.12, distance1=0.09
+        )
+        linkage = pl.Linkage(joints=(crank, pin), order=(crank, pin))
+        t0 = time.perf_counter()
+        for _ in linkage.step(iterations=n):
+            pass
+        return n / (time.perf_counter() - t0)
+    except Exception as exc:  # an API change in pylinkage must not break our benchmark
+        print(f"pylinkage: could not run ({exc})")
+        return None
+
+
+def main(n: int = 1_000_000) -> float:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    th = np.linspace(0.0, 2 * np.pi, n)
+    w, al = 31.416, 0.0
+    res = mech.solve({"crank": th}, rates={"crank": w}, accels={"crank": al})
+    ref = hand_numpy(th, w, al)
+    pos, vel, acc = res.point("B")
+    assert np.allclose(pos[:, 0], ref["bx"], atol=1e-14) and np.allclose(
+        acc[:, 1], ref["aby"], rtol=1e-9, atol=1e-9
+    )
+    t_ours = best_of(lambda: mech.solve({"crank": th}, rates={"crank": w}, accels={"crank": al}))
+    t_hand = best_of(lambda: hand_numpy(th, w, al))
+    print(f"four-bar, full kinematic state, N = {n:,}")
+    print(f"  hand-written NumPy   : {n / t_hand / 1e6:6.2f} M samples/s")
+    print(f"  excavkin solve       : {n / t_ours / 1e6:6.2f} M samples/s")
+    ratio = t_ours / t_hand
+    print(f"  ratio excavkin/NumPy : {ratio:6.2f}   (target ≤ 1.5)")
+    pl_rate = pylinkage_rate(min(n, 200_000))
+    if pl_rate is not None:
+        print(f"  pylinkage (positions): {pl_rate / 1e6:6.2f} M samples/s")
+    return ratio
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 1_000_000)

@@ -1,0 +1,5 @@
+"""``python -m excavkin`` runs the command line."""
+
+from excavkin.cli import main
+
+main()

@@ -1,0 +1,1 @@
+"""Tables, plots, animations and reports made from results (matplotlib/plotly imported lazily)."""

@@ -1,0 +1,82 @@
+"""Write result tables: whole or not at all.
+
+A table is written to a temporary file beside the target and moved into place only when
+complete, so an interrupted or failed run never leaves a half-written file, and an existing
+file is replaced only when asked (``force``).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from excavkin.errors import ExcavkinError
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+TABLE_SUFFIXES = (".csv", ".parquet")
+
+
+class OutputError(ExcavkinError):
+    """An output file cannot be written."""
+
+
+def check_target(path: str | Path, *, force: bool, suffixes: tuple[str, ...] | None = None) -> Path:
+    """Check, before any work, that ``path`` may be written.
+
+    Raises
+    ------
+    OutputError
+        If it exists and ``force`` is false, its folder does not exist, or its suffix is not one
+        of ``suffixes``.
+    """
+    p = Path(path)
+    if suffixes is not None and p.suffix.lower() not in suffixes:
+        raise OutputError(f"{p}: the output must end in {' or '.join(suffixes)}")
+    if p.exists() and not force:
+        raise OutputError(f"{p} exists; pass --force to replace it")
+    if not p.parent.exists():
+        raise OutputError(f"{p}: the folder {p.parent} does not exist")
+    if p.exists() and p.is_dir():
+        raise OutputError(f"{p} is a folder")
+    return p
+
+
+def write_atomic(path: str | Path, writer: Callable[[Path], None]) -> Path:
+    """Call ``writer(tmp)`` to write a temporary file, then move it onto ``path``."""
+    p = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp" + p.suffix, dir=p.parent)
+    os.close(fd)
+    try:
+        writer(Path(tmp))
+        os.replace(tmp, p)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return p
+
+
+def write_table(frame: pd.DataFrame, path: str | Path, *, force: bool = False) -> Path:
+    """Write ``frame`` as CSV or Parquet (by suffix), atomically."""
+    p = check_target(path, force=force, suffixes=TABLE_SUFFIXES)
+    if p.suffix.lower() == ".parquet":
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError:
+            raise OutputError(
+                f"{p}: writing Parquet needs pyarrow "
+                "(pip install 'excavkin[parquet]'), or write .csv"
+            ) from None
+
+        def parquet(tmp: Path) -> None:
+            out = frame.copy()
+            if "status" in out:
+                out["status"] = out["status"].astype(str)
+            out.to_parquet(tmp, index=False)
+
+        return write_atomic(p, parquet)
+    return write_atomic(p, lambda tmp: frame.to_csv(tmp, index=False, float_format="%.17g"))

@@ -1,0 +1,133 @@
+"""The command line: outputs, exit codes, messages without tracebacks, files written whole."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tests.conftest import EXAMPLES
+
+FOURBAR = str(EXAMPLES / "fourbar.toml")
+
+
+def run(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "excavkin", *args], capture_output=True, text=True, cwd=cwd
+    )
+
+
+def test_solve_writes_the_columns(tmp_path: Path) -> None:
+    out = tmp_path / "fb.csv"
+    r = run(
+        "solve",
+        FOURBAR,
+        "--sweep",
+        "crank=0deg:360deg:37",
+        "--rate",
+        "crank=31.416rad/s",
+        "-o",
+        str(out),
+    )
+    assert r.returncode == 0, r.stderr
+    frame = pd.read_csv(out)
+    assert len(frame) == 37
+    for col in (
+        "A.x",
+        "B.vy",
+        "B.ay",
+        "rocker.angle",
+        "rocker.omega",
+        "rocker.epsilon",
+        "crank.value",
+        "crank.rate",
+        "crank.accel",
+        "B.transmission",
+        "status",
+    ):
+        assert col in frame.columns
+    np.testing.assert_allclose(frame["crank.value"], np.radians(np.linspace(0, 360, 37)))
+    np.testing.assert_allclose(frame["crank.rate"], 31.416)
+    # full precision round trip
+    np.testing.assert_allclose(np.hypot(frame["A.x"], frame["A.y"]), 0.04, rtol=1e-15)
+
+
+def test_parquet_and_set(tmp_path: Path) -> None:
+    out = tmp_path / "sc.parquet"
+    r = run("solve", str(EXAMPLES / "slider_crank.toml"), "--set", "crank=30deg", "-o", str(out))
+    assert r.returncode == 0, r.stderr
+    frame = pd.read_parquet(out)
+    assert len(frame) == 1 and frame["crank.rate"].iloc[0] == 0.0
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (["--sweep", "crnk=0:1:3"], ["unknown driver 'crnk'"]),
+        (["--sweep", "crank=0mm:1deg:3"], ["'0mm' is not an angle"]),
+        (["--sweep", "crank=0:1"], ["START:STOP:N"]),
+        (["--rate", "crank=3m/s", "--sweep", "crank=0:1:3"], ["not an angular_velocity"]),
+    ],
+)
+def test_bad_arguments(tmp_path: Path, args: list[str], words: list[str]) -> None:
+    out = tmp_path / "x.csv"
+    r = run("solve", FOURBAR, *args, "-o", str(out))
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr
+    for w in words:
+        assert w in r.stderr
+    assert not out.exists()
+
+
+def test_bad_model_file(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.toml"
+    bad.write_text(Path(FOURBAR).read_text().replace('"A-B"  = 120', '"A-B"  = 400'))
+    r = run("check", str(bad))
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert str(bad) in r.stderr and "cannot be assembled" in r.stderr
+    r = run("check", str(tmp_path / "missing.toml"))
+    assert r.returncode == 2 and "cannot read the file" in r.stderr
+
+
+def test_failing_samples_stop_unless_keep_going(tmp_path: Path) -> None:
+    model = tmp_path / "nongrashof.toml"
+    text = Path(FOURBAR).read_text().replace('"O4-B" = 90', '"O4-B" = 90\n"O2-A" = 95')
+    model.write_text(text)
+    out = tmp_path / "x.csv"
+    r = run("solve", str(model), "--sweep", "crank=0deg:360deg:73", "-o", str(out))
+    assert r.returncode == 3
+    assert "cannot close at dyad B" in r.stderr and "Nothing was written" in r.stderr
+    assert not out.exists()
+    r = run("solve", str(model), "--sweep", "crank=0deg:360deg:73", "-o", str(out), "--keep-going")
+    assert r.returncode == 0 and "warning" in r.stderr
+    frame = pd.read_csv(out)
+    assert (frame["status"] != "ok").any() and (frame["status"] == "ok").any()
+
+
+def test_existing_output_is_not_overwritten(tmp_path: Path) -> None:
+    out = tmp_path / "x.csv"
+    out.write_text("precious")
+    r = run("solve", FOURBAR, "--sweep", "crank=0:1:3", "-o", str(out))
+    assert r.returncode == 2 and "exists" in r.stderr
+    assert out.read_text() == "precious"
+    r = run("solve", FOURBAR, "--sweep", "crank=0:1:3", "-o", str(out), "--force")
+    assert r.returncode == 0
+    assert len(pd.read_csv(out)) == 3
+    assert not list(tmp_path.glob(".*tmp*"))  # no temporary file left behind
+
+
+def test_check_prints_the_plan() -> None:
+    r = run("check", FOURBAR)
+    assert r.returncode == 0
+    assert "mobility: M = 3·(4 − 1) − 2·4 − 0 = 1" in r.stdout
+    assert "dyad     B from A" in r.stdout
+
+
+def test_demo(tmp_path: Path) -> None:
+    r = run("demo", "--out-dir", str(tmp_path / "demo"))
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "demo" / "fourbar.csv").exists()
