@@ -80,23 +80,26 @@ def best_of(fn: Callable[[], object], repeat: int = 5) -> float:
     return min(times)
 
 
-def pylinkage_rate(n: int) -> float | None:
+def pylinkage_rates(n: int) -> tuple[float, float] | None:
+    """Samples/s of pylinkage 1.3's compiled solver on the same four-bar: positions only, and
+    positions with velocities and accelerations."""
     try:
         import pylinkage as pl  # type: ignore[import-not-found]
     except ImportError:
         return None
     try:
-        crank = pl.Crank(0, 0.04, joint0=(0, 0), angle=2 * np.pi / n, distance=0.04)
-        pin = pl.Revolute(
-            0.11, 0.09, joint0=crank, joint1=(0.1, 0.0), distance0=0.12, distance1=0.09
-        )
-        linkage = pl.Linkage(joints=(crank, pin), order=(crank, pin))
-        t0 = time.perf_counter()
-        for _ in linkage.step(iterations=n):
-            pass
-        return n / (time.perf_counter() - t0)
+        g1, g2 = pl.Ground(0.0, 0.0), pl.Ground(D, 0.0)
+        crank = pl.Crank(g1, A, angular_velocity=2 * np.pi / n, initial_angle=0.0)
+        pin = pl.RRRDyad(crank, g2, B, C, x=0.11, y=0.09)
+        linkage = pl.Linkage([g1, g2, crank, pin], order=[g1, g2, crank, pin])
+        linkage.set_input_velocity(crank, 31.416)
+        linkage.step_fast(iterations=1000)  # compile
+        linkage.step_fast_with_kinematics(iterations=1000)
+        t_pos = best_of(lambda: linkage.step_fast(iterations=n), repeat=2)
+        t_kin = best_of(lambda: linkage.step_fast_with_kinematics(iterations=n), repeat=1)
+        return n / t_pos, n / t_kin
     except Exception as exc:  # an API change in pylinkage must not break our benchmark
-        print(f"pylinkage: could not run ({exc})")
+        print(f"  pylinkage: could not run ({exc})")
         return None
 
 
@@ -110,16 +113,29 @@ def main(n: int = 1_000_000) -> float:
     assert np.allclose(pos[:, 0], ref["bx"], atol=1e-14) and np.allclose(
         acc[:, 1], ref["aby"], rtol=1e-9, atol=1e-9
     )
-    t_ours = best_of(lambda: mech.solve({"crank": th}, rates={"crank": w}, accels={"crank": al}))
+
+    def ours(workers: int | None) -> float:
+        return best_of(
+            lambda: mech.solve(
+                {"crank": th}, rates={"crank": w}, accels={"crank": al}, workers=workers
+            )
+        )
+
+    t_ours, t_one = ours(None), ours(1)
     t_hand = best_of(lambda: hand_numpy(th, w, al))
     print(f"four-bar, full kinematic state, N = {n:,}")
-    print(f"  hand-written NumPy   : {n / t_hand / 1e6:6.2f} M samples/s")
-    print(f"  excavkin solve       : {n / t_ours / 1e6:6.2f} M samples/s")
+    print(f"  hand-written NumPy                   : {n / t_hand / 1e6:6.2f} M samples/s")
+    print(f"  excavkin solve, one thread           : {n / t_one / 1e6:6.2f} M samples/s")
+    print(f"  excavkin solve, all cores (default)  : {n / t_ours / 1e6:6.2f} M samples/s")
     ratio = t_ours / t_hand
-    print(f"  ratio excavkin/NumPy : {ratio:6.2f}   (target ≤ 1.5)")
-    pl_rate = pylinkage_rate(min(n, 200_000))
-    if pl_rate is not None:
-        print(f"  pylinkage (positions): {pl_rate / 1e6:6.2f} M samples/s")
+    print(
+        f"  ratio excavkin/NumPy                 : {ratio:6.2f}   (target ≤ 1.5; "
+        f"one thread: {t_one / t_hand:.2f})"
+    )
+    pl = pylinkage_rates(min(n, 100_000))
+    if pl is not None:
+        print(f"  pylinkage 1.3, positions             : {pl[0] / 1e6:6.3f} M samples/s")
+        print(f"  pylinkage 1.3, with vel. and accel.  : {pl[1] / 1e6:6.3f} M samples/s")
     return ratio
 
 

@@ -9,8 +9,8 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Literal
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING, Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -20,6 +20,9 @@ from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble,
 from excavkin.model.entities import Model
 from excavkin.model.validate import validate
 from excavkin.structure.plan import SolvePlan, compile_plan
+
+if TYPE_CHECKING:
+    from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
 
 F = np.ndarray
 
@@ -43,6 +46,7 @@ class Mechanism:
         self.model: Model = model
         self.plan: SolvePlan = compile_plan(model, method=method)
         self.assembly: Assembly = assemble(self.plan)
+        self._statics: StaticsSystem | None = None
 
     @property
     def name(self) -> str:
@@ -71,6 +75,7 @@ class Mechanism:
                     f"{', '.join(self.plan.inputs) or 'none'}"
                 )
 
+    @overload
     def solve(
         self,
         values: Mapping[str, ArrayLike] | None = None,
@@ -80,7 +85,36 @@ class Mechanism:
         time: ArrayLike | None = None,
         strict: bool = False,
         tol: Tolerances | None = None,
-    ) -> KinematicResult:
+        workers: int | None = None,
+        loads: None = None,
+    ) -> KinematicResult: ...
+
+    @overload
+    def solve(
+        self,
+        values: Mapping[str, ArrayLike] | None = None,
+        rates: Mapping[str, ArrayLike] | None = None,
+        accels: Mapping[str, ArrayLike] | None = None,
+        *,
+        time: ArrayLike | None = None,
+        strict: bool = False,
+        tol: Tolerances | None = None,
+        workers: int | None = None,
+        loads: Iterable[Load] | Literal["model"],
+    ) -> ForceResult: ...
+
+    def solve(
+        self,
+        values: Mapping[str, ArrayLike] | None = None,
+        rates: Mapping[str, ArrayLike] | None = None,
+        accels: Mapping[str, ArrayLike] | None = None,
+        *,
+        time: ArrayLike | None = None,
+        strict: bool = False,
+        tol: Tolerances | None = None,
+        workers: int | None = None,
+        loads: Iterable[Load] | Literal["model"] | None = None,
+    ) -> KinematicResult | ForceResult:
         """Positions, velocities and accelerations for a batch of driver inputs.
 
         Parameters
@@ -98,10 +132,19 @@ class Mechanism:
             Raise :class:`~excavkin.errors.SolveFailure` if any sample fails (the default marks
             the samples in ``result.status`` and leaves their values NaN).
         tol : Tolerances, optional
+        workers : int, optional
+            Threads for large batches (default: all cores; 1 for a single thread).
+        loads : iterable of PointForce, Torque, Gravity, or "model", optional
+            Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
+            model's own loads and gravity; an empty list: inertia only).
 
         Returns
         -------
         KinematicResult
+            Without ``loads``.
+        ForceResult
+            With ``loads``: forces plus the kinematics (``.kinematics``); its ``to_frame()``
+            has the kinematic columns followed by the force columns.
         """
         values = dict(values or {})
         rates = dict(rates or {})
@@ -141,12 +184,62 @@ class Mechanism:
             q[i] = self.plan.input_sketch[i] if val is None else val
             qd[i] = rates.get(name, 1.0 if swept else 0.0)
             qdd[i] = accels.get(name, 0.0)
-        result = solve_kinematics(self.plan, self.assembly, q, qd, qdd, tol=tol or Tolerances())
+        result = solve_kinematics(
+            self.plan, self.assembly, q, qd, qdd, tol=tol or Tolerances(), workers=workers
+        )
         if time is not None:
             result = result.with_time(np.asarray(time, dtype=np.float64).reshape(n))
         if strict and not result.status.all_ok:
             raise SolveFailure(result.status.summary(), result)
-        return result
+        if loads is None:
+            return result
+        return self.forces(result, None if isinstance(loads, str) and loads == "model" else loads)
+
+    @property
+    def loads(self) -> tuple[Load, ...]:
+        """The model's own loads: its ``[loads]`` and its gravity, if enabled."""
+        from excavkin.kinetostatics import model_loads
+
+        return model_loads(self.model)
+
+    @property
+    def statics(self) -> StaticsSystem:
+        """The compiled equilibrium system (built on first use).
+
+        Raises
+        ------
+        StaticallyIndeterminateError
+            The model has redundant joints; the message names them.
+        """
+        if self._statics is None:
+            from excavkin.kinetostatics import compile_statics
+
+            self._statics = compile_statics(self.model)
+        return self._statics
+
+    def forces(self, result: KinematicResult, loads: Iterable[Load] | None = None) -> ForceResult:
+        """Joint forces, cylinder forces and driver torques for a kinematic result.
+
+        d'Alembert inertia (from the result's accelerations) plus ``loads``, in equilibrium
+        with the pin forces and the drivers' efforts (``docs/kinetostatics.md``).
+
+        Parameters
+        ----------
+        result : KinematicResult
+            From :meth:`solve` on this mechanism.
+        loads : iterable of PointForce, Torque, Gravity, optional
+            Default: the model's own (:attr:`loads`). Given, they replace the model's; pass
+            ``[*mech.loads, extra]`` to add to them.
+
+        Returns
+        -------
+        ForceResult
+        """
+        from excavkin.kinetostatics import solve_forces
+
+        if result.plan is not self.plan:
+            raise InputError("the kinematic result belongs to another mechanism")
+        return solve_forces(result, self.loads if loads is None else loads, system=self.statics)
 
     def describe(self) -> str:
         """Bodies, joints, drivers, mobility and the solve plan, as text."""

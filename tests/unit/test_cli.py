@@ -131,3 +131,13 @@ def test_demo(tmp_path: Path) -> None:
     r = run("demo", "--out-dir", str(tmp_path / "demo"))
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "demo" / "fourbar.csv").exists()
+
+
+def test_written_file_has_ordinary_permissions(tmp_path: Path) -> None:
+    import os
+
+    out = tmp_path / "x.csv"
+    assert run("solve", FOURBAR, "--sweep", "crank=0:1:3", "-o", str(out)).returncode == 0
+    umask = os.umask(0)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~umask

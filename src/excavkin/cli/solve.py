@@ -132,6 +132,19 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="Write the table even if some samples fail (rows marked in 'status').",
 )
 @click.option("--force", is_flag=True, help="Replace the output file if it exists.")
+@click.option(
+    "--forces",
+    "with_forces",
+    is_flag=True,
+    help="Append joint forces, cylinder forces and driver torques (d'Alembert inertia plus the "
+    "model's [loads]): <point>.<body>.Fx .Fy, <driver>.force, <driver>.torque, <ground>.Rx .Ry.",
+)
+@click.option(
+    "--gravity/--no-gravity",
+    default=None,
+    help="With --forces: add gravity (the model's, else 9.80665 m/s^2 along -y) or leave it "
+    "out (default: as the model says).",
+)
 @handle_errors
 def command(
     model: str,
@@ -142,16 +155,25 @@ def command(
     out: str,
     keep_going: bool,
     force: bool,
+    with_forces: bool,
+    gravity: bool | None,
 ) -> None:
     """Solve MODEL.toml over driver sweeps and write one row per sample.
 
     Columns (SI: m, rad, s): <point>.x .y .vx .vy .ax .ay, <body>.angle .omega .epsilon,
-    <driver>.value .rate .accel, <point>.transmission, status.
+    <driver>.value .rate .accel, <point>.transmission, status; with --forces also (N, N·m)
+    <point>.<body>.Fx .Fy, <driver>.force, <driver>.torque, <slider>.normal, <ground>.Rx .Ry.
     """
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model)
     values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels)
     result = mech.solve(values, rate_v, accel_v)
     report_failures(result, keep_going)
-    write_table(result.to_frame(), target, force=force)
-    click.echo(f"wrote {len(result)} samples × {result.to_frame().shape[1]} columns to {target}")
+    if with_forces:
+        from excavkin.kinetostatics import model_loads
+
+        frame = mech.forces(result, model_loads(mech.model, gravity=gravity)).to_frame()
+    else:
+        frame = result.to_frame()
+    write_table(frame, target, force=force)
+    click.echo(f"wrote {len(result)} samples × {frame.shape[1]} columns to {target}")

@@ -12,7 +12,17 @@ from pathlib import Path
 from typing import Any
 
 from excavkin.errors import ModelError, UnitError
-from excavkin.model.entities import Body, LinearDriver, Model, RotaryDriver, Slider
+from excavkin.model.entities import (
+    STANDARD_GRAVITY,
+    Body,
+    Gravity,
+    LinearDriver,
+    Model,
+    PointForce,
+    RotaryDriver,
+    Slider,
+    Torque,
+)
 from excavkin.model.validate import validate
 from excavkin.units import KINDS, check_unit, to_si
 
@@ -32,8 +42,8 @@ class _Reader:
         self.units: dict[str, str] = {}
         for kind, unit in units.items():
             if kind not in KINDS or kind == "dimensionless":
-                raise self.err(f"unknown quantity kind (known: {', '.join(k for k in KINDS if k != 'dimensionless')})",
-                               "units", kind)
+                known = ", ".join(k for k in KINDS if k != "dimensionless")
+                raise self.err(f"unknown quantity kind (known: {known})", "units", kind)
             if not isinstance(unit, str):
                 raise self.err("the unit must be a string such as \"mm\"", "units", kind)
             try:
@@ -183,10 +193,78 @@ def _build(data: dict[str, Any], source: str | None) -> Model:
                         "lengths", key)
         lengths[(parts[0], parts[1])] = r.qty(value, "length", "lengths", key)
 
+    loads = _loads(r, {b.name for b in bodies}, {b.name: b.points for b in bodies})
+    gravity = _gravity(r)
+
     model = Model(str(name), points, tuple(bodies), tuple(rotary), tuple(linear), tuple(sliders),
-                  lengths, source)
+                  lengths, source, loads, gravity)
     validate(model)
     return model
+
+
+def _gravity(r: _Reader) -> Gravity | None:
+    """``gravity = true``, ``gravity = "9.81 m/s^2"`` or ``[gravity] g = …, direction = [x, y]``."""
+    if "gravity" not in r.data:
+        return None
+    spec = r.data["gravity"]
+    if isinstance(spec, bool):
+        return Gravity() if spec else None
+    if isinstance(spec, dict):
+        r.keys(spec, {"g", "direction"}, "gravity", "g")
+        g = r.qty(spec["g"], "acceleration", "gravity", "g") if "g" in spec else STANDARD_GRAVITY
+        direction = spec.get("direction", [0, -1])
+        if (not isinstance(direction, list) or len(direction) != 2
+                or not all(isinstance(c, int | float) and not isinstance(c, bool)
+                           for c in direction)
+                or direction[0] == direction[1] == 0):
+            raise r.err("direction must be two numbers [x, y], not both zero", "gravity",
+                        "direction")
+        return Gravity(g, (float(direction[0]), float(direction[1])))
+    return Gravity(r.qty(spec, "acceleration", "gravity", "g"))
+
+
+def _loads(
+    r: _Reader, bodies: set[str], body_points: dict[str, tuple[str, ...]]
+) -> tuple[PointForce | Torque, ...]:
+    """``[loads.NAME]`` tables: ``type = "force"`` (body, point, value = [Fx, Fy]) or
+    ``type = "torque"`` (body, value, optional reaction)."""
+    out: list[PointForce | Torque] = []
+    for lname, spec in r.table("loads").items():
+        r.name(lname, "loads")
+        table = f"loads.{lname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", table)
+        kind = spec.get("type")
+        body = spec.get("body")
+        if not isinstance(body, str) or body not in bodies:
+            raise r.err(f"body must name one of the bodies ({', '.join(sorted(bodies))}), "
+                        f"not {body!r}", table, "body")
+        if "value" not in spec:
+            raise r.err("needs a value", table, "value")
+        value = spec["value"]
+        if kind == "force":
+            r.keys(spec, {"type", "body", "point", "value"}, "loads", lname)
+            point = spec.get("point")
+            if not isinstance(point, str) or point not in body_points[body]:
+                raise r.err(f"point must name one of body {body!r}'s points "
+                            f"({', '.join(body_points[body])}), not {point!r}", table, "point")
+            if not isinstance(value, list) or len(value) != 2:
+                raise r.err("a force's value is two components [Fx, Fy], e.g. "
+                            "[\"0 kN\", \"-5 kN\"]", table, "value")
+            fx = r.qty(value[0], "force", table, "value")
+            fy = r.qty(value[1], "force", table, "value")
+            out.append(PointForce(lname, body, point, (fx, fy)))
+        elif kind == "torque":
+            r.keys(spec, {"type", "body", "value", "reaction"}, "loads", lname)
+            reaction = spec.get("reaction")
+            if reaction is not None and (not isinstance(reaction, str) or reaction not in bodies
+                                         or reaction == body):
+                raise r.err(f"reaction must name another body, not {reaction!r}", table,
+                            "reaction")
+            out.append(Torque(lname, body, r.qty(value, "torque", table, "value"), reaction))
+        else:
+            raise r.err(f"type must be 'force' or 'torque', not {kind!r}", table, "type")
+    return tuple(out)
 
 
 def _ground_name(bodies: list[Body]) -> str:

@@ -19,14 +19,30 @@ Conventions (drawn in ``docs/conventions.md``)::
   rope); ``mode`` says whether it is an input (``driven``), a rigid strut at its sketch length
   (``locked``) or passive, its length following the mechanism (``free``).
 * A slider keeps a point on the line through two points of another body.
+* Loads (:class:`PointForce`, :class:`Torque`, :class:`Gravity`) act on bodies; a force acts at
+  one of the body's points, in global axes. Gravity acts at each body's centre of mass, along
+  ``direction`` (default −y), with ``g`` = 9.80665 m/s² unless given.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import TYPE_CHECKING, Literal, TypeAlias
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from excavkin.kinematics.result import KinematicResult
 
 LinearMode = Literal["driven", "locked", "free"]
+
+#: A load's value: a constant, an array with one row per sample, or a function of the
+#: kinematic result returning either (see :class:`PointForce` and :class:`Torque`).
+LoadValue: TypeAlias = "ArrayLike | Callable[[KinematicResult], ArrayLike]"
+
+#: Standard gravity, m/s².
+STANDARD_GRAVITY = 9.80665
 
 
 @dataclass(frozen=True, slots=True)
@@ -91,6 +107,69 @@ class Slider:
     along: tuple[str, str]
 
 
+@dataclass(frozen=True, slots=True, eq=False)
+class PointForce:
+    """A force on ``body`` applied at its point ``point``, in global axes, N.
+
+    Attributes
+    ----------
+    name : str
+    body : str
+    point : str
+        One of the body's points (its velocity is the body's velocity there).
+    value : array_like or callable
+        ``(Fx, Fy)`` shape (2,), constant; shape (n, 2), one row per sample; or a function
+        ``f(result: KinematicResult)`` returning either — e.g. a digging resistance opposing the
+        tip's velocity.
+    """
+
+    name: str
+    body: str
+    point: str
+    value: LoadValue
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Torque:
+    """A couple on ``body`` (counter-clockwise positive), N·m, and its reaction on ``reaction``.
+
+    Attributes
+    ----------
+    name : str
+    body : str
+    value : float, array_like or callable
+        A scalar; shape (n,), one value per sample; or ``f(result: KinematicResult)`` returning
+        either.
+    reaction : str or None
+        A body that receives the opposite couple (a motor between two bodies); ``None`` for an
+        external couple.
+    """
+
+    name: str
+    body: str
+    value: LoadValue
+    reaction: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Gravity:
+    """Weight ``m·g·direction`` of every body with a mass, at its centre of mass.
+
+    Attributes
+    ----------
+    g : float
+        m/s²; default standard gravity 9.80665.
+    direction : tuple of float
+        Unit vector, default ``(0, −1)``; normalised if not unit.
+    """
+
+    g: float = STANDARD_GRAVITY
+    direction: tuple[float, float] = (0.0, -1.0)
+
+
+Load: TypeAlias = PointForce | Torque | Gravity
+
+
 @dataclass(frozen=True, slots=True)
 class Model:
     """A planar mechanism as described by its user, in SI units.
@@ -109,6 +188,10 @@ class Model:
         Exact distances ``{(p, q): metres}`` that override the sketch.
     source : str or None
         The file it was read from, for messages.
+    loads : tuple of PointForce or Torque
+        External loads that :meth:`~excavkin.Mechanism.forces` applies by default.
+    gravity : Gravity or None
+        Gravity, when the model enables it (``None``: off).
     """
 
     name: str
@@ -119,6 +202,8 @@ class Model:
     sliders: tuple[Slider, ...] = ()
     lengths: dict[tuple[str, str], float] = field(default_factory=dict)
     source: str | None = None
+    loads: tuple[PointForce | Torque, ...] = ()
+    gravity: Gravity | None = None
 
     def __hash__(self) -> int:
         return hash((self.name, tuple(self.points), self.bodies, self.rotary, self.linear))

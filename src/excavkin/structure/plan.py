@@ -498,9 +498,8 @@ def compile_plan(
                         entry=p,
                         source=src,
                     )
-                steps.append(
-                    Dyad(idx[p], idx[a], idx[pb], o1[1], o2[1], math.copysign(1.0, cr), len(n_trans))
-                )
+                sign = math.copysign(1.0, cr)
+                steps.append(Dyad(idx[p], idx[a], idx[pb], o1[1], o2[1], sign, len(n_trans)))
                 n_trans.append(p)
                 consume(o1)
                 consume(o2)

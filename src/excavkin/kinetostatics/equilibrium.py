@@ -1,0 +1,656 @@
+r"""Equilibrium of every moving body and every pin: one sparse linear system per sample.
+
+Unknowns (DESIGN.md §5)::
+
+    F[p, b] = (Fx, Fy)  the force the pin at point p exerts on body b, for every body at p
+    f[e]                the axial force of each driven or locked linear element (> 0 pushes
+                        its two points apart; a rope in tension is negative)
+    N[s]                the normal force of each slider, along perp(l2 − l1), on the slider's
+                        point (its reaction −N acts on the body that carries the line)
+    τ[d]                the torque of each rotary driver on its body (−τ on its reference body)
+
+Equations, with the known loads ``R_b`` (applied loads + d'Alembert inertia, force and moment
+about the body's first point p0)::
+
+    pin p   :  Σ_b F[p, b] − Σ_e f[e]·u_e(p) − Σ_s N[s]·n_s = 0      (2 per pin)
+    body b  :  Σ_p F[p, b] − Σ_s N[s]·n_s              = −R_b        (force, 2 per body)
+               Σ_p (r_p − r_p0) × F[p, b] + τ terms − Σ_s (r_P − r_p0) × N[s]·n_s = −M_b
+
+where u_e(p) is the unit vector along the element pointing *away* from p (the element pushes
+the pin at p along −u_e(p) when f > 0)::
+
+         f > 0                              n_s = perp(l2 − l1)/|l2 − l1|
+    p o<=====[cylinder]=====>o q           ^
+      ← pushes       pushes →              |  N > 0 pushes P this way
+                                   l1 o----P-----------o l2   (line on the carrier)
+
+A pin is a point shared by two or more bodies, or a point of one body where an element or a
+slider acts; the ground's equilibrium is not written, so the force of each pin on the ground is
+an output. With a model whose driver count equals its mobility the system is square.
+
+Solution: a compiled sparse elimination, batched over samples. At compile time the system's
+structure is known: the pin and force-balance rows have constant coefficients ±1, and so do the
+driver torques in the moment rows. Pivots are chosen once, greedily, among the constant entries
+(fewest array operations first), which leaves a small dense block — for a mechanism driven by
+rotary drivers, one row per moving body minus one per driver — solved per sample by Gaussian
+elimination with partial pivoting, vectorised over the samples; then the eliminated unknowns
+follow by back-substitution. Each step is a handful of array operations over a cache-sized
+chunk of samples; there is no loop over samples.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Literal, TypeAlias, cast
+
+import numpy as np
+
+from excavkin.errors import MobilityError
+from excavkin.kinematics.kernels import F
+from excavkin.model.entities import Model
+
+__all__ = [
+    "StaticallyIndeterminateError",
+    "StaticsSystem",
+    "Unknown",
+    "compile_statics",
+    "solve_system",
+]
+
+
+class StaticallyIndeterminateError(MobilityError):
+    """The equilibrium equations do not determine the joint forces (redundant joints), or some
+    loads cannot be balanced (an undriven freedom). The message names the joints involved."""
+
+
+class _Var:
+    """Stand-in for a per-sample value while the elimination is planned."""
+
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return "VAR"
+
+
+VAR = _Var()
+Entry: TypeAlias = "float | F | _Var"
+#: A per-chunk value: a constant (float) or one value per sample (shape (c,)).
+Value: TypeAlias = "float | F"
+
+
+def _mul(a: Entry, b: Entry) -> Entry:
+    if isinstance(a, float):
+        if a == 0.0:
+            return 0.0
+        if a == 1.0:
+            return b
+        if a == -1.0 and not isinstance(b, _Var):
+            return -b
+    if isinstance(b, float):
+        if b == 0.0:
+            return 0.0
+        if b == 1.0:
+            return a
+        if b == -1.0 and not isinstance(a, _Var):
+            return -a
+    if isinstance(a, _Var) or isinstance(b, _Var):
+        return VAR
+    return a * b
+
+
+def _sub(a: Entry, b: Entry) -> Entry:
+    if isinstance(b, float) and b == 0.0:
+        return a
+    if isinstance(a, _Var) or isinstance(b, _Var):
+        return VAR
+    if isinstance(a, float) and a == 0.0:
+        return -b
+    return a - b
+
+
+def _div(a: Entry, piv: float) -> Entry:
+    if piv == 1.0:
+        return a
+    if isinstance(a, _Var):
+        return VAR
+    if piv == -1.0:
+        return -a
+    return a / piv
+
+
+def _is_array_op(a: Entry, b: Entry) -> bool:
+    return isinstance(a, _Var) or isinstance(b, _Var)
+
+
+@dataclass(frozen=True, slots=True)
+class Unknown:
+    """One unknown of the system.
+
+    Attributes
+    ----------
+    kind : {"pin", "element", "slider", "torque"}
+    index : int
+        Pin slot, element, slider or rotary-driver index in the system's lists.
+    comp : int
+        0 (x) or 1 (y) for a pin force, else 0.
+    label : str
+        For messages: ``"pin B on body 'rocker'"``.
+    """
+
+    kind: Literal["pin", "element", "slider", "torque"]
+    index: int
+    comp: int
+    label: str
+
+
+@dataclass(frozen=True, slots=True)
+class _Pivot:
+    row: int
+    col: int
+    value: float
+    targets: tuple[int, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class StaticsSystem:
+    """The equilibrium system of a model, compiled once.
+
+    Attributes
+    ----------
+    points, bodies : tuple of str
+        Names in model order (the same order as the solve plan's).
+    ground : int
+    base : tuple of (int, int)
+        Each body's first two points (moment reference p0 and orientation).
+    moving : tuple of int
+        Body indices whose equilibrium is written.
+    nodes : tuple of int
+        Point indices of the pins.
+    slots : tuple of (int, int)
+        (point, body) of every pin force unknown, in point order then body order.
+    elements : tuple of (str, int, int, int)
+        Name, first point, second point and plan-element index of each driven or locked element.
+    sliders : tuple of (str, int, int, int, int)
+        Name, point, l1, l2 and carrier body of each slider.
+    rotary : tuple of (str, int, int)
+        Name, driven body and reference body of each rotary driver.
+    unknowns : tuple of Unknown
+    rows : tuple of str
+        Equation labels.
+    """
+
+    points: tuple[str, ...]
+    bodies: tuple[str, ...]
+    ground: int
+    base: tuple[tuple[int, int], ...]
+    moving: tuple[int, ...]
+    nodes: tuple[int, ...]
+    slots: tuple[tuple[int, int], ...]
+    elements: tuple[tuple[str, int, int, int], ...]
+    sliders: tuple[tuple[str, int, int, int, int], ...]
+    rotary: tuple[tuple[str, int, int], ...]
+    unknowns: tuple[Unknown, ...]
+    rows: tuple[str, ...]
+    pivots: tuple[_Pivot, ...] = field(default=(), repr=False)
+    residual_rows: tuple[int, ...] = field(default=(), repr=False)
+    residual_cols: tuple[int, ...] = field(default=(), repr=False)
+
+    @property
+    def size(self) -> int:
+        """Number of unknowns (and equations)."""
+        return len(self.unknowns)
+
+    @property
+    def residual_size(self) -> int:
+        """Size of the dense block solved per sample after the constant pivots."""
+        return len(self.residual_cols)
+
+    def slot_cols(self) -> tuple[int, ...]:
+        """Column of the x component of each pin slot (y is the next one)."""
+        return tuple(2 * k for k in range(len(self.slots)))
+
+    @property
+    def element_col0(self) -> int:
+        """Column of the first element force."""
+        return 2 * len(self.slots)
+
+    @property
+    def slider_col0(self) -> int:
+        """Column of the first slider normal force."""
+        return self.element_col0 + len(self.elements)
+
+    @property
+    def torque_col0(self) -> int:
+        """Column of the first rotary-driver torque."""
+        return self.slider_col0 + len(self.sliders)
+
+
+def _structure(model: Model) -> StaticsSystem:
+    points = tuple(model.points)
+    pidx = {n: i for i, n in enumerate(points)}
+    bodies = tuple(b.name for b in model.bodies)
+    bidx = {n: i for i, n in enumerate(bodies)}
+    ground = next(i for i, b in enumerate(model.bodies) if b.ground)
+    base = tuple(
+        (pidx[b.points[0]], pidx[b.points[1]])
+        if len(b.points) >= 2
+        else (pidx[b.points[0]], pidx[b.points[0]])
+        for b in model.bodies
+    )
+    moving = tuple(j for j in range(len(bodies)) if j != ground)
+    owners: dict[int, list[int]] = {i: [] for i in range(len(points))}
+    for j, b in enumerate(model.bodies):
+        for p in b.points:
+            owners[pidx[p]].append(j)
+    elements = tuple(
+        (ld.name, pidx[ld.between[0]], pidx[ld.between[1]], k)
+        for k, ld in enumerate(model.linear)
+        if ld.mode != "free"
+    )
+    sliders = []
+    for s in model.sliders:
+        carriers = [
+            j
+            for j, b in enumerate(model.bodies)
+            if s.along[0] in b.points and s.along[1] in b.points
+        ]
+        sliders.append((s.name, pidx[s.point], pidx[s.along[0]], pidx[s.along[1]], carriers[0]))
+    rotary = tuple((d.name, bidx[d.body], bidx[d.reference]) for d in model.rotary)
+    acted = {e[1] for e in elements} | {e[2] for e in elements} | {s[1] for s in sliders}
+    nodes = tuple(i for i in range(len(points)) if len(owners[i]) >= 2 or i in acted)
+    slots = tuple((i, j) for i in nodes for j in owners[i])
+    unknowns: list[Unknown] = []
+    for k, (i, j) in enumerate(slots):
+        for c in (0, 1):
+            unknowns.append(Unknown("pin", k, c, f"pin {points[i]} on body {bodies[j]!r}"))
+    unknowns += [
+        Unknown("element", k, 0, f"linear element {e[0]!r}") for k, e in enumerate(elements)
+    ]
+    unknowns += [Unknown("slider", k, 0, f"slider {s[0]!r}") for k, s in enumerate(sliders)]
+    unknowns += [Unknown("torque", k, 0, f"rotary driver {d[0]!r}") for k, d in enumerate(rotary)]
+    rows = [f"pin {points[i]} ({'xy'[c]})" for i in nodes for c in (0, 1)]
+    for j in moving:
+        rows += [
+            f"body {bodies[j]!r} (force x)",
+            f"body {bodies[j]!r} (force y)",
+            f"body {bodies[j]!r} (moment)",
+        ]
+    return StaticsSystem(
+        points,
+        bodies,
+        ground,
+        base,
+        moving,
+        nodes,
+        tuple(slots),
+        elements,
+        tuple(sliders),
+        rotary,
+        tuple(unknowns),
+        tuple(rows),
+    )
+
+
+def _assemble(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
+    """The coefficient rows; ``x`` is (n_points, 2, c), or None for the structure only."""
+    rows: list[dict[int, Entry]] = [{} for _ in sy.rows]
+    node_row = {i: 2 * k for k, i in enumerate(sy.nodes)}
+    body_row = {j: 2 * len(sy.nodes) + 3 * m for m, j in enumerate(sy.moving)}
+
+    def diff(i: int, k: int, c: int) -> Entry:
+        return VAR if x is None else x[k, c] - x[i, c]
+
+    for k, (i, j) in enumerate(sy.slots):
+        r = node_row[i]
+        rows[r][2 * k] = 1.0
+        rows[r + 1][2 * k + 1] = 1.0
+        if j in body_row:
+            rb = body_row[j]
+            rows[rb][2 * k] = 1.0
+            rows[rb + 1][2 * k + 1] = 1.0
+            i0 = sy.base[j][0]
+            if i != i0:  # moment about p0: (r_p − r_p0) × F = dx·Fy − dy·Fx
+                dy = diff(i0, i, 1)
+                rows[rb + 2][2 * k] = dy if isinstance(dy, _Var) else -dy
+                rows[rb + 2][2 * k + 1] = diff(i0, i, 0)
+    col = sy.element_col0
+    for k, (_, p, q, _) in enumerate(sy.elements):
+        if x is None:
+            ux: Entry = VAR
+            uy: Entry = VAR
+        else:
+            dx, dy = x[q, 0] - x[p, 0], x[q, 1] - x[p, 1]
+            inv = 1.0 / np.sqrt(dx * dx + dy * dy)
+            ux, uy = dx * inv, dy * inv
+        # node p: the element pushes p along −u (term −f·(−u) = +u); node q: along +u (−u)
+        for node, sign in ((p, 1.0), (q, -1.0)):
+            r = node_row[node]
+            rows[r][col + k] = ux if isinstance(ux, _Var) else sign * ux
+            rows[r + 1][col + k] = uy if isinstance(uy, _Var) else sign * uy
+    col = sy.slider_col0
+    for k, (_, pt, l1, l2, carrier) in enumerate(sy.sliders):
+        if x is None:
+            nx: Entry = VAR
+            ny: Entry = VAR
+        else:
+            ex, ey = x[l2, 0] - x[l1, 0], x[l2, 1] - x[l1, 1]
+            inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+            nx, ny = -ey * inv, ex * inv
+        r = node_row[pt]
+        neg_nx = nx if isinstance(nx, _Var) else -nx
+        neg_ny = ny if isinstance(ny, _Var) else -ny
+        rows[r][col + k] = neg_nx
+        rows[r + 1][col + k] = neg_ny
+        if carrier in body_row:
+            rb = body_row[carrier]
+            rows[rb][col + k] = neg_nx
+            rows[rb + 1][col + k] = neg_ny
+            i0 = sy.base[carrier][0]
+            if x is None:
+                rows[rb + 2][col + k] = VAR
+            else:  # moment of −N·n at P about p0: −(dx·ny − dy·nx)
+                dx, dy = x[pt, 0] - x[i0, 0], x[pt, 1] - x[i0, 1]
+                rows[rb + 2][col + k] = dy * nx - dx * ny
+    col = sy.torque_col0
+    for k, (_, body, ref) in enumerate(sy.rotary):
+        if body in body_row:
+            rows[body_row[body] + 2][col + k] = 1.0
+        if ref in body_row:
+            rows[body_row[ref] + 2][col + k] = -1.0
+    return rows
+
+
+def _plan_pivots(sy: StaticsSystem) -> tuple[tuple[_Pivot, ...], tuple[int, ...], tuple[int, ...]]:
+    """Choose constant pivots greedily, fewest per-sample operations first."""
+    rows = _assemble(sy, None)
+    rhs: list[Entry] = [0.0] * (2 * len(sy.nodes))
+    rhs += [VAR] * (3 * len(sy.moving))
+    active = set(range(len(rows)))
+    pivots: list[_Pivot] = []
+    while True:
+        best: tuple[tuple[int, float, int, int], int, int, tuple[int, ...]] | None = None
+        cols: dict[int, list[int]] = {}
+        for r in active:
+            for c in rows[r]:
+                cols.setdefault(c, []).append(r)
+        for r in sorted(active):
+            for c, v in rows[r].items():
+                if isinstance(v, _Var) or not isinstance(v, float) or abs(v) < 0.5:
+                    continue
+                targets = tuple(i for i in cols[c] if i != r)
+                cost = 0
+                for i in targets:
+                    f = rows[i][c]
+                    for j, w in rows[r].items():
+                        if j != c and (_is_array_op(f, w) or isinstance(rows[i].get(j), _Var)):
+                            cost += 1
+                    if _is_array_op(f, rhs[r]):
+                        cost += 1
+                key = (cost, -float(abs(v) == 1.0), r, c)
+                if best is None or key < best[0]:
+                    best = (key, r, c, targets)
+        if best is None:
+            break
+        _, r, c, targets = best
+        piv = rows[r][c]
+        assert isinstance(piv, float)
+        _eliminate_one(rows, rhs, r, c, piv, targets)
+        pivots.append(_Pivot(r, c, piv, targets))
+        active.discard(r)
+    used = {p.col for p in pivots}
+    res_cols = tuple(c for c in range(len(sy.unknowns)) if c not in used)
+    return tuple(pivots), tuple(sorted(active)), res_cols
+
+
+def _eliminate_one(
+    rows: list[dict[int, Entry]],
+    rhs: list[Entry],
+    r: int,
+    c: int,
+    piv: float,
+    targets: tuple[int, ...],
+) -> None:
+    prow = rows[r]
+    for i in targets:
+        row = rows[i]
+        f = _div(row.pop(c), piv)
+        for j, w in prow.items():
+            if j == c:
+                continue
+            new = _sub(row.get(j, 0.0), _mul(f, w))
+            if isinstance(new, float) and new == 0.0:
+                row.pop(j, None)
+            else:
+                row[j] = new
+        rhs[i] = _sub(rhs[i], _mul(f, rhs[r]))
+
+
+def compile_statics(model: Model, *, seed: int = 20240601) -> StaticsSystem:
+    """Build and check the equilibrium system of ``model``; plan its elimination.
+
+    The generic rank is checked at random positions of the points (any positions: the
+    equilibrium matrix depends only on them): a rank deficit there holds at every
+    configuration, and is reported with the joints involved.
+
+    Parameters
+    ----------
+    model : Model
+    seed : int
+        For the random positions of the rank check (reproducible).
+
+    Returns
+    -------
+    StaticsSystem
+
+    Raises
+    ------
+    StaticallyIndeterminateError
+        Redundant joints (forces the equations leave free) or an undriven freedom (loads the
+        joints cannot carry), naming them.
+    """
+    sy = _structure(model)
+    _check_rank(sy, model, seed)
+    pivots, res_rows, res_cols = _plan_pivots(sy)
+    if len(res_rows) != len(res_cols):  # pragma: no cover - the rank check catches it first
+        raise StaticallyIndeterminateError(
+            f"{len(res_rows)} equations are left for {len(res_cols)} unknowns",
+            table="bodies",
+            source=model.source,
+        )
+    return StaticsSystem(
+        sy.points,
+        sy.bodies,
+        sy.ground,
+        sy.base,
+        sy.moving,
+        sy.nodes,
+        sy.slots,
+        sy.elements,
+        sy.sliders,
+        sy.rotary,
+        sy.unknowns,
+        sy.rows,
+        pivots,
+        res_rows,
+        res_cols,
+    )
+
+
+def dense_matrix(sy: StaticsSystem, x: F) -> F:
+    """The equilibrium matrix for each sample, shape (n, n_rows, n_unknowns).
+
+    Parameters
+    ----------
+    x : ndarray, shape (n_points, 2, n)
+        Point positions.
+    """
+    n = x.shape[-1]
+    rows = _assemble(sy, x)
+    out = np.zeros((n, len(sy.rows), len(sy.unknowns)))
+    for r, row in enumerate(rows):
+        for c, v in row.items():
+            out[:, r, c] = v  # type: ignore[assignment]
+    return out
+
+
+def _check_rank(sy: StaticsSystem, model: Model, seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    sk = np.asarray([model.points[p] for p in sy.points], dtype=np.float64)
+    span = float(np.ptp(sk, axis=0).max()) if len(sk) > 1 else 1.0
+    span = span if span > 0 else 1.0
+    x = (sk + span * rng.standard_normal(sk.shape))[:, :, None]
+    a = dense_matrix(sy, x)[0]
+    m, n = a.shape
+    u, s, vt = np.linalg.svd(a)
+    tol = max(m, n) * np.finfo(float).eps * 1e3 * (s[0] if s.size else 1.0)
+    rank = int(np.sum(s > tol))
+    if rank == n == m:
+        return
+    parts = []
+    if rank < n:
+        null = vt[rank:]
+        weight = np.sqrt(np.sum(null * null, axis=0))
+        involved = [sy.unknowns[c] for c in np.flatnonzero(weight > 1e-8)]
+        joints = list(dict.fromkeys(u_.label for u_ in involved))
+        parts.append(
+            f"statically indeterminate: {n - rank} redundant constraint"
+            f"{'s' if n - rank > 1 else ''} — the forces in {', '.join(joints)} can be in "
+            "equilibrium with no load, so the equations do not fix them (remove one of these "
+            "joints, or make a cylinder 'free')"
+        )
+    if rank < m:
+        left = u[:, rank:]
+        weight = np.sqrt(np.sum(left * left, axis=1))
+        eqs = list(dict.fromkeys(sy.rows[r].split(" (")[0] for r in np.flatnonzero(weight > 1e-8)))
+        parts.append(
+            f"{m - rank} load case{'s' if m - rank > 1 else ''} cannot be balanced at "
+            f"{', '.join(eqs)} (a freedom without a driver)"
+        )
+    raise StaticallyIndeterminateError("; ".join(parts), table="bodies", source=model.source)
+
+
+def _as_array(v: Entry, c: int) -> F:
+    if isinstance(v, float):
+        return np.full(c, v)
+    assert not isinstance(v, _Var)
+    return v
+
+
+def _dense_solve(
+    a: list[list[Entry]], b: list[Entry], c: int, rel_tol: float
+) -> tuple[list[F], np.ndarray]:
+    """Gaussian elimination with partial pivoting, vectorised over c samples (struct of arrays).
+
+    Returns the solution (one array per unknown) and a mask of singular samples.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return _dense_solve_unguarded(a, b, c, rel_tol)
+
+
+def _dense_solve_unguarded(
+    a: list[list[Entry]], b: list[Entry], c: int, rel_tol: float
+) -> tuple[list[F], np.ndarray]:
+    r = len(b)
+    m = [[_as_array(v, c) for v in row] for row in a]
+    rhs = [_as_array(v, c) for v in b]
+    scale = np.zeros(c)
+    for row in m:
+        for v in row:
+            np.maximum(scale, np.abs(v), out=scale)
+    singular = np.zeros(c, dtype=bool)
+    for k in range(r):
+        for i in range(k + 1, r):
+            swap = np.abs(m[i][k]) > np.abs(m[k][k])
+            if swap.any():
+                for j in range(k, r):
+                    m[k][j], m[i][j] = (
+                        np.where(swap, m[i][j], m[k][j]),
+                        np.where(swap, m[k][j], m[i][j]),
+                    )
+                rhs[k], rhs[i] = np.where(swap, rhs[i], rhs[k]), np.where(swap, rhs[k], rhs[i])
+        piv = m[k][k]
+        singular |= np.abs(piv) <= rel_tol * scale
+        inv = 1.0 / piv
+        for i in range(k + 1, r):
+            f = m[i][k] * inv
+            for j in range(k + 1, r):
+                m[i][j] = m[i][j] - f * m[k][j]
+            rhs[i] = rhs[i] - f * rhs[k]
+    sol: list[F] = [np.empty(0)] * r
+    for k in range(r - 1, -1, -1):
+        acc = rhs[k]
+        for j in range(k + 1, r):
+            acc = acc - m[k][j] * sol[j]
+        sol[k] = acc / m[k][k]
+    return sol, singular
+
+
+def solve_system(
+    sy: StaticsSystem,
+    x: F,
+    rhs_body: Sequence[tuple[Value, Value, Value]],
+    *,
+    rel_tol: float = 1e-12,
+) -> tuple[list[Value], np.ndarray]:
+    """Solve the equilibrium of one chunk of samples.
+
+    Parameters
+    ----------
+    sy : StaticsSystem
+    x : ndarray, shape (n_points, 2, c)
+        Point positions of the chunk.
+    rhs_body : list of (float or ndarray, ...)
+        Per moving body (in ``sy.moving`` order), the known force x, y and moment about its
+        first point: applied loads plus inertia. A float is a constant (zero: no load).
+    rel_tol : float
+        A sample is singular where a pivot of the dense block is below ``rel_tol`` times the
+        block's largest entry.
+
+    Returns
+    -------
+    solution : list
+        One entry per unknown (float or ndarray of shape (c,)).
+    singular : ndarray of bool, shape (c,)
+    """
+    c = x.shape[-1]
+    rows = _assemble(sy, x)
+    rhs: list[Entry] = [0.0] * (2 * len(sy.nodes))
+    for fx, fy, mz in rhs_body:
+        rhs += [_neg(fx), _neg(fy), _neg(mz)]
+    for p in sy.pivots:
+        _eliminate_one(rows, rhs, p.row, p.col, p.value, p.targets)
+    sol: list[Entry] = [0.0] * len(sy.unknowns)
+    singular = np.zeros(c, dtype=bool)
+    if sy.residual_cols:
+        a = [[rows[r].get(col, 0.0) for col in sy.residual_cols] for r in sy.residual_rows]
+        b = [rhs[r] for r in sy.residual_rows]
+        y, singular = _dense_solve(a, b, c, rel_tol)
+        for col, val in zip(sy.residual_cols, y, strict=True):
+            sol[col] = val
+    for p in reversed(sy.pivots):
+        acc = rhs[p.row]
+        for j, w in rows[p.row].items():
+            if j != p.col:
+                acc = _sub(acc, _mul(w, sol[j]))
+        sol[p.col] = _div(acc, p.value)
+    return cast("list[Value]", sol), singular
+
+
+def _neg(v: Entry) -> Entry:
+    if isinstance(v, float):
+        return -v if v != 0.0 else 0.0
+    if isinstance(v, _Var):
+        return v
+    return -v
+
+
+def structure_summary(sy: StaticsSystem) -> str:
+    """A few lines describing the system's size and elimination, for ``describe``."""
+    n_ops = sum(len(p.targets) for p in sy.pivots)
+    return (
+        f"{sy.size} unknowns ({len(sy.slots)} pin forces, {len(sy.elements)} element "
+        f"forces, {len(sy.sliders)} slider forces, {len(sy.rotary)} torques); "
+        f"{len(sy.pivots)} constant pivots ({n_ops} row updates), dense block "
+        f"{sy.residual_size}×{sy.residual_size}"
+    )

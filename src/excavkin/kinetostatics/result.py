@@ -1,0 +1,300 @@
+"""Kinetostatic results: joint forces, driver forces and torques, batch axis first.
+
+Columns of :meth:`ForceResult.to_frame` (SI: N, N·m)::
+
+    <point>.<body>.Fx, .Fy   the force the pin at <point> exerts on <body> (every body at the
+                             pin, the ground included; at a pin of one body where a cylinder
+                             acts, the cylinder's force passed through the pin)
+    <driver>.force           axial force of a driven or locked linear element; > 0 pushes its
+                             two points apart (a rope in tension is negative)
+    <driver>.torque          torque of a rotary driver on its body (CCW > 0); its reference body
+                             receives the opposite torque
+    <slider>.normal          normal force on the slider's point, along perp(l2 − l1); the body
+                             carrying the line receives the opposite force
+    <body>.Rx, .Ry           resultant of all joint forces on a body (default: the ground only,
+                             under the ground body's name)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from excavkin.kinematics.kernels import F
+from excavkin.kinematics.result import KinematicResult
+from excavkin.kinetostatics.equilibrium import StaticsSystem
+from excavkin.kinetostatics.inertia import MassProperties, centre_of_mass, kinetic_energy_rate
+from excavkin.kinetostatics.loads import EvaluatedLoads, Load
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["ForceResult", "PowerBalance"]
+
+
+@dataclass(frozen=True, slots=True)
+class PowerBalance:
+    """The power balance of a kinetostatic solution, per sample (W).
+
+    With the d'Alembert inertia included the joint forces of ideal joints do no work, so
+    ``driver = kinetic_rate − load`` where ``kinetic_rate = dT/dt = Σ m·a_S·v_S + J·ε·ω``.
+
+    Attributes
+    ----------
+    driver : ndarray, shape (n,)
+        Σ τ·(ω_body − ω_reference) + Σ f·(rate of length) over the drivers.
+    kinetic_rate : ndarray, shape (n,)
+        dT/dt.
+    load : ndarray, shape (n,)
+        Power of the applied loads (gravity, forces, couples).
+    scale : ndarray, shape (n,)
+        The reference for ``relative``, the size of the numbers whose round-off the residual
+        carries: ``Σ |force|·|velocity of its point|`` over every force — each load, each
+        body's weight and inertia force ``m·(|a_S| + |g|)·|v_S|``, each pin force on each body
+        and each slider's normal force — plus ``|τ·ω|`` of every couple and driver and
+        ``|J·ε·ω|``. The joint forces' powers cancel in the balance but not their round-off:
+        where the net power terms all pass through zero together (a crank acting as a
+        two-force member, the rocker at a dead centre) the joint forces stay finite.
+    """
+
+    driver: F
+    kinetic_rate: F
+    load: F
+    scale: F
+
+    @property
+    def residual(self) -> F:
+        """``driver − (kinetic_rate − load)``, W, shape (n,)."""
+        return np.asarray(self.driver - (self.kinetic_rate - self.load))
+
+    @property
+    def relative(self) -> F:
+        """``|residual| / scale`` (0 where every term is 0), shape (n,)."""
+        scale = np.where(self.scale > 0, self.scale, 1.0)
+        return np.asarray(np.abs(self.residual) / scale)
+
+
+@dataclass(frozen=True, slots=True)
+class ForceResult:
+    """Joint forces and driver efforts of a mechanism over n samples (SI).
+
+    Attributes
+    ----------
+    kinematics : KinematicResult
+        The motion these forces belong to.
+    system : StaticsSystem
+        Names and structure of the unknowns.
+    pin_force : ndarray, shape (n, n_pins, 2)
+        Force of each pin on each body it joins; ``pins`` names them.
+    element_force : ndarray, shape (n, n_loaded_elements)
+        Axial force of each driven or locked linear element, N (> 0 pushes apart).
+    slider_force : ndarray, shape (n, n_sliders)
+        Normal force of each slider on its point, N, along perp(l2 − l1).
+    driver_torque : ndarray, shape (n, n_rotary)
+        Torque of each rotary driver on its body, N·m.
+    singular : ndarray of bool, shape (n,)
+        Samples whose equilibrium equations are singular although the kinematics solved
+        (their forces are NaN).
+    loads : tuple of PointForce, Torque, Gravity
+        The loads applied.
+    """
+
+    kinematics: KinematicResult
+    system: StaticsSystem
+    pin_force: F
+    element_force: F
+    slider_force: F
+    driver_torque: F
+    singular: np.ndarray
+    loads: tuple[Load, ...]
+    evaluated: EvaluatedLoads
+    mass: MassProperties
+
+    def __len__(self) -> int:
+        return int(self.pin_force.shape[0])
+
+    # ---- names
+    @property
+    def pins(self) -> tuple[tuple[str, str], ...]:
+        """(point, body) of each row of ``pin_force``."""
+        sy = self.system
+        return tuple((sy.points[i], sy.bodies[j]) for i, j in sy.slots)
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Samples with both kinematics and forces solved, shape (n,)."""
+        return np.asarray(self.kinematics.status.ok & ~self.singular)
+
+    # ---- lookups by name
+    def pin(self, point: str, body: str) -> F:
+        """Force of the pin at ``point`` on ``body``, shape (n, 2)."""
+        try:
+            k = self.pins.index((point, body))
+        except ValueError:
+            known = ", ".join(f"{p}.{b}" for p, b in self.pins)
+            raise KeyError(f"no pin {point} on body {body!r} (pins: {known})") from None
+        return self.pin_force[:, k]
+
+    def force(self, name: str) -> F:
+        """Axial force of a driven or locked linear element, or a slider's normal force, (n,)."""
+        names = [e[0] for e in self.system.elements]
+        if name in names:
+            return self.element_force[:, names.index(name)]
+        sliders = [s[0] for s in self.system.sliders]
+        if name in sliders:
+            return self.slider_force[:, sliders.index(name)]
+        raise KeyError(f"no driven or locked linear element or slider {name!r}")
+
+    def torque(self, name: str) -> F:
+        """Torque of a rotary driver, shape (n,)."""
+        names = [d[0] for d in self.system.rotary]
+        if name not in names:
+            raise KeyError(f"no rotary driver {name!r}")
+        return self.driver_torque[:, names.index(name)]
+
+    def resultant(self, body: str) -> F:
+        """Resultant of all joint forces on ``body`` (pins and slider contacts), shape (n, 2).
+
+        For the ground: the total force the mechanism exerts on its frame through its joints.
+        """
+        sy = self.system
+        if body not in sy.bodies:
+            raise KeyError(f"unknown body {body!r}")
+        j = sy.bodies.index(body)
+        out = np.zeros((len(self), 2))
+        for k, (_, jj) in enumerate(sy.slots):
+            if jj == j:
+                out += self.pin_force[:, k]
+        if any(s[4] == j for s in sy.sliders):
+            x = self.kinematics.positions
+            for k, (_, _, l1, l2, carrier) in enumerate(sy.sliders):
+                if carrier != j:
+                    continue
+                e = x[:, l2] - x[:, l1]
+                n = np.stack([-e[:, 1], e[:, 0]], axis=1) / np.hypot(e[:, 0], e[:, 1])[:, None]
+                out -= self.slider_force[:, k, None] * n
+        out[~self.ok] = np.nan
+        return out
+
+    # ---- tables
+    def _columns(self, resultants: Sequence[str]) -> list[tuple[str, Any]]:
+        sy = self.system
+        cols: list[tuple[str, Any]] = []
+        for k, (p, b) in enumerate(self.pins):
+            cols += [
+                (f"{p}.{b}.Fx", self.pin_force[:, k, 0]),
+                (f"{p}.{b}.Fy", self.pin_force[:, k, 1]),
+            ]
+        for k, e in enumerate(sy.elements):
+            cols.append((f"{e[0]}.force", self.element_force[:, k]))
+        for k, d in enumerate(sy.rotary):
+            cols.append((f"{d[0]}.torque", self.driver_torque[:, k]))
+        for k, s in enumerate(sy.sliders):
+            cols.append((f"{s[0]}.normal", self.slider_force[:, k]))
+        for b in resultants:
+            r = self.resultant(b)
+            cols += [(f"{b}.Rx", r[:, 0]), (f"{b}.Ry", r[:, 1])]
+        return cols
+
+    def column(self, name: str) -> F:
+        """One force column of :meth:`to_frame` by name (any body's ``.Rx``/``.Ry`` too)."""
+        owner, _, qty = name.rpartition(".")
+        if qty in ("Rx", "Ry") and owner in self.system.bodies:
+            return self.resultant(owner)[:, 0 if qty == "Rx" else 1]
+        for key, arr in self._columns(()):
+            if key == name:
+                return np.asarray(arr)
+        raise KeyError(f"no force column {name!r}")
+
+    def status_labels(self) -> np.ndarray:
+        """Per-sample label: the kinematic status, or ``"statically singular"``, shape (n,)."""
+        labels = self.kinematics.status.labels()
+        bad = self.singular & self.kinematics.status.ok
+        labels[bad] = "statically singular (redundant joint at this position)"
+        return labels
+
+    def to_frame(
+        self, *, kinematics: bool = True, resultants: Sequence[str] | None = None
+    ) -> pd.DataFrame:
+        """A table with one row per sample, SI units (N, N·m).
+
+        Parameters
+        ----------
+        kinematics : bool
+            Start with the kinematic columns and ``status`` (default); ``False`` gives the
+            force columns only.
+        resultants : sequence of str, optional
+            Bodies whose joint-force resultant ``<body>.Rx .Ry`` is added (default: the
+            ground, under its own name).
+
+        Returns
+        -------
+        pandas.DataFrame
+            Columns ``<point>.<body>.Fx .Fy``, ``<driver>.force`` (linear), ``<driver>.torque``
+            (rotary), ``<slider>.normal``, ``<body>.Rx .Ry`` — after the kinematic ones.
+        """
+        import pandas as pd
+
+        if resultants is None:
+            resultants = (self.system.bodies[self.system.ground],)
+        forces = pd.DataFrame(dict(self._columns(resultants)))
+        if not kinematics:
+            return forces
+        frame = self.kinematics.to_frame()
+        status = frame.pop("status")
+        frame = pd.concat([frame, forces], axis=1)
+        frame["status"] = pd.Categorical(self.status_labels()) if self.singular.any() else status
+        return frame
+
+    # ---- checks
+    def power_balance(self) -> PowerBalance:
+        """Driver power against dT/dt minus load power, per sample.
+
+        Returns
+        -------
+        PowerBalance
+        """
+        kin = self.kinematics
+        sy = self.system
+        n = len(self)
+        om = kin.body_omega
+        v = kin.velocities
+        speed = np.hypot(v[..., 0], v[..., 1])  # (n, n_points)
+        scale = np.zeros(n)
+        driver = np.zeros(n)
+        for k, (_, body, ref) in enumerate(sy.rotary):
+            p = self.driver_torque[:, k] * (om[:, body] - om[:, ref])
+            driver += p
+            scale += np.abs(p)
+        for k, (_, _, _, e) in enumerate(sy.elements):
+            p = self.element_force[:, k] * kin.element_rate[:, e]
+            driver += p
+            scale += np.abs(p)
+        load = np.zeros(n)
+        ev = self.evaluated
+        for _, point, fx, fy in ev.forces:
+            load += fx * v[:, point, 0] + fy * v[:, point, 1]
+            scale += np.hypot(fx, fy) * speed[:, point]
+        for body, reaction, tau in ev.torques:
+            w = om[:, body] - om[:, reaction] if reaction >= 0 else om[:, body]
+            load += tau * w
+            scale += np.abs(tau * w)
+        mp = self.mass
+        if mp.massive:
+            _, vs, acc = centre_of_mass(kin, mp)
+            g = np.asarray(ev.gravity or (0.0, 0.0))
+            for j in mp.massive:
+                vsj = vs[:, j]
+                load += mp.mass[j] * (vsj @ g)
+                vmag = np.hypot(vsj[:, 0], vsj[:, 1])
+                amag = np.hypot(acc[:, j, 0], acc[:, j, 1]) + float(np.hypot(*g))
+                scale += mp.mass[j] * amag * vmag
+                scale += np.abs(mp.inertia[j] * kin.body_epsilon[:, j] * om[:, j])
+        for k, (i, _) in enumerate(sy.slots):
+            scale += np.hypot(self.pin_force[:, k, 0], self.pin_force[:, k, 1]) * speed[:, i]
+        for k, s in enumerate(sy.sliders):
+            scale += np.abs(self.slider_force[:, k]) * speed[:, s[1]]
+        return PowerBalance(driver, kinetic_energy_rate(kin, mp), load, scale)

@@ -1,0 +1,222 @@
+"""Joint forces and driver efforts for a kinematic result: loads + inertia → equilibrium.
+
+For each cache-sized chunk of samples: the known load of every moving body (its applied forces
+and couples, its weight and its d'Alembert inertia, reduced to a force and a moment about the
+body's first point), then the compiled elimination of
+:mod:`excavkin.kinetostatics.equilibrium`. Samples whose kinematics failed stay NaN.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import numpy as np
+
+from excavkin.kinematics.kernels import F
+from excavkin.kinematics.result import KinematicResult
+from excavkin.kinetostatics.equilibrium import (
+    StaticsSystem,
+    Value,
+    compile_statics,
+    dense_matrix,
+    solve_system,
+)
+from excavkin.kinetostatics.inertia import MassProperties
+from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, evaluate_loads
+from excavkin.kinetostatics.result import ForceResult
+
+__all__ = ["solve_forces"]
+
+
+def _add(a: Value, b: Value) -> Value:
+    if isinstance(a, float) and a == 0.0:
+        return b
+    if isinstance(b, float) and b == 0.0:
+        return a
+    return a + b
+
+
+def _body_loads(
+    sy: StaticsSystem,
+    mp: MassProperties,
+    ev: EvaluatedLoads,
+    x: F,
+    a: F | None,
+    eps: F | None,
+    sl: slice,
+) -> list[tuple[Value, Value, Value]]:
+    """Known force (x, y) and moment about p0 of each moving body over one chunk."""
+    out: list[tuple[Value, Value, Value]] = []
+    g = ev.gravity
+    by_body: dict[int, list[tuple[int, Value, Value]]] = {}
+    for body, point, px, py in ev.forces:
+        by_body.setdefault(body, []).append((point, px, py))
+    couples: dict[int, Value] = {}
+    for body, reaction, tau in ev.torques:
+        t = tau if isinstance(tau, float) else tau[sl]
+        couples[body] = _add(couples.get(body, 0.0), t)
+        if reaction >= 0:
+            couples[reaction] = _add(couples.get(reaction, 0.0), -t)
+    for j in sy.moving:
+        fx: Value = 0.0
+        fy: Value = 0.0
+        mz: Value = couples.get(j, 0.0)
+        i0, i1 = mp.base[j]
+        m = float(mp.mass[j])
+        if m > 0.0:
+            s, t = mp.com[j]
+            wx = x[i1, 0] - x[i0, 0]
+            wy = x[i1, 1] - x[i0, 1]
+            dx = s * wx - t * wy  # S − p0
+            dy = s * wy + t * wx
+            gx, gy = (0.0, 0.0) if g is None else g
+            sx: Value = m * gx
+            sy_: Value = m * gy
+            if a is not None:
+                awx = a[i1, 0] - a[i0, 0]
+                awy = a[i1, 1] - a[i0, 1]
+                sx = m * (gx - (a[i0, 0] + s * awx - t * awy))
+                sy_ = m * (gy - (a[i0, 1] + s * awy + t * awx))
+            fx, fy = sx, sy_
+            if a is not None or g is not None:
+                mz = _add(mz, dx * sy_ - dy * sx)
+            if eps is not None and mp.inertia[j] != 0.0:
+                mz = _add(mz, -float(mp.inertia[j]) * eps[j])
+        for point, px, py in by_body.get(j, ()):
+            px_ = px if isinstance(px, float) else px[sl]
+            py_ = py if isinstance(py, float) else py[sl]
+            fx = _add(fx, px_)
+            fy = _add(fy, py_)
+            if point != i0:
+                lx = x[point, 0] - x[i0, 0]
+                ly = x[point, 1] - x[i0, 1]
+                mz = _add(mz, lx * py_ - ly * px_)
+        out.append((fx, fy, mz))
+    return out
+
+
+def solve_forces(
+    result: KinematicResult,
+    loads: Iterable[Load] = (),
+    *,
+    system: StaticsSystem | None = None,
+    inertia: bool = True,
+    method: str = "sparse",
+    chunk: int = 8192,
+) -> ForceResult:
+    """Joint forces, linear-driver forces and rotary-driver torques for every sample.
+
+    Parameters
+    ----------
+    result : KinematicResult
+        n samples of the mechanism's motion.
+    loads : iterable of PointForce, Torque, Gravity
+        Applied loads (the model's own are not added: see
+        :func:`~excavkin.kinetostatics.loads.model_loads`).
+    system : StaticsSystem, optional
+        From :func:`~excavkin.kinetostatics.equilibrium.compile_statics` on the result's model
+        (compiled here if not given).
+    inertia : bool
+        Include the d'Alembert inertia loads (default); ``False`` solves statics at each pose.
+    method : {"sparse", "dense"}
+        ``"sparse"``: the compiled elimination (fast). ``"dense"``: the full matrix per sample
+        with LAPACK (slow; for cross-checking).
+    chunk : int
+        Samples per pass.
+
+    Returns
+    -------
+    ForceResult
+        Arrays with the batch axis first; NaN where the kinematics failed or the equilibrium is
+        singular.
+
+    Raises
+    ------
+    ModelError
+        A load names an unknown body or point.
+    InputError
+        A load value of the wrong shape.
+    StaticallyIndeterminateError
+        Redundant joints (from compiling the system).
+    """
+    plan = result.plan
+    model = plan.model
+    checked = check_loads(model, loads)
+    sy = system if system is not None else compile_statics(model)
+    mp = MassProperties.from_plan(plan)
+    ev = evaluate_loads(model, checked, result)
+    n = len(result)
+    x = np.moveaxis(result.positions, 0, -1)
+    a = np.moveaxis(result.accelerations, 0, -1) if inertia else None
+    eps = np.moveaxis(result.body_epsilon, 0, -1) if inertia else None
+    out = np.empty((sy.size, n))
+    singular = np.zeros(n, dtype=bool)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        if method == "dense":
+            _solve_dense(sy, mp, ev, x, a, eps, out, singular)
+        elif method == "sparse":
+            for s in range(0, n, chunk):
+                sl = slice(s, min(s + chunk, n))
+                xc = x[:, :, sl]
+                rhs = _body_loads(
+                    sy,
+                    mp,
+                    ev,
+                    xc,
+                    None if a is None else a[:, :, sl],
+                    None if eps is None else eps[:, sl],
+                    sl,
+                )
+                sol, sing = solve_system(sy, xc, rhs)
+                for col, val in enumerate(sol):
+                    out[col, sl] = val
+                singular[sl] = sing
+        else:
+            raise ValueError(f"method must be 'sparse' or 'dense', not {method!r}")
+    bad = singular | ~result.status.ok
+    if bad.any():
+        out[:, bad] = np.nan
+    singular &= result.status.ok
+    ns = len(sy.slots)
+    e0, s0, t0 = sy.element_col0, sy.slider_col0, sy.torque_col0
+    return ForceResult(
+        kinematics=result,
+        system=sy,
+        pin_force=np.moveaxis(out[: 2 * ns].reshape(ns, 2, n), -1, 0),
+        element_force=out[e0:s0].T,
+        slider_force=out[s0:t0].T,
+        driver_torque=out[t0:].T,
+        singular=singular,
+        loads=checked,
+        evaluated=ev,
+        mass=mp,
+    )
+
+
+def _solve_dense(
+    sy: StaticsSystem,
+    mp: MassProperties,
+    ev: EvaluatedLoads,
+    x: F,
+    a: F | None,
+    eps: F | None,
+    out: F,
+    singular: np.ndarray,
+) -> None:
+    n = x.shape[-1]
+    mat = dense_matrix(sy, x)
+    rhs = np.zeros((n, len(sy.rows)))
+    r0 = 2 * len(sy.nodes)
+    for m, (fx, fy, mz) in enumerate(_body_loads(sy, mp, ev, x, a, eps, slice(None))):
+        rhs[:, r0 + 3 * m] = -np.asarray(fx)
+        rhs[:, r0 + 3 * m + 1] = -np.asarray(fy)
+        rhs[:, r0 + 3 * m + 2] = -np.asarray(mz)
+    finite = np.isfinite(mat).all(axis=(1, 2)) & np.isfinite(rhs).all(axis=1)
+    cond = np.full(n, np.inf)
+    if finite.any():
+        cond[finite] = np.linalg.cond(mat[finite])
+    good = cond < 1e12
+    singular |= finite & ~good
+    out[:] = np.nan
+    if good.any():
+        out[:, good] = np.linalg.solve(mat[good], rhs[good][:, :, None])[:, :, 0].T

@@ -1,0 +1,144 @@
+"""Excavator tool forces and Jacobian against independent routes.
+
+* the cylinder-space Jacobian against central differences of the engine's positions;
+* the handbook lever formulas (arm F = F_cyl·a/b, bucket F = F_cyl·c·e/(d·r), e.g.
+  Bošnjak et al. and the usual excavator-design texts) against the virtual-work tool force and
+  against the general kinetostatics (``Mechanism.solve(..., loads=...)``) at several poses;
+* the holding cylinders' forces against the general kinetostatics with gravity;
+* holding-pressure capping on a constructed case.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import excavkin
+from excavkin.applications.excavator import Circuit, Machine, forward, jacobian
+from excavkin.applications.excavator_forces import handbook_forces, tool_forces
+from excavkin.io.machine import load_machine
+from excavkin.kinetostatics import Gravity, PointForce
+
+
+@pytest.fixture(scope="module")
+def machine() -> Machine:
+    return load_machine(excavkin.example_path("excavator_machine"))
+
+
+def _poses(machine: Machine, n: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    lo, hi = machine.lengths_min + 0.02, machine.lengths_max - 0.02
+    return lo + rng.random((n, 3)) * (hi - lo)
+
+
+def test_jacobian_matches_central_differences(machine: Machine) -> None:
+    L = _poses(machine, 50, 3)
+    jac = jacobian(machine, L)
+    h = 1e-4
+    for c in range(3):
+        e = np.eye(3)[c] * h
+        fp, fm = forward(machine, L + e), forward(machine, L - e)
+        fp2, fm2 = forward(machine, L + 2 * e), forward(machine, L - 2 * e)
+
+        def d(a: np.ndarray, b: np.ndarray, a2: np.ndarray, b2: np.ndarray) -> np.ndarray:
+            return (8 * (a - b) - (a2 - b2)) / (12 * h)
+
+        dtip = d(fp.tip, fm.tip, fp2.tip, fm2.tip)
+        wrap = lambda x: np.angle(np.exp(1j * x))  # noqa: E731
+        dbeta = (
+            8 * wrap(fp.bucket_angle - fm.bucket_angle) - wrap(fp2.bucket_angle - fm2.bucket_angle)
+        ) / (12 * h)
+        np.testing.assert_allclose(jac.matrix[:, :2, c], dtip, rtol=0, atol=1e-7)
+        np.testing.assert_allclose(jac.matrix[:, 2, c], dbeta, rtol=0, atol=1e-7)
+    assert np.all(np.isfinite(jac.condition)) and np.all(jac.condition >= 1.0)
+
+
+@pytest.mark.parametrize("at", ["lip", "tip"])
+def test_handbook_levers_equal_virtual_work(machine: Machine, at: str) -> None:
+    L = _poses(machine, 200, 5)
+    arm_hb, bucket_hb = handbook_forces(machine, L, at=at)  # type: ignore[arg-type]
+    arm = tool_forces(machine, L, "arm", at=at, gravity=False)  # type: ignore[arg-type]
+    bucket = tool_forces(machine, L, "bucket", at=at, gravity=False)  # type: ignore[arg-type]
+    np.testing.assert_allclose(arm.uncapped, arm_hb, rtol=1e-10)
+    np.testing.assert_allclose(bucket.uncapped, bucket_hb, rtol=1e-10)
+
+
+@pytest.mark.parametrize("working", ["arm", "bucket"])
+def test_handbook_levers_against_general_kinetostatics(machine: Machine, working: str) -> None:
+    """Load the lip with the handbook force, perpendicular to its lever; the engine's
+    kinetostatics must return the working cylinder's force at working pressure."""
+    L = _poses(machine, 8, 17)
+    arm_hb, bucket_hb = handbook_forces(machine, L, at="lip")
+    f_hb = arm_hb if working == "arm" else bucket_hb
+    tf = tool_forces(machine, L, working, at="lip", gravity=False)  # type: ignore[arg-type]
+    soil = -f_hb[:, None] * tf.direction  # force of the soil on the bucket
+    mech = machine.mechanism
+    drivers = machine.drivers
+    res = mech.solve(
+        {d: L[:, i] for i, d in enumerate(drivers)},
+        {d: np.zeros(len(L)) for d in drivers},
+        loads=[PointForce("soil", machine.front.bucket, machine.front.lip, soil)],
+    )
+    k = 1 if working == "arm" else 2
+    cyl = machine.cylinders[k]
+    f_cyl = machine.circuit(working).working * cyl.bore_area
+    np.testing.assert_allclose(res.force(drivers[k]), f_cyl, rtol=1e-9)
+    # the holding cylinders carry what the virtual-work solution says they carry
+    tf_unc = tf.cylinder_force / tf.force[:, None]  # holding force per newton of tool force
+    for h in range(3):
+        if h != k:
+            np.testing.assert_allclose(
+                res.force(drivers[h]), tf_unc[:, h] * f_hb, rtol=1e-8, atol=1e-6 * f_cyl
+            )
+
+
+def test_holding_forces_with_gravity_match_kinetostatics(machine: Machine) -> None:
+    L = _poses(machine, 8, 23)
+    tf = tool_forces(machine, L, "bucket", at="tip", gravity=True)
+    soil = -tf.force[:, None] * tf.direction
+    mech = machine.mechanism
+    drivers = machine.drivers
+    res = mech.solve(
+        {d: L[:, i] for i, d in enumerate(drivers)},
+        {d: np.zeros(len(L)) for d in drivers},
+        loads=[
+            PointForce("soil", machine.front.bucket, machine.front.tip, soil),
+            Gravity(machine.gravity),
+        ],
+    )
+    for h in range(3):
+        np.testing.assert_allclose(
+            res.force(drivers[h]), tf.cylinder_force[:, h], rtol=1e-8, atol=1e-3
+        )
+
+
+def test_holding_pressure_caps_the_tool_force(machine: Machine) -> None:
+    """A weak bucket relief: the arm-cylinder tool force is capped where the bucket cylinder
+    would have to hold more than its relief allows, and the bucket is named."""
+    L = _poses(machine, 300, 31)
+    free = tool_forces(machine, L, "arm", gravity=False)
+    weak = dict(machine.circuits)
+    weak["bucket"] = Circuit("bucket", 1e6, 2e6)  # 20 bar relief
+    m2 = Machine(machine.mechanism, machine.front, {c.role: c for c in machine.cylinders}, weak)
+    capped = tool_forces(m2, L, "arm", gravity=False)
+    hit = capped.limiting == "bucket"
+    assert hit.sum() > 50
+    assert np.all(capped.force <= free.force * (1 + 1e-12))
+    assert np.all(capped.force[hit] < free.force[hit])
+    bkt = m2.cylinders[2]
+    lo, hi = bkt.force_limits(2e6)
+    f_b = capped.cylinder_force[hit, 2]
+    at_limit = np.isclose(f_b, hi, rtol=1e-9) | np.isclose(f_b, lo, rtol=1e-9)
+    assert at_limit.all()
+    # the uncapped value is the working cylinder's own limit, unchanged
+    np.testing.assert_allclose(capped.uncapped, free.uncapped, rtol=1e-12)
+    # a constructed pose: with the relief lowered to what the bucket holds at half the free
+    # force, the capped force is exactly half
+    k = int(np.flatnonzero(free.limiting == "arm")[0])
+    need = free.cylinder_force[k, 2] * 0.5
+    relief = need / (bkt.bore_area if need > 0 else -bkt.annulus_area)
+    weak["bucket"] = Circuit("bucket", min(relief, 34.3e6), relief)
+    m3 = Machine(machine.mechanism, machine.front, {c.role: c for c in machine.cylinders}, weak)
+    half = tool_forces(m3, L[k : k + 1], "arm", gravity=False)
+    np.testing.assert_allclose(half.force[0], 0.5 * free.force[k], rtol=1e-10)
+    assert half.limiting[0] == "bucket"
