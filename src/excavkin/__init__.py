@@ -26,6 +26,7 @@ from excavkin.errors import (
 from excavkin.kinematics import KinematicResult, Status, Tolerances
 from excavkin.mechanism import Mechanism
 from excavkin.model import Body, LinearDriver, Model, RotaryDriver, Slider
+from excavkin.model.entities import Gravity, PointForce, Torque
 
 __version__ = "0.1.0"
 
@@ -33,6 +34,7 @@ __all__ = [
     "AssemblyError",
     "Body",
     "ExcavkinError",
+    "Gravity",
     "InputError",
     "KinematicResult",
     "LinearDriver",
@@ -40,11 +42,13 @@ __all__ = [
     "MobilityError",
     "Model",
     "ModelError",
+    "PointForce",
     "RotaryDriver",
     "SingularityWarning",
     "Slider",
     "SolveFailure",
     "Status",
+    "Torque",
     "Tolerances",
     "UnitError",
     "example_path",

@@ -502,3 +502,15 @@ def test_cli_gravity_switch(tmp_path: Path) -> None:
     assert np.abs(outs["--gravity"]["crank.torque"]).max() > 1e-3
     r = _run("solve", fb, "--sweep", "crank=0deg:90deg:3", "-o", str(tmp_path / "k.csv"))
     assert "crank.torque" not in pd.read_csv(tmp_path / "k.csv").columns
+
+
+def test_bad_solver_options(fourbar: Mechanism) -> None:
+    kin = _sweep(fourbar, 3)
+    with pytest.raises(InputError, match="method"):
+        solve_forces(kin, [], method="lu")
+    with pytest.raises(InputError, match="chunk"):
+        solve_forces(kin, [], chunk=0)
+    # chunking does not change the answer
+    a = solve_forces(kin, [Gravity()], chunk=1)
+    b = solve_forces(kin, [Gravity()])
+    assert_allclose(a.pin_force, b.pin_force, rtol=1e-15)

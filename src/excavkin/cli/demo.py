@@ -1,4 +1,4 @@
-"""``excavkin demo``: analyse the built-in default model and write its results."""
+"""``excavkin demo``: analyse the built-in default model and write its results and report."""
 
 from __future__ import annotations
 
@@ -31,30 +31,24 @@ DEFAULT_MODEL = "fourbar"
 )
 @handle_errors
 def command(out_dir: str, model_name: str) -> None:
-    """Sweep the built-in four-bar through a full crank turn and write its results."""
+    """Analyse a built-in model (the four-bar, a full crank turn at 300 rpm) and write its
+    table (CSV) and its self-contained HTML report into OUT_DIR."""
+    from excavkin.outputs.report import default_sweep, write_report
+
     folder = Path(out_dir)
     folder.mkdir(parents=True, exist_ok=True)
     path = excavkin.example_path(model_name)
     mech = excavkin.load(path)
     click.echo(mech.describe())
-    name = mech.inputs[0]
-    n = 361
-    if mech.input_kind(name) == "angle":
-        start = mech.sketch_values()[name]
-        values = start + np.linspace(0.0, 2 * np.pi, n)
-        rate = 31.416
+    if model_name == DEFAULT_MODEL:
+        angles = mech.sketch_values()["crank"] + np.linspace(0.0, 2 * np.pi, 361)
+        result = mech.solve({"crank": angles}, rates={"crank": 31.416})
     else:
-        s0 = mech.sketch_values()[name]
-        values = np.linspace(0.9 * s0, 1.1 * s0, n)
-        rate = 0.1
-    result = mech.solve({name: values}, rates={name: rate})
+        result = mech.solve(default_sweep(mech))
     table = write_table(result.to_frame(), folder / f"{path.stem}.csv", force=True)
+    report = write_report(mech, result, folder / f"{path.stem}-report.html", force=True)
     click.echo(f"\n{result.status.summary()}")
-    click.echo(f"wrote {table}")
-    trans = np.degrees(result.transmission)
-    if trans.size:
-        for k, p in enumerate(result.plan.transmissions):
-            click.echo(
-                f"transmission angle at {p}: {np.nanmin(trans[:, k]):.2f}° … "
-                f"{np.nanmax(trans[:, k]):.2f}°"
-            )
+    for k, p in enumerate(result.plan.transmissions):
+        mu = np.degrees(result.transmission[:, k])
+        click.echo(f"transmission angle at {p}: {np.nanmin(mu):.2f}° … {np.nanmax(mu):.2f}°")
+    click.echo(f"wrote {table}\nwrote {report} (open it in a browser)")

@@ -18,6 +18,7 @@ from excavkin.cli._common import (
     parse_sweep,
     si_value,
 )
+from excavkin.cli._progress import solve_with_progress
 from excavkin.errors import InputError
 from excavkin.kinematics import KinematicResult
 from excavkin.mechanism import Mechanism
@@ -145,6 +146,7 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="With --forces: add gravity (the model's, else 9.80665 m/s^2 along -y) or leave it "
     "out (default: as the model says).",
 )
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @handle_errors
 def command(
     model: str,
@@ -157,6 +159,7 @@ def command(
     force: bool,
     with_forces: bool,
     gravity: bool | None,
+    quiet: bool,
 ) -> None:
     """Solve MODEL.toml over driver sweeps and write one row per sample.
 
@@ -167,7 +170,7 @@ def command(
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model)
     values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels)
-    result = mech.solve(values, rate_v, accel_v)
+    result = solve_with_progress(mech, values, rate_v, accel_v, quiet=quiet)
     report_failures(result, keep_going)
     if with_forces:
         from excavkin.kinetostatics import model_loads

@@ -12,6 +12,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from excavkin.errors import InputError
 from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import (
@@ -135,10 +136,14 @@ def solve_forces(
     ModelError
         A load names an unknown body or point.
     InputError
-        A load value of the wrong shape.
+        A load value of the wrong shape, or a bad ``method`` or ``chunk``.
     StaticallyIndeterminateError
         Redundant joints (from compiling the system).
     """
+    if method not in ("sparse", "dense"):
+        raise InputError(f"method must be 'sparse' or 'dense', not {method!r}")
+    if chunk < 1:
+        raise InputError(f"chunk must be at least 1, got {chunk}")
     plan = result.plan
     model = plan.model
     checked = check_loads(model, loads)
@@ -154,7 +159,7 @@ def solve_forces(
     with np.errstate(divide="ignore", invalid="ignore"):
         if method == "dense":
             _solve_dense(sy, mp, ev, x, a, eps, out, singular)
-        elif method == "sparse":
+        else:
             for s in range(0, n, chunk):
                 sl = slice(s, min(s + chunk, n))
                 xc = x[:, :, sl]
@@ -171,8 +176,6 @@ def solve_forces(
                 for col, val in enumerate(sol):
                     out[col, sl] = val
                 singular[sl] = sing
-        else:
-            raise ValueError(f"method must be 'sparse' or 'dense', not {method!r}")
     bad = singular | ~result.status.ok
     if bad.any():
         out[:, bad] = np.nan

@@ -4,7 +4,7 @@ Found from the per-sample status (the solver's verdict) and the result's columns
 
 * **does not close** — runs of samples the solver could not assemble (``status`` not ``"ok"``);
 * **dead position** — samples the solver flagged as singular, and samples where a transmission
-  angle comes within ``dead_tol`` of 0 or π (a local minimum of its distance to them);
+  angle comes within ``dead_tol`` (3°) of 0 or π (a local minimum of its distance to them);
 * **low transmission** — the worst transmission angle of each dyad and slider, when it drops below
   ``transmission_limit``;
 * **shock** — a jump of a velocity (rigid shock) or acceleration (soft shock) column between two
@@ -150,7 +150,7 @@ def failed_runs(data: Any) -> list[tuple[int, int, str]]:
     return [(a, b, str(labels[a])) for a, b in _runs(bad)]
 
 
-def dead_samples(data: Any, dead_tol: float = np.radians(1.0)) -> np.ndarray:
+def dead_samples(data: Any, dead_tol: float = np.radians(3.0)) -> np.ndarray:
     """Samples at or next to a dead position, sorted, shape (k,).
 
     Parameters
@@ -214,7 +214,7 @@ def shock_samples(data: Any, *, ratio: float = 25.0, floor: float = 0.05) -> dic
 def find_events(
     data: Any,
     *,
-    dead_tol: float = np.radians(1.0),
+    dead_tol: float = np.radians(3.0),
     transmission_limit: float = np.radians(30.0),
     describe_sample: Any = None,
 ) -> list[Event]:
@@ -251,7 +251,8 @@ def find_events(
             Event(
                 "dead position",
                 dead,
-                f"dead position at sample{'s' if dead.size > 1 else ''} {shown}{more}",
+                f"at or within {np.degrees(dead_tol):.0f}° of a dead position: "
+                f"sample{'s' if dead.size > 1 else ''} {shown}{more}",
                 "warning",
             )
         )

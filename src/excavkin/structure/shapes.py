@@ -14,6 +14,8 @@ from dataclasses import dataclass
 from excavkin.errors import AssemblyError, ModelError
 from excavkin.model.entities import Body, Model
 
+_EPS = 2.220446049250313e-16
+
 
 @dataclass(frozen=True, slots=True)
 class BodyShape:
@@ -95,6 +97,10 @@ def body_shape(model: Model, body: Body) -> BodyShape:
                 source=src,
             )
         side = 1.0 if sy >= 0.0 else -1.0
+        # a point on the base line: h² is then round-off, and its square root would put the
+        # point ~1e-8·d off the line; snap it when the distances say collinear to round-off
+        if abs(h2) <= 64 * _EPS * d0 * d0:
+            h2 = 0.0
         local[pi] = (x, side * math.sqrt(max(h2, 0.0)))
     for p, q in model.lengths:
         if p in pts and q in pts and frozenset((p, q)) not in defining:
