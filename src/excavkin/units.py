@@ -30,6 +30,8 @@ KINDS: dict[str, str] = {
     "acceleration": "m/s^2",
     "angular_velocity": "rad/s",
     "angular_acceleration": "rad/s^2",
+    "jerk": "m/s^3",
+    "angular_jerk": "rad/s^3",
     "area": "m^2",
     "frequency": "1/s",
     "dimensionless": "",
@@ -113,6 +115,8 @@ def _example_unit(kind: str) -> str:
         "acceleration": "m/s^2",
         "angular_velocity": "rad/s",
         "angular_acceleration": "rad/s^2",
+        "jerk": "m/s^3",
+        "angular_jerk": "rad/s^3",
         "area": "mm^2",
         "frequency": "1/s",
     }.get(kind, KINDS[kind])

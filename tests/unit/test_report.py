@@ -25,39 +25,7 @@ from excavkin.outputs.report import (
     write_report,
 )
 from excavkin.outputs.tables import OutputError
-
-ARM = """
-schema_version = 1
-name = "boom and stick"
-[units]
-length = "mm"
-angle = "deg"
-[points]
-O  = [0, 0]
-C1 = [400, -600]
-D1 = [1400, 300]
-C2 = [2300, 1200]
-E  = [3200, 900]
-D2 = [2950, 1350]
-K  = [3700, -900]
-[bodies]
-frame = { points = ["O", "C1"], ground = true }
-boom  = { points = ["O", "E", "D1", "C2"] }
-stick = { points = ["E", "K", "D2"] }
-[drivers.boom_cyl]
-type = "linear"
-between = ["C1", "D1"]
-[drivers.stick_cyl]
-type = "linear"
-between = ["C2", "D2"]
-"""
-
-
-def double_rocker() -> excavkin.Mechanism:
-    """The README four-bar with a 60 mm coupler: the crank cannot turn fully."""
-    text = excavkin.example_path("fourbar").read_text()
-    text = text.replace("A  = [0, 40]", "A  = [0, 80]").replace('"A-B"  = 120', '"A-B"  = 60')
-    return excavkin.loads(text.replace("B  = [110, 90]", "B  = [50, 110]"), "double-rocker")
+from tests.models import ARM, double_rocker
 
 
 @pytest.fixture(scope="module")

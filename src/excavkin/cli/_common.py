@@ -8,6 +8,8 @@ exit, never a traceback: wrap a command's body in :func:`handle_errors`.
 from __future__ import annotations
 
 import functools
+import importlib
+import pkgutil
 import sys
 from collections.abc import Callable
 from typing import Any, TypeVar
@@ -90,3 +92,42 @@ def parse_sweep(text: str, kind: str, what: str) -> np.ndarray:
 
 RATE_KIND = {"angle": "angular_velocity", "length": "velocity"}
 ACCEL_KIND = {"angle": "angular_acceleration", "length": "acceleration"}
+JERK_KIND = {"angle": "angular_jerk", "length": "jerk"}
+
+
+class ModuleGroup(click.Group):
+    """A click group whose subcommands are modules of a package, imported on demand.
+
+    Every module ``<package>/<prefix><name>.py`` exposing a ``click.Command`` named ``command``
+    becomes the subcommand ``<name>`` (underscores become hyphens). With an empty prefix, modules
+    starting with ``_`` are private and skipped.
+    """
+
+    def __init__(self, *args: Any, package: str, prefix: str = "", **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.package = package
+        self.prefix = prefix
+
+    def _modules(self) -> dict[str, str]:
+        path = importlib.import_module(self.package).__path__
+        mods = {}
+        for info in pkgutil.iter_modules(path):
+            name = info.name
+            if self.prefix:
+                if not name.startswith(self.prefix) or len(name) == len(self.prefix):
+                    continue
+                name = name[len(self.prefix) :]
+            elif name.startswith("_"):
+                continue
+            mods[name.replace("_", "-")] = f"{self.package}.{info.name}"
+        return mods
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(self._modules())
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        mod = self._modules().get(cmd_name)
+        if mod is None:
+            return None
+        command: Any = importlib.import_module(mod).command
+        return command  # type: ignore[no-any-return]

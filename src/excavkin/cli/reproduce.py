@@ -8,39 +8,13 @@ nothing here changes.
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
-from typing import Any
-
 import click
 
-import excavkin.cli as _cli
+from excavkin.cli._common import ModuleGroup
 
 PREFIX = "_reproduce_"
 
 
-class _Studies(click.Group):
-    """A group whose commands are the ``_reproduce_*`` modules of :mod:`excavkin.cli`."""
-
-    def _modules(self) -> dict[str, str]:
-        mods = {}
-        for info in pkgutil.iter_modules(_cli.__path__):
-            if info.name.startswith(PREFIX) and len(info.name) > len(PREFIX):
-                name = info.name[len(PREFIX) :].replace("_", "-")
-                mods[name] = f"{_cli.__name__}.{info.name}"
-        return mods
-
-    def list_commands(self, ctx: click.Context) -> list[str]:
-        return sorted(self._modules())
-
-    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
-        mod = self._modules().get(cmd_name)
-        if mod is None:
-            return None
-        command: Any = importlib.import_module(mod).command
-        return command  # type: ignore[no-any-return]
-
-
-@click.group("reproduce", cls=_Studies)
+@click.group("reproduce", cls=ModuleGroup, package="excavkin.cli", prefix=PREFIX)
 def command() -> None:
     """Reproduce a seed paper's study: print its tables, write its figures."""

@@ -25,13 +25,14 @@ from excavkin.applications.shocks import shock_report
 from excavkin.applications.timeline import Drive, simulate
 from excavkin.cli._common import (
     ACCEL_KIND,
+    JERK_KIND,
     RATE_KIND,
     handle_errors,
     parse_assignment,
     si_value,
 )
 from excavkin.cli.solve import report_failures
-from excavkin.errors import InputError, UnitError
+from excavkin.errors import InputError
 from excavkin.mechanism import Mechanism
 from excavkin.motion import (
     LAW_NAMES,
@@ -45,24 +46,7 @@ from excavkin.motion import (
 )
 from excavkin.outputs.tables import TABLE_SUFFIXES, check_target, write_table
 
-_JERK_UNIT = {"angle": "rad/s^3", "length": "m/s^3"}
 _FRACTIONS = ("accel_fraction", "jerk_fraction")
-
-
-def _jerk(text: str, kind: str, what: str) -> float:
-    text = text.strip()
-    try:
-        return float(text)
-    except ValueError:
-        pass
-    from excavkin.units import ureg
-
-    try:
-        return float(ureg.Quantity(text).to(_JERK_UNIT[kind]).magnitude)
-    except Exception as exc:  # pint raises several unrelated types
-        raise UnitError(
-            f"{what}: cannot read {text!r} as a jerk in {_JERK_UNIT[kind]} ({exc})"
-        ) from None
 
 
 def _options(parts: Sequence[str], what: str) -> dict[str, str]:
@@ -148,7 +132,7 @@ def parse_drive(mech: Mechanism, text: str) -> tuple[str, MotionLaw | Drive]:
         elif key == "a_max":
             params[key] = si_value(val, ACCEL_KIND[kind], what)
         elif key == "j_max":
-            params[key] = _jerk(val, kind, what)
+            params[key] = si_value(val, JERK_KIND[kind], what)
         else:
             raise InputError(
                 f"{what}: unknown option {key!r} (start, from, accel_fraction, "
