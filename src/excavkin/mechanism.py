@@ -70,6 +70,14 @@ class Mechanism:
     def _check_names(self, names: object) -> None:
         for n in names:  # type: ignore[attr-defined]
             if n not in self.plan.inputs:
+                element = next((e for e in self.plan.elements if e.name == n), None)
+                if element is not None:
+                    raise InputError(
+                        f"driver {n!r} is {element.mode}, not an input: its length "
+                        + ("is fixed" if element.mode == "locked" else "follows the mechanism")
+                        + f' (set mode = "driven" in the model to drive it); the inputs of '
+                        f"{self.name!r} are {', '.join(self.plan.inputs) or 'none'}"
+                    )
                 raise InputError(
                     f"unknown driver {n!r} for {self.name!r}: its inputs are "
                     f"{', '.join(self.plan.inputs) or 'none'}"

@@ -232,6 +232,29 @@ class Machine:
         self._r_lip = shapes[front.bucket].distance(self.pins.bucket_pin, front.lip)
         pos = mechanism.assembly.positions
         self._ground_xy = {n: pos[plan.points.index(n)] for n in mechanism.model.ground.points}
+        self._check_strokes()
+
+    def _check_strokes(self) -> None:
+        """Refuse strokes that never assemble the front (a typo in a retracted length would
+        otherwise give ranges and forces of nothing).
+
+        Each cylinder is swept over its stroke with the others at the model's sketch lengths
+        (which assemble); one that closes nowhere is named.
+        """
+        n = 41
+        sketch = self.mechanism.sketch_values()
+        for c in self.cylinders:
+            values: dict[str, np.ndarray | float] = dict(sketch)
+            values[c.driver] = np.linspace(c.retracted, c.retracted + c.stroke, n)
+            if not self.mechanism.solve(values).status.ok.any():
+                raise self._err(
+                    f"no length of cylinder {c.driver!r} within its stroke "
+                    f"({c.retracted * 1e3:.0f} to {(c.retracted + c.stroke) * 1e3:.0f} mm) "
+                    "assembles the front with the other cylinders at the model's sketch; check its "
+                    "retracted length and stroke against the model's pins",
+                    f"cylinders.{c.role}",
+                    "retracted",
+                )
 
     # ---- construction helpers
     def _err(self, problem: str, table: str | None = None, entry: str | None = None) -> ModelError:

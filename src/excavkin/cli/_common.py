@@ -56,13 +56,15 @@ def si_value(text: str, kind: str, what: str) -> float:
     """Read ``"31.416rad/s"``, ``"50 deg"`` or a bare SI number as an SI float."""
     text = text.strip()
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
-        pass
-    try:
-        return to_si(text, kind, where=f"{what}: ")
-    except UnitError as exc:
-        raise UnitError(exc.problem) from None
+        try:
+            value = to_si(text, kind, where=f"{what}: ")
+        except UnitError as exc:
+            raise UnitError(exc.problem) from None
+    if not np.isfinite(value):
+        raise ExcavkinError(f"{what}: {text!r} is not a finite number")
+    return value
 
 
 def parse_assignment(text: str, option: str) -> tuple[str, str]:

@@ -85,7 +85,10 @@ def parse_drive(mech: Mechanism, text: str) -> tuple[str, MotionLaw | Drive]:
         if unknown:
             raise InputError(f"{what}: a crank takes only from=, not {', '.join(sorted(unknown))}")
         init = si_value(opts["from"], kind, what) if "from" in opts else None
-        return name, Drive(ConstantSpeedCrank(omega), initial=init)
+        try:
+            return name, Drive(ConstantSpeedCrank(omega), initial=init)
+        except ValueError as exc:
+            raise InputError(f"{what}: {exc}") from None
     if head == "winch":
         opts = _options(parts[1:], what)
         need = {"motor", "drum", "gear"}
@@ -108,7 +111,10 @@ def parse_drive(mech: Mechanism, text: str) -> tuple[str, MotionLaw | Drive]:
         except ValueError as exc:
             raise InputError(f"{what}: {exc}") from None
         init = si_value(opts["from"], kind, what) if "from" in opts else None
-        return name, Drive(winch, initial=init)
+        try:
+            return name, Drive(winch, initial=init)
+        except ValueError as exc:
+            raise InputError(f"{what}: {exc}") from None
     if len(parts) < 3:
         raise InputError(
             f"{what}: a law drive is LAW:STROKE:DURATION[:start=T0][:from=Q0]"
@@ -140,9 +146,9 @@ def parse_drive(mech: Mechanism, text: str) -> tuple[str, MotionLaw | Drive]:
             )
     try:
         law = get_law(law_name, stroke, duration, **params)
+        return name, (law if init is None else Drive(law, initial=init))
     except (ValueError, TypeError) as exc:
         raise InputError(f"{what}: {exc}") from None
-    return name, (law if init is None else Drive(law, initial=init))
 
 
 def build_drives(mech: Mechanism, texts: Sequence[str]) -> dict[str, Drive]:

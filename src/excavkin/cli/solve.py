@@ -37,6 +37,16 @@ def build_inputs(
     Several sweeps run side by side (sample k of each), so they must have the same N.
     """
     values: dict[str, np.ndarray | float] = {}
+    for option, texts in (
+        ("--sweep", sweeps),
+        ("--set", sets),
+        ("--rate", rates),
+        ("--accel", accels),
+    ):
+        names = [parse_assignment(t, option)[0] for t in texts]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:
+            raise InputError(f"{option} is given more than once for {', '.join(twice)}")
     for text in sweeps:
         name, spec = parse_assignment(text, "--sweep")
         kind = mech.input_kind(name)
@@ -175,7 +185,23 @@ def command(
     if with_forces:
         from excavkin.kinetostatics import model_loads
 
-        frame = mech.forces(result, model_loads(mech.model, gravity=gravity)).to_frame()
+        forces = mech.forces(result, model_loads(mech.model, gravity=gravity))
+        singular = np.flatnonzero(forces.singular & result.status.ok)
+        if singular.size:
+            listed = ", ".join(str(int(i)) for i in singular[:10])
+            more = f" and {singular.size - 10} more" if singular.size > 10 else ""
+            text = (
+                f"{singular.size} samples are statically singular (a redundant joint at "
+                f"that position; their forces are NaN): samples {listed}{more}"
+            )
+            if not keep_going:
+                fail(
+                    f"{text}. Nothing was written; pass --keep-going to write the table with "
+                    "these rows marked.",
+                    EXIT_SAMPLES,
+                )
+            click.echo(f"excavkin: warning: {text}", err=True)
+        frame = forces.to_frame()
     else:
         frame = result.to_frame()
     write_table(frame, target, force=force)

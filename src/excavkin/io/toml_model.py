@@ -28,8 +28,19 @@ from excavkin.units import KINDS, check_unit, to_si
 
 SCHEMA_VERSION = 1
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-_TOP = {"schema_version", "name", "description", "units", "points", "bodies", "lengths",
-        "drivers", "sliders", "loads", "gravity"}
+_TOP = {
+    "schema_version",
+    "name",
+    "description",
+    "units",
+    "points",
+    "bodies",
+    "lengths",
+    "drivers",
+    "sliders",
+    "loads",
+    "gravity",
+}
 
 
 class _Reader:
@@ -45,7 +56,7 @@ class _Reader:
                 known = ", ".join(k for k in KINDS if k != "dimensionless")
                 raise self.err(f"unknown quantity kind (known: {known})", "units", kind)
             if not isinstance(unit, str):
-                raise self.err("the unit must be a string such as \"mm\"", "units", kind)
+                raise self.err('the unit must be a string such as "mm"', "units", kind)
             try:
                 check_unit(unit, kind)
             except UnitError as exc:
@@ -64,13 +75,18 @@ class _Reader:
     def xy(self, value: Any, table: str, entry: str) -> tuple[float, float]:
         if not isinstance(value, list) or len(value) != 2:
             raise self.err("expected two coordinates [x, y]", table, entry)
-        return (self.qty(value[0], "length", table, entry),
-                self.qty(value[1], "length", table, entry))
+        return (
+            self.qty(value[0], "length", table, entry),
+            self.qty(value[1], "length", table, entry),
+        )
 
     def name(self, value: Any, table: str, entry: str | None = None) -> str:
         if not isinstance(value, str) or not _NAME.match(value):
-            raise self.err(f"{value!r} is not a valid name (letters, digits and _, not starting "
-                           "with a digit)", table, entry)
+            raise self.err(
+                f"{value!r} is not a valid name (letters, digits and _, not starting with a digit)",
+                table,
+                entry,
+            )
         return value
 
     def table(self, key: str, required: bool = False) -> dict[str, Any]:
@@ -84,9 +100,12 @@ class _Reader:
     def keys(self, entry: dict[str, Any], allowed: set[str], table: str, name: str) -> None:
         extra = set(entry) - allowed
         if extra:
-            raise self.err(f"unknown key{'s' if len(extra) > 1 else ''} "
-                           f"{', '.join(sorted(extra))} (allowed: {', '.join(sorted(allowed))})",
-                           table, name)
+            raise self.err(
+                f"unknown key{'s' if len(extra) > 1 else ''} "
+                f"{', '.join(sorted(extra))} (allowed: {', '.join(sorted(allowed))})",
+                table,
+                name,
+            )
 
 
 def loads_model(text: str, source: str | None = None) -> Model:
@@ -118,15 +137,21 @@ def _build(data: dict[str, Any], source: str | None) -> Model:
     r = _Reader(data, source)
     ver = data.get("schema_version")
     if ver is None:
-        raise r.err(f"schema_version is missing (this version of excavkin reads "
-                    f"schema_version = {SCHEMA_VERSION})")
+        raise r.err(
+            f"schema_version is missing (this version of excavkin reads "
+            f"schema_version = {SCHEMA_VERSION})"
+        )
     if ver != SCHEMA_VERSION:
-        raise r.err(f"schema_version = {ver!r} is not supported (this version of excavkin "
-                    f"reads {SCHEMA_VERSION})")
+        raise r.err(
+            f"schema_version = {ver!r} is not supported (this version of excavkin "
+            f"reads {SCHEMA_VERSION})"
+        )
     unknown = set(data) - _TOP
     if unknown:
-        raise r.err(f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
-                    f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})")
+        raise r.err(
+            f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
+        )
     name = data.get("name", Path(source).stem if source else "mechanism")
     points = {r.name(k, "points"): r.xy(v, "points", k) for k, v in r.table("points", True).items()}
 
@@ -134,7 +159,7 @@ def _build(data: dict[str, Any], source: str | None) -> Model:
     for bname, spec in r.table("bodies", True).items():
         r.name(bname, "bodies")
         if not isinstance(spec, dict):
-            raise r.err("must be a table such as { points = [\"A\", \"B\"] }", "bodies", bname)
+            raise r.err('must be a table such as { points = ["A", "B"] }', "bodies", bname)
         r.keys(spec, {"points", "ground", "mass", "inertia", "center_of_mass"}, "bodies", bname)
         pts = spec.get("points")
         if not isinstance(pts, list) or not all(isinstance(p, str) for p in pts):
@@ -159,8 +184,14 @@ def _build(data: dict[str, Any], source: str | None) -> Model:
             for key in ("body", "pivot"):
                 if key not in spec:
                     raise r.err(f"a rotary driver needs {key!r}", table)
-            rotary.append(RotaryDriver(dname, str(spec["body"]), str(spec["pivot"]),
-                                       str(spec.get("reference", _ground_name(bodies)))))
+            rotary.append(
+                RotaryDriver(
+                    dname,
+                    str(spec["body"]),
+                    str(spec["pivot"]),
+                    str(spec.get("reference", _ground_name(bodies))),
+                )
+            )
         elif kind == "linear":
             r.keys(spec, {"type", "between", "mode"}, "drivers", dname)
             between = spec.get("between")
@@ -168,8 +199,9 @@ def _build(data: dict[str, Any], source: str | None) -> Model:
                 raise r.err("between must list two point names", table, "between")
             mode = spec.get("mode", "driven")
             if mode not in ("driven", "locked", "free"):
-                raise r.err(f"mode must be 'driven', 'locked' or 'free', not {mode!r}", table,
-                            "mode")
+                raise r.err(
+                    f"mode must be 'driven', 'locked' or 'free', not {mode!r}", table, "mode"
+                )
             linear.append(LinearDriver(dname, (str(between[0]), str(between[1])), mode))
         else:
             raise r.err(f"type must be 'rotary' or 'linear', not {kind!r}", table, "type")
@@ -182,22 +214,35 @@ def _build(data: dict[str, Any], source: str | None) -> Model:
         r.keys(spec, {"point", "along"}, "sliders", sname)
         along = spec.get("along")
         if not isinstance(along, list) or len(along) != 2 or "point" not in spec:
-            raise r.err("needs point = \"P\" and along = [\"L1\", \"L2\"]", f"sliders.{sname}")
+            raise r.err('needs point = "P" and along = ["L1", "L2"]', f"sliders.{sname}")
         sliders.append(Slider(sname, str(spec["point"]), (str(along[0]), str(along[1]))))
 
     lengths: dict[tuple[str, str], float] = {}
     for key, value in r.table("lengths").items():
         parts = key.split("-")
         if len(parts) != 2 or not all(parts):
-            raise r.err("a length's key is two point names joined by '-', such as \"A-B\"",
-                        "lengths", key)
+            raise r.err(
+                "a length's key is two point names joined by '-', such as \"A-B\"", "lengths", key
+            )
+        if (parts[1], parts[0]) in lengths or (parts[0], parts[1]) in lengths:
+            raise r.err(f"the distance {parts[0]}-{parts[1]} is given twice", "lengths", key)
         lengths[(parts[0], parts[1])] = r.qty(value, "length", "lengths", key)
 
     loads = _loads(r, {b.name for b in bodies}, {b.name: b.points for b in bodies})
     gravity = _gravity(r)
 
-    model = Model(str(name), points, tuple(bodies), tuple(rotary), tuple(linear), tuple(sliders),
-                  lengths, source, loads, gravity)
+    model = Model(
+        str(name),
+        points,
+        tuple(bodies),
+        tuple(rotary),
+        tuple(linear),
+        tuple(sliders),
+        lengths,
+        source,
+        loads,
+        gravity,
+    )
     validate(model)
     return model
 
@@ -213,12 +258,15 @@ def _gravity(r: _Reader) -> Gravity | None:
         r.keys(spec, {"g", "direction"}, "gravity", "g")
         g = r.qty(spec["g"], "acceleration", "gravity", "g") if "g" in spec else STANDARD_GRAVITY
         direction = spec.get("direction", [0, -1])
-        if (not isinstance(direction, list) or len(direction) != 2
-                or not all(isinstance(c, int | float) and not isinstance(c, bool)
-                           for c in direction)
-                or direction[0] == direction[1] == 0):
-            raise r.err("direction must be two numbers [x, y], not both zero", "gravity",
-                        "direction")
+        if (
+            not isinstance(direction, list)
+            or len(direction) != 2
+            or not all(isinstance(c, int | float) and not isinstance(c, bool) for c in direction)
+            or direction[0] == direction[1] == 0
+        ):
+            raise r.err(
+                "direction must be two numbers [x, y], not both zero", "gravity", "direction"
+            )
         return Gravity(g, (float(direction[0]), float(direction[1])))
     return Gravity(r.qty(spec, "acceleration", "gravity", "g"))
 
@@ -237,8 +285,11 @@ def _loads(
         kind = spec.get("type")
         body = spec.get("body")
         if not isinstance(body, str) or body not in bodies:
-            raise r.err(f"body must name one of the bodies ({', '.join(sorted(bodies))}), "
-                        f"not {body!r}", table, "body")
+            raise r.err(
+                f"body must name one of the bodies ({', '.join(sorted(bodies))}), not {body!r}",
+                table,
+                "body",
+            )
         if "value" not in spec:
             raise r.err("needs a value", table, "value")
         value = spec["value"]
@@ -246,21 +297,28 @@ def _loads(
             r.keys(spec, {"type", "body", "point", "value"}, "loads", lname)
             point = spec.get("point")
             if not isinstance(point, str) or point not in body_points[body]:
-                raise r.err(f"point must name one of body {body!r}'s points "
-                            f"({', '.join(body_points[body])}), not {point!r}", table, "point")
+                raise r.err(
+                    f"point must name one of body {body!r}'s points "
+                    f"({', '.join(body_points[body])}), not {point!r}",
+                    table,
+                    "point",
+                )
             if not isinstance(value, list) or len(value) != 2:
-                raise r.err("a force's value is two components [Fx, Fy], e.g. "
-                            "[\"0 kN\", \"-5 kN\"]", table, "value")
+                raise r.err(
+                    'a force\'s value is two components [Fx, Fy], e.g. ["0 kN", "-5 kN"]',
+                    table,
+                    "value",
+                )
             fx = r.qty(value[0], "force", table, "value")
             fy = r.qty(value[1], "force", table, "value")
             out.append(PointForce(lname, body, point, (fx, fy)))
         elif kind == "torque":
             r.keys(spec, {"type", "body", "value", "reaction"}, "loads", lname)
             reaction = spec.get("reaction")
-            if reaction is not None and (not isinstance(reaction, str) or reaction not in bodies
-                                         or reaction == body):
-                raise r.err(f"reaction must name another body, not {reaction!r}", table,
-                            "reaction")
+            if reaction is not None and (
+                not isinstance(reaction, str) or reaction not in bodies or reaction == body
+            ):
+                raise r.err(f"reaction must name another body, not {reaction!r}", table, "reaction")
             out.append(Torque(lname, body, r.qty(value, "torque", table, "value"), reaction))
         else:
             raise r.err(f"type must be 'force' or 'torque', not {kind!r}", table, "type")

@@ -37,6 +37,7 @@ class Code(IntEnum):
     NO_CONVERGENCE = 3
     BRANCH_CHANGED = 4
     BAD_INPUT = 5
+    BAD_LENGTH = 6
 
 
 @dataclass(slots=True)
@@ -135,10 +136,12 @@ def dyad(c: Chunk, st: Dyad, order: int, k: int) -> None:
     l2 = ex * ex + ey * ey
     kk = (d1 * d1 - d2 * d2 + l2) / (2.0 * l2)
     h2 = d1 * d1 / l2 - kk * kk
-    low = h2 < c.close_tol
+    # `not >=` also catches NaN: A and B coincide (l2 = 0), so the dyad has no base
+    low = ~(h2 >= c.close_tol)
     if low.any():
-        flag(c, h2 < -c.close_tol, Code.NO_CLOSURE, k)
-        h2 = np.where(h2 < -c.close_tol, np.nan, np.maximum(h2, 0.0))
+        bad = ~(h2 >= -c.close_tol)
+        flag(c, bad, Code.NO_CLOSURE, k)
+        h2 = np.where(bad, np.nan, np.maximum(h2, 0.0))
     h = st.sign * np.sqrt(h2)
     px = ax + kk * ex - h * ey
     py = ay + kk * ey + h * ex
@@ -150,7 +153,7 @@ def dyad(c: Chunk, st: Dyad, order: int, k: int) -> None:
     c.trans[st.index] = np.arctan2(np.abs(det), r1x * r2x + r1y * r2y)
     if not order:
         return
-    sing = np.abs(det) <= c.singular_tol * np.abs(d1 * d2)
+    sing = ~(np.abs(det) > c.singular_tol * np.abs(d1 * d2))  # NaN counts as singular
     if sing.any():
         flag(c, sing, Code.SINGULAR, k)
         det = np.where(sing, np.nan, det)
@@ -195,10 +198,11 @@ def slider(c: Chunk, st: SliderStep, order: int, k: int) -> None:
     off = ex * gy - ey * gx
     d, dd, ddd = dist(c, st.da)
     s2 = (d * d - off * off) / (d * d)
-    low = s2 < c.close_tol
+    low = ~(s2 >= c.close_tol)  # NaN too: the slide's two points coincide
     if low.any():
-        flag(c, s2 < -c.close_tol, Code.NO_CLOSURE, k)
-        s2 = np.where(s2 < -c.close_tol, np.nan, np.maximum(s2, 0.0))
+        bad = ~(s2 >= -c.close_tol)
+        flag(c, bad, Code.NO_CLOSURE, k)
+        s2 = np.where(bad, np.nan, np.maximum(s2, 0.0))
     along = foot + st.sign * np.abs(d) * np.sqrt(s2)
     px = l1x + along * ex
     py = l1y + along * ey
@@ -210,7 +214,7 @@ def slider(c: Chunk, st: SliderStep, order: int, k: int) -> None:
     if not order:
         return
     det = -dot
-    sing = np.abs(det) <= c.singular_tol * lu * np.abs(d)
+    sing = ~(np.abs(det) > c.singular_tol * lu * np.abs(d))
     if sing.any():
         flag(c, sing, Code.SINGULAR, k)
         det = np.where(sing, np.nan, det)

@@ -19,6 +19,7 @@ _REASON = {
     Code.NO_CONVERGENCE: "Newton did not converge",
     Code.BRANCH_CHANGED: "assembly branch changed",
     Code.BAD_INPUT: "input is NaN or infinite",
+    Code.BAD_LENGTH: "a driven length is zero or negative",
 }
 
 
@@ -65,7 +66,7 @@ class Status:
         code = Code(int(self.code[i]))
         if code == Code.OK:
             return "ok"
-        if code == Code.BAD_INPUT:
+        if code in (Code.BAD_INPUT, Code.BAD_LENGTH):
             return _REASON[code]
         return f"{_REASON[code]} at {self.where(int(self.step[i]))}"
 
@@ -152,6 +153,11 @@ class KinematicResult:
         status: Status,
     ) -> KinematicResult:
         """Wrap the solver's arrays (n_points, 2, n) etc. as batch-first views."""
+        for j, e in enumerate(plan.elements):
+            if e.input >= 0:  # a driven length is its input, exactly (failed samples too)
+                derived.element[0, j] = q[e.input]
+                derived.element[1, j] = qd[e.input]
+                derived.element[2, j] = qdd[e.input]
         return cls(
             plan=plan,
             positions=np.moveaxis(x, -1, 0),

@@ -140,6 +140,15 @@ def solve_kinematics(
         np.isfinite(q).all(axis=0) & np.isfinite(qd).all(axis=0) & np.isfinite(qdd).all(axis=0)
     )
     status[bad_in] = Code.BAD_INPUT
+    # a length is a distance: zero or negative would be solved as its mirror image
+    q_given = q
+    lengths = [i for i, kind in enumerate(plan.input_kinds) if kind == "length"]
+    if lengths:
+        bad_len = ~(q[lengths] > 0.0).all(axis=0) & (status == 0)
+        if bad_len.any():
+            status[bad_len] = Code.BAD_LENGTH
+            q = q.copy()
+            q[:, bad_len] = np.nan
     derived = Derived.empty(plan, n)
     with np.errstate(divide="ignore", invalid="ignore"):
         if plan.has_newton:
@@ -175,7 +184,7 @@ def solve_kinematics(
                 for s in starts:
                     one(s)
     return KinematicResult.build(
-        plan, x, v, a, q, qd, qdd, trans, derived, Status(status, failed, plan)
+        plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
 
 
@@ -198,8 +207,13 @@ def _solve_newton(
     stages = _stages(plan, q)
     zero = np.zeros_like(q)
     c = Chunk(x, v, a, q0 + zero, zero, zero, trans, status, failed, tol.close, tol.singular)
+    # the path to each target: angles go the shorter way round (q and q ± 2π are one pose)
+    delta = q - q0
+    for i, kind in enumerate(plan.input_kinds):
+        if kind == "angle":
+            delta[i] = np.angle(np.exp(1j * delta[i]))
     for k in range(1, stages):
-        c.q = q0 + (q - q0) * (k / stages)
+        c.q = q0 + delta * (k / stages)
         _run_steps(plan, c, 0)
     c = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular)
     _run_steps(plan, c, 0)
@@ -233,11 +247,15 @@ def assemble(plan: SolvePlan) -> Assembly:
     with np.errstate(divide="ignore", invalid="ignore"):
         _run_steps(plan, c, 0)
         signs = _run_steps(plan, c, 2, newton=False) if status[0] == 0 else []
-    if status[0] not in (Code.OK, Code.SINGULAR):
+    if status[0] != Code.OK:
         st = Status(status, failed, plan)
-        raise AssemblyError(
-            f"the lengths cannot be assembled at the sketch: {st.message(0)}",
-            table="lengths",
-            source=plan.model.source,
-        )
+        if status[0] == Code.SINGULAR:
+            problem = (
+                f"the sketch (with its [lengths]) is at a dead position of "
+                f"{st.where(int(failed[0]))}, so it does not show which way the mechanism is "
+                "assembled; draw the sketch away from it"
+            )
+        else:
+            problem = f"the lengths cannot be assembled at the sketch: {st.message(0)}"
+        raise AssemblyError(problem, table="lengths", source=plan.model.source)
     return Assembly(x[:, :, 0].copy(), tuple(float(s[0]) for s in signs))

@@ -150,6 +150,14 @@ def validate(model: Model) -> None:
                 entry="along",
                 source=src,
             )
+        if math.dist(model.points[s.along[0]], model.points[s.along[1]]) == 0.0:
+            raise ModelError(
+                f"the line's points {s.along[0]} and {s.along[1]} coincide in the sketch, so "
+                "they set no direction",
+                table=f"sliders.{s.name}",
+                entry="along",
+                source=src,
+            )
         carriers = [b for b in model.bodies if s.along[0] in b.points and s.along[1] in b.points]
         if not carriers:
             raise ModelError(

@@ -359,7 +359,12 @@ def compile_plan(
     else:
         gex, gey = 1.0, 0.0
     gcoords = []
+    ground_set = set(ground_body.points)
+    reshaped = any(p in ground_set and q in ground_set for p, q in model.lengths)
     for n in ground_body.points:
+        if not reshaped:  # the sketch's own coordinates, exactly
+            gcoords.append(sk[n])
+            continue
         lx, ly = gshape.local[n]
         gcoords.append((sk[g0][0] + lx * gex - ly * gey, sk[g0][1] + lx * gey + ly * gex))
     steps: list[Step] = [Fixed(tuple(idx[n] for n in ground_body.points), tuple(gcoords))]
