@@ -141,3 +141,15 @@ def test_written_file_has_ordinary_permissions(tmp_path: Path) -> None:
     umask = os.umask(0)
     os.umask(umask)
     assert out.stat().st_mode & 0o777 == 0o666 & ~umask
+
+
+def test_bare_numbers_that_look_like_degrees_are_flagged(tmp_path: Path) -> None:
+    r = run("solve", FOURBAR, "--sweep", "crank=0:360:3", "-o", str(tmp_path / "x.csv"))
+    assert r.returncode == 0
+    assert "bare numbers are radians" in r.stderr and "360deg" in r.stderr
+
+
+def test_machine_file_given_to_check_points_to_the_right_command() -> None:
+    r = run("check", str(EXAMPLES / "excavator_machine.toml"))
+    assert r.returncode == 2
+    assert "excavator machine file" in r.stderr and "excavkin excavator" in r.stderr

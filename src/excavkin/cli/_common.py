@@ -89,7 +89,35 @@ def parse_sweep(text: str, kind: str, what: str) -> np.ndarray:
         ) from None
     if n < 1:
         raise ExcavkinError(f"{what}: the sample count must be at least 1, got {n}")
+    _hint_bare(parts[:2], (start, stop), kind, what)
     return np.linspace(start, stop, n)
+
+
+def _hint_bare(texts: list[str], values: tuple[float, float], kind: str, what: str) -> None:
+    """Warn when bare (SI) numbers look like degrees or millimetres."""
+    bare = all(_is_number(t) for t in texts)
+    big = max(abs(v) for v in values)
+    if bare and kind == "angle" and big > 4 * np.pi:
+        click.echo(
+            f"excavkin: warning: {what}: bare numbers are radians; "
+            f"{big:g} rad is {big / (2 * np.pi):.1f} turns — write e.g. 360deg for "
+            "degrees",
+            err=True,
+        )
+    elif bare and kind == "length" and big > 100.0:
+        click.echo(
+            f"excavkin: warning: {what}: bare numbers are metres; {big:g} m is long — "
+            "write e.g. 2000mm for millimetres",
+            err=True,
+        )
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 RATE_KIND = {"angle": "angular_velocity", "length": "velocity"}

@@ -147,6 +147,11 @@ def _build(data: dict[str, Any], source: str | None) -> Model:
             f"reads {SCHEMA_VERSION})"
         )
     unknown = set(data) - _TOP
+    if unknown and {"cylinders", "model"} & unknown:
+        raise r.err(
+            "this looks like an excavator machine file (it has [cylinders] or model = ...), "
+            "not a mechanism model: use it with `excavkin excavator ranges|forces|ik`"
+        )
     if unknown:
         raise r.err(
             f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
