@@ -26,21 +26,12 @@ from excavkin.kinetostatics import (
 )
 from excavkin.mechanism import Mechanism
 from excavkin.model import Body, Model, RotaryDriver
+from tests.property.sketches import not_collinear, spread, watt_sketch
 
 coord = st.floats(-1.0, 1.0, allow_nan=False)
 point = st.tuples(coord, coord)
 mass = st.floats(0.05, 20.0)
 inertia = st.floats(0.0, 2.0)
-
-
-def _spread(pts: list[tuple[float, float]], min_dist: float = 0.05) -> bool:
-    arr = np.array(pts)
-    d = np.hypot(*(arr[:, None, :] - arr[None, :, :]).transpose(2, 0, 1))
-    return bool(np.all(d[np.triu_indices(len(pts), 1)] > min_dist))
-
-
-def _not_collinear(a: tuple, b: tuple, p: tuple, tol: float = 0.02) -> bool:
-    return abs((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) > tol
 
 
 def _check_equilibrium(res: ForceResult) -> None:
@@ -126,7 +117,7 @@ def _com(p0: tuple, p1: tuple, s: float, t: float) -> tuple[float, float]:
 )
 def test_random_massive_fourbars(pts, props, w, al, g_dir, load) -> None:  # noqa: ANN001
     o2, a, b, o4 = pts
-    if not (_spread(pts) and _not_collinear(a, o4, b)):
+    if not (spread(pts) and not_collinear(a, o4, b)):
         return
     sk = {"O2": o2, "A": a, "B": b, "O4": o4}
     bodies = [Body("ground", ("O2", "O4"), ground=True)]
@@ -180,15 +171,8 @@ def watt_sixbar(p: dict[str, tuple[float, float]], masses: list[float]) -> Model
     st.floats(0.2, 10.0),
 )
 def test_random_massive_watt_sixbars(pts, masses, w) -> None:  # noqa: ANN001
-    names = ["O2", "A", "B", "O4", "C", "D", "O6"]
-    if not _spread(pts):
-        return
-    p = dict(zip(names, pts, strict=True))
-    if not (
-        _not_collinear(p["A"], p["O4"], p["B"])
-        and _not_collinear(p["C"], p["O6"], p["D"])
-        and _not_collinear(p["O4"], p["B"], p["C"])
-    ):
+    p = watt_sketch(pts)
+    if p is None:
         return
     mech = Mechanism(watt_sixbar(p, masses))
     q0 = mech.sketch_values()["crank"]

@@ -14,19 +14,10 @@ from hypothesis import strategies as st
 from excavkin.mechanism import Mechanism
 from excavkin.model import Body, Model, RotaryDriver
 from tests.conftest import fd_derivatives
+from tests.property.sketches import not_collinear, spread, watt_sketch
 
 coord = st.floats(-1.0, 1.0, allow_nan=False)
 point = st.tuples(coord, coord)
-
-
-def _spread(pts: list[tuple[float, float]], min_dist: float = 0.05) -> bool:
-    arr = np.array(pts)
-    d = np.hypot(*(arr[:, None, :] - arr[None, :, :]).transpose(2, 0, 1))
-    return bool(np.all(d[np.triu_indices(len(pts), 1)] > min_dist))
-
-
-def _not_collinear(a: tuple, b: tuple, p: tuple, tol: float = 0.02) -> bool:
-    return abs((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) > tol
 
 
 def _check_constraints(mech: Mechanism, res, size: float) -> None:  # noqa: ANN001
@@ -83,7 +74,7 @@ def fourbar(o2, a, b, o4) -> Model:  # noqa: ANN001
 @given(point, point, point, point, st.floats(0.2, 6.0), st.floats(-5, 5))
 def test_random_fourbars(o2, a, b, o4, w, al) -> None:  # noqa: ANN001
     pts = [o2, a, b, o4]
-    if not (_spread(pts) and _not_collinear(a, o4, b)):
+    if not (spread(pts) and not_collinear(a, o4, b)):
         return
     mech = Mechanism(fourbar(o2, a, b, o4))
     q0 = mech.sketch_values()["crank"]
@@ -114,15 +105,8 @@ def watt_sixbar(p: dict[str, tuple[float, float]]) -> Model:
 @settings(max_examples=40, deadline=None, derandomize=True)
 @given(st.lists(point, min_size=7, max_size=7), st.floats(0.2, 4.0))
 def test_random_watt_sixbars(pts, w) -> None:  # noqa: ANN001
-    names = ["O2", "A", "B", "O4", "C", "D", "O6"]
-    if not _spread(pts):
-        return
-    p = dict(zip(names, pts, strict=True))
-    if not (
-        _not_collinear(p["A"], p["O4"], p["B"])
-        and _not_collinear(p["C"], p["O6"], p["D"])
-        and _not_collinear(p["O4"], p["B"], p["C"])
-    ):
+    p = watt_sketch(pts)
+    if p is None:
         return
     mech = Mechanism(watt_sixbar(p))
     assert not mech.plan.has_newton

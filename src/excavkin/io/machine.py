@@ -25,15 +25,14 @@ Masses, inertias and centres of mass are the model's (``[bodies]``).
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 from typing import Any
 
 from excavkin.applications.excavator import ROLES, Circuit, Cylinder, Front, Machine
 from excavkin.errors import ModelError, UnitError
-from excavkin.io.toml_model import _build, load_model
+from excavkin.io.toml_model import TomlReader, build_model, load_model, read_toml
 from excavkin.mechanism import Mechanism
-from excavkin.units import KINDS, check_unit, to_si
+from excavkin.units import to_si
 
 SCHEMA_VERSION = 1
 _TOP = {
@@ -62,44 +61,16 @@ _FRONT = {
 _CYL = {"driver", "retracted", "stroke", "bore", "rod", "circuit", "count", "dig"}
 
 
-class _Reader:
-    def __init__(self, data: dict[str, Any], source: str | None) -> None:
-        self.data = data
-        self.source = source
-        units = data.get("units", {})
-        if not isinstance(units, dict):
-            raise self.err("must be a table of unit names", "units")
-        self.units: dict[str, str] = {}
-        for kind, unit in units.items():
-            if kind not in KINDS or not isinstance(unit, str):
-                raise self.err(
-                    'expected a quantity kind and a unit such as length = "mm"', "units", kind
-                )
-            try:
-                check_unit(unit, kind)
-            except UnitError as exc:
-                raise UnitError(exc.problem, table="units", entry=kind, source=source) from None
-            self.units[kind] = unit
+class _Reader(TomlReader):
+    """The model reader's units and errors, plus the machine file's field lookups."""
 
-    def err(self, problem: str, table: str | None = None, entry: str | None = None) -> ModelError:
-        return ModelError(problem, table=table, entry=entry, source=self.source)
-
-    def table(self, data: dict[str, Any], key: str, where: str) -> dict[str, Any]:
+    def subtable(self, data: dict[str, Any], key: str, where: str) -> dict[str, Any]:
         t = data.get(key)
         if not isinstance(t, dict):
             raise self.err("is missing or not a table", where)
         return t
 
-    def keys(self, entry: dict[str, Any], allowed: set[str], table: str) -> None:
-        extra = set(entry) - allowed
-        if extra:
-            raise self.err(
-                f"unknown key{'s' if len(extra) > 1 else ''} "
-                f"{', '.join(sorted(extra))} (allowed: {', '.join(sorted(allowed))})",
-                table,
-            )
-
-    def qty(
+    def field_qty(
         self, t: dict[str, Any], key: str, kind: str, table: str, default: float | None = None
     ) -> float:
         if key not in t:
@@ -124,11 +95,7 @@ class _Reader:
 
 def loads_machine(text: str, source: str | None = None) -> Machine:
     """Parse a machine description from TOML text; see :func:`load_machine`."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError(f"not valid TOML: {exc}", source=source) from None
-    return _machine(data, source)
+    return _machine(read_toml(text, source), source)
 
 
 def load_machine(path: str | Path) -> Machine:
@@ -174,7 +141,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
         )
     mech = _model(r, data.get("model"), source)
 
-    front_t = r.table(data, "front", "front")
+    front_t = r.subtable(data, "front", "front")
     r.keys(front_t, _FRONT, "front")
     front = Front(
         *(
@@ -191,7 +158,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
         )
     )
 
-    circ_t = r.table(data, "circuits", "circuits")
+    circ_t = r.subtable(data, "circuits", "circuits")
     circuits = {}
     for cname, spec in circ_t.items():
         table = f"circuits.{cname}"
@@ -200,11 +167,11 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
         r.keys(spec, {"working", "relief"}, table)
         circuits[cname] = Circuit(
             cname,
-            r.qty(spec, "working", "pressure", table),
-            r.qty(spec, "relief", "pressure", table),
+            r.field_qty(spec, "working", "pressure", table),
+            r.field_qty(spec, "relief", "pressure", table),
         )
 
-    cyl_t = r.table(data, "cylinders", "cylinders")
+    cyl_t = r.subtable(data, "cylinders", "cylinders")
     extra = set(cyl_t) - set(ROLES)
     if extra:
         raise r.err(
@@ -227,10 +194,10 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
         cylinders[role] = Cylinder(
             role=role,
             driver=r.text(spec, "driver", table, f"{role}_cyl"),
-            retracted=r.qty(spec, "retracted", "length", table),
-            stroke=r.qty(spec, "stroke", "length", table),
-            bore=r.qty(spec, "bore", "length", table),
-            rod=r.qty(spec, "rod", "length", table),
+            retracted=r.field_qty(spec, "retracted", "length", table),
+            stroke=r.field_qty(spec, "stroke", "length", table),
+            bore=r.field_qty(spec, "bore", "length", table),
+            rod=r.field_qty(spec, "rod", "length", table),
             circuit=r.text(spec, "circuit", table, role),
             count=count,
             dig=dig,
@@ -239,16 +206,16 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
     if not isinstance(grav, dict):
         raise r.err('must be a table such as { g = "9.81 m/s^2" }', "gravity")
     r.keys(grav, {"g"}, "gravity")
-    g = r.qty(grav, "g", "acceleration", "gravity", 9.80665)
+    g = r.field_qty(grav, "g", "acceleration", "gravity", 9.80665)
     name = data.get("name", Path(source).stem if source else mech.name)
     return Machine(
         mech,
         front,
         cylinders,
         circuits,
-        ground_line=r.qty(front_t, "ground_line", "length", "front", 0.0),
-        swing_axis=r.qty(front_t, "swing_axis", "length", "front", 0.0),
-        level_bottom=r.qty(front_t, "level_bottom", "length", "front", 2.44),
+        ground_line=r.field_qty(front_t, "ground_line", "length", "front", 0.0),
+        swing_axis=r.field_qty(front_t, "swing_axis", "length", "front", 0.0),
+        level_bottom=r.field_qty(front_t, "level_bottom", "length", "front", 2.44),
         gravity=g,
         name=str(name),
         source=source,
@@ -270,7 +237,7 @@ def _model(r: _Reader, spec: Any, source: str | None) -> Mechanism:
                 k: v for k, v in r.units.items() if k in ("length", "angle", "mass", "inertia")
             }
         try:
-            return Mechanism(_build(inline, source))
+            return Mechanism(build_model(inline, source))
         except ModelError as exc:
             raise type(exc)(
                 exc.problem,

@@ -43,7 +43,10 @@ _TOP = {
 }
 
 
-class _Reader:
+class TomlReader:
+    """Reads values of one TOML file: units from its ``[units]`` table, errors naming the file,
+    the table and the entry. Shared by the model and machine readers."""
+
     def __init__(self, data: dict[str, Any], source: str | None) -> None:
         self.data = data
         self.source = source
@@ -97,7 +100,9 @@ class _Reader:
             raise self.err("is missing or empty", key)
         return t
 
-    def keys(self, entry: dict[str, Any], allowed: set[str], table: str, name: str) -> None:
+    def keys(
+        self, entry: dict[str, Any], allowed: set[str], table: str, name: str | None = None
+    ) -> None:
         extra = set(entry) - allowed
         if extra:
             raise self.err(
@@ -108,13 +113,17 @@ class _Reader:
             )
 
 
-def loads_model(text: str, source: str | None = None) -> Model:
-    """Parse a mechanism from TOML text; see :func:`load_model`."""
+def read_toml(text: str, source: str | None = None) -> dict[str, Any]:
+    """Parse TOML text; a syntax error becomes a :class:`ModelError` naming the file."""
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"not valid TOML: {exc}", source=source) from None
-    return _build(data, source)
+
+
+def loads_model(text: str, source: str | None = None) -> Model:
+    """Parse a mechanism from TOML text; see :func:`load_model`."""
+    return build_model(read_toml(text, source), source)
 
 
 def load_model(path: str | Path) -> Model:
@@ -133,8 +142,9 @@ def load_model(path: str | Path) -> Model:
     return loads_model(text, str(path))
 
 
-def _build(data: dict[str, Any], source: str | None) -> Model:
-    r = _Reader(data, source)
+def build_model(data: dict[str, Any], source: str | None = None) -> Model:
+    """Build and validate a model from parsed TOML tables (``schema_version = 1``)."""
+    r = TomlReader(data, source)
     ver = data.get("schema_version")
     if ver is None:
         raise r.err(
@@ -252,7 +262,7 @@ def _build(data: dict[str, Any], source: str | None) -> Model:
     return model
 
 
-def _gravity(r: _Reader) -> Gravity | None:
+def _gravity(r: TomlReader) -> Gravity | None:
     """``gravity = true``, ``gravity = "9.81 m/s^2"`` or ``[gravity] g = …, direction = [x, y]``."""
     if "gravity" not in r.data:
         return None
@@ -277,7 +287,7 @@ def _gravity(r: _Reader) -> Gravity | None:
 
 
 def _loads(
-    r: _Reader, bodies: set[str], body_points: dict[str, tuple[str, ...]]
+    r: TomlReader, bodies: set[str], body_points: dict[str, tuple[str, ...]]
 ) -> tuple[PointForce | Torque, ...]:
     """``[loads.NAME]`` tables: ``type = "force"`` (body, point, value = [Fx, Fy]) or
     ``type = "torque"`` (body, value, optional reaction)."""

@@ -30,6 +30,7 @@ import numpy as np
 
 from excavkin.outputs.display_units import KIND_NAMES, DisplayUnits, pretty_unit
 from excavkin.outputs.drawing import (
+    BODY_COLORS,
     CYLINDER_COLOR,
     DEAD_COLOR,
     FAIL_COLOR,
@@ -680,18 +681,7 @@ def curves_figure(
     fig = make_subplots(rows=rows, cols=1, shared_xaxes=True, vertical_spacing=0.035)
     keep = _thin(len(ctx.xv), max_points)
     xs = [float(v) if np.isfinite(v) else None for v in ctx.xv[keep]]
-    palette = (
-        "#1f77b4",
-        "#ff7f0e",
-        "#2ca02c",
-        "#d62728",
-        "#9467bd",
-        "#8c564b",
-        "#e377c2",
-        "#7f7f7f",
-        "#bcbd22",
-        "#17becf",
-    )
+    palette = BODY_COLORS
     for r, ((kind, unit), group) in enumerate(groups.items(), start=1):
         for k, c in enumerate(group):
             d = ctx.units(c)
