@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from matplotlib.path import Path as MplPath
+import shapely
 
 import excavkin
-from excavkin.applications.excavator import Machine, forward
+from excavkin.applications.excavator import Machine, forward, inverse
 from excavkin.applications.excavator_ranges import WorkingRanges, sweep, working_ranges
 from excavkin.io.machine import load_machine
 
@@ -56,10 +56,8 @@ def test_reach_at_ground_line(ranges: WorkingRanges, cloud) -> None:  # type: ig
     assert brute - 0.01 <= f.value <= brute + 0.05
 
 
-def test_hanging_bucket_figures(machine: Machine, ranges: WorkingRanges) -> None:
-    """Max dumping height: a dense (boom, arm) sweep with the bucket hanging exactly."""
-    f = ranges.figure("max_dumping_height")
-    assert np.isclose(f.bucket_angle, -np.pi / 2, atol=1e-9)
+@pytest.fixture(scope="module")
+def fine(machine: Machine):  # type: ignore[no-untyped-def]
     lo, hi = machine.lengths_min, machine.lengths_max
     b, a, k = np.meshgrid(
         np.linspace(lo[0], hi[0], 81),
@@ -67,15 +65,36 @@ def test_hanging_bucket_figures(machine: Machine, ranges: WorkingRanges) -> None
         np.linspace(lo[2], hi[2], 81),
         indexing="ij",
     )
-    pose = forward(machine, np.stack([b, a, k], axis=-1).reshape(-1, 3))
-    hang = np.abs(pose.bucket_angle + np.pi / 2) < np.radians(1.0)
-    brute = pose.tip[hang, 1].max()
+    return forward(machine, np.stack([b, a, k], axis=-1).reshape(-1, 3))
+
+
+def test_hanging_bucket_figures(machine: Machine, ranges: WorkingRanges, fine) -> None:  # type: ignore[no-untyped-def]
+    """Max dumping height: a dense 3-D sweep, keeping the poses within 1° of hanging."""
+    f = ranges.figure("max_dumping_height")
+    assert np.isclose(f.bucket_angle, -np.pi / 2, atol=1e-9)
+    hang = np.abs(fine.bucket_angle + np.pi / 2) < np.radians(1.0)
+    brute = fine.tip[hang, 1].max()
     # within 1° of hanging the tip is at most r·(1 − cos 1°) ≈ 0.2 mm higher
     assert brute - 1e-3 <= f.value <= brute + 0.03
     g = ranges.figure("min_dumping_height")
+    hi = machine.lengths_max
     assert np.isclose(g.lengths[0], hi[0]) and np.isclose(g.lengths[1], hi[1])
-    w = ranges.figure("max_vertical_wall_depth")
-    assert w.value <= ranges.figure("max_digging_depth").value + 1e-9
+
+
+def test_vertical_wall_depth(machine: Machine, ranges: WorkingRanges, fine) -> None:  # type: ignore[no-untyped-def]
+    """AF: the deepest tip with the teeth (lip → tip, from the engine's points) within 0.5° of
+    straight down, over a dense 3-D sweep; the reported pose has them exactly vertical."""
+    f = ranges.figure("max_vertical_wall_depth")
+    pose = forward(machine, f.lengths[None, :])
+    teeth = pose.tip[0] - pose.lip[0]
+    assert abs(np.arctan2(teeth[1], teeth[0]) + np.pi / 2) < 1e-9
+    assert pose.within_stroke[0]
+    d = fine.tip - fine.lip
+    vertical = np.abs(np.arctan2(d[:, 1], d[:, 0]) + np.pi / 2) < np.radians(0.5)
+    brute = -fine.tip[vertical, 1].min()
+    # 0.5° of bucket turn moves the tip by at most r·0.5° ≈ 13 mm
+    assert brute - 0.015 <= f.value <= brute + 0.03
+    assert f.value < ranges.figure("max_digging_depth").value
 
 
 def test_level_bottom(machine: Machine, ranges: WorkingRanges, cloud) -> None:  # type: ignore[no-untyped-def]
@@ -94,15 +113,36 @@ def test_level_bottom(machine: Machine, ranges: WorkingRanges, cloud) -> None:  
 
 
 def test_envelope_contains_the_sweep(ranges: WorkingRanges, cloud) -> None:  # type: ignore[no-untyped-def]
+    """Every swept tip lies inside the envelope or within its chord error (0.2 mm) of it."""
     tip, _, _ = cloud
-    path = MplPath(ranges.envelope)
-    inside = (
-        path.contains_points(tip, radius=0.0)
-        | path.contains_points(tip, radius=0.05)
-        | path.contains_points(tip, radius=-0.05)
-    )
-    assert inside.mean() > 0.999
-    # and it hugs it: every vertex is within 5 cm of a swept tip or is an exact boundary sample
+    poly = shapely.Polygon(ranges.envelope)
+    assert poly.is_valid and poly.exterior.is_ccw
+    out = ~shapely.contains_xy(poly, tip[:, 0], tip[:, 1])
+    if out.any():
+        assert shapely.distance(shapely.points(tip[out]), poly.exterior).max() < 2e-4
+    assert ranges.envelope[:, 0].max() <= ranges.figure("max_digging_reach").tip[0] + 1e-6
+    assert ranges.envelope[:, 1].min() >= -ranges.figure("max_digging_depth").value - 1e-6
+
+
+def test_envelope_is_the_reachable_boundary(machine: Machine, ranges: WorkingRanges) -> None:
+    """Closed-form inverse kinematics, independent of the union construction: 5 mm inside
+    each envelope vertex some bucket angle is reachable within the strokes; 0.5 mm outside
+    none is (0.5 mm: the envelope's chord error is below 0.2 mm)."""
     env = ranges.envelope
-    assert env[:, 0].max() <= ranges.figure("max_digging_reach").tip[0] + 1e-6
-    assert env[:, 1].min() >= -ranges.figure("max_digging_depth").value - 1e-6
+    prev, nxt = np.roll(env, 1, axis=0), np.roll(env, -1, axis=0)
+    d1, d2 = env - prev, nxt - env
+    cross = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    turn = np.abs(np.arctan2(cross, np.einsum("ij,ij->i", d1, d2)))
+    smooth = np.flatnonzero(turn < np.radians(10.0))
+    pick = smooth[:: max(1, smooth.size // 150)]
+    t = nxt[pick] - prev[pick]
+    inward = np.stack([-t[:, 1], t[:, 0]], axis=-1) / np.hypot(t[:, 0], t[:, 1])[:, None]
+    beta = np.linspace(-np.pi, np.pi, 6001)  # step 1 mrad: the window 5 mm in is wider
+
+    def reachable(points: np.ndarray) -> np.ndarray:
+        tips = np.repeat(points, beta.size, axis=0)
+        sol = inverse(machine, tips, np.tile(beta, len(points)))
+        return np.asarray(sol.valid.any(axis=1).reshape(len(points), -1).any(axis=1))
+
+    assert reachable(env[pick] + 5e-3 * inward).all()
+    assert not reachable(env[pick] - 5e-4 * inward).any()

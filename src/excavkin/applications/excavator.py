@@ -232,6 +232,15 @@ class Machine:
         self._r_lip = shapes[front.bucket].distance(self.pins.bucket_pin, front.lip)
         pos = mechanism.assembly.positions
         self._ground_xy = {n: pos[plan.points.index(n)] for n in mechanism.model.ground.points}
+        q, t, w = (pos[plan.points.index(n)] for n in (self.pins.bucket_pin, front.tip, front.lip))
+        if np.hypot(*(t - w)) < 1e-6:
+            raise self._err(
+                "the tooth tip and the lip coincide: the teeth's direction (lip → tip) sets the "
+                "bucket's attitude for the vertical-wall digging depth",
+                "front",
+                "lip",
+            )
+        self._teeth_offset = float(_wrap(_angle(t - q) - _angle(t - w)))
         self._check_strokes()
 
     def _check_strokes(self) -> None:
@@ -366,6 +375,12 @@ class Machine:
     def lip_radius(self) -> float:
         """|bucket pin → lip| (m)."""
         return self._r_lip
+
+    @property
+    def wall_bucket_angle(self) -> float:
+        """Bucket angle (direction of pin → tip, rad) at which the teeth (lip → tip) point
+        straight down, so that the bucket shaves a vertical wall."""
+        return float(_wrap(np.asarray(-0.5 * np.pi + self._teeth_offset)))
 
     def circuit(self, role: str) -> Circuit:
         """The circuit of the cylinder ``role``."""

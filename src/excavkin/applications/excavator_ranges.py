@@ -13,27 +13,29 @@ figure                       code  bucket orientation / constraint
 max digging reach                  any (farthest tip from the swing axis, any height)
 max reach at ground line           any, tip on the ground line
 max digging depth            AC    any (lowest tip); also its radius (AE)
-max vertical wall depth      AF    stick vertical and bucket hanging (Q→tip straight down)
+max vertical wall depth      AF    teeth vertical (lip → tip straight down), deepest tip
 max cutting height                 any (highest tip)
 max dumping height                 bucket hanging (tip straight below the bucket pin)
 min dumping height                 boom fully raised, stick fully crowded, bucket hanging
 level-bottom depth                 any; deepest level tip path of ``level_bottom`` (2.44 m)
 ===========================  ====  ===========================================================
 
-The envelope is exact in polar coordinates about the boom foot A: the boom turns everything
-beyond it rigidly, so at each distance ρ from A the reachable directions run from the boom's
-lowest position plus the lowest direction the stick and bucket give at that ρ, to the boom's
-highest plus the highest (assuming, as for every backhoe front, that at each ρ those directions
-form one interval). It is built from two dense sweeps of (arm, bucket) at the boom's end stops.
+The envelope is the union, over the boom's swing, of the region the tip covers with the boom
+held (:func:`envelope`); its boundary follows the true one (stroke limits and the arm–bucket
+fold) to about 0.1 mm.
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 from numpy.typing import NDArray
+from scipy.optimize import brentq
+from shapely.geometry.polygon import orient
 
 from excavkin.applications.excavator import (
     F,
@@ -44,6 +46,7 @@ from excavkin.applications.excavator import (
     forward,
     inverse,
 )
+from excavkin.errors import ExcavkinWarning, ModelError
 
 B = NDArray[np.bool_]
 Evaluate = Callable[[F], tuple[F, F]]
@@ -131,14 +134,106 @@ def sweep(machine: Machine, n: int | tuple[int, int, int] = 41) -> FrontPose:
     return forward(machine, grid)
 
 
-def envelope(machine: Machine, n: int = 201) -> F:
+def _even_in_angle(machine: Machine, c: int, n: int) -> F:
+    """``n`` lengths of cylinder ``c`` (arm or bucket) that turn its body in equal angles.
+
+    Near a linkage's toggle a stroke step turns the bucket much further than mid-stroke; equal
+    angle steps keep every chord of the envelope equally close to its arc.
+    """
+    lo, hi = machine.lengths_min, machine.lengths_max
+    fine = np.linspace(lo[c], hi[c], 16 * n + 1)
+    L = np.broadcast_to(0.5 * (lo + hi), (fine.size, 3)).copy()
+    L[:, c] = fine
+    pose = forward(machine, L)
+    p = machine.pins
+    stick = _angle(pose.result.point(p.bucket_pin)[0] - pose.result.point(p.stick_pivot)[0])
+    turn = np.unwrap(stick if c == 1 else pose.bucket_angle - stick)
+    step = np.abs(np.diff(turn))
+    s = np.r_[0.0, np.cumsum(np.where(np.isfinite(step), step, 0.0))]
+    if not s[-1] > 0.0:
+        return np.linspace(lo[c], hi[c], n)
+    return np.asarray(np.interp(np.linspace(0.0, s[-1], n), s, fine))
+
+
+def _fold_strokes(machine: Machine) -> F:
+    """Bucket lengths at which the stick pivot, bucket pin and tip line up.
+
+    There ∂tip/∂L_arm ∥ ∂tip/∂L_bucket (both perpendicular to the line): the arm–bucket map
+    folds, and the fold's image (arcs about the stick pivot) bounds the working range. They
+    depend on the bucket stroke alone, so they enter the bucket grid exactly.
+    """
+    lo, hi = machine.lengths_min, machine.lengths_max
+    p = machine.pins
+
+    def cross(lk: F) -> F:
+        L = np.broadcast_to(0.5 * (lo + hi), (lk.size, 3)).copy()
+        L[:, 2] = lk
+        res = forward(machine, L)
+        f = res.result.point(p.stick_pivot)[0]
+        q = res.result.point(p.bucket_pin)[0]
+        u, v = res.tip - f, res.tip - q
+        return np.asarray(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
+
+    grid = np.linspace(lo[2], hi[2], 513)
+    c = cross(grid)
+    out = []
+    for i in np.flatnonzero(np.sign(c[:-1]) * np.sign(c[1:]) < 0):
+        out.append(brentq(lambda x: float(cross(np.array([x]))[0]), grid[i], grid[i + 1]))
+    return np.asarray(out, dtype=np.float64)
+
+
+def _swept(region: shapely.Polygon, centre: F, swing: float) -> shapely.Geometry:
+    """The set ``region`` covers while turning about ``centre`` through ``swing`` (rad).
+
+    In polar coordinates (θ, ρ) about the centre a turn is a shift in θ, so the swept set is
+    the Minkowski sum of the polar region with the segment [0, swing]: the region at both ends
+    and the parallelogram each boundary edge sweeps. The polar θ axis is cut in the widest gap
+    of the region's directions; long edges are split before mapping back so that the arcs stay
+    arcs.
+    """
+    ring = np.asarray(region.exterior.coords)[:-1]
+    rel = ring - centre
+    rho = np.hypot(rel[:, 0], rel[:, 1])
+    theta = np.sort(_angle(rel))
+    gaps = np.diff(np.r_[theta, theta[0] + 2.0 * np.pi])
+    k = int(np.argmax(gaps))
+    if gaps[k] <= abs(swing) + 1e-6 or rho.min() <= 0.0:
+        raise ModelError("the working range winds round the boom foot; its envelope is not defined")
+    cut = theta[k] + 0.5 * gaps[k]
+    scale = float(rho.max())  # θ in metres of arc at the largest radius
+    th = np.mod(_angle(rel) - cut, 2.0 * np.pi) * scale
+    pts = np.stack([th, rho], axis=-1)
+    shift = np.array([swing * scale, 0.0])
+    nxt = np.roll(pts, -1, axis=0)
+    quads = np.stack([pts, nxt, nxt + shift, pts + shift], axis=1)
+    polar = shapely.unary_union(
+        [shapely.Polygon(pts), shapely.Polygon(pts + shift), *shapely.polygons(quads)]
+    )
+    polar = shapely.segmentize(polar, 0.005)
+
+    def back(c: F) -> F:
+        t = c[:, 0] / scale + cut
+        return np.stack([centre[0] + c[:, 1] * np.cos(t), centre[1] + c[:, 1] * np.sin(t)], axis=-1)
+
+    return shapely.transform(polar, back)
+
+
+def envelope(machine: Machine, n: int = 161) -> F:
     """The side-view envelope of the tooth tip over all strokes, as a polygon.
+
+    The boom turns everything beyond it rigidly about the boom foot, so the working range is
+    the union, over the boom's swing, of the region W the tip covers with the boom held. W is
+    the union of the images of the cells of an (arm, bucket) grid, split into triangles; the
+    grid is even in the stick's and bucket's angles and contains the fold strokes exactly
+    (:func:`_fold_strokes`), so its boundary is sampled on the true boundary. W is then swept
+    through the boom's range exactly (:func:`_swept`). Chords leave the polygon within about
+    0.1 mm of the true boundary for a 20 t front.
 
     Parameters
     ----------
     machine : Machine
     n : int
-        Samples per stroke of the arm and bucket sweeps, and radial bins.
+        Grid points along the arm and bucket strokes.
 
     Returns
     -------
@@ -146,39 +241,49 @@ def envelope(machine: Machine, n: int = 201) -> F:
         Vertices (m), counter-clockwise, not closed.
     """
     lo, hi = machine.lengths_min, machine.lengths_max
-    la, lk = np.meshgrid(np.linspace(lo[1], hi[1], n), np.linspace(lo[2], hi[2], n), indexing="ij")
-    m = la.size
-    grid = np.empty((2 * m, 3))
-    grid[:m, 0], grid[m:, 0] = lo[0], hi[0]
-    grid[:, 1] = np.tile(la.ravel(), 2)
-    grid[:, 2] = np.tile(lk.ravel(), 2)
+    la = _even_in_angle(machine, 1, n)
+    lk = np.unique(np.r_[_even_in_angle(machine, 2, n), _fold_strokes(machine)])
+    A, K = np.meshgrid(la, lk, indexing="ij")
+    grid = np.stack([np.full(A.size, lo[0]), A.ravel(), K.ravel()], axis=-1)
     pose = forward(machine, grid)
-    a = machine._ground_xy[machine.pins.foot]
-    rel = pose.tip - a
-    ok = pose.ok
-    rho = np.hypot(rel[:, 0], rel[:, 1])
-    theta = _angle(rel)
-    ref = float(np.arctan2(np.sin(theta[ok]).mean(), np.cos(theta[ok]).mean()))
-    th = _wrap(theta - ref)
-    r0, r1 = float(rho[ok].min()), float(rho[ok].max())
-    edges = np.linspace(r0, r1, n + 1)
-    bins = np.clip(np.searchsorted(edges, rho, side="right") - 1, 0, n - 1)
-
-    def chain(sel: B, sign: float) -> tuple[F, F]:
-        idx = np.flatnonzero(sel)
-        order = idx[np.lexsort((sign * th[idx], bins[idx]))]
-        first = np.r_[True, bins[order][1:] != bins[order][:-1]]
-        pick = order[first]
-        return rho[pick], th[pick]
-
-    rl, tl = chain(ok & (np.arange(2 * m) < m), 1.0)  # boom down: lowest directions
-    rh, th_hi = chain(ok & (np.arange(2 * m) >= m), -1.0)  # boom up: highest directions
-    k = max(8, n // 8)
-    outer = np.linspace(tl[-1], th_hi[-1], k)[1:-1]
-    inner = np.linspace(th_hi[0], tl[0], k)[1:-1]
-    rr = np.concatenate([rl, np.full(outer.size, r1), rh[::-1], np.full(inner.size, r0)])
-    tt = np.concatenate([tl, outer, th_hi[::-1], inner]) + ref
-    return np.stack([a[0] + rr * np.cos(tt), a[1] + rr * np.sin(tt)], axis=-1)
+    tip = np.where(pose.ok[:, None], pose.tip, np.nan).reshape(*A.shape, 2)
+    c00, c10, c11, c01 = tip[:-1, :-1], tip[1:, :-1], tip[1:, 1:], tip[:-1, 1:]
+    tri = np.concatenate(
+        [
+            np.stack([c00, c10, c11], axis=2).reshape(-1, 3, 2),
+            np.stack([c00, c11, c01], axis=2).reshape(-1, 3, 2),
+        ]
+    )
+    tri = tri[np.isfinite(tri).all(axis=(1, 2))]
+    held = shapely.unary_union(shapely.polygons(tri))
+    if held.geom_type != "Polygon":
+        held = max(held.geoms, key=lambda g: g.area)
+    p = machine.pins
+    a = machine._ground_xy[p.foot]
+    ends = forward(machine, np.array([lo, [hi[0], lo[1], lo[2]]]))
+    f = ends.result.point(p.stick_pivot)[0]
+    swing = float(_wrap(_angle(f[1] - a) - _angle(f[0] - a)))
+    region = _swept(held, a, swing)
+    if region.geom_type != "Polygon":
+        parts = sorted(region.geoms, key=lambda g: -g.area)
+        warnings.warn(
+            f"{machine.name}: the working range falls apart into {len(parts)} pieces (poses that "
+            "do not assemble split it); the envelope is the largest",
+            ExcavkinWarning,
+            stacklevel=2,
+        )
+        region = parts[0]
+    pockets = [h for h in region.interiors if shapely.Polygon(h).area > 1e-4]
+    if pockets:
+        warnings.warn(
+            f"{machine.name}: {len(pockets)} unreachable pocket(s) inside the working range; the "
+            "envelope is its outer boundary",
+            ExcavkinWarning,
+            stacklevel=2,
+        )
+    # drop the vertices the 5 mm split added along straight runs; keep 0.02 mm
+    ring = orient(shapely.Polygon(region.exterior).simplify(2e-5), 1.0)
+    return np.asarray(ring.exterior.coords)[:-1]
 
 
 # ---------------------------------------------------------------------------- optimiser
@@ -301,36 +406,25 @@ def _free_objective(machine: Machine, fn: Callable[[FrontPose], F]) -> Evaluate:
     return evaluate
 
 
-def _hanging(machine: Machine, stick_vertical: bool) -> Evaluate:
-    """Tip straight below the bucket pin (and, optionally, the bucket pin below the stick pivot)."""
+def _bucket_held(machine: Machine, beta: float, sign: float) -> Evaluate:
+    """Objective ``sign · y`` of the tip with the bucket turned to the angle ``beta`` (pin →
+    tip) wherever the boom and stick put the bucket pin."""
     p = machine.pins
-    l_stick = machine.mechanism.plan.shapes[machine.front.stick].distance(
-        p.stick_pivot, p.bucket_pin
-    )
-    down = np.array([0.0, -1.0])
+    offset = machine.tip_radius * np.array([np.cos(beta), np.sin(beta)])
 
     def evaluate(L: F) -> tuple[F, F]:
         flat = L.reshape(-1, 3)
         pose = forward(machine, flat)
-        if stick_vertical:
-            q = pose.result.point(p.stick_pivot)[0] + l_stick * down
-            match: tuple[int, ...] = (0,)
-        else:
-            q = pose.result.point(p.bucket_pin)[0]
-            match = (0, 1)
-        tip = q + machine.tip_radius * down
-        Lt = _target_lengths(machine, tip, np.full(len(flat), -np.pi / 2), flat, match)
-        o = np.where(np.isfinite(Lt[:, 0]) & pose.ok, tip[:, 1], -np.inf)
-        if stick_vertical:
-            o = -o
-            o[~np.isfinite(Lt[:, 0])] = -np.inf
+        tip = pose.result.point(p.bucket_pin)[0] + offset
+        Lt = _target_lengths(machine, tip, np.full(len(flat), beta), flat, (0, 1))
+        o = np.where(np.isfinite(Lt[:, 0]) & pose.ok, sign * tip[:, 1], -np.inf)
         return o.reshape(L.shape[:2]), Lt.reshape(L.shape)
 
     return evaluate
 
 
 # ---------------------------------------------------------------------------- figures
-def working_ranges(machine: Machine, *, envelope_samples: int = 201) -> WorkingRanges:
+def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingRanges:
     """The standard working-range figures of the machine, and its envelope.
 
     Parameters
@@ -410,14 +504,15 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 201) -> WorkingR
             deep.orientation,
         )
     )
-    _, L = _maximize(_hanging(machine, True), machine, (0,), coarse=65)
+    wall = machine.wall_bucket_angle
+    _, L = _maximize(_bucket_held(machine, wall, -1.0), machine, (0, 1))
     add(
         "max_vertical_wall_depth",
         "AF",
         "Maximum vertical wall digging depth",
         L[0],
         lambda t: g0 - t[1],
-        "stick vertical, bucket hanging",
+        f"teeth (lip → tip) vertical: pin → tip at {np.degrees(wall):.1f}°",
     )
     _, L = _maximize(_free_objective(machine, lambda p: p.tip[:, 1]), machine, all3)
     add(
@@ -428,7 +523,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 201) -> WorkingR
         lambda t: t[1] - g0,
         "any (highest tip)",
     )
-    _, L = _maximize(_hanging(machine, False), machine, (0, 1))
+    _, L = _maximize(_bucket_held(machine, -0.5 * np.pi, 1.0), machine, (0, 1))
     add(
         "max_dumping_height",
         "",
@@ -440,7 +535,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 201) -> WorkingR
     lo, hi = machine.lengths_min, machine.lengths_max
     crowd = hi[1] if machine.cylinders[1].dig == "extend" else lo[1]
     start = np.array([[[hi[0], crowd, 0.5 * (lo[2] + hi[2])]]])
-    _, Lh = _hanging(machine, False)(start)
+    _, Lh = _bucket_held(machine, -0.5 * np.pi, 1.0)(start)
     add(
         "min_dumping_height",
         "",
