@@ -5,7 +5,9 @@
   Bošnjak et al. and the usual excavator-design texts) against the virtual-work tool force and
   against the general kinetostatics (``Mechanism.solve(..., loads=...)``) at several poses;
 * the holding cylinders' forces against the general kinetostatics with gravity;
-* holding-pressure capping on a constructed case.
+* holding-pressure capping on a constructed case;
+* the rated (standard-position) forces against the right-angle lever, the handbook formula
+  swept densely, and a dense grid of the free strokes.
 """
 
 from __future__ import annotations
@@ -15,7 +17,12 @@ import pytest
 
 import excavkin
 from excavkin.applications.excavator import Circuit, Machine, forward, jacobian
-from excavkin.applications.excavator_forces import handbook_forces, tool_forces
+from excavkin.applications.excavator_forces import (
+    RatedForce,
+    handbook_forces,
+    rated_force,
+    tool_forces,
+)
 from excavkin.io.machine import load_machine
 from excavkin.kinetostatics import Gravity, PointForce
 
@@ -142,3 +149,86 @@ def test_holding_pressure_caps_the_tool_force(machine: Machine) -> None:
     half = tool_forces(m3, L[k : k + 1], "arm", gravity=False)
     np.testing.assert_allclose(half.force[0], 0.5 * free.force[k], rtol=1e-10)
     assert half.limiting[0] == "bucket"
+
+
+# ------------------------------------------------------------------ rated (standard) forces
+@pytest.fixture(scope="module")
+def rated(machine: Machine) -> dict[tuple[str, str], RatedForce]:
+    return {
+        (w, at): rated_force(machine, w, at=at)  # type: ignore[arg-type]
+        for w in ("arm", "bucket")
+        for at in ("lip", "tip")
+    }
+
+
+def _sketch(machine: Machine, name: str) -> np.ndarray:
+    plan = machine.mechanism.plan
+    return machine.mechanism.assembly.positions[plan.points.index(name)]
+
+
+@pytest.mark.parametrize("at", ["lip", "tip"])
+def test_rated_arm_force_is_the_right_angle_lever(
+    machine: Machine, rated: dict[tuple[str, str], RatedForce], at: str
+) -> None:
+    """The arm cylinder's moment about the stick pivot F is F_cyl·|FE|·sin∠(FE, cylinder),
+    largest when the cylinder meets FE at a right angle: L*² = |BF|² − |FE|² (B its base on
+    the boom, E its eye on the stick), the moment F_cyl·|FE|."""
+    r = rated[("arm", at)]
+    base, eye = machine.pins.cyl_ends[1]
+    f = _sketch(machine, machine.pins.stick_pivot)
+    bf = np.hypot(*(_sketch(machine, base) - f))
+    fe = np.hypot(*(_sketch(machine, eye) - f))
+    lo, hi = machine.lengths_min[1], machine.lengths_max[1]
+    right = np.sqrt(bf**2 - fe**2)
+    assert lo < right < hi  # the example reaches it; otherwise the end stop nearer to it
+    assert abs(r.lengths[1] - right) < 1e-5
+    f_cyl = machine.cylinders[1].force_limits(machine.circuit("arm").working)[1]
+    np.testing.assert_allclose(r.moment, f_cyl * fe, rtol=1e-9)
+    np.testing.assert_allclose(r.uncapped * r.radius, r.moment, rtol=1e-12)
+    # the bucket sits where the bucket force is rated
+    assert abs(r.lengths[2] - rated[("bucket", at)].lengths[2]) < 1e-9
+
+
+@pytest.mark.parametrize("at", ["lip", "tip"])
+def test_rated_bucket_force_is_the_handbook_maximum(
+    machine: Machine, rated: dict[tuple[str, str], RatedForce], at: str
+) -> None:
+    """The handbook's F_cyl·c·e/(d·r) over a dense sweep of the bucket stroke alone."""
+    r = rated[("bucket", at)]
+    lo, hi = machine.lengths_min, machine.lengths_max
+    k = np.linspace(lo[2], hi[2], 20001)
+    L = np.column_stack([np.full_like(k, r.lengths[0]), np.full_like(k, r.lengths[1]), k])
+    _, bucket = handbook_forces(machine, L, at=at)  # type: ignore[arg-type]
+    j = int(np.argmax(bucket))
+    assert bucket[j] - 1e-9 * bucket[j] <= r.uncapped <= bucket[j] * (1 + 1e-7)
+    assert abs(r.lengths[2] - k[j]) < 2 * (hi[2] - lo[2]) / 20000
+    radius = machine.lip_radius if at == "lip" else machine.tip_radius
+    np.testing.assert_allclose(r.radius, radius, rtol=1e-12)
+
+
+@pytest.mark.parametrize("working", ["arm", "bucket"])
+def test_rated_force_is_the_best_held_position(
+    machine: Machine, rated: dict[tuple[str, str], RatedForce], working: str
+) -> None:
+    """At the rated pose no cylinder exceeds its relief, the limiting one is at it, and no
+    boom (or, for the bucket force, stick) position on a dense grid does better."""
+    r = rated[(working, "lip")]
+    tf = tool_forces(machine, r.lengths[None, :], working, gravity=False)  # type: ignore[arg-type]
+    assert tf.force[0] == r.force and r.force <= r.uncapped
+    for c, cyl in enumerate(machine.cylinders):
+        lo, hi = cyl.force_limits(machine.circuits[cyl.circuit].relief)
+        assert lo * (1 + 1e-9) <= tf.cylinder_force[0, c] <= hi * (1 + 1e-9)
+    if r.limiting != working:
+        h = ("boom", "arm", "bucket").index(r.limiting)
+        lo, hi = machine.cylinders[h].force_limits(machine.circuit(r.limiting).relief)
+        assert np.isclose(tf.cylinder_force[0, h], lo, rtol=1e-9) or np.isclose(
+            tf.cylinder_force[0, h], hi, rtol=1e-9
+        )
+    lo, hi = machine.lengths_min, machine.lengths_max
+    b = np.linspace(lo[0], hi[0], 201)
+    a = np.linspace(lo[1], hi[1], 201) if working == "bucket" else np.array([r.lengths[1]])
+    B, A = np.meshgrid(b, a, indexing="ij")
+    L = np.column_stack([B.ravel(), A.ravel(), np.full(B.size, r.lengths[2])])
+    grid = tool_forces(machine, L, working, gravity=False)  # type: ignore[arg-type]
+    assert np.nanmax(grid.force) <= r.force * (1 + 1e-9)
+    assert np.nanmax(grid.force) >= r.force * (1 - 2e-3)

@@ -6,6 +6,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from click.testing import CliRunner
 
@@ -58,6 +59,7 @@ def test_example_machine_reads_in_si() -> None:
             r"dig must be 'extend' or 'retract'",
         ),
         ("[gravity]", "[gravity]\nh = 1", r"\[gravity\].*unknown key h"),
+        ('lip = "W"', 'lip = "T"', r"\[front\] 'lip'.*tooth tip and the lip coincide"),
     ],
 )
 def test_errors_name_table_and_entry(old: str, new: str, pattern: str) -> None:
@@ -129,10 +131,22 @@ def test_cli_ranges_ik_and_errors(tmp_path: Path) -> None:
 
 
 def test_cli_forces(tmp_path: Path) -> None:
-    r = CliRunner().invoke(
-        main,
-        ["excavator", "forces", str(MACHINE), "--samples", "9", "--map", str(tmp_path / "map")],
-    )
+    out = tmp_path / "f.csv"
+    args = ["excavator", "forces", str(MACHINE), "--samples", "9", "-o", str(out)]
+    r = CliRunner().invoke(main, [*args, "--map", str(tmp_path / "map")])
     assert r.exit_code == 0, r.output
-    assert "ISO 6015" in r.output and "SAE J1179" in r.output
+    assert "ISO 6015" in r.output and "SAE J1179" in r.output and "Rated" in r.output
     assert (tmp_path / "map-arm.png").is_file() and (tmp_path / "map-bucket.png").is_file()
+    table = pd.read_csv(out)
+    assert list(table["kind"]) == ["rated"] * 4 + ["sweep_max"] * 4
+    assert (table["force_N"] <= table["own_limit_N"] * (1 + 1e-12)).all()
+    rated = table[table["kind"] == "rated"]
+    assert rated["gravity"].eq(False).all() and rated["moment_Nm"].gt(0).all()
+    # an existing map is refused before anything is computed or written
+    fresh = tmp_path / "g.csv"
+    again = CliRunner().invoke(
+        main,
+        ["excavator", "forces", str(MACHINE), "-o", str(fresh), "--map", str(tmp_path / "map")],
+    )
+    assert again.exit_code == 2 and "map-arm.png" in again.output and "--force" in again.output
+    assert "Rated" not in again.output and not fresh.exists()

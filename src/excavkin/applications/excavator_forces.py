@@ -38,6 +38,7 @@ from excavkin.applications.excavator import (
     _as_lengths,
     transfer,
 )
+from excavkin.applications.excavator_search import Evaluate, maximize_strokes
 from excavkin.errors import InputError
 
 Working = Literal["arm", "bucket"]
@@ -268,3 +269,99 @@ def handbook_forces(machine: Machine, lengths: ArrayLike, *, at: At = "lip") -> 
     e = dist_to_line(pt(p.bucket_pin), pt(p.junction), pt(p.link_pin))
     r = np.hypot(*(tool - pt(p.bucket_pin)).T)
     return f_arm * a / b, f_bkt * c * e / (d * r)
+
+
+@dataclass(frozen=True, slots=True)
+class RatedForce:
+    """A rated tool force: the standards' positions, working pressure, no gravity.
+
+    Attributes
+    ----------
+    working, at : str
+    force : float
+        The tool force (N), capped where a holding cylinder would exceed its relief.
+    uncapped : float
+        The working cylinder's own limit there (N): ``moment / radius``.
+    moment : float
+        The working cylinder's largest output moment (N·m) about its pivot (the stick pivot
+        for the arm, the bucket pin for the bucket), at working pressure.
+    radius : float
+        From that pivot to the tool point (m).
+    lengths : ndarray, shape (3,)
+        Boom, arm, bucket cylinder lengths of the rated pose (m).
+    point : ndarray, shape (2,)
+        The tool point there (m).
+    limiting : str
+        The working cylinder, or the holding cylinder whose relief caps the force.
+    """
+
+    working: str
+    at: str
+    force: float
+    uncapped: float
+    moment: float
+    radius: float
+    lengths: F
+    point: F
+    limiting: str
+
+
+def rated_force(machine: Machine, working: Working = "bucket", *, at: At = "lip") -> RatedForce:
+    """The rated arm- or bucket-cylinder tool force (ISO 6015 §5.2, SAE J1179 §3.3).
+
+    The bucket is turned to where the bucket cylinder and its linkage give their largest
+    output moment about the bucket pin; for the arm force the stick is turned to where the arm
+    cylinder gives its largest moment about the stick pivot, the bucket held as for the bucket
+    force. The working cylinder is at working pressure, the others may not exceed their relief
+    pressure, and the weight of the front is left out. The standards do not place the boom (nor,
+    for the bucket force, the stick): they are put where the capped force is largest, so a
+    holding limit is reported only where no such position avoids it.
+
+    Parameters
+    ----------
+    machine : Machine
+    working : {"arm", "bucket"}
+    at : {"lip", "tip"}
+        The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
+
+    Returns
+    -------
+    RatedForce
+    """
+    if working not in ("arm", "bucket"):
+        raise InputError(f"working must be 'arm' or 'bucket', not {working!r}")
+    point = machine.front.lip if at == "lip" else machine.front.tip
+
+    def objective(role: Working, capped: bool) -> Evaluate:
+        def evaluate(L: F) -> tuple[F, F]:
+            tf = tool_forces(machine, L.reshape(-1, 3), role, at=at, gravity=False)
+            f = tf.force if capped else tf.uncapped
+            o = np.where(np.isfinite(f) & tf.pose.ok & tf.pose.within_stroke, f, -np.inf)
+            return o.reshape(L.shape[:2]), L
+
+        return evaluate
+
+    # the working cylinder's own force depends on its own stroke alone (and, for the arm, on
+    # the bucket's through the radius), so its largest moment is a 1-D search
+    _, pose = maximize_strokes(objective("bucket", False), machine, (2,), coarse=65)
+    pivot = machine.pins.bucket_pin
+    if working == "arm":
+        _, pose = maximize_strokes(objective("arm", False), machine, (1,), coarse=65, base=pose[0])
+        pivot = machine.pins.stick_pivot
+    free = (0,) if working == "arm" else (0, 1)
+    _, pose = maximize_strokes(objective(working, True), machine, free, base=pose[0])
+    tf = tool_forces(machine, pose, working, at=at, gravity=False)
+    res = tf.pose.result
+    tool = res.point(point)[0][0]
+    radius = float(np.hypot(*(tool - res.point(pivot)[0][0])))
+    return RatedForce(
+        working,
+        at,
+        float(tf.force[0]),
+        float(tf.uncapped[0]),
+        float(tf.uncapped[0]) * radius,
+        radius,
+        pose[0],
+        tool,
+        str(tf.limiting[0]),
+    )

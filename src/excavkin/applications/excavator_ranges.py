@@ -46,10 +46,10 @@ from excavkin.applications.excavator import (
     forward,
     inverse,
 )
+from excavkin.applications.excavator_search import Evaluate, maximize_strokes
 from excavkin.errors import ExcavkinWarning, ModelError
 
 B = NDArray[np.bool_]
-Evaluate = Callable[[F], tuple[F, F]]
 
 
 @dataclass(frozen=True, slots=True)
@@ -287,66 +287,6 @@ def envelope(machine: Machine, n: int = 161) -> F:
 
 
 # ---------------------------------------------------------------------------- optimiser
-def _maximize(
-    evaluate: Evaluate,
-    machine: Machine,
-    free: tuple[int, ...],
-    problems: int = 1,
-    *,
-    coarse: int = 17,
-    keep: int = 3,
-    rounds: int = 32,
-    m: int = 5,
-) -> tuple[F, F]:
-    """Maximise ``evaluate`` over the free strokes, for ``problems`` independent problems.
-
-    ``evaluate(L)`` takes lengths of shape (problems, k, 3) (entries not in ``free`` at
-    mid-stroke) and returns the objective (problems, k) (−inf where infeasible) and the full
-    lengths of the pose it scored (problems, k, 3). Returns the best objective (problems,) and
-    lengths (problems, 3).
-    """
-    lo, hi = machine.lengths_min, machine.lengths_max
-    mid = 0.5 * (lo + hi)
-    nf = len(free)
-    axes = [np.linspace(lo[d], hi[d], coarse) for d in free]
-    g = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, nf)
-    L = np.broadcast_to(mid, (problems, len(g), 3)).copy()
-    L[:, :, free] = g
-    obj, full = evaluate(L)
-    full = np.where(np.isfinite(full), full, L)
-    top = np.argsort(-obj, axis=1)[:, :keep]
-    centre = np.take_along_axis(full, top[:, :, None], axis=1)  # (P, keep, 3)
-    w = (hi - lo)[list(free)] / (coarse - 1)
-    offs = np.stack(np.meshgrid(*[np.linspace(-1.0, 1.0, m)] * nf, indexing="ij"), axis=-1).reshape(
-        -1, nf
-    )  # (m^nf, nf)
-    best_obj = np.take_along_axis(obj, top, axis=1)
-    best_L = centre.copy()
-    for _ in range(rounds):
-        trial = np.broadcast_to(best_L[:, :, None, :], (problems, keep, len(offs), 3)).copy()
-        trial[..., free] = np.clip(
-            best_L[:, :, None, free] + offs * w, lo[list(free)], hi[list(free)]
-        )
-        o, full = evaluate(trial.reshape(problems, -1, 3))
-        o = o.reshape(problems, keep, -1)
-        full = full.reshape(problems, keep, -1, 3)
-        j = np.argmax(o, axis=2)
-        oj = np.take_along_axis(o, j[:, :, None], axis=2)[:, :, 0]
-        better = oj > best_obj
-        best_obj = np.where(better, oj, best_obj)
-        best_L = np.where(
-            better[..., None],
-            np.take_along_axis(full, j[:, :, None, None], axis=2)[:, :, 0],
-            best_L,
-        )
-        best_L[..., free] = np.where(
-            np.isfinite(best_L[..., free]), best_L[..., free], centre[..., free]
-        )
-        w = w / 2.0
-    k = np.argmax(best_obj, axis=1)
-    return best_obj[np.arange(problems), k], best_L[np.arange(problems), k]
-
-
 def _target_lengths(machine: Machine, tip: F, beta: F, given: F, match: tuple[int, ...]) -> F:
     """Lengths reaching ``tip``/``beta`` whose ``match`` entries equal ``given``; NaN if none.
 
@@ -464,7 +404,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         )
 
     all3 = (0, 1, 2)
-    _, L = _maximize(_free_objective(machine, lambda p: p.tip[:, 0]), machine, all3)
+    _, L = maximize_strokes(_free_objective(machine, lambda p: p.tip[:, 0]), machine, all3)
     add(
         "max_digging_reach",
         "",
@@ -473,7 +413,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[0] - x0,
         "any (farthest tip)",
     )
-    _, L = _maximize(_at_height(machine, np.array([g0]), 1.0), machine, (1, 2))
+    _, L = maximize_strokes(_at_height(machine, np.array([g0]), 1.0), machine, (1, 2))
     add(
         "max_reach_ground",
         "",
@@ -482,7 +422,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[0] - x0,
         "any, tip on the ground line",
     )
-    _, L = _maximize(_free_objective(machine, lambda p: -p.tip[:, 1]), machine, all3)
+    _, L = maximize_strokes(_free_objective(machine, lambda p: -p.tip[:, 1]), machine, all3)
     add(
         "max_digging_depth",
         "AC",
@@ -505,7 +445,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         )
     )
     wall = machine.wall_bucket_angle
-    _, L = _maximize(_bucket_held(machine, wall, -1.0), machine, (0, 1))
+    _, L = maximize_strokes(_bucket_held(machine, wall, -1.0), machine, (0, 1))
     add(
         "max_vertical_wall_depth",
         "AF",
@@ -514,7 +454,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: g0 - t[1],
         f"teeth (lip → tip) vertical: pin → tip at {np.degrees(wall):.1f}°",
     )
-    _, L = _maximize(_free_objective(machine, lambda p: p.tip[:, 1]), machine, all3)
+    _, L = maximize_strokes(_free_objective(machine, lambda p: p.tip[:, 1]), machine, all3)
     add(
         "max_cutting_height",
         "",
@@ -523,7 +463,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[1] - g0,
         "any (highest tip)",
     )
-    _, L = _maximize(_bucket_held(machine, -0.5 * np.pi, 1.0), machine, (0, 1))
+    _, L = maximize_strokes(_bucket_held(machine, -0.5 * np.pi, 1.0), machine, (0, 1))
     add(
         "max_dumping_height",
         "",
@@ -561,10 +501,10 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
 
 
 def _x_extent(machine: Machine, ys: F) -> tuple[F, F, F, F]:
-    hi_obj, hi_L = _maximize(
+    hi_obj, hi_L = maximize_strokes(
         _at_height(machine, ys, 1.0), machine, (1, 2), len(ys), coarse=13, keep=2, rounds=24
     )
-    lo_obj, lo_L = _maximize(
+    lo_obj, lo_L = maximize_strokes(
         _at_height(machine, ys, -1.0), machine, (1, 2), len(ys), coarse=13, keep=2, rounds=24
     )
     return -lo_obj, hi_obj, lo_L, hi_L

@@ -107,7 +107,13 @@ def ranges(
 @click.option(
     "--samples", default=31, show_default=True, help="Grid points per stroke of the sweep."
 )
-@click.option("--no-gravity", is_flag=True, help="Leave out the weight of the front.")
+@click.option("--no-gravity", is_flag=True, help="Leave the weight of the front out of the sweep.")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    help="The rated forces and the sweep's maxima as a table (.csv or .parquet).",
+)
 @click.option(
     "--map",
     "map_prefix",
@@ -117,38 +123,112 @@ def ranges(
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
 @handle_errors
 def forces(
-    machine: str, samples: int, no_gravity: bool, map_prefix: str | None, force: bool
+    machine: str,
+    samples: int,
+    no_gravity: bool,
+    output: str | None,
+    map_prefix: str | None,
+    force: bool,
 ) -> None:
-    """Print the maximum ISO 6015 (lip) and SAE J1179 (tooth tip) tool forces."""
-    from excavkin.applications.excavator_forces import force_maximum, tool_forces
+    """Print the rated ISO 6015 (lip) and SAE J1179 (tooth tip) tool forces, and the largest
+    over a sweep of the strokes."""
+    import pandas as pd
+
+    from excavkin.applications.excavator_forces import force_maximum, rated_force, tool_forces
     from excavkin.applications.excavator_ranges import sweep
+    from excavkin.outputs.tables import check_target, write_table
 
     if samples < 2:
         raise click.BadParameter("at least 2", param_hint="--samples")
+    if output:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    if map_prefix:
+        for working in ("arm", "bucket"):
+            check_target(f"{map_prefix}-{working}.png", force=force, suffixes=(".png",))
     m = _machine(machine)
-    pose = sweep(m, samples)
     grav = not no_gravity
+    kinds = (("lip", "ISO 6015"), ("tip", "SAE J1179"))
+    rows = []
+
+    def limit_text(limiting: str, working: str) -> str:
+        return limiting + (" (working pressure)" if limiting == working else " (relief)")
+
+    click.echo(f"{m.name} — tool forces (kN; positions mm)")
     click.echo(
-        f"{m.name} — maximum tool forces over a {samples}³ stroke sweep "
-        f"({'with' if grav else 'without'} gravity of the front)"
+        "Rated: bucket at its cylinder's largest moment, stick at the arm cylinder's "
+        "(ISO 6015 §5.2, SAE J1179 §3.3); no gravity"
     )
     click.echo(
-        f"{'standard':<10} {'cylinder':<8} {'force kN':>9}  {'x mm':>7} {'y mm':>7}  "
+        f"{'standard':<10} {'cylinder':<8} {'force':>7} {'own':>7}  {'x':>6} {'y':>6}  "
         f"{'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
     )
+    for at, std in kinds:
+        for working in ("arm", "bucket"):
+            r = rated_force(m, working, at=at)  # type: ignore[arg-type]
+            click.echo(
+                f"{std:<10} {working:<8} {r.force / 1e3:7.1f} {r.uncapped / 1e3:7.1f}  "
+                f"{r.point[0] * 1e3:6.0f} {r.point[1] * 1e3:6.0f}  {r.lengths[0] * 1e3:6.0f} "
+                f"{r.lengths[1] * 1e3:6.0f} {r.lengths[2] * 1e3:6.0f}  "
+                f"{limit_text(r.limiting, working)}"
+            )
+            rows.append(
+                {
+                    "kind": "rated",
+                    "standard": std,
+                    "cylinder": working,
+                    "gravity": False,
+                    "force_N": r.force,
+                    "own_limit_N": r.uncapped,
+                    "moment_Nm": r.moment,
+                    "radius_m": r.radius,
+                    "x_m": r.point[0],
+                    "y_m": r.point[1],
+                    "boom_m": r.lengths[0],
+                    "arm_m": r.lengths[1],
+                    "bucket_m": r.lengths[2],
+                    "limited_by": r.limiting,
+                }
+            )
+    pose = sweep(m, samples)
+    click.echo(
+        f"Largest over a {samples}³ stroke sweep ({'with' if grav else 'without'} gravity "
+        "of the front)"
+    )
     maps = {}
-    for at, std in (("lip", "ISO 6015"), ("tip", "SAE J1179")):
+    for at, std in kinds:
         for working in ("arm", "bucket"):
             tf = tool_forces(m, pose.lengths, working, at=at, gravity=grav)  # type: ignore[arg-type]
             mx = force_maximum(tf)
-            lim = mx.limiting + (" (working pressure)" if mx.limiting == working else " (relief)")
+            k = int(np.argmax(np.where(np.isfinite(tf.force), tf.force, -np.inf)))
             click.echo(
-                f"{std:<10} {working:<8} {mx.force / 1e3:9.1f}  {mx.point[0] * 1e3:7.0f} "
-                f"{mx.point[1] * 1e3:7.0f}  {mx.lengths[0] * 1e3:6.0f} "
-                f"{mx.lengths[1] * 1e3:6.0f} {mx.lengths[2] * 1e3:6.0f}  {lim}"
+                f"{std:<10} {working:<8} {mx.force / 1e3:7.1f} {tf.uncapped[k] / 1e3:7.1f}  "
+                f"{mx.point[0] * 1e3:6.0f} {mx.point[1] * 1e3:6.0f}  {mx.lengths[0] * 1e3:6.0f} "
+                f"{mx.lengths[1] * 1e3:6.0f} {mx.lengths[2] * 1e3:6.0f}  "
+                f"{limit_text(mx.limiting, working)}"
+            )
+            rows.append(
+                {
+                    "kind": "sweep_max",
+                    "standard": std,
+                    "cylinder": working,
+                    "gravity": grav,
+                    "force_N": mx.force,
+                    "own_limit_N": float(tf.uncapped[k]),
+                    "moment_Nm": np.nan,
+                    "radius_m": np.nan,
+                    "x_m": mx.point[0],
+                    "y_m": mx.point[1],
+                    "boom_m": mx.lengths[0],
+                    "arm_m": mx.lengths[1],
+                    "bucket_m": mx.lengths[2],
+                    "limited_by": mx.limiting,
+                }
             )
             if at == "lip":
                 maps[working] = tf
+    click.echo("force: capped by the holding cylinders' reliefs; own: the working cylinder's limit")
+    if output:
+        click.echo(f"wrote {write_table(pd.DataFrame(rows), output, force=force)}")
     if map_prefix:
         import matplotlib
 

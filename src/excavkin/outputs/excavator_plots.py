@@ -125,6 +125,8 @@ def plot_working_range(
         f = ranges.figure(key)
         tx, ty = float(f.tip[0]), float(f.tip[1])
         ax.plot(tx, ty, "o", color="tab:red", ms=4, zorder=5)
+        if key == "max_vertical_wall_depth":  # the wall the vertical teeth shave
+            ax.plot([tx, tx], [g0, ty], color="saddlebrown", lw=0.9, ls="--")
         if kind == "h":
             ax.annotate(
                 "", (tx, ty), (x0, ty), arrowprops={"arrowstyle": "<->", "color": "0.3", "lw": 0.8}

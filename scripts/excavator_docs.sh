@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Regenerate the example excavator's spec sheet figures in docs/img (docs/excavator.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+m=examples/excavator_machine.toml
+excavkin excavator ranges "$m" --plot docs/img/excavator-working-range.png --force
+excavkin excavator forces "$m" --samples 41 --map docs/img/excavator-force --force
