@@ -195,6 +195,8 @@ class ForceMaximum:
     gravity : bool
     force : float
         N.
+    uncapped : float
+        The working cylinder's own limit there (N).
     lengths : ndarray, shape (3,)
     point : ndarray, shape (2,)
         Position of the tool point (m).
@@ -205,6 +207,7 @@ class ForceMaximum:
     at: str
     gravity: bool
     force: float
+    uncapped: float
     lengths: F
     point: F
     limiting: str
@@ -220,6 +223,7 @@ def force_maximum(tf: ToolForces) -> ForceMaximum:
         tf.at,
         tf.gravity,
         float(tf.force[k]),
+        float(tf.uncapped[k]),
         tf.pose.lengths[k],
         pt[k],
         str(tf.limiting[k]),

@@ -134,7 +134,13 @@ def forces(
     over a sweep of the strokes."""
     import pandas as pd
 
-    from excavkin.applications.excavator_forces import force_maximum, rated_force, tool_forces
+    from excavkin.applications.excavator_forces import (
+        ForceMaximum,
+        RatedForce,
+        force_maximum,
+        rated_force,
+        tool_forces,
+    )
     from excavkin.applications.excavator_ranges import sweep
     from excavkin.outputs.tables import check_target, write_table
 
@@ -150,8 +156,32 @@ def forces(
     kinds = (("lip", "ISO 6015"), ("tip", "SAE J1179"))
     rows = []
 
-    def limit_text(limiting: str, working: str) -> str:
-        return limiting + (" (working pressure)" if limiting == working else " (relief)")
+    def row(kind: str, std: str, gravity: bool, r: RatedForce | ForceMaximum) -> None:
+        lim = r.limiting + (" (working pressure)" if r.limiting == r.working else " (relief)")
+        click.echo(
+            f"{std:<10} {r.working:<8} {r.force / 1e3:7.1f} {r.uncapped / 1e3:7.1f}  "
+            f"{r.point[0] * 1e3:6.0f} {r.point[1] * 1e3:6.0f}  {r.lengths[0] * 1e3:6.0f} "
+            f"{r.lengths[1] * 1e3:6.0f} {r.lengths[2] * 1e3:6.0f}  {lim}"
+        )
+        moment, radius = (r.moment, r.radius) if isinstance(r, RatedForce) else (np.nan, np.nan)
+        rows.append(
+            {
+                "kind": kind,
+                "standard": std,
+                "cylinder": r.working,
+                "gravity": gravity,
+                "force_N": r.force,
+                "own_limit_N": r.uncapped,
+                "moment_Nm": moment,
+                "radius_m": radius,
+                "x_m": r.point[0],
+                "y_m": r.point[1],
+                "boom_m": r.lengths[0],
+                "arm_m": r.lengths[1],
+                "bucket_m": r.lengths[2],
+                "limited_by": r.limiting,
+            }
+        )
 
     click.echo(f"{m.name} — tool forces (kN; positions mm)")
     click.echo(
@@ -164,31 +194,7 @@ def forces(
     )
     for at, std in kinds:
         for working in ("arm", "bucket"):
-            r = rated_force(m, working, at=at)  # type: ignore[arg-type]
-            click.echo(
-                f"{std:<10} {working:<8} {r.force / 1e3:7.1f} {r.uncapped / 1e3:7.1f}  "
-                f"{r.point[0] * 1e3:6.0f} {r.point[1] * 1e3:6.0f}  {r.lengths[0] * 1e3:6.0f} "
-                f"{r.lengths[1] * 1e3:6.0f} {r.lengths[2] * 1e3:6.0f}  "
-                f"{limit_text(r.limiting, working)}"
-            )
-            rows.append(
-                {
-                    "kind": "rated",
-                    "standard": std,
-                    "cylinder": working,
-                    "gravity": False,
-                    "force_N": r.force,
-                    "own_limit_N": r.uncapped,
-                    "moment_Nm": r.moment,
-                    "radius_m": r.radius,
-                    "x_m": r.point[0],
-                    "y_m": r.point[1],
-                    "boom_m": r.lengths[0],
-                    "arm_m": r.lengths[1],
-                    "bucket_m": r.lengths[2],
-                    "limited_by": r.limiting,
-                }
-            )
+            row("rated", std, False, rated_force(m, working, at=at))  # type: ignore[arg-type]
     pose = sweep(m, samples)
     click.echo(
         f"Largest over a {samples}³ stroke sweep ({'with' if grav else 'without'} gravity "
@@ -198,32 +204,7 @@ def forces(
     for at, std in kinds:
         for working in ("arm", "bucket"):
             tf = tool_forces(m, pose.lengths, working, at=at, gravity=grav)  # type: ignore[arg-type]
-            mx = force_maximum(tf)
-            k = int(np.argmax(np.where(np.isfinite(tf.force), tf.force, -np.inf)))
-            click.echo(
-                f"{std:<10} {working:<8} {mx.force / 1e3:7.1f} {tf.uncapped[k] / 1e3:7.1f}  "
-                f"{mx.point[0] * 1e3:6.0f} {mx.point[1] * 1e3:6.0f}  {mx.lengths[0] * 1e3:6.0f} "
-                f"{mx.lengths[1] * 1e3:6.0f} {mx.lengths[2] * 1e3:6.0f}  "
-                f"{limit_text(mx.limiting, working)}"
-            )
-            rows.append(
-                {
-                    "kind": "sweep_max",
-                    "standard": std,
-                    "cylinder": working,
-                    "gravity": grav,
-                    "force_N": mx.force,
-                    "own_limit_N": float(tf.uncapped[k]),
-                    "moment_Nm": np.nan,
-                    "radius_m": np.nan,
-                    "x_m": mx.point[0],
-                    "y_m": mx.point[1],
-                    "boom_m": mx.lengths[0],
-                    "arm_m": mx.lengths[1],
-                    "bucket_m": mx.lengths[2],
-                    "limited_by": mx.limiting,
-                }
-            )
+            row("sweep_max", std, grav, force_maximum(tf))
             if at == "lip":
                 maps[working] = tf
     click.echo("force: capped by the holding cylinders' reliefs; own: the working cylinder's limit")
