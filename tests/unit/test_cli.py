@@ -153,3 +153,21 @@ def test_machine_file_given_to_check_points_to_the_right_command() -> None:
     r = run("check", str(EXAMPLES / "excavator_machine.toml"))
     assert r.returncode == 2
     assert "excavator machine file" in r.stderr and "excavkin excavator" in r.stderr
+
+
+def test_running_out_of_memory_is_a_message(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from click.testing import CliRunner
+
+    import excavkin
+    from excavkin.cli import main
+
+    def too_big(*args: object, **kwargs: object) -> None:
+        raise MemoryError
+
+    monkeypatch.setattr(excavkin.Mechanism, "solve", too_big)
+    out = tmp_path / "x.csv"
+    r = CliRunner().invoke(main, ["solve", FOURBAR, "--sweep", "crank=0:1:5", "-o", str(out)])
+    assert r.exit_code == 2 and "not enough memory" in r.output and "split the sweep" in r.output
+    assert not out.exists()

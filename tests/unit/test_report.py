@@ -237,3 +237,14 @@ def test_progress_is_silent_off_a_terminal_and_chunked_solves_agree(fourbar):
     assert_allclose(chunked.body_epsilon, whole.body_epsilon, equal_nan=True)
     assert (chunked.status.code == whole.status.code).all() and not chunked.status.ok[1234]
     assert len(chunked) == 5000 and "solving" in tty.getvalue()
+
+
+def test_cli_report_refuses_a_sweep_where_nothing_solves(tmp_path):
+    out = tmp_path / "none.html"
+    r = CliRunner().invoke(
+        main, ["report", "excavator", "-q", "-o", str(out), "--sweep", "boom_cyl=5m:6m:20"]
+    )
+    assert r.exit_code == 3
+    assert "20 of 20 samples failed" in r.output and "nothing was written" in r.output
+    assert "Traceback" not in r.output and "RuntimeWarning" not in r.output
+    assert not out.exists()

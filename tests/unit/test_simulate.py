@@ -389,3 +389,37 @@ def test_cli_simulate_every_example_model(tmp_path, path):
     frame = pd.read_csv(tmp_path / "run.csv")
     assert frame.columns[0] == "t" and (frame["status"] == "ok").all()
     assert "0 hard shock(s)" in r.output and "0 soft shock(s)" in r.output
+
+
+def test_cli_simulate_holds_undriven_drivers_where_set(tmp_path):
+    """--set moves an undriven driver off its sketch value for the whole run; the positions
+    equal a direct solve with that value, and the held driver adds no shocks."""
+    model = excavkin.example_path("excavator")
+    out = tmp_path / "held.csv"
+    args = ["simulate", str(model), "--drive", "boom_cyl=cubic:0.3m:3s", "--samples", "31"]
+    r = _run(
+        [*args, "--set", "arm_cyl=2.5m", "-o", str(out), "--shock-table", str(tmp_path / "s.csv")]
+    )
+    assert r.exit_code == 0, r.output
+    frame = pd.read_csv(out)
+    assert (frame["arm_cyl.value"] == 2.5).all() and (frame["arm_cyl.rate"] == 0).all()
+    mech = excavkin.load(model)
+    direct = mech.solve(
+        {"boom_cyl": frame["boom_cyl.value"].to_numpy(), "arm_cyl": 2.5},
+        {"boom_cyl": frame["boom_cyl.rate"].to_numpy()},
+        {"boom_cyl": frame["boom_cyl.accel"].to_numpy()},
+    )
+    assert_allclose(frame["T.x"], direct.column("T.x"), rtol=0, atol=1e-12)
+    assert_allclose(frame["stick.omega"], direct.column("stick.omega"), rtol=0, atol=1e-12)
+    shocks = pd.read_csv(tmp_path / "s.csv")
+    assert len(shocks) > 0  # the cubic law's soft shocks at both ends
+    assert "boom_cyl.accel" in set(shocks["column"])
+    assert not {"arm_cyl.rate", "arm_cyl.accel"} & set(shocks["column"])
+    for bad, message in (
+        ("boom_cyl=2.5m", "both driven and held"),
+        ("nope=1m", "unknown driver 'nope'"),
+        ("arm_cyl=2.5s", "arm_cyl"),
+    ):
+        r = CliRunner().invoke(main, [*args, "--set", bad, "-o", str(tmp_path / "x.csv")])
+        assert r.exit_code == 2 and message in r.output and "Traceback" not in r.output
+    assert not (tmp_path / "x.csv").exists()

@@ -377,6 +377,7 @@ def _refine_peak(
     hi: float,
     centre: float,
     value: float,
+    held: Mapping[str, float] | None,
 ) -> tuple[float, float]:
     """Maximise ``|column|`` on ``[lo, hi]`` by repeated local resampling (shrinking windows)."""
     t_best, v_best = centre, value
@@ -384,7 +385,7 @@ def _refine_peak(
         if not hi > lo:
             break
         t = np.linspace(lo, hi, _REFINE_POINTS)
-        vals = np.asarray(simulate(mech, drives, t=t).column(column), dtype=np.float64)
+        vals = np.asarray(simulate(mech, drives, t=t, held=held).column(column), dtype=np.float64)
         if not np.any(np.isfinite(vals)):
             break
         k = int(np.nanargmax(np.abs(vals)))
@@ -403,6 +404,7 @@ def shock_report(
     samples: int = DEFAULT_SAMPLES,
     rtol: float = 1e-9,
     refine: bool = True,
+    held: Mapping[str, float] | None = None,
 ) -> ShockReport:
     """Hard and soft shocks of every driver, element and body, with peaks of ε and J·ε.
 
@@ -422,6 +424,8 @@ def shock_report(
         acceleration, per unit length for angular quantities; see the module notes).
     refine : bool
         Refine peaks that fall on a sample by local resampling (exact to ~1e-12 relative).
+    held : mapping of str to float, optional
+        Undriven drivers' values, as for ``simulate``.
 
     Returns
     -------
@@ -440,7 +444,7 @@ def shock_report(
     """
     dd = normalise_drives(mech, drives)
     if result is None:
-        result = simulate(mech, dd, samples=samples)
+        result = simulate(mech, dd, samples=samples, held=held)
     if result.time is None:
         raise InputError("shock_report needs a result solved in time (see simulate)")
     cols = tracked_columns(mech)
@@ -449,7 +453,7 @@ def shock_report(
     causes = tuple(c for _, c in bps)
     runs = [result]
     if times.size:
-        runs += [simulate(mech, dd, t=times, side=side) for side in ("left", "right")]
+        runs += [simulate(mech, dd, t=times, side=side, held=held) for side in ("left", "right")]
         before, after = _values(runs[1], cols), _values(runs[2], cols)
     else:
         before = after = np.empty((0, len(cols)))
@@ -505,6 +509,6 @@ def shock_report(
         if side == "sample" and refine and t.size > 2:
             i -= 2 * nb
             lo, hi = float(t[max(i - 1, 0)]), float(t[min(i + 1, t.size - 1)])
-            tp, vp = _refine_peak(mech, dd, col.name, lo, hi, tp, vp)
+            tp, vp = _refine_peak(mech, dd, col.name, lo, hi, tp, vp, held)
         peaks.append(Peak(col.name, col.member, col.quantity, col.unit, vp, tp, side, col.inertia))
     return ShockReport(times, causes, cols, before, after, tuple(shocks), tuple(peaks))

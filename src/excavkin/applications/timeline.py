@@ -324,6 +324,7 @@ def driver_inputs(
     drives: Mapping[str, Drive | DriveLaw],
     t: npt.ArrayLike,
     side: Side | None = None,
+    held: Mapping[str, float] | None = None,
 ) -> tuple[dict[str, FloatArray], dict[str, FloatArray], dict[str, FloatArray]]:
     """Values, rates and accelerations of the driven drivers at times ``t``.
 
@@ -335,6 +336,8 @@ def driver_inputs(
         Times [s].
     side : {"left", "right"} or None
         One-sided limits (see :meth:`Drive.state`).
+    held : mapping of str to float, optional
+        Drivers without a drive held at these values (SI) instead of their sketch values.
 
     Returns
     -------
@@ -348,6 +351,16 @@ def driver_inputs(
     for name, d in dd.items():
         st = d.state(tt, sketch[name], side)
         values[name], rates[name], accels[name] = st.s, st.v, st.a
+    for name, value in (held or {}).items():
+        if name in dd:
+            raise InputError(f"driver {name!r} is both driven and held")
+        if name not in sketch:
+            raise InputError(f"unknown driver {name!r} (drivers: {', '.join(sorted(sketch))})")
+        if not np.isfinite(value):
+            raise InputError(f"held value of {name!r} is not finite")
+        values[name] = np.full(tt.shape, float(value))
+        rates[name] = np.zeros(tt.shape)
+        accels[name] = np.zeros(tt.shape)
     return values, rates, accels
 
 
@@ -361,6 +374,7 @@ def simulate(
     duration: float | None = None,
     side: Side | None = None,
     strict: bool = False,
+    held: Mapping[str, float] | None = None,
 ) -> KinematicResult:
     """Solve a mechanism in time, its drivers moved by motion laws.
 
@@ -369,7 +383,7 @@ def simulate(
     mech : Mechanism
     drives : mapping of str to Drive or law
         Driver name → :class:`Drive` (or a bare law, moved from the sketch value). Drivers
-        not listed are held at their sketch values.
+        not listed are held at their sketch values, or at ``held``.
     samples : int
         Number of times of the grid built by :func:`time_grid` (ignored when ``t`` is given).
     t : array_like, shape (n,), optional
@@ -380,6 +394,8 @@ def simulate(
         Solve at the one-sided limits of the inputs (see :meth:`Drive.state`).
     strict : bool
         Raise :class:`~excavkin.errors.SolveFailure` if a sample fails.
+    held : mapping of str to float, optional
+        Undriven drivers held at these values (SI) instead of their sketch values.
 
     Returns
     -------
@@ -402,7 +418,7 @@ def simulate(
         tt = np.asarray(t, dtype=np.float64)
         if tt.ndim != 1 or tt.size == 0:
             raise InputError(f"t must have shape (n,) with n >= 1, got shape {tt.shape}")
-    values, rates, accels = driver_inputs(mech, dd, tt, side)
+    values, rates, accels = driver_inputs(mech, dd, tt, side, held)
     return mech.solve(values, rates, accels, time=tt, strict=strict)
 
 

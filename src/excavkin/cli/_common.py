@@ -45,6 +45,11 @@ def handle_errors(fn: T) -> T:
             fail(str(exc))
         except OSError as exc:
             fail(f"{exc.filename or ''}: {exc.strerror or exc}".lstrip(": "))
+        except MemoryError:
+            fail(
+                "not enough memory for this many samples; split the sweep into smaller runs "
+                "(no output was written)"
+            )
         except KeyboardInterrupt:
             fail("interrupted; no output was written", 130)
         return None

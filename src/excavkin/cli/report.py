@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from excavkin.cli._common import handle_errors
+from excavkin.cli._common import EXIT_SAMPLES, fail, handle_errors
 from excavkin.cli.solve import build_inputs, with_sweep_options
 
 
@@ -81,6 +81,12 @@ def command(
         for name, arr in default_sweep(mech).items():
             values.setdefault(name, arr)
     result = solve_with_progress(mech, values, rate, accel, quiet=quiet)
+    if not result.status.ok.any():
+        fail(
+            f"{result.status.summary()}. No sample solved, so there is nothing to report; "
+            "nothing was written (check the --sweep ranges against `excavkin check`).",
+            EXIT_SAMPLES,
+        )
     given = [("--sweep", sweeps), ("--set", sets), ("--rate", rates), ("--accel", accels)]
     command_line = " ".join(
         ["excavkin report", shlex.quote(model)]

@@ -10,7 +10,7 @@ Drive syntax (``--drive``, repeatable; values may carry units, bare numbers are 
         linear driver (rope) hauled in at v = W·R/(I·N): its length L0 − v·(t − T0)
 
 A driver given several law drives runs them one after the other (sorted by start, holding in
-the gaps). Drivers without a drive stay at their sketch values.
+the gaps). Drivers without a drive stay at their sketch values, or where --set puts them.
 """
 
 from __future__ import annotations
@@ -264,6 +264,14 @@ def build_drives(mech: Mechanism, texts: Sequence[str]) -> dict[str, Drive]:
     help="Also write the shocks as a table (.csv or .parquet).",
 )
 @click.option(
+    "--set",
+    "sets",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="Hold a driver without a drive at VALUE (default: its sketch value), e.g. "
+    "arm_cyl=2.5m. Repeatable.",
+)
+@click.option(
     "--keep-going",
     is_flag=True,
     help="Write the table even if some samples fail (rows marked in 'status').",
@@ -279,6 +287,7 @@ def command(
     out: str,
     shocks: bool,
     shock_table: str | None,
+    sets: tuple[str, ...],
     keep_going: bool,
     force: bool,
 ) -> None:
@@ -298,9 +307,15 @@ def command(
         raise InputError("--out and --shock-table name the same file")
     mech = excavkin.load(model)
     drives = build_drives(mech, drive_texts)
+    held: dict[str, float] = {}
+    for text in sets:
+        name, spec = parse_assignment(text, "--set")
+        if name in held:
+            raise InputError(f"--set is given more than once for {name}")
+        held[name] = si_value(spec, mech.input_kind(name), f"--set {name}")
     dur = si_value(duration, "time", "--duration") if duration is not None else None
     t0 = si_value(t_start, "time", "--start") if t_start is not None else None
-    result = simulate(mech, drives, samples=samples, duration=dur, start=t0)
+    result = simulate(mech, drives, samples=samples, duration=dur, start=t0, held=held)
     report_failures(result, keep_going)
     frame = result.to_frame()
     write_table(frame, target, force=force)
@@ -310,7 +325,7 @@ def command(
         f"(t = {t[0]:g} … {t[-1]:g} s) to {target}"
     )
     if shocks or shock_target is not None:
-        rep = shock_report(mech, drives, result)
+        rep = shock_report(mech, drives, result, held=held)
         if shocks:
             click.echo(rep.format())
         if shock_target is not None:
