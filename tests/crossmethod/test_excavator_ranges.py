@@ -146,3 +146,24 @@ def test_envelope_is_the_reachable_boundary(machine: Machine, ranges: WorkingRan
 
     assert reachable(env[pick] + 5e-3 * inward).all()
     assert not reachable(env[pick] - 5e-4 * inward).any()
+
+
+def test_swept_region_of_a_long_edged_polygon() -> None:
+    """The polar sweep against brute force: a 1 × 6 m rectangle turned 1 rad about the origin,
+    as the union of 2001 turned copies (which can only fall short, by ≤ 6·(0.5 mrad)²/2)."""
+    from shapely import affinity
+
+    from excavkin.applications.excavator_ranges import _swept
+
+    box = shapely.box(1.0, -3.0, 2.0, 3.0)
+    for swing in (1.0, -1.0):
+        swept = _swept(box, np.zeros(2), swing)
+        copies = shapely.unary_union(
+            [
+                affinity.rotate(box, t, origin=(0.0, 0.0), use_radians=True)
+                for t in np.linspace(0.0, swing, 2001)
+            ]
+        )
+        assert swept.is_valid
+        assert abs(swept.area - copies.area) < 1e-3 * copies.area
+        assert shapely.symmetric_difference(swept, copies).area < 5e-3  # of 16.3 m²

@@ -296,7 +296,8 @@ class RatedForce:
     point : ndarray, shape (2,)
         The tool point there (m).
     limiting : str
-        The working cylinder, or the holding cylinder whose relief caps the force.
+        The working cylinder, or the holding cylinders whose relief caps the force (joined by
+        ``+`` where two reach it together).
     """
 
     working: str
@@ -355,6 +356,15 @@ def rated_force(machine: Machine, working: Working = "bucket", *, at: At = "lip"
     free = (0,) if working == "arm" else (0, 1)
     _, pose = maximize_strokes(objective(working, True), machine, free, base=pose[0])
     tf = tool_forces(machine, pose, working, at=at, gravity=False)
+    # the search ends where caps cross: name every holding cylinder at its relief
+    limits = [str(tf.limiting[0])] if tf.limiting[0] == working else []
+    for h, cyl in enumerate(machine.cylinders):
+        if ROLES[h] == working:
+            continue
+        lo, hi = cyl.force_limits(machine.circuits[cyl.circuit].relief)
+        f_h = float(tf.cylinder_force[0, h])
+        if np.isclose(f_h, hi, rtol=1e-6) or np.isclose(f_h, lo, rtol=1e-6):
+            limits.append(ROLES[h])
     res = tf.pose.result
     tool = res.point(point)[0][0]
     radius = float(np.hypot(*(tool - res.point(pivot)[0][0])))
@@ -367,5 +377,5 @@ def rated_force(machine: Machine, working: Working = "bucket", *, at: At = "lip"
         radius,
         pose[0],
         tool,
-        str(tf.limiting[0]),
+        "+".join(limits) or str(tf.limiting[0]),
     )

@@ -147,12 +147,14 @@ def _even_in_angle(machine: Machine, c: int, n: int) -> F:
     pose = forward(machine, L)
     p = machine.pins
     stick = _angle(pose.result.point(p.bucket_pin)[0] - pose.result.point(p.stick_pivot)[0])
-    turn = np.unwrap(stick if c == 1 else pose.bucket_angle - stick)
-    step = np.abs(np.diff(turn))
-    s = np.r_[0.0, np.cumsum(np.where(np.isfinite(step), step, 0.0))]
+    turn = stick if c == 1 else pose.bucket_angle - stick
+    ok = np.isfinite(turn)  # where part of a stroke does not assemble, grid what does
+    if ok.sum() < 2:
+        return np.linspace(lo[c], hi[c], n)
+    s = np.r_[0.0, np.cumsum(np.abs(np.diff(np.unwrap(turn[ok]))))]
     if not s[-1] > 0.0:
         return np.linspace(lo[c], hi[c], n)
-    return np.asarray(np.interp(np.linspace(0.0, s[-1], n), s, fine))
+    return np.asarray(np.interp(np.linspace(0.0, s[-1], n), s, fine[ok]))
 
 
 def _fold_strokes(machine: Machine) -> F:
@@ -191,7 +193,8 @@ def _swept(region: shapely.Polygon, centre: F, swing: float) -> shapely.Geometry
     of the region's directions; long edges are split before mapping back so that the arcs stay
     arcs.
     """
-    ring = np.asarray(region.exterior.coords)[:-1]
+    # short edges, so that a straight chord and its polar image stay within ~1e-6 m
+    ring = np.asarray(shapely.segmentize(region.exterior, 0.002).coords)[:-1]
     rel = ring - centre
     rho = np.hypot(rel[:, 0], rel[:, 1])
     theta = np.sort(_angle(rel))
@@ -257,12 +260,25 @@ def envelope(machine: Machine, n: int = 161) -> F:
     tri = tri[np.isfinite(tri).all(axis=(1, 2))]
     held = shapely.unary_union(shapely.polygons(tri))
     if held.geom_type != "Polygon":
-        held = max(held.geoms, key=lambda g: g.area)
+        parts = sorted(held.geoms, key=lambda g: -g.area)
+        warnings.warn(
+            f"{machine.name}: with the boom held, the tip's region falls apart into "
+            f"{len(parts)} pieces (arm and bucket strokes that do not assemble split it); the "
+            "envelope sweeps the largest",
+            ExcavkinWarning,
+            stacklevel=2,
+        )
+        held = parts[0]
     p = machine.pins
     a = machine._ground_xy[p.foot]
     ends = forward(machine, np.array([lo, [hi[0], lo[1], lo[2]]]))
     f = ends.result.point(p.stick_pivot)[0]
     swing = float(_wrap(_angle(f[1] - a) - _angle(f[0] - a)))
+    if not (ends.ok.all() and np.isfinite(swing)):
+        raise ModelError(
+            f"{machine.name}: the front does not assemble with the boom cylinder at both ends "
+            "of its stroke (arm and bucket retracted), so the boom's swing is unknown"
+        )
     region = _swept(held, a, swing)
     if region.geom_type != "Polygon":
         parts = sorted(region.geoms, key=lambda g: -g.area)
