@@ -480,11 +480,16 @@ def forward(machine: Machine, lengths: ArrayLike) -> FrontPose:
     FrontPose
     """
     L = _as_lengths(lengths)
-    res = machine.solve(L)
-    tip = res.point(machine.front.tip)[0]
-    lip = res.point(machine.front.lip)[0]
-    q = res.point(machine.pins.bucket_pin)[0]
-    return FrontPose(L, tip, lip, _angle(tip - q), res.status.ok, machine.within_stroke(L), res)
+    return pose_of(machine, L, machine.solve(L))
+
+
+def pose_of(machine: Machine, lengths: F, result: KinematicResult) -> FrontPose:
+    """The tool's pose read from a solve of ``machine`` at ``lengths`` (shape (n, 3))."""
+    tip = result.point(machine.front.tip)[0]
+    lip = result.point(machine.front.lip)[0]
+    q = result.point(machine.pins.bucket_pin)[0]
+    ok, within = result.status.ok, machine.within_stroke(lengths)
+    return FrontPose(lengths, tip, lip, _angle(tip - q), ok, within, result)
 
 
 @dataclass(frozen=True, slots=True)
@@ -585,11 +590,7 @@ def jacobian(machine: Machine, lengths: ArrayLike) -> FrontJacobian:
         s = np.linalg.svd(scaled[good], compute_uv=False)
         with np.errstate(divide="ignore"):
             cond[good] = s[:, 0] / s[:, -1]
-    res = tr.result
-    pose = FrontPose(
-        L, tip, res.point(machine.front.lip)[0], _angle(r), tr.ok, machine.within_stroke(L), res
-    )
-    return FrontJacobian(J, cond, pose)
+    return FrontJacobian(J, cond, pose_of(machine, L, tr.result))
 
 
 def transmission_angles(machine: Machine, result: KinematicResult) -> dict[str, F]:

@@ -34,8 +34,8 @@ from excavkin.applications.excavator import (
     F,
     FrontPose,
     Machine,
-    _angle,
     _as_lengths,
+    pose_of,
     transfer,
 )
 from excavkin.applications.excavator_search import Evaluate, maximize_strokes
@@ -170,18 +170,7 @@ def tool_forces(
     areas = np.array([[c.bore_area, c.annulus_area] for c in machine.cylinders])
     with np.errstate(divide="ignore", invalid="ignore"):
         pressure = np.where(cyl_force >= 0.0, cyl_force / areas[:, 0], -cyl_force / areas[:, 1])
-    res = tr.result
-    tip = res.point(machine.front.tip)[0]
-    q = res.point(machine.pins.bucket_pin)[0]
-    pose = FrontPose(
-        L,
-        tip,
-        res.point(machine.front.lip)[0],
-        _angle(tip - q),
-        tr.ok,
-        machine.within_stroke(L),
-        res,
-    )
+    pose = pose_of(machine, L, tr.result)
     return ToolForces(working, at, gravity, force, F_work, u, limiting, cyl_force, pressure, pose)
 
 
