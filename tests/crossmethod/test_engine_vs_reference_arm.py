@@ -1,5 +1,5 @@
 """Excavator arm vector model (seed 001): the engine (examples/arm_vector.toml) against the
-paper's own equations (1)-(12), reconstructed and corrected (excavkin.reference.arm_vector;
+paper's own equations (1)-(12), reconstructed and corrected (excavkin.papers.arm_vector.reference;
 spec seeds/vector-model-excavator-arm.md)."""
 
 from __future__ import annotations
@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from excavkin.applications import papers
-from excavkin.cli._reproduce_arm import command
-from excavkin.reference import arm_vector as ref
+from excavkin.papers import common
+from excavkin.papers.arm_vector import reference as ref
+from excavkin.papers.arm_vector import study as papers
+from excavkin.papers.arm_vector.cli import command
 from tests.conftest import assert_rel, fd_derivatives
 
 DIMS = ref.EXCAVATOR_20T
@@ -37,7 +38,7 @@ def forward(motion):  # type: ignore[no-untyped-def]
 
 
 def test_model_has_the_reference_dimensions() -> None:
-    mech = papers.load_paper_model("arm_vector")
+    mech = common.load_paper_model("arm_vector")
     sh = mech.plan.shapes
     assert sh["boom"].distance("O", "J") == pytest.approx(DIMS.l1, rel=1e-15)
     assert sh["stick"].distance("J", "Q") == pytest.approx(DIMS.l2, rel=1e-15)
@@ -67,7 +68,7 @@ def test_forward_position_velocity_acceleration(motion, forward) -> None:  # typ
     for k, r in (("x_a", xa), ("y_a", ya), ("v_xa", vx), ("v_ya", vy), ("a_xa", ax), ("a_ya", ay)):
         assert_rel(forward[k], r, 1e-9)
     for i in range(3):
-        assert_rel(forward[f"phi{i + 1}"], papers.wrap(phi[i]), 1e-9)
+        assert_rel(forward[f"phi{i + 1}"], common.wrap(phi[i]), 1e-9)
         assert_rel(forward[f"omega{i + 1}"], om[i], 1e-9)
         assert_rel(forward[f"eps{i + 1}"], ep[i], 1e-9)
 
@@ -80,7 +81,7 @@ def test_cylinder_link_relations(motion, forward, link: str) -> None:  # type: i
         expected = np.asarray(getattr(cyl, f))
         got = forward[f"{link}_{f}"]
         if f == "phi_z":
-            got = expected + papers.wrap(got - expected)
+            got = expected + common.wrap(got - expected)
         assert_rel(got, expected, 1e-9)
 
 
@@ -105,7 +106,7 @@ def test_inverse_problem_both_solutions(motion, branch: int) -> None:  # type: i
     assert run.result.status.all_ok
     assert np.all(ref.arm_branch(run["phi1"], run["phi2"]) == branch)
     for k, r in (("phi1", q1), ("phi2", q2)):
-        assert_rel(r + papers.wrap(run[k] - r), r, 1e-9)
+        assert_rel(r + common.wrap(run[k] - r), r, 1e-9)
     for k, r in (("omega1", w1), ("omega2", w2), ("eps1", e1), ("eps2", e2)):
         assert_rel(run[k], r, 1e-9)
     np.testing.assert_allclose(run["x_a"], xa, rtol=0, atol=1e-12)
@@ -117,7 +118,7 @@ def test_cylinder_driven_model_is_the_inverse_relation(motion) -> None:  # type:
     (v_r, a_r) → (ω, ε)."""
     phi, om, ep = motion
     cyl = ref.arm_cylinder_kinematics(DIMS, *phi, *om, *ep)
-    mech = papers.load_paper_model("arm_vector")
+    mech = common.load_paper_model("arm_vector")
     res = mech.solve(
         {f"{k}_cyl": cyl[k].z for k in MOUNTS},
         {f"{k}_cyl": cyl[k].v_r for k in MOUNTS},
@@ -129,7 +130,7 @@ def test_cylinder_driven_model_is_the_inverse_relation(motion) -> None:  # type:
         ang, w, e = res.body(link)
         par = res.body(parent[link])[0] if parent[link] else 0.0
         psi = ref.cylinder_angle_from_length(mount, cyl[link].z)
-        assert_rel(psi + papers.wrap(ang - par - psi), psi, 1e-9)
+        assert_rel(psi + common.wrap(ang - par - psi), psi, 1e-9)
         assert_rel(w, om[i], 1e-9)
         assert_rel(e, ep[i], 1e-9)
 
@@ -154,7 +155,7 @@ def test_velocities_accelerations_match_8th_order_differences(motion) -> None:  
         for k, _, _ in keys:
             v = r[k]
             if k.endswith("phi_z"):
-                v = run[k] + papers.wrap(v - run[k])
+                v = run[k] + common.wrap(v - run[k])
             vals.append(v)
         return np.concatenate(vals)
 
@@ -172,7 +173,7 @@ def test_printed_d_fails_against_the_engine(forward, motion) -> None:  # type: i
         - DIMS.boom.l_prime * np.sin(phi[0] - DIMS.boom.alpha)
     )
     printed = np.arctan2(c, ref.printed_cylinder_d(DIMS.boom, phi[0]))
-    assert np.max(np.abs(papers.wrap(printed - forward["boom_phi_z"]))) > np.radians(5)
+    assert np.max(np.abs(common.wrap(printed - forward["boom_phi_z"]))) > np.radians(5)
 
 
 def test_reproduce_command(tmp_path: Path) -> None:

@@ -1,5 +1,5 @@
 """The MO-100 hammer as a model file, solved by the general engine, against the paper's own
-formulas (``excavkin.reference.mo100``): position functions ψ, β (eqs 2–3) and the transfer
+formulas (``excavkin.papers.mo100.reference``): position functions ψ, β (eqs 2–3) and the transfer
 functions u31, u21, u31′, u21′ (the paper's lost eqs 4–5), to 1e-9 relative over the cycle."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 import excavkin
-from excavkin.reference import mo100
+from excavkin.papers.mo100 import reference as mo100
 from tests.conftest import EXAMPLES, assert_rel
 
 

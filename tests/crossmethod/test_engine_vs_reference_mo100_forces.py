@@ -1,6 +1,6 @@
 """The MO-100 hammer's kinetostatics: the general engine (``examples/mo100_hammer.toml``,
 ``loads=[]``: inertia only, crank and coupler massless) against the paper's own formulas
-(``excavkin.reference.mo100``) with the crank at ω1 = 31.416 s⁻¹, over φ ∈ [0.5°, 359.5°].
+(``excavkin.papers.mo100.reference``) with the crank at ω1 = 31.416 s⁻¹, over φ ∈ [0.5°, 359.5°].
 
 Compared, to 1e-9 of the largest value:
 
@@ -31,9 +31,9 @@ import pytest
 from click.testing import CliRunner
 
 import excavkin
-from excavkin.applications import mo100 as app
 from excavkin.kinetostatics import inertia_loads
-from excavkin.reference import mo100
+from excavkin.papers.mo100 import reference as mo100
+from excavkin.papers.mo100 import study as app
 from tests.conftest import EXAMPLES, assert_rel
 
 OMEGA1 = 31.416
@@ -204,7 +204,7 @@ def test_reproduction_table_engine_equals_reference(mech: excavkin.Mechanism) ->
 
 
 def test_reproduce_command(tmp_path: Path) -> None:
-    from excavkin.cli.reproduce import command
+    from excavkin.papers.cli import command
 
     out = tmp_path / "figs"
     result = CliRunner().invoke(command, ["mo100", "--out-dir", str(out), "--samples", "720"])

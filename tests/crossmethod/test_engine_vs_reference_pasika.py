@@ -1,6 +1,6 @@
 """Pasika & Koruniak: the engine (examples/pasika_module.toml) against the paper's own equations.
 
-Reference: excavkin.reference.pasika (eqs. 1-12, Coriolis term corrected to 2·ω1·v21);
+Reference: excavkin.papers.pasika.reference (eqs. 1-12, Coriolis term corrected to 2·ω1·v21);
 source: V. Pasika, P. Koruniak, seed 003, spec seeds/pasika-internal-driving-link.md.
 """
 
@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from excavkin.applications import papers
-from excavkin.cli._reproduce_pasika import command
-from excavkin.reference import pasika as ref
+from excavkin.papers import common
+from excavkin.papers.pasika import reference as ref
+from excavkin.papers.pasika import study as papers
+from excavkin.papers.pasika.cli import command
 from tests.conftest import assert_rel, fd_derivatives
 
 T = papers.PASIKA_DURATION
@@ -22,7 +23,7 @@ T = papers.PASIKA_DURATION
 
 @pytest.fixture(scope="module")
 def mech():  # type: ignore[no-untyped-def]
-    return papers.load_paper_model("pasika_module")
+    return common.load_paper_model("pasika_module")
 
 
 def test_model_is_the_papers_module(mech) -> None:  # type: ignore[no-untyped-def]

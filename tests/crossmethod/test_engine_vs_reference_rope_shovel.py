@@ -1,6 +1,6 @@
 """Maksimov's rope-shovel bucket mechanism: the engine (examples/rope_shovel.toml) against the
-paper's own equations (1)-(19), corrected (excavkin.reference.maksimov; seeds 000/004, spec
-seeds/maksimov-rope-shovel-bucket.md)."""
+paper's own equations (1)-(19), corrected (excavkin.papers.rope_shovel.reference; seeds 000/004,
+spec seeds/maksimov-rope-shovel-bucket.md)."""
 
 from __future__ import annotations
 
@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from excavkin.applications import papers
-from excavkin.cli._reproduce_rope_shovel import command
-from excavkin.reference import maksimov as ref
+from excavkin.papers import common
+from excavkin.papers.rope_shovel import reference as ref
+from excavkin.papers.rope_shovel import study as papers
+from excavkin.papers.rope_shovel.cli import command
 from tests.conftest import assert_rel
 
 GEOM = ref.EO4112_GEOMETRY
@@ -22,7 +23,7 @@ ANGLES = {k for k, v in papers.ROPE_SHOVEL_KINDS.items() if v == "angle"}
 
 @pytest.fixture(scope="module")
 def mech():  # type: ignore[no-untyped-def]
-    return papers.load_paper_model("rope_shovel")
+    return common.load_paper_model("rope_shovel")
 
 
 @pytest.fixture(scope="module")
@@ -68,7 +69,7 @@ def test_every_quantity_equals_the_reference(run) -> None:  # type: ignore[no-un
         expected = np.asarray(getattr(st, field))
         got = run[field]
         if field in ANGLES:
-            got = expected + papers.wrap(got - expected)
+            got = expected + common.wrap(got - expected)
         assert_rel(got, expected, 1e-9)
         compared += 1
     # every field of the reference state is compared (the engine reports all of them)

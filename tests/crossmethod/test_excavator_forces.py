@@ -16,14 +16,14 @@ import numpy as np
 import pytest
 
 import excavkin
-from excavkin.applications.excavator import Circuit, Machine, forward, jacobian
-from excavkin.applications.excavator_forces import (
+from excavkin.excavator.forces import (
     RatedForce,
     handbook_forces,
     rated_force,
     tool_forces,
 )
-from excavkin.io.machine import load_machine
+from excavkin.excavator.machine import Circuit, Machine, forward, jacobian
+from excavkin.excavator.machine_file import load_machine
 from excavkin.kinetostatics import Gravity, PointForce
 
 

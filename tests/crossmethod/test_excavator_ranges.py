@@ -12,9 +12,9 @@ import pytest
 import shapely
 
 import excavkin
-from excavkin.applications.excavator import Machine, forward, inverse
-from excavkin.applications.excavator_ranges import WorkingRanges, sweep, working_ranges
-from excavkin.io.machine import load_machine
+from excavkin.excavator.machine import Machine, forward, inverse
+from excavkin.excavator.machine_file import load_machine
+from excavkin.excavator.ranges import WorkingRanges, sweep, working_ranges
 
 N = 51  # sweep points per stroke: spacing ≤ 30 mm of stroke
 
@@ -153,7 +153,7 @@ def test_swept_region_of_a_long_edged_polygon() -> None:
     as the union of 2001 turned copies (which can only fall short, by ≤ 6·(0.5 mrad)²/2)."""
     from shapely import affinity
 
-    from excavkin.applications.excavator_ranges import _swept
+    from excavkin.excavator.ranges import _swept
 
     box = shapely.box(1.0, -3.0, 2.0, 3.0)
     for swing in (1.0, -1.0):

@@ -13,10 +13,10 @@ import pytest
 from numpy.testing import assert_allclose
 
 import excavkin
-from excavkin.applications.shocks import shock_report
-from excavkin.applications.timeline import simulate
 from excavkin.mechanism import Mechanism
 from excavkin.motion import ConstantSpeedCrank, get_law
+from excavkin.simulation.shocks import shock_report
+from excavkin.simulation.timeline import simulate
 
 
 @pytest.fixture(scope="module")

@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import excavkin
-from excavkin.applications.excavator import Machine, forward, inverse
-from excavkin.io.machine import load_machine
+from excavkin.excavator.machine import Machine, forward, inverse
+from excavkin.excavator.machine_file import load_machine
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from excavkin.reference import arm_vector as av
+from excavkin.papers.arm_vector import reference as av
 
 DIMS = av.EXCAVATOR_20T
 H = 2e-3  # finite-difference step, s

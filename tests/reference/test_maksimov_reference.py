@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from excavkin.reference import maksimov as mk
+from excavkin.papers.rope_shovel import reference as mk
 
 G = mk.EO4112_GEOMETRY
 H = 2e-3

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from excavkin.reference import ReferenceAssemblyError
-from excavkin.reference import mo100 as m
+from excavkin.papers.errors import ReferenceAssemblyError
+from excavkin.papers.mo100 import reference as m
 
 D = m.MO100_PAPER
 DEG = math.pi / 180.0

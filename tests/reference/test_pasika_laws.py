@@ -4,10 +4,10 @@ Paper: V. Pasika, P. Koruniak, "Kinematic analysis of a lever mechanism with an 
 driving link" (seed 003); specification ``seeds/pasika-internal-driving-link.md`` ("spec §x").
 Data (spec §4.1): a = 0.45 m, b = 0.9 m, l_OA0 = 0.8 m, l_AB = 1.2 m, H = 0.5 m, T = 5 s.
 Reference values: ``tests/reference/data/pasika_table_4_3.csv`` (spec §4.3) and the paper's
-own closed-form equations, re-implemented independently in :mod:`excavkin.reference.pasika`.
+own closed-form equations, re-implemented independently in :mod:`excavkin.papers.pasika.reference`.
 
 The engine here is the general one (``examples/pasika_module.toml`` → solve plan → dyad
-kernels) fed by the time-domain layer (:func:`excavkin.applications.timeline.simulate`).
+kernels) fed by the time-domain layer (:func:`excavkin.simulation.timeline.simulate`).
 """
 
 from __future__ import annotations
@@ -20,11 +20,11 @@ from click.testing import CliRunner
 from numpy.testing import assert_allclose
 
 import excavkin
-from excavkin.applications.laws_study import compare_laws, end_gains, pasika_module
-from excavkin.applications.timeline import simulate
 from excavkin.cli import main
 from excavkin.motion import LAW_NAMES, get_law
-from excavkin.reference import pasika as ref
+from excavkin.papers.pasika import reference as ref
+from excavkin.papers.pasika.laws import compare_laws, end_gains, pasika_module
+from excavkin.simulation.timeline import simulate
 
 DATA = Path(__file__).parent / "data" / "pasika_table_4_3.csv"
 DOCS = Path(__file__).resolve().parents[2] / "docs"

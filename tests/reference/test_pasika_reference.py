@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from excavkin.reference import ReferenceAssemblyError, ReferenceSingularityError
-from excavkin.reference import pasika as p
+from excavkin.papers.errors import ReferenceAssemblyError, ReferenceSingularityError
+from excavkin.papers.pasika import reference as p
 
 D = p.PASIKA_PAPER
 DATA = Path(__file__).parent / "data" / "pasika_table_4_3.csv"

@@ -60,8 +60,10 @@ def example_hashes() -> dict[str, dict[str, str]]:
         mech = excavkin.load(path)
         values, rates = sweep(mech)
         result = mech.solve(values, rates, workers=1)
-        entry = {"plan": hashlib.sha256(mech.describe().encode()).hexdigest(),
-                 "kinematics": frame_hash(result.to_frame())}
+        entry = {
+            "plan": hashlib.sha256(mech.describe().encode()).hexdigest(),
+            "kinematics": frame_hash(result.to_frame()),
+        }
         try:  # the model's own loads and gravity, or inertia alone
             forces = mech.forces(result)
         except excavkin.ModelError:  # statically indeterminate: no forces to lock

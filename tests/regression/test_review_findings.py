@@ -127,7 +127,7 @@ def test_cli_refuses_repeated_and_non_finite_values(tmp_path: Path, args: list[s
 
 
 def test_machine_whose_stroke_never_assembles_names_the_cylinder(tmp_path: Path) -> None:
-    from excavkin.io.machine import load_machine
+    from excavkin.excavator.machine_file import load_machine
 
     bad = tmp_path / "machine.toml"
     text = (EXAMPLES / "excavator_machine.toml").read_text()

@@ -11,10 +11,10 @@ import pytest
 from click.testing import CliRunner
 
 import excavkin
-from excavkin.applications.excavator import forward, inverse, transmission_angles
 from excavkin.cli import main
 from excavkin.errors import InputError, ModelError, UnitError
-from excavkin.io.machine import load_machine, loads_machine
+from excavkin.excavator.machine import forward, inverse, transmission_angles
+from excavkin.excavator.machine_file import load_machine, loads_machine
 from tests.conftest import EXAMPLES
 
 MACHINE = EXAMPLES / "excavator_machine.toml"

@@ -74,7 +74,7 @@ def fourbar():
 def test_importing_outputs_does_not_import_matplotlib_or_plotly():
     code = (
         "import sys, excavkin, excavkin.outputs.plots, excavkin.outputs.drawing, "
-        "excavkin.outputs.animation, excavkin.outputs.report, excavkin.cli.report; "
+        "excavkin.outputs.animation, excavkin.outputs.report, excavkin.cli.commands.report; "
         "bad = [m for m in ('matplotlib', 'plotly') if m in sys.modules]; "
         "assert not bad, bad"
     )

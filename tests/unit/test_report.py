@@ -14,7 +14,7 @@ from numpy.testing import assert_allclose
 
 import excavkin
 from excavkin.cli import main
-from excavkin.cli._progress import enabled, progress, solve_with_progress
+from excavkin.cli.progress import enabled, progress, solve_with_progress
 from excavkin.outputs.events import find_events, shock_samples
 from excavkin.outputs.report import (
     MAX_FRAMES,

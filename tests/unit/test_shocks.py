@@ -12,10 +12,10 @@ import pytest
 from numpy.testing import assert_allclose
 
 import excavkin
-from excavkin.applications.shocks import shock_report, tracked_columns
-from excavkin.applications.timeline import Drive, simulate
 from excavkin.errors import InputError
 from excavkin.motion import ConstantSpeedCrank, Profile, dwell, get_law
+from excavkin.simulation.shocks import shock_report, tracked_columns
+from excavkin.simulation.timeline import Drive, simulate
 
 
 @pytest.fixture(scope="module")
@@ -52,7 +52,7 @@ def test_cubic_soft_shocks_at_both_ends(module):
 
 
 def test_cubic_jumps_match_the_reference_closed_form(module):
-    from excavkin.reference import pasika
+    from excavkin.papers.pasika import reference as pasika
 
     ref = pasika.soft_shock_jumps()
     rep = _cubic(module)

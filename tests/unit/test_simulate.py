@@ -11,14 +11,6 @@ from click.testing import CliRunner
 from numpy.testing import assert_allclose
 
 import excavkin
-from excavkin.applications.timeline import (
-    Drive,
-    driver_inputs,
-    merge_breakpoints,
-    normalise_drives,
-    simulate,
-    time_grid,
-)
 from excavkin.cli import main
 from excavkin.errors import InputError
 from excavkin.motion import (
@@ -29,6 +21,14 @@ from excavkin.motion import (
     TrapezoidalLaw,
     dwell,
     get_law,
+)
+from excavkin.simulation.timeline import (
+    Drive,
+    driver_inputs,
+    merge_breakpoints,
+    normalise_drives,
+    simulate,
+    time_grid,
 )
 
 PASIKA = excavkin.example_path("pasika_module")

@@ -1,8 +1,10 @@
-"""The ``excavkin`` command. Subcommands live one per module in this package and are found here.
-
-Each module ``excavkin/cli/<name>.py`` (not starting with ``_``) exposes ``command``, a
-``click.Command``; this thin layer only parses arguments, calls library functions and writes
+"""The ``excavkin`` command: a thin layer that parses arguments, calls the library and writes
 files through :mod:`excavkin.outputs`.
+
+The general commands live one per module in :mod:`excavkin.cli.commands`, each exposing a
+``click.Command`` named ``command``. A wing (a paper, a machine family) adds its own group by an
+entry point in the group ``excavkin.commands`` (see ``pyproject.toml``), so that the core never
+imports a wing. Every command is imported only when it is run or listed.
 """
 
 from __future__ import annotations
@@ -10,12 +12,19 @@ from __future__ import annotations
 import click
 
 from excavkin import __version__
-from excavkin.cli._common import ModuleGroup
+from excavkin.cli.common import LazyGroup
+
+#: The general commands, by name: ``module:attribute``.
+CORE_COMMANDS = {
+    name: f"excavkin.cli.commands.{name}:command"
+    for name in ("check", "demo", "report", "simulate", "solve")
+}
 
 
 @click.group(
-    cls=ModuleGroup,
-    package=__name__,
+    cls=LazyGroup,
+    lazy=CORE_COMMANDS,
+    entry_point_group="excavkin.commands",
     context_settings={"help_option_names": ["-h", "--help"]},
 )
 @click.version_option(__version__, prog_name="excavkin")

@@ -1,0 +1,1 @@
+"""The general commands of ``excavkin``, one per module, each exposing ``command``."""

@@ -1,0 +1,23 @@
+"""``excavkin check``: validate a model and print its structure and solve plan."""
+
+from __future__ import annotations
+
+import click
+
+import excavkin
+from excavkin.cli.common import handle_errors
+
+
+@click.command("check")
+@click.argument("model", type=click.Path(dir_okay=False))
+@handle_errors
+def command(model: str) -> None:
+    """Validate MODEL.toml; print bodies, joints, drivers, mobility and the solve plan."""
+    mech = excavkin.load(model)
+    click.echo(mech.describe())
+    values = ", ".join(
+        f"{k} = {v:.6g} {'rad' if mech.input_kind(k) == 'angle' else 'm'}"
+        for k, v in mech.sketch_values().items()
+    )
+    click.echo(f"  sketch  : {values or 'no inputs'}")
+    click.echo("ok: the model is valid and assembles at its sketch")

@@ -1,0 +1,208 @@
+"""``excavkin solve``: sweep drivers and write every point's and body's kinematics."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import click
+import numpy as np
+
+import excavkin
+from excavkin.cli.common import (
+    ACCEL_KIND,
+    EXIT_SAMPLES,
+    RATE_KIND,
+    fail,
+    handle_errors,
+    parse_assignment,
+    parse_sweep,
+    si_value,
+)
+from excavkin.cli.progress import solve_with_progress
+from excavkin.errors import InputError
+from excavkin.kinematics import KinematicResult
+from excavkin.mechanism import Mechanism
+from excavkin.outputs.tables import TABLE_SUFFIXES, check_target, write_table
+
+
+def build_inputs(
+    mech: Mechanism,
+    sweeps: Sequence[str],
+    sets: Sequence[str],
+    rates: Sequence[str],
+    accels: Sequence[str],
+) -> tuple[dict[str, np.ndarray | float], dict[str, float], dict[str, float]]:
+    """Turn ``--sweep/--set/--rate/--accel`` texts into SI solve inputs.
+
+    Several sweeps run side by side (sample k of each), so they must have the same N.
+    """
+    values: dict[str, np.ndarray | float] = {}
+    for option, texts in (
+        ("--sweep", sweeps),
+        ("--set", sets),
+        ("--rate", rates),
+        ("--accel", accels),
+    ):
+        names = [parse_assignment(t, option)[0] for t in texts]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:
+            raise InputError(f"{option} is given more than once for {', '.join(twice)}")
+    for text in sweeps:
+        name, spec = parse_assignment(text, "--sweep")
+        kind = mech.input_kind(name)
+        values[name] = parse_sweep(spec, kind, f"--sweep {name}")
+    lengths = {k: v.size for k, v in values.items() if isinstance(v, np.ndarray)}
+    if len(set(lengths.values())) > 1:
+        raise InputError(
+            "sweeps run side by side and need the same number of samples; got "
+            + ", ".join(f"{k}: {n}" for k, n in lengths.items())
+        )
+    for text in sets:
+        name, spec = parse_assignment(text, "--set")
+        if name in values:
+            raise InputError(f"driver {name!r} is both swept and set")
+        values[name] = si_value(spec, mech.input_kind(name), f"--set {name}")
+    rate_v = {}
+    for text in rates:
+        name, spec = parse_assignment(text, "--rate")
+        rate_v[name] = si_value(spec, RATE_KIND[mech.input_kind(name)], f"--rate {name}")
+    accel_v = {}
+    for text in accels:
+        name, spec = parse_assignment(text, "--accel")
+        accel_v[name] = si_value(spec, ACCEL_KIND[mech.input_kind(name)], f"--accel {name}")
+    return values, rate_v, accel_v
+
+
+def report_failures(result: KinematicResult, keep_going: bool) -> None:
+    """Stop with the failing samples listed, unless asked to keep going (then warn)."""
+    if result.status.all_ok:
+        return
+    summary = result.status.summary()
+    if keep_going:
+        click.echo(f"excavkin: warning: {summary} (rows marked in the status column)", err=True)
+        return
+    fail(
+        f"{summary}. Nothing was written; pass --keep-going to write the table with these "
+        "rows marked in its status column.",
+        EXIT_SAMPLES,
+    )
+
+
+sweep_options = [
+    click.option(
+        "--sweep",
+        "sweeps",
+        multiple=True,
+        metavar="NAME=START:STOP:N",
+        help="Sweep a driver, e.g. crank=0deg:360deg:361 (bare numbers are SI).",
+    ),
+    click.option(
+        "--set",
+        "sets",
+        multiple=True,
+        metavar="NAME=VALUE",
+        help="Hold a driver at a value, e.g. boom_cyl=2.1m.",
+    ),
+    click.option(
+        "--rate",
+        "rates",
+        multiple=True,
+        metavar="NAME=VALUE",
+        help="Driver rate, e.g. crank=31.416rad/s (default 1 for a swept driver).",
+    ),
+    click.option(
+        "--accel",
+        "accels",
+        multiple=True,
+        metavar="NAME=VALUE",
+        help="Driver acceleration (default 0).",
+    ),
+]
+
+
+def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
+    """Add the shared --sweep/--set/--rate/--accel options to a command."""
+    for opt in reversed(sweep_options):
+        fn = opt(fn)
+    return fn
+
+
+@click.command("solve")
+@click.argument("model", type=click.Path(dir_okay=False))
+@with_sweep_options
+@click.option(
+    "-o",
+    "--out",
+    required=True,
+    type=click.Path(dir_okay=False),
+    help="Output table, .csv or .parquet.",
+)
+@click.option(
+    "--keep-going",
+    is_flag=True,
+    help="Write the table even if some samples fail (rows marked in 'status').",
+)
+@click.option("--force", is_flag=True, help="Replace the output file if it exists.")
+@click.option(
+    "--forces",
+    "with_forces",
+    is_flag=True,
+    help="Append joint forces, cylinder forces and driver torques (d'Alembert inertia plus the "
+    "model's [loads]): <point>.<body>.Fx .Fy, <driver>.force, <driver>.torque, <ground>.Rx .Ry.",
+)
+@click.option(
+    "--gravity/--no-gravity",
+    default=None,
+    help="With --forces: add gravity (the model's, else 9.80665 m/s^2 along -y) or leave it "
+    "out (default: as the model says).",
+)
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
+@handle_errors
+def command(
+    model: str,
+    sweeps: tuple[str, ...],
+    sets: tuple[str, ...],
+    rates: tuple[str, ...],
+    accels: tuple[str, ...],
+    out: str,
+    keep_going: bool,
+    force: bool,
+    with_forces: bool,
+    gravity: bool | None,
+    quiet: bool,
+) -> None:
+    """Solve MODEL.toml over driver sweeps and write one row per sample.
+
+    Columns (SI: m, rad, s): <point>.x .y .vx .vy .ax .ay, <body>.angle .omega .epsilon,
+    <driver>.value .rate .accel, <point>.transmission, status; with --forces also (N, N·m)
+    <point>.<body>.Fx .Fy, <driver>.force, <driver>.torque, <slider>.normal, <ground>.Rx .Ry.
+    """
+    target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
+    mech = excavkin.load(model)
+    values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels)
+    result = solve_with_progress(mech, values, rate_v, accel_v, quiet=quiet)
+    report_failures(result, keep_going)
+    if with_forces:
+        from excavkin.kinetostatics import model_loads
+
+        forces = mech.forces(result, model_loads(mech.model, gravity=gravity))
+        singular = np.flatnonzero(forces.singular & result.status.ok)
+        if singular.size:
+            listed = ", ".join(str(int(i)) for i in singular[:10])
+            more = f" and {singular.size - 10} more" if singular.size > 10 else ""
+            text = (
+                f"{singular.size} samples are statically singular (a redundant joint at "
+                f"that position; their forces are NaN): samples {listed}{more}"
+            )
+            if not keep_going:
+                fail(
+                    f"{text}. Nothing was written; pass --keep-going to write the table with "
+                    "these rows marked.",
+                    EXIT_SAMPLES,
+                )
+            click.echo(f"excavkin: warning: {text}", err=True)
+        frame = forces.to_frame()
+    else:
+        frame = result.to_frame()
+    write_table(frame, target, force=force)
+    click.echo(f"wrote {len(result)} samples × {frame.shape[1]} columns to {target}")

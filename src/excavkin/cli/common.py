@@ -1,0 +1,174 @@
+"""Shared pieces of the command line: value parsing, error reporting, progress.
+
+Every subcommand module of :mod:`excavkin.cli` exposes a ``click.Command`` named ``command``;
+:mod:`excavkin.cli` finds them itself. Errors are one clear paragraph on stderr and a non-zero
+exit, never a traceback: wrap a command's body in :func:`handle_errors`.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+import sys
+from collections.abc import Callable, Mapping
+from typing import Any, TypeVar
+
+import click
+import numpy as np
+
+from excavkin.errors import ExcavkinError, UnitError
+from excavkin.units import to_si
+
+T = TypeVar("T", bound=Callable[..., Any])
+
+#: exit status when a model, an input or an output is wrong
+EXIT_USAGE = 2
+#: exit status when some samples failed (no closure, dead position) and --keep-going is off
+EXIT_SAMPLES = 3
+
+
+def fail(message: str, code: int = EXIT_USAGE) -> None:
+    """Print ``message`` as an error paragraph and exit."""
+    click.echo(f"excavkin: error: {message}", err=True)
+    sys.exit(code)
+
+
+def handle_errors(fn: T) -> T:
+    """Turn excavkin's errors (and file-system errors) into a message and a non-zero exit."""
+
+    @functools.wraps(fn)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return fn(*args, **kwargs)
+        except ExcavkinError as exc:
+            fail(str(exc))
+        except OSError as exc:
+            fail(f"{exc.filename or ''}: {exc.strerror or exc}".lstrip(": "))
+        except MemoryError:
+            fail(
+                "not enough memory for this many samples; split the sweep into smaller runs "
+                "(no output was written)"
+            )
+        except KeyboardInterrupt:
+            fail("interrupted; no output was written", 130)
+        return None
+
+    return wrapper  # type: ignore[return-value]
+
+
+def si_value(text: str, kind: str, what: str) -> float:
+    """Read ``"31.416rad/s"``, ``"50 deg"`` or a bare SI number as an SI float."""
+    text = text.strip()
+    try:
+        value = float(text)
+    except ValueError:
+        try:
+            value = to_si(text, kind, where=f"{what}: ")
+        except UnitError as exc:
+            raise UnitError(exc.problem) from None
+    if not np.isfinite(value):
+        raise ExcavkinError(f"{what}: {text!r} is not a finite number")
+    return value
+
+
+def parse_assignment(text: str, option: str) -> tuple[str, str]:
+    """Split ``NAME=VALUE``."""
+    name, sep, value = text.partition("=")
+    if not sep or not name.strip() or not value.strip():
+        raise click.BadParameter(f"expected NAME=VALUE, got {text!r}", param_hint=option)
+    return name.strip(), value.strip()
+
+
+def parse_sweep(text: str, kind: str, what: str) -> np.ndarray:
+    """``START:STOP:N`` (each end may carry a unit) → N evenly spaced SI values."""
+    parts = text.split(":")
+    if len(parts) != 3:
+        raise ExcavkinError(f"{what}: a sweep is START:STOP:N, got {text!r}")
+    start, stop = si_value(parts[0], kind, what), si_value(parts[1], kind, what)
+    try:
+        n = int(parts[2])
+    except ValueError:
+        raise ExcavkinError(
+            f"{what}: the sample count {parts[2]!r} is not a whole number"
+        ) from None
+    if n < 1:
+        raise ExcavkinError(f"{what}: the sample count must be at least 1, got {n}")
+    _hint_bare(parts[:2], (start, stop), kind, what)
+    return np.linspace(start, stop, n)
+
+
+def _hint_bare(texts: list[str], values: tuple[float, float], kind: str, what: str) -> None:
+    """Warn when bare (SI) numbers look like degrees or millimetres."""
+    bare = all(_is_number(t) for t in texts)
+    big = max(abs(v) for v in values)
+    if bare and kind == "angle" and big > 4 * np.pi:
+        click.echo(
+            f"excavkin: warning: {what}: bare numbers are radians; "
+            f"{big:g} rad is {big / (2 * np.pi):.1f} turns — write e.g. 360deg for "
+            "degrees",
+            err=True,
+        )
+    elif bare and kind == "length" and big > 100.0:
+        click.echo(
+            f"excavkin: warning: {what}: bare numbers are metres; {big:g} m is long — "
+            "write e.g. 2000mm for millimetres",
+            err=True,
+        )
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+RATE_KIND = {"angle": "angular_velocity", "length": "velocity"}
+ACCEL_KIND = {"angle": "angular_acceleration", "length": "acceleration"}
+JERK_KIND = {"angle": "angular_jerk", "length": "jerk"}
+
+
+class LazyGroup(click.Group):
+    """A click group whose subcommands are imported only when run or listed.
+
+    ``commands`` maps a subcommand's name to ``"module:attribute"``, a ``click.Command``;
+    ``entry_point_group`` adds the commands other packages register under that entry-point
+    group (a wing of excavkin, or a package of the user's), in the same ``module:attribute``
+    form. Loading lazily keeps ``--help`` fast and lets the core name no wing.
+    """
+
+    def __init__(
+        self,
+        *args: Any,
+        lazy: Mapping[str, str] | None = None,
+        entry_point_group: str | None = None,
+        **kwargs: Any,
+    ) -> None:
+        super().__init__(*args, **kwargs)
+        self.lazy = dict(lazy or {})
+        self.entry_point_group = entry_point_group
+
+    def _targets(self) -> dict[str, str]:
+        targets = dict(self.lazy)
+        if self.entry_point_group:
+            from importlib.metadata import entry_points
+
+            for ep in entry_points(group=self.entry_point_group):
+                targets.setdefault(ep.name, ep.value)
+        return targets
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted({*self._targets(), *self.commands})
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if cmd_name in self.commands:
+            return self.commands[cmd_name]
+        target = self._targets().get(cmd_name)
+        if target is None:
+            return None
+        module, _, attribute = target.partition(":")
+        command = getattr(importlib.import_module(module), attribute or "command")
+        if not isinstance(command, click.Command):
+            raise TypeError(f"{target} is not a click command")
+        return command

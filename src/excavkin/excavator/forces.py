@@ -1,0 +1,370 @@
+r"""Tool forces of an excavator front (ISO 6015, SAE J1179) by virtual work on the engine.
+
+With the front at rest, virtual power over a motion of cylinder c alone (unit rate, the others
+held) gives the force each cylinder must carry (> 0 pushes, DESIGN.md §5)::
+
+    f_c = −P·J_c + g·Σ_b m_b·∂y_Sb/∂L_c          J_c = ∂(tool point)/∂L_c   (engine, exact)
+
+where P is the force of the soil on the bucket at the tool point and S_b the bodies' centres of
+mass. The tool force of the **working** cylinder w (arm: ISO 6015 arm-cylinder tool force;
+bucket: bucket-cylinder tool force) has magnitude F along the direction the tool point moves
+when w digs, u = ±J_w/|J_w|, so P = −F·u and::
+
+    F_work = (f_w,max − G_w) / (u·J_w)        f_w,max = p_working·A_bore (extending)
+                                                        or −p_working·A_annulus (retracting)
+
+Each **holding** cylinder h must then carry f_h = F·(u·J_h) + G_h, which its port relief bounds
+to −p_relief·A_annulus ≤ f_h ≤ p_relief·A_bore; where it would not, F is capped there and that
+cylinder is named as the limit (ISO 6015 "hydraulic limit"). Tipping and slipping of the base
+machine are not modelled. With ``gravity=False`` every G term is zero (the front weightless).
+
+The ISO 6015 tool point is the bucket lip (cutting edge); SAE J1179 uses the tooth tip.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from excavkin.errors import InputError
+from excavkin.excavator.machine import (
+    ROLES,
+    F,
+    FrontPose,
+    Machine,
+    as_lengths,
+    pose_of,
+    transfer,
+)
+from excavkin.excavator.search import Evaluate, maximize_strokes
+
+Working = Literal["arm", "bucket"]
+At = Literal["lip", "tip"]
+
+
+@dataclass(frozen=True, slots=True)
+class ToolForces:
+    """Tool forces of one working cylinder at n poses.
+
+    Attributes
+    ----------
+    working : {"arm", "bucket"}
+    at : {"lip", "tip"}
+    gravity : bool
+    force : ndarray, shape (n,)
+        Tool force (N), capped by the holding cylinders' reliefs; 0 where the front cannot
+        even hold itself, NaN where the pose does not assemble.
+    uncapped : ndarray, shape (n,)
+        The working cylinder's own limit, before capping (N).
+    direction : ndarray, shape (n, 2)
+        Unit vector of the force the tool exerts on the soil (the tool point's motion).
+    limiting : ndarray of str, shape (n,)
+        ``"arm"``/``"bucket"`` where the working cylinder limits, else the holding cylinder
+        whose relief limits (``"boom"``, …); ``""`` where not assembled.
+    cylinder_force : ndarray, shape (n, 3)
+        Boom, arm, bucket cylinder forces at that tool force (N, > 0 pushing).
+    cylinder_pressure : ndarray, shape (n, 3)
+        The pressure of the loaded side of each cylinder (Pa): bore side when pushing,
+        rod side when pulling.
+    pose : FrontPose
+    """
+
+    working: str
+    at: str
+    gravity: bool
+    force: F
+    uncapped: F
+    direction: F
+    limiting: NDArray[np.str_]
+    cylinder_force: F
+    cylinder_pressure: F
+    pose: FrontPose
+
+
+def _gravity_terms(machine: Machine, tr_pos: F, tr_d: F) -> F:
+    """G_c = g·Σ m_b ∂y_Sb/∂L_c, shape (n, 3)."""
+    plan = machine.mechanism.plan
+    out = np.zeros((tr_pos.shape[0], 3))
+    for j, body in enumerate(machine.mechanism.model.bodies):
+        if body.ground or body.mass is None or not body.mass:
+            continue
+        com = plan.shapes[body.name].com
+        p0, p1 = plan.body_base[j]
+        if p0 < 0:
+            continue
+        s, t = com if com is not None else (0.0, 0.0)
+        dw = tr_d[:, p1] - tr_d[:, p0]  # (n, 2, 3)
+        dy = tr_d[:, p0, 1] + s * dw[:, 1] + t * dw[:, 0]  # y of p0 + s·w + t·perp(w)
+        out += machine.gravity * body.mass * dy
+    return out
+
+
+def tool_forces(
+    machine: Machine,
+    lengths: ArrayLike,
+    working: Working = "bucket",
+    *,
+    at: At = "lip",
+    gravity: bool = True,
+) -> ToolForces:
+    """Tool force of the arm or bucket cylinder at each pose, the others holding.
+
+    Parameters
+    ----------
+    machine : Machine
+    lengths : array_like, shape (n, 3)
+        Boom, arm, bucket cylinder lengths (m).
+    working : {"arm", "bucket"}
+        ISO 6015 arm-cylinder or bucket-cylinder tool force.
+    at : {"lip", "tip"}
+        The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
+    gravity : bool
+        Include the weight of the front (the model's masses); it helps or hinders.
+
+    Returns
+    -------
+    ToolForces
+    """
+    if working not in ("arm", "bucket"):
+        raise InputError(f"working must be 'arm' or 'bucket', not {working!r}")
+    if at not in ("lip", "tip"):
+        raise InputError(f"at must be 'lip' or 'tip', not {at!r}")
+    L = as_lengths(lengths)
+    tr = transfer(machine, L)
+    point = machine.front.lip if at == "lip" else machine.front.tip
+    _, J = tr.point(machine, point)  # (n, 2, 3)
+    G = _gravity_terms(machine, tr.positions, tr.d) if gravity else np.zeros((len(L), 3))
+    w = ROLES.index(working)
+    cyl = machine.cylinders[w]
+    sgn = 1.0 if cyl.dig == "extend" else -1.0
+    jw = J[:, :, w]
+    norm = np.hypot(jw[:, 0], jw[:, 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = sgn * jw / norm[:, None]
+    proj = np.einsum("ni,nic->nc", u, J)  # u·J_c, (n, 3); proj[:, w] = |J_w|
+    circ = machine.circuit(working)
+    pull, push = cyl.force_limits(circ.working)
+    f_max = push if sgn > 0 else pull
+    with np.errstate(divide="ignore", invalid="ignore"):
+        F_work = (f_max - G[:, w]) / proj[:, w]
+    force = F_work.copy()
+    limiting = np.where(np.isfinite(F_work), working, "").astype("<U8")
+    for h in range(3):
+        if h == w:
+            continue
+        c = machine.cylinders[h]
+        lo, hi = c.force_limits(machine.circuits[c.circuit].relief)
+        a = proj[:, h]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cap = np.where(
+                a > 0.0, (hi - G[:, h]) / a, np.where(a < 0.0, (lo - G[:, h]) / a, np.inf)
+            )
+        lower = cap < force
+        force = np.where(lower, cap, force)
+        limiting = np.where(lower, ROLES[h], limiting)
+    force = np.where(np.isfinite(force), np.maximum(force, 0.0), np.nan)
+    cyl_force = force[:, None] * proj + G
+    areas = np.array([[c.bore_area, c.annulus_area] for c in machine.cylinders])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pressure = np.where(cyl_force >= 0.0, cyl_force / areas[:, 0], -cyl_force / areas[:, 1])
+    pose = pose_of(machine, L, tr.result)
+    return ToolForces(working, at, gravity, force, F_work, u, limiting, cyl_force, pressure, pose)
+
+
+@dataclass(frozen=True, slots=True)
+class ForceMaximum:
+    """The largest tool force over a sweep and where it occurs.
+
+    Attributes
+    ----------
+    working, at : str
+    gravity : bool
+    force : float
+        N.
+    uncapped : float
+        The working cylinder's own limit there (N).
+    lengths : ndarray, shape (3,)
+    point : ndarray, shape (2,)
+        Position of the tool point (m).
+    limiting : str
+    """
+
+    working: str
+    at: str
+    gravity: bool
+    force: float
+    uncapped: float
+    lengths: F
+    point: F
+    limiting: str
+
+
+def force_maximum(tf: ToolForces) -> ForceMaximum:
+    """The sample of ``tf`` with the largest tool force."""
+    f = np.where(np.isfinite(tf.force), tf.force, -np.inf)
+    k = int(np.argmax(f))
+    pt = tf.pose.lip if tf.at == "lip" else tf.pose.tip
+    return ForceMaximum(
+        tf.working,
+        tf.at,
+        tf.gravity,
+        float(tf.force[k]),
+        float(tf.uncapped[k]),
+        tf.pose.lengths[k],
+        pt[k],
+        str(tf.limiting[k]),
+    )
+
+
+def handbook_forces(machine: Machine, lengths: ArrayLike, *, at: At = "lip") -> tuple[F, F]:
+    """The handbook lever formulas, from pin positions (no gravity, no capping).
+
+    ``F_arm = F_cyl·a/b`` — a: distance from the stick pivot to the arm cylinder's line,
+    b: stick pivot to tool point. ``F_bucket = F_cyl·c·e/(d·r)`` — c: side-link pivot to the
+    bucket cylinder's line, d: side-link pivot to the H-link's line, e: bucket pin to the
+    H-link's line, r: bucket pin to tool point. ``F_cyl`` at working pressure on the bore.
+
+    Parameters
+    ----------
+    machine : Machine
+    lengths : array_like, shape (n, 3)
+    at : {"lip", "tip"}
+
+    Returns
+    -------
+    arm, bucket : ndarray, shape (n,)
+        N.
+    """
+    L = as_lengths(lengths)
+    res = machine.solve(L)
+    p = machine.pins
+
+    def pt(n: str) -> F:
+        return res.point(n)[0]
+
+    def dist_to_line(o: F, a: F, b: F) -> F:
+        d = b - a
+        return np.abs(d[:, 0] * (o[:, 1] - a[:, 1]) - d[:, 1] * (o[:, 0] - a[:, 0])) / np.hypot(
+            d[:, 0], d[:, 1]
+        )
+
+    tool = pt(machine.front.lip if at == "lip" else machine.front.tip)
+    (eb, er), (hb, hr) = p.cyl_ends[1], p.cyl_ends[2]
+    f_arm = machine.cylinders[1].force_limits(machine.circuit("arm").working)[1]
+    f_bkt = machine.cylinders[2].force_limits(machine.circuit("bucket").working)[1]
+    a = dist_to_line(pt(p.stick_pivot), pt(eb), pt(er))
+    b = np.hypot(*(tool - pt(p.stick_pivot)).T)
+    c = dist_to_line(pt(p.link_pivot), pt(hb), pt(hr))
+    d = dist_to_line(pt(p.link_pivot), pt(p.junction), pt(p.link_pin))
+    e = dist_to_line(pt(p.bucket_pin), pt(p.junction), pt(p.link_pin))
+    r = np.hypot(*(tool - pt(p.bucket_pin)).T)
+    return f_arm * a / b, f_bkt * c * e / (d * r)
+
+
+@dataclass(frozen=True, slots=True)
+class RatedForce:
+    """A rated tool force: the standards' positions, working pressure, no gravity.
+
+    Attributes
+    ----------
+    working, at : str
+    force : float
+        The tool force (N), capped where a holding cylinder would exceed its relief.
+    uncapped : float
+        The working cylinder's own limit there (N): ``moment / radius``.
+    moment : float
+        The working cylinder's largest output moment (N·m) about its pivot (the stick pivot
+        for the arm, the bucket pin for the bucket), at working pressure.
+    radius : float
+        From that pivot to the tool point (m).
+    lengths : ndarray, shape (3,)
+        Boom, arm, bucket cylinder lengths of the rated pose (m).
+    point : ndarray, shape (2,)
+        The tool point there (m).
+    limiting : str
+        The working cylinder, or the holding cylinders whose relief caps the force (joined by
+        ``+`` where two reach it together).
+    """
+
+    working: str
+    at: str
+    force: float
+    uncapped: float
+    moment: float
+    radius: float
+    lengths: F
+    point: F
+    limiting: str
+
+
+def rated_force(machine: Machine, working: Working = "bucket", *, at: At = "lip") -> RatedForce:
+    """The rated arm- or bucket-cylinder tool force (ISO 6015 §5.2, SAE J1179 §3.3).
+
+    The bucket is turned to where the bucket cylinder and its linkage give their largest
+    output moment about the bucket pin; for the arm force the stick is turned to where the arm
+    cylinder gives its largest moment about the stick pivot, the bucket held as for the bucket
+    force. The working cylinder is at working pressure, the others may not exceed their relief
+    pressure, and the weight of the front is left out. The standards do not place the boom (nor,
+    for the bucket force, the stick): they are put where the capped force is largest, so a
+    holding limit is reported only where no such position avoids it.
+
+    Parameters
+    ----------
+    machine : Machine
+    working : {"arm", "bucket"}
+    at : {"lip", "tip"}
+        The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
+
+    Returns
+    -------
+    RatedForce
+    """
+    if working not in ("arm", "bucket"):
+        raise InputError(f"working must be 'arm' or 'bucket', not {working!r}")
+    point = machine.front.lip if at == "lip" else machine.front.tip
+
+    def objective(role: Working, capped: bool) -> Evaluate:
+        def evaluate(L: F) -> tuple[F, F]:
+            tf = tool_forces(machine, L.reshape(-1, 3), role, at=at, gravity=False)
+            f = tf.force if capped else tf.uncapped
+            o = np.where(np.isfinite(f) & tf.pose.ok & tf.pose.within_stroke, f, -np.inf)
+            return o.reshape(L.shape[:2]), L
+
+        return evaluate
+
+    # the working cylinder's own force depends on its own stroke alone (and, for the arm, on
+    # the bucket's through the radius), so its largest moment is a 1-D search
+    _, pose = maximize_strokes(objective("bucket", False), machine, (2,), coarse=65)
+    pivot = machine.pins.bucket_pin
+    if working == "arm":
+        _, pose = maximize_strokes(objective("arm", False), machine, (1,), coarse=65, base=pose[0])
+        pivot = machine.pins.stick_pivot
+    free = (0,) if working == "arm" else (0, 1)
+    _, pose = maximize_strokes(objective(working, True), machine, free, base=pose[0])
+    tf = tool_forces(machine, pose, working, at=at, gravity=False)
+    # the search ends where caps cross: name every holding cylinder at its relief
+    limits = [str(tf.limiting[0])] if tf.limiting[0] == working else []
+    for h, cyl in enumerate(machine.cylinders):
+        if ROLES[h] == working:
+            continue
+        lo, hi = cyl.force_limits(machine.circuits[cyl.circuit].relief)
+        f_h = float(tf.cylinder_force[0, h])
+        if np.isclose(f_h, hi, rtol=1e-6) or np.isclose(f_h, lo, rtol=1e-6):
+            limits.append(ROLES[h])
+    res = tf.pose.result
+    tool = res.point(point)[0][0]
+    radius = float(np.hypot(*(tool - res.point(pivot)[0][0])))
+    return RatedForce(
+        working,
+        at,
+        float(tf.force[0]),
+        float(tf.uncapped[0]),
+        float(tf.uncapped[0]) * radius,
+        radius,
+        pose[0],
+        tool,
+        "+".join(limits) or str(tf.limiting[0]),
+    )

@@ -1,0 +1,252 @@
+"""Read an excavator machine description (TOML, ``schema_version = 1``) into a Machine.
+
+The file builds on a general mechanism model, either referenced (``model = "front.toml"``,
+relative to the machine file) or inline (a ``[model]`` table holding the model's own tables)::
+
+    schema_version = 1
+    model = "excavator.toml"
+    [units]                 # defaults for bare numbers in this file
+    length = "mm"
+    pressure = "MPa"
+    [front]                 # bodies and points of the model
+    boom = "boom"; stick = "stick"; bucket = "bucket"; side_link = "side_link"
+    h_link = "h_link"; tip = "T"; lip = "W"
+    ground_line = 0; swing_axis = 0; level_bottom = 2440
+    [cylinders.boom]        # and .arm, .bucket
+    driver = "boom_cyl"; retracted = 1990; stroke = 1335; bore = 120; rod = 85
+    circuit = "boom"; count = 2; dig = "extend"
+    [circuits.boom]
+    working = 34.3; relief = 39.2
+    [gravity]
+    g = "9.80665 m/s^2"
+
+Masses, inertias and centres of mass are the model's (``[bodies]``).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from excavkin.errors import ModelError, UnitError
+from excavkin.excavator.machine import ROLES, Circuit, Cylinder, Front, Machine
+from excavkin.io.toml_model import TomlReader, build_model, load_model, read_toml
+from excavkin.mechanism import Mechanism
+from excavkin.units import to_si
+
+SCHEMA_VERSION = 1
+_TOP = {
+    "schema_version",
+    "name",
+    "description",
+    "model",
+    "units",
+    "front",
+    "cylinders",
+    "circuits",
+    "gravity",
+}
+_FRONT = {
+    "boom",
+    "stick",
+    "bucket",
+    "side_link",
+    "h_link",
+    "tip",
+    "lip",
+    "ground_line",
+    "swing_axis",
+    "level_bottom",
+}
+_CYL = {"driver", "retracted", "stroke", "bore", "rod", "circuit", "count", "dig"}
+
+
+class _Reader(TomlReader):
+    """The model reader's units and errors, plus the machine file's field lookups."""
+
+    def subtable(self, data: dict[str, Any], key: str, where: str) -> dict[str, Any]:
+        t = data.get(key)
+        if not isinstance(t, dict):
+            raise self.err("is missing or not a table", where)
+        return t
+
+    def field_qty(
+        self, t: dict[str, Any], key: str, kind: str, table: str, default: float | None = None
+    ) -> float:
+        if key not in t:
+            if default is None:
+                raise self.err(f"{key!r} is missing", table)
+            return default
+        try:
+            return to_si(t[key], kind, self.units.get(kind))
+        except UnitError as exc:
+            raise UnitError(exc.problem, table=table, entry=key, source=self.source) from None
+
+    def text(self, t: dict[str, Any], key: str, table: str, default: str | None = None) -> str:
+        v = t.get(key, default)
+        if not isinstance(v, str):
+            raise self.err(
+                f"{key!r} must be a string" if key in t else f"{key!r} is missing",
+                table,
+                key if key in t else None,
+            )
+        return v
+
+
+def loads_machine(text: str, source: str | None = None) -> Machine:
+    """Parse a machine description from TOML text; see :func:`load_machine`."""
+    return _machine(read_toml(text, source), source)
+
+
+def load_machine(path: str | Path) -> Machine:
+    """Read an excavator machine file.
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    Machine
+
+    Raises
+    ------
+    ModelError
+        Naming the file, the table and the entry of the first problem found (in the machine
+        file or in the model it refers to).
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ModelError(f"cannot read the file: {exc.strerror}", source=str(path)) from None
+    return loads_machine(text, str(path))
+
+
+def _machine(data: dict[str, Any], source: str | None) -> Machine:
+    r = _Reader(data, source)
+    ver = data.get("schema_version")
+    if ver != SCHEMA_VERSION:
+        raise r.err(
+            f"schema_version = {ver!r} is not supported (this version of excavkin reads "
+            f"{SCHEMA_VERSION})"
+            if ver is not None
+            else f"schema_version is missing (this version reads {SCHEMA_VERSION})"
+        )
+    unknown = set(data) - _TOP
+    if unknown:
+        raise r.err(
+            f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
+        )
+    mech = _model(r, data.get("model"), source)
+
+    front_t = r.subtable(data, "front", "front")
+    r.keys(front_t, _FRONT, "front")
+    front = Front(
+        *(
+            r.text(front_t, k, "front", d)
+            for k, d in (
+                ("boom", "boom"),
+                ("stick", "stick"),
+                ("bucket", "bucket"),
+                ("side_link", "side_link"),
+                ("h_link", "h_link"),
+                ("tip", None),
+                ("lip", None),
+            )
+        )
+    )
+
+    circ_t = r.subtable(data, "circuits", "circuits")
+    circuits = {}
+    for cname, spec in circ_t.items():
+        table = f"circuits.{cname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table with working and relief pressures", table)
+        r.keys(spec, {"working", "relief"}, table)
+        circuits[cname] = Circuit(
+            cname,
+            r.field_qty(spec, "working", "pressure", table),
+            r.field_qty(spec, "relief", "pressure", table),
+        )
+
+    cyl_t = r.subtable(data, "cylinders", "cylinders")
+    extra = set(cyl_t) - set(ROLES)
+    if extra:
+        raise r.err(
+            f"unknown cylinder {', '.join(sorted(extra))} (a backhoe front has {', '.join(ROLES)})",
+            "cylinders",
+        )
+    cylinders = {}
+    for role in ROLES:
+        table = f"cylinders.{role}"
+        spec = cyl_t.get(role)
+        if not isinstance(spec, dict):
+            raise r.err("is missing or not a table", table)
+        r.keys(spec, _CYL, table)
+        count = spec.get("count", 1)
+        if not isinstance(count, int) or isinstance(count, bool) or count < 1:
+            raise r.err("count must be a whole number ≥ 1", table, "count")
+        dig = spec.get("dig", "extend")
+        if dig not in ("extend", "retract"):
+            raise r.err(f"dig must be 'extend' or 'retract', not {dig!r}", table, "dig")
+        cylinders[role] = Cylinder(
+            role=role,
+            driver=r.text(spec, "driver", table, f"{role}_cyl"),
+            retracted=r.field_qty(spec, "retracted", "length", table),
+            stroke=r.field_qty(spec, "stroke", "length", table),
+            bore=r.field_qty(spec, "bore", "length", table),
+            rod=r.field_qty(spec, "rod", "length", table),
+            circuit=r.text(spec, "circuit", table, role),
+            count=count,
+            dig=dig,
+        )
+    grav = data.get("gravity", {})
+    if not isinstance(grav, dict):
+        raise r.err('must be a table such as { g = "9.81 m/s^2" }', "gravity")
+    r.keys(grav, {"g"}, "gravity")
+    g = r.field_qty(grav, "g", "acceleration", "gravity", 9.80665)
+    name = data.get("name", Path(source).stem if source else mech.name)
+    return Machine(
+        mech,
+        front,
+        cylinders,
+        circuits,
+        ground_line=r.field_qty(front_t, "ground_line", "length", "front", 0.0),
+        swing_axis=r.field_qty(front_t, "swing_axis", "length", "front", 0.0),
+        level_bottom=r.field_qty(front_t, "level_bottom", "length", "front", 2.44),
+        gravity=g,
+        name=str(name),
+        source=source,
+    )
+
+
+def _model(r: _Reader, spec: Any, source: str | None) -> Mechanism:
+    if isinstance(spec, str):
+        base = Path(source).parent if source else Path.cwd()
+        path = base / spec
+        if not path.is_file():
+            raise r.err(f"the model file {str(path)!r} does not exist", entry="model")
+        return Mechanism(load_model(path))
+    if isinstance(spec, dict):
+        inline = dict(spec)
+        inline.setdefault("schema_version", SCHEMA_VERSION)
+        if "units" not in inline and r.units:
+            inline["units"] = {
+                k: v for k, v in r.units.items() if k in ("length", "angle", "mass", "inertia")
+            }
+        try:
+            return Mechanism(build_model(inline, source))
+        except ModelError as exc:
+            raise type(exc)(
+                exc.problem,
+                table=f"model.{exc.table}" if exc.table else "model",
+                entry=exc.entry,
+                source=source,
+            ) from None
+    raise r.err(
+        'model must name a model file (model = "front.toml") or be a [model] table '
+        "with the model's points, bodies and drivers",
+        entry="model",
+    )

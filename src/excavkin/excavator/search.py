@@ -1,0 +1,78 @@
+"""Vectorised pattern search over an excavator's cylinder strokes.
+
+The working-range figures and the rated tool forces are optima over one, two or three strokes
+of smooth (or piecewise smooth) objectives evaluated in batches by the engine: a coarse grid
+over the free strokes, then a shrinking grid around the best few points, to ~1e-9 m of stroke.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from excavkin.excavator.machine import F, Machine
+
+#: ``evaluate(L)`` → (objective, lengths it scored), both batched over (problems, k).
+Evaluate = Callable[[F], tuple[F, F]]
+
+
+def maximize_strokes(
+    evaluate: Evaluate,
+    machine: Machine,
+    free: tuple[int, ...],
+    problems: int = 1,
+    *,
+    coarse: int = 17,
+    keep: int = 3,
+    rounds: int = 32,
+    m: int = 5,
+    base: F | None = None,
+) -> tuple[F, F]:
+    """Maximise ``evaluate`` over the free strokes, for ``problems`` independent problems.
+
+    ``evaluate(L)`` takes lengths of shape (problems, k, 3) (entries not in ``free`` at
+    ``base``, mid-stroke by default) and returns the objective (problems, k) (−inf where
+    infeasible) and the full lengths of the pose it scored (problems, k, 3). Returns the best
+    objective (problems,) and lengths (problems, 3).
+    """
+    lo, hi = machine.lengths_min, machine.lengths_max
+    mid = 0.5 * (lo + hi) if base is None else np.asarray(base, dtype=np.float64)
+    nf = len(free)
+    axes = [np.linspace(lo[d], hi[d], coarse) for d in free]
+    g = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, nf)
+    L = np.broadcast_to(mid, (problems, len(g), 3)).copy()
+    L[:, :, free] = g
+    obj, full = evaluate(L)
+    full = np.where(np.isfinite(full), full, L)
+    top = np.argsort(-obj, axis=1)[:, :keep]
+    centre = np.take_along_axis(full, top[:, :, None], axis=1)  # (P, keep, 3)
+    w = (hi - lo)[list(free)] / (coarse - 1)
+    offs = np.stack(np.meshgrid(*[np.linspace(-1.0, 1.0, m)] * nf, indexing="ij"), axis=-1).reshape(
+        -1, nf
+    )  # (m^nf, nf)
+    best_obj = np.take_along_axis(obj, top, axis=1)
+    best_L = centre.copy()
+    for _ in range(rounds):
+        trial = np.broadcast_to(best_L[:, :, None, :], (problems, keep, len(offs), 3)).copy()
+        trial[..., free] = np.clip(
+            best_L[:, :, None, free] + offs * w, lo[list(free)], hi[list(free)]
+        )
+        o, full = evaluate(trial.reshape(problems, -1, 3))
+        o = o.reshape(problems, keep, -1)
+        full = full.reshape(problems, keep, -1, 3)
+        j = np.argmax(o, axis=2)
+        oj = np.take_along_axis(o, j[:, :, None], axis=2)[:, :, 0]
+        better = oj > best_obj
+        best_obj = np.where(better, oj, best_obj)
+        best_L = np.where(
+            better[..., None],
+            np.take_along_axis(full, j[:, :, None, None], axis=2)[:, :, 0],
+            best_L,
+        )
+        best_L[..., free] = np.where(
+            np.isfinite(best_L[..., free]), best_L[..., free], centre[..., free]
+        )
+        w = w / 2.0
+    k = np.argmax(best_obj, axis=1)
+    return best_obj[np.arange(problems), k], best_L[np.arange(problems), k]

@@ -1,0 +1,1 @@
+"""The excavator arm's vector model (reference, study, figures, CLI)."""

@@ -1,0 +1,1 @@
+"""Eremyants & Raiymbekova: the MO-100 crank-rocker hammer (reference, study, figures, CLI)."""

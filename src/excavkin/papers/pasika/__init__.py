@@ -1,0 +1,1 @@
+"""Pasika & Koruniak: the cylinder–rocker module with an internal driving link; motion laws."""

@@ -1,0 +1,1 @@
+"""Maksimov: the EO-4112 rope backhoe's bucket-turning mechanism."""
