@@ -9,7 +9,7 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import TYPE_CHECKING, Literal, overload
 
 import numpy as np
@@ -19,7 +19,8 @@ from excavkin.errors import InputError, SolveFailure
 from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble, solve_kinematics
 from excavkin.model.entities import Model
 from excavkin.model.validate import validate
-from excavkin.structure.plan import SolvePlan, compile_plan
+from excavkin.structure.builder import compile_plan
+from excavkin.structure.plan import SolvePlan
 
 if TYPE_CHECKING:
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
@@ -94,6 +95,8 @@ class Mechanism:
         strict: bool = False,
         tol: Tolerances | None = None,
         workers: int | None = None,
+        progress: Callable[[int, int], None] | None = None,
+        chunk: int | None = None,
         loads: None = None,
     ) -> KinematicResult: ...
 
@@ -108,6 +111,8 @@ class Mechanism:
         strict: bool = False,
         tol: Tolerances | None = None,
         workers: int | None = None,
+        progress: Callable[[int, int], None] | None = None,
+        chunk: int | None = None,
         loads: Iterable[Load] | Literal["model"],
     ) -> ForceResult: ...
 
@@ -121,6 +126,8 @@ class Mechanism:
         strict: bool = False,
         tol: Tolerances | None = None,
         workers: int | None = None,
+        progress: Callable[[int, int], None] | None = None,
+        chunk: int | None = None,
         loads: Iterable[Load] | Literal["model"] | None = None,
     ) -> KinematicResult | ForceResult:
         """Positions, velocities and accelerations for a batch of driver inputs.
@@ -142,6 +149,11 @@ class Mechanism:
         tol : Tolerances, optional
         workers : int, optional
             Threads for large batches (default: all cores; 1 for a single thread).
+        progress : callable, optional
+            ``progress(done, total)`` after each solved chunk of samples (thread-safe: the calls
+            are serialised and ``done`` increases); for progress bars.
+        chunk : int, optional
+            Samples per chunk (default: a cache-sized 32 768).
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only).
@@ -193,7 +205,15 @@ class Mechanism:
             qd[i] = rates.get(name, 1.0 if swept else 0.0)
             qdd[i] = accels.get(name, 0.0)
         result = solve_kinematics(
-            self.plan, self.assembly, q, qd, qdd, tol=tol or Tolerances(), workers=workers
+            self.plan,
+            self.assembly,
+            q,
+            qd,
+            qdd,
+            tol=tol or Tolerances(),
+            workers=workers,
+            progress=progress,
+            **({} if chunk is None else {"chunk": int(chunk)}),
         )
         if time is not None:
             result = result.with_time(np.asarray(time, dtype=np.float64).reshape(n))

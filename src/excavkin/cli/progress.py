@@ -12,7 +12,6 @@ Use it in any subcommand::
 
 from __future__ import annotations
 
-import dataclasses
 import sys
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -81,28 +80,6 @@ def progress(
         yield lambda amount: bar.advance(task, amount)
 
 
-def concat_results(results: list[Any]) -> Any:
-    """Join kinematic results of one plan along the sample axis.
-
-    Every array attribute whose first axis is the samples is concatenated, and so is the status.
-    """
-    if len(results) == 1:
-        return results[0]
-    first = results[0]
-    changes: dict[str, Any] = {}
-    for f in dataclasses.fields(first):
-        value = getattr(first, f.name)
-        if f.name == "status":
-            changes["status"] = dataclasses.replace(
-                value,
-                code=np.concatenate([r.status.code for r in results]),
-                step=np.concatenate([r.status.step for r in results]),
-            )
-        elif isinstance(value, np.ndarray):
-            changes[f.name] = np.concatenate([getattr(r, f.name) for r in results], axis=0)
-    return dataclasses.replace(first, **changes)
-
-
 def solve_with_progress(
     mech: Any,
     values: Mapping[str, ArrayLike] | None = None,
@@ -117,9 +94,9 @@ def solve_with_progress(
 ) -> Any:
     """``mech.solve(values, rates, accels, time=time)`` with a progress bar on long sweeps.
 
-    A sweep of at least :data:`MIN_SAMPLES_FOR_BAR` samples (or any with ``chunk`` given) is
-    solved in chunks, each advancing the bar; the samples are independent, so the result is the
-    same as one call's.
+    The engine reports each chunk it finishes (:meth:`Mechanism.solve`'s ``progress``); a
+    sweep of at least :data:`MIN_SAMPLES_FOR_BAR` samples (or any with ``chunk`` given) shows
+    them as a bar. The result is the engine's own, whatever is shown.
 
     Parameters
     ----------
@@ -129,7 +106,7 @@ def solve_with_progress(
     time : array_like, optional
     quiet : bool
     chunk : int, optional
-        Samples per chunk; default about 1 % of the sweep.
+        Samples per chunk of the engine.
     description : str
     stream : file, optional
 
@@ -141,24 +118,13 @@ def solve_with_progress(
     if time is not None:
         arrays.append(np.asarray(time))
     n = max((a.size for a in arrays if a.ndim == 1), default=1)
-    if (chunk is None and n < MIN_SAMPLES_FOR_BAR) or n <= 1:
+    if chunk is None and n < MIN_SAMPLES_FOR_BAR:
         return mech.solve(values, rates, accels, time=time)
-    size = int(chunk or max(n // 100, 10_000))
-
-    def part(src: Mapping[str, ArrayLike] | None, s: slice) -> dict[str, Any] | None:
-        if src is None:
-            return None
-        out = {}
-        for k, v in src.items():
-            a = np.asarray(v)
-            out[k] = a[s] if a.ndim == 1 and a.size == n else a
-        return out
-
-    results = []
     with progress(description, n, quiet=quiet, stream=stream) as advance:
-        for start in range(0, n, size):
-            s = slice(start, min(start + size, n))
-            t = None if time is None else np.asarray(time)[s]
-            results.append(mech.solve(part(values, s), part(rates, s), part(accels, s), time=t))
-            advance(s.stop - s.start)
-    return concat_results(results)
+        seen = [0]
+
+        def report(done: int, total: int) -> None:
+            advance(done - seen[0])
+            seen[0] = done
+
+        return mech.solve(values, rates, accels, time=time, progress=report, chunk=chunk)

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import math
 import os
+import threading
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
@@ -107,6 +109,7 @@ def solve_kinematics(
     tol: Tolerances = Tolerances(),
     chunk: int = 32768,
     workers: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> KinematicResult:
     """Positions, velocities and accelerations of every point for every sample.
 
@@ -123,6 +126,10 @@ def solve_kinematics(
     workers : int, optional
         Threads solving chunks side by side (NumPy releases the GIL in its loops, and chunks
         write disjoint slices). Default: the machine's cores.
+    progress : callable, optional
+        ``progress(done, total)``, called after each chunk with the samples finished so far;
+        calls are serialised (never two at once, ``done`` increasing), though they may come
+        from worker threads.
 
     Returns
     -------
@@ -150,10 +157,12 @@ def solve_kinematics(
             q = q.copy()
             q[:, bad_len] = np.nan
     derived = Derived.empty(plan, n)
+    report = _Reporter(progress, n)
     with np.errstate(divide="ignore", invalid="ignore"):
         if plan.has_newton:
             _solve_newton(plan, assembly, q, qd, qdd, x, v, a, trans, status, failed, tol)
             derived.fill(plan, x, v, a, slice(None))
+            report(n)
         else:
             # one pass per chunk: steps, then derived quantities while the chunk is in cache
             def one(s: int) -> None:
@@ -174,6 +183,7 @@ def solve_kinematics(
                 with np.errstate(divide="ignore", invalid="ignore"):
                     _run_steps(plan, c, 2)
                     derived.fill(plan, c.x, c.v, c.a, slice(s, e))
+                report(e - s)
 
             starts = range(0, n, chunk)
             threads = min(workers or os.cpu_count() or 1, len(starts))
@@ -186,6 +196,23 @@ def solve_kinematics(
     return KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
+
+
+class _Reporter:
+    """Counts finished samples and calls ``progress(done, total)`` under a lock."""
+
+    def __init__(self, progress: Callable[[int, int], None] | None, total: int) -> None:
+        self.progress = progress
+        self.total = total
+        self.done = 0
+        self.lock = threading.Lock()
+
+    def __call__(self, finished: int) -> None:
+        if self.progress is None:
+            return
+        with self.lock:
+            self.done += finished
+            self.progress(self.done, self.total)
 
 
 def _solve_newton(

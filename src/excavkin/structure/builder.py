@@ -1,0 +1,504 @@
+"""Compile a model into a :class:`~excavkin.structure.plan.SolvePlan`, once per model.
+
+:class:`PlanBuilder` holds what is known so far (points, used constraints) and has one method
+per step kind: :meth:`~PlanBuilder.attach`, :meth:`~PlanBuilder.rotate`,
+:meth:`~PlanBuilder.dyad`, :meth:`~PlanBuilder.slider` and, for what is left, one
+:meth:`~PlanBuilder.newton_group`. Each ``try`` method adds at most its own kind of step and
+says whether it did; :meth:`~PlanBuilder.build` tries them in a fixed order until no point is
+left. A new step kind (an RPR dyad, a gear pair, a cam) is one step record in
+:mod:`excavkin.structure.plan`, one method here and one entry in :attr:`PlanBuilder.ORDER`.
+
+Every constraint of the model is used by exactly one step; one left over means the model is
+over-constrained somewhere, and :meth:`~PlanBuilder.check_all_used` names it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import ClassVar, Literal
+
+from excavkin.errors import AssemblyError, MobilityError
+from excavkin.model.entities import Model
+from excavkin.model.validate import mobility
+from excavkin.structure.plan import (
+    Attach,
+    CAngle,
+    CDist,
+    CFrame,
+    CLine,
+    Constraint,
+    Dist,
+    Dyad,
+    Element,
+    Fixed,
+    NewtonGroup,
+    Rotate,
+    SliderStep,
+    SolvePlan,
+    Step,
+)
+from excavkin.structure.shapes import body_shape
+
+#: A known partner of a point with a distance: (partner, distance, body index or −1,
+#: element index or −1).
+Option = tuple[str, Dist, int, int]
+
+
+def compile_plan(
+    model: Model, *, method: Literal["closed-form", "newton"] = "closed-form"
+) -> SolvePlan:
+    """Order the model's points into solve steps.
+
+    Parameters
+    ----------
+    model : Model
+        A validated model.
+    method : {"closed-form", "newton"}
+        ``"newton"`` puts every moving point into one Newton group (used to cross-check the
+        closed-form path).
+
+    Raises
+    ------
+    MobilityError
+        A sub-chain is over- or under-constrained although the global count matches.
+    AssemblyError
+        The sketch does not show a branch (a dyad's point on the line of its two partners).
+    """
+    return PlanBuilder(model, method).build()
+
+
+class PlanBuilder:
+    """The state of a plan being built, with one method per step kind.
+
+    Parameters
+    ----------
+    model : Model
+        A validated model.
+    method : {"closed-form", "newton"}
+    """
+
+    #: The closed-form step kinds, in the order they are tried after each step added.
+    ORDER: ClassVar[tuple[str, ...]] = ("attach", "rotate", "dyad", "slider")
+
+    def __init__(self, model: Model, method: Literal["closed-form", "newton"]) -> None:
+        self.model = model
+        self.method = method
+        self.names = tuple(model.points)
+        self.idx = {n: i for i, n in enumerate(self.names)}
+        self.sketch = model.points
+        self.bodies = model.bodies
+        self.shapes = {b.name: body_shape(model, b) for b in self.bodies}
+        xs = [p[0] for p in self.sketch.values()]
+        ys = [p[1] for p in self.sketch.values()]
+        self.scale = max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
+        self.in_idx = {n: i for i, n in enumerate(model.inputs)}
+        self.body_index = {b.name: i for i, b in enumerate(self.bodies)}
+        self.point_bodies: dict[str, list[int]] = {n: [] for n in self.names}
+        for bi, b in enumerate(self.bodies):
+            for n in b.points:
+                self.point_bodies[n].append(bi)
+        self.steps: list[Step] = []
+        self.known: set[str] = set()
+        self.transmissions: list[str] = []
+        self.used_elem: set[int] = set()
+        self.used_slider: set[int] = set()
+        self.used_rotary: set[int] = set()
+        self.body_used = [0] * len(self.bodies)
+        self.kinds: list[str] = []
+        self.input_sketch: list[float] = []
+        self.elements: list[Element] = []
+
+    # ---- geometry read from the model (one place each, so that it can be re-evaluated)
+    def length_override(self, p: str, q: str) -> float | None:
+        """The ``[lengths]`` entry for the pair, either way round, or None."""
+        return self.model.lengths.get((p, q), self.model.lengths.get((q, p)))
+
+    def orientation(self, body: str) -> tuple[float, float]:
+        """Unit vector of a body's first two points in the sketch (+x for the ground)."""
+        b = self.model.body(body)
+        if b.ground:
+            return 1.0, 0.0
+        return _unit(self.sketch[b.points[1]], self.sketch[b.points[0]])
+
+    def sketch_cross(self, a: str, b: str, p: str) -> float:
+        """cross(B − A, P − A) in the sketch: which side of A→B the point P is drawn."""
+        sk = self.sketch
+        return _cross(
+            sk[b][0] - sk[a][0], sk[b][1] - sk[a][1], sk[p][0] - sk[a][0], sk[p][1] - sk[a][1]
+        )
+
+    # ---- before the steps
+    def add_inputs(self) -> None:
+        """The inputs' kinds and sketch values, and every linear element."""
+        sk = self.sketch
+        for d in self.model.rotary:
+            self.kinds.append("angle")
+            p = next(n for n in self.model.body(d.body).points if n != d.pivot)
+            ex, ey = self.orientation(d.reference)
+            dx, dy = sk[p][0] - sk[d.pivot][0], sk[p][1] - sk[d.pivot][1]
+            self.input_sketch.append(math.atan2(_cross(ex, ey, dx, dy), ex * dx + ey * dy))
+        for ld in self.model.linear:
+            p, q = ld.between
+            override = self.length_override(p, q)
+            if ld.mode == "free" and override is not None:
+                raise AssemblyError(
+                    "a free element's length follows the mechanism; it cannot be set in [lengths]",
+                    table="lengths",
+                    entry=f"{p}-{q}",
+                    source=self.model.source,
+                )
+            length = override or math.dist(sk[p], sk[q])
+            if ld.mode == "driven":
+                self.kinds.append("length")
+                self.input_sketch.append(length)
+            driven = ld.mode == "driven"
+            index = self.in_idx.get(ld.name, -1) if driven else -1
+            self.elements.append(Element(ld.name, self.idx[p], self.idx[q], ld.mode, index, length))
+
+    def check_lengths_are_dimensions(self) -> None:
+        """Every ``[lengths]`` pair is on a common body or joined by a cylinder."""
+        for p, q in self.model.lengths:
+            on_body = any(p in b.points and q in b.points for b in self.bodies)
+            on_elem = any({p, q} == set(ld.between) for ld in self.model.linear)
+            if not (on_body or on_elem):
+                raise AssemblyError(
+                    f"{p} and {q} are on no common body and no cylinder joins them, so their "
+                    "distance is not a dimension of the mechanism",
+                    table="lengths",
+                    entry=f"{p}-{q}",
+                    source=self.model.source,
+                )
+
+    # ---- the step kinds
+    def fixed(self) -> None:
+        """The ground's points: the sketch's own coordinates, or its shape if reshaped."""
+        ground = self.model.ground
+        sk = self.sketch
+        g0 = ground.points[0]
+        if len(ground.points) >= 2:
+            gex, gey = _unit(sk[ground.points[1]], sk[g0])
+        else:
+            gex, gey = 1.0, 0.0
+        members = set(ground.points)
+        reshaped = any(p in members and q in members for p, q in self.model.lengths)
+        local = self.shapes[ground.name].local
+        coords = []
+        for n in ground.points:
+            if not reshaped:  # the sketch's own coordinates, exactly
+                coords.append(sk[n])
+                continue
+            lx, ly = local[n]
+            coords.append((sk[g0][0] + lx * gex - ly * gey, sk[g0][1] + lx * gey + ly * gex))
+        self.steps.append(Fixed(tuple(self.idx[n] for n in ground.points), tuple(coords)))
+        self.known |= members
+
+    def attach(self) -> bool:
+        """Every unknown point of every body with two known points, by its body frame."""
+        added = False
+        for bi, b in enumerate(self.bodies):
+            if b.ground:
+                continue
+            kn = [n for n in b.points if n in self.known]
+            unknown = [n for n in b.points if n not in self.known]
+            if len(kn) < 2 or not unknown:
+                continue
+            sh = self.shapes[b.name]
+            # the widest known pair: the best-conditioned frame
+            a, c = max(
+                ((u, v) for i, u in enumerate(kn) for v in kn[i + 1 :]),
+                key=lambda uv: sh.distance(*uv),
+            )
+            for n in unknown:
+                s, t = sh.frame_coords(n, a, c)
+                self.steps.append(Attach(self.idx[n], self.idx[a], self.idx[c], s, t, b.name))
+                self.known.add(n)
+                self.body_used[bi] += 2
+            added = True
+        return added
+
+    def rotate(self) -> bool:
+        """The first rotary driver whose pivot and reference are known."""
+        model = self.model
+        for ri, d in enumerate(model.rotary):
+            refb = model.body(d.reference)
+            if ri in self.used_rotary or d.pivot not in self.known:
+                continue
+            if not (refb.ground or all(n in self.known for n in refb.points[:2])):
+                continue
+            p = next(n for n in model.body(d.body).points if n != d.pivot)
+            if p in self.known:
+                continue
+            ref = None if refb.ground else (self.idx[refb.points[0]], self.idx[refb.points[1]])
+            radius = self.shapes[d.body].distance(p, d.pivot)
+            self.steps.append(
+                Rotate(self.idx[p], self.idx[d.pivot], radius, self.in_idx[d.name], ref, d.name)
+            )
+            self.known.add(p)
+            self.used_rotary.add(ri)
+            self.body_used[self.body_index[d.body]] += 1
+            return True
+        return False
+
+    def dyad(self) -> bool:
+        """The first unknown point with two known partners at known distances."""
+        for p in self.names:
+            if p in self.known:
+                continue
+            opts = self.distance_options(p)
+            pair = next(
+                ((o1, o2) for i, o1 in enumerate(opts) for o2 in opts[i + 1 :] if o1[0] != o2[0]),
+                None,
+            )
+            if pair is None:
+                continue
+            o1, o2 = pair
+            a, b = o1[0], o2[0]
+            cr = self.sketch_cross(a, b, p)
+            if abs(cr) <= 1e-12 * self.scale * self.scale:
+                raise AssemblyError(
+                    f"point {p} lies on the line through {a} and {b} in the sketch, so the "
+                    "sketch does not show which way the dyad is assembled; move it to the "
+                    "intended side",
+                    table="points",
+                    entry=p,
+                    source=self.model.source,
+                )
+            index = len(self.transmissions)
+            sign = math.copysign(1.0, cr)
+            self.steps.append(
+                Dyad(self.idx[p], self.idx[a], self.idx[b], o1[1], o2[1], sign, index)
+            )
+            self.transmissions.append(p)
+            self.consume(o1)
+            self.consume(o2)
+            self.known.add(p)
+            return True
+        return False
+
+    def slider(self) -> bool:
+        """The first slider whose line is known and whose point has a known partner."""
+        sk = self.sketch
+        for si, sl in enumerate(self.model.sliders):
+            if si in self.used_slider or sl.point in self.known:
+                continue
+            if not all(n in self.known for n in sl.along):
+                continue
+            opts = self.distance_options(sl.point)
+            if not opts:
+                continue
+            o = opts[0]
+            a, p = o[0], sl.point
+            l1, l2 = sl.along
+            ux, uy = _unit(sk[l2], sk[l1])
+            along = (sk[p][0] - sk[a][0]) * ux + (sk[p][1] - sk[a][1]) * uy
+            if abs(along) <= 1e-12 * self.scale:
+                raise AssemblyError(
+                    f"point {p} is at the foot of the perpendicular from {a} to its slide "
+                    "in the sketch, so the sketch does not show the branch",
+                    table="points",
+                    entry=p,
+                    source=self.model.source,
+                )
+            idx = self.idx
+            self.steps.append(
+                SliderStep(
+                    idx[p],
+                    idx[a],
+                    o[1],
+                    idx[l1],
+                    idx[l2],
+                    math.copysign(1.0, along),
+                    len(self.transmissions),
+                    sl.name,
+                )
+            )
+            self.transmissions.append(p)
+            self.consume(o)
+            self.used_slider.add(si)
+            self.known.add(p)
+            return True
+        return False
+
+    def newton_group(self, unknown: list[str]) -> None:
+        """What no closed-form step reaches, solved together by Newton–Raphson."""
+        cons = self._body_constraints(unknown) + self._other_constraints(unknown)
+        n_eq = sum(2 if isinstance(c, CFrame) else 1 for c in cons)
+        if n_eq != 2 * len(unknown):
+            what = "over" if n_eq > 2 * len(unknown) else "under"
+            raise MobilityError(
+                f"points {', '.join(unknown)} are {what}-constrained: {n_eq} equations for "
+                f"{2 * len(unknown)} coordinates (check the drivers and joints that reach them)",
+                table="bodies",
+                source=self.model.source,
+            )
+        self.steps.append(NewtonGroup(tuple(self.idx[n] for n in unknown), tuple(cons)))
+
+    # ---- helpers of the step kinds
+    def distance_options(self, p: str) -> list[Option]:
+        """Known partners of ``p`` at a known distance: its bodies' points and its elements."""
+        out: list[Option] = []
+        for bi in self.point_bodies[p]:
+            body = self.bodies[bi]
+            for a in body.points:
+                if a != p and a in self.known:
+                    d = self.shapes[body.name].distance(p, a)
+                    out.append((a, Dist("fixed", d, label=f"body {body.name!r}"), bi, -1))
+        for ei, el in enumerate(self.elements):
+            if ei in self.used_elem or el.mode == "free":
+                continue
+            pn, qn = self.names[el.p], self.names[el.q]
+            other = qn if pn == p else pn if qn == p else None
+            if other is None or other not in self.known:
+                continue
+            out.append((other, _element_dist(el), -1, ei))
+        return out
+
+    def consume(self, option: Option) -> None:
+        """Count the body or element distance a step has used."""
+        _, _, bi, ei = option
+        if bi >= 0:
+            self.body_used[bi] += 1
+        if ei >= 0:
+            self.used_elem.add(ei)
+
+    def _body_constraints(self, unknown: list[str]) -> list[Constraint]:
+        cons: list[Constraint] = []
+        unk = set(unknown)
+        idx = self.idx
+        for bi, b in enumerate(self.bodies):
+            if b.ground or not unk.intersection(b.points):
+                continue
+            p0, p1 = b.points[0], b.points[1]
+            sh = self.shapes[b.name]
+            d01 = Dist("fixed", sh.distance(p0, p1), label=f"body {b.name!r}")
+            cons.append(CDist(idx[p0], idx[p1], d01))
+            for pi in b.points[2:]:
+                s, t = sh.frame_coords(pi, p0, p1)
+                cons.append(CFrame(idx[pi], idx[p0], idx[p1], s, t))
+            self.body_used[bi] += 2 * len(b.points) - 3
+        return cons
+
+    def _other_constraints(self, unknown: list[str]) -> list[Constraint]:
+        cons: list[Constraint] = []
+        unk = set(unknown)
+        idx, model = self.idx, self.model
+        for ei, el in enumerate(self.elements):
+            if ei in self.used_elem or el.mode == "free":
+                continue
+            if {self.names[el.p], self.names[el.q]} & unk:
+                cons.append(CDist(el.p, el.q, _element_dist(el)))
+                self.used_elem.add(ei)
+        for si, sl in enumerate(model.sliders):
+            if si not in self.used_slider and {sl.point, *sl.along} & unk:
+                cons.append(CLine(idx[sl.point], idx[sl.along[0]], idx[sl.along[1]]))
+                self.used_slider.add(si)
+        for ri, rd in enumerate(model.rotary):
+            if ri in self.used_rotary:
+                continue
+            p = next(n for n in model.body(rd.body).points if n != rd.pivot)
+            refb = model.body(rd.reference)
+            ref = None if refb.ground else (idx[refb.points[0]], idx[refb.points[1]])
+            involved = {p, rd.pivot} | (set() if refb.ground else set(refb.points[:2]))
+            if involved & unk:
+                cons.append(CAngle(idx[p], idx[rd.pivot], ref, model.inputs.index(rd.name)))
+                self.used_rotary.add(ri)
+        return cons
+
+    # ---- after the steps
+    def check_all_used(self) -> None:
+        """Every element, slider, rotary driver and body shape has been used by a step."""
+        src = self.model.source
+        for ei, el in enumerate(self.elements):
+            if el.mode != "free" and ei not in self.used_elem:
+                kind = "driver" if el.mode == "driven" else "locked element"
+                raise MobilityError(
+                    f"{kind} {el.name!r} is redundant: both its points are already fixed by the "
+                    "rest of the mechanism (over-constrained; make it 'free' or remove a joint)",
+                    table=f"drivers.{el.name}",
+                    source=src,
+                )
+        for si, s in enumerate(self.model.sliders):
+            if si not in self.used_slider:
+                raise MobilityError(
+                    f"slider {s.name!r} is redundant: its point and line are already fixed by "
+                    "the rest of the mechanism (over-constrained)",
+                    table=f"sliders.{s.name}",
+                    source=src,
+                )
+        for ri, d in enumerate(self.model.rotary):
+            if ri not in self.used_rotary:
+                raise MobilityError(
+                    f"rotary driver {d.name!r} is redundant: body {d.body!r} is already fixed by "
+                    "the rest of the mechanism (over-constrained)",
+                    table=f"drivers.{d.name}",
+                    source=src,
+                )
+        for bi, b in enumerate(self.bodies):
+            need = 0 if b.ground else 2 * len(b.points) - 3
+            if self.body_used[bi] < need:
+                raise MobilityError(
+                    f"body {b.name!r} is over-constrained: its points are fixed through other "
+                    "bodies, so its own shape would be a redundant constraint (check its joints)",
+                    table="bodies",
+                    entry=b.name,
+                    source=src,
+                )
+
+    def build(self) -> SolvePlan:
+        """Add steps until every point is known, check every constraint is used, and freeze."""
+        self.add_inputs()
+        self.check_lengths_are_dimensions()
+        self.fixed()
+        if self.method == "closed-form":
+            tries: list[Callable[[], bool]] = [getattr(self, kind) for kind in self.ORDER]
+            # after any step, start again from the first kind: attach before all else
+            while len(self.known) < len(self.names) and any(t() for t in tries):
+                pass
+        unknown = [n for n in self.names if n not in self.known]
+        if unknown:
+            self.newton_group(unknown)
+        self.check_all_used()
+        return self.freeze()
+
+    def freeze(self) -> SolvePlan:
+        """The finished plan."""
+        model, idx = self.model, self.idx
+        return SolvePlan(
+            model=model,
+            points=self.names,
+            bodies=tuple(b.name for b in self.bodies),
+            ground=next(i for i, b in enumerate(self.bodies) if b.ground),
+            body_base=tuple(
+                (idx[b.points[0]], idx[b.points[1]]) if len(b.points) >= 2 else (-1, -1)
+                for b in self.bodies
+            ),
+            inputs=model.inputs,
+            input_kinds=tuple(self.kinds),
+            input_sketch=tuple(self.input_sketch),
+            elements=tuple(self.elements),
+            transmissions=tuple(self.transmissions),
+            steps=tuple(self.steps),
+            sketch=tuple(self.sketch[n] for n in self.names),
+            shapes=self.shapes,
+            mobility=mobility(model),
+            scale=self.scale,
+            method=self.method,
+        )
+
+
+def _element_dist(el: Element) -> Dist:
+    """A driven element's distance is its input; a locked one's is its fixed length."""
+    if el.mode == "driven":
+        return Dist("input", el.length, el.input, label=el.name)
+    return Dist("fixed", el.length, label=f"locked {el.name!r}")
+
+
+def _unit(p: tuple[float, float], q: tuple[float, float]) -> tuple[float, float]:
+    dx, dy = p[0] - q[0], p[1] - q[1]
+    r = math.hypot(dx, dy)
+    return dx / r, dy / r
+
+
+def _cross(ax: float, ay: float, bx: float, by: float) -> float:
+    return ax * by - ay * bx
