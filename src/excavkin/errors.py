@@ -6,6 +6,9 @@ Every error a user can cause names *where* (file, table, entry, sample) and *wha
 
 from __future__ import annotations
 
+import difflib
+from collections.abc import Sequence
+
 
 class ExcavkinError(Exception):
     """Base of all errors excavkin raises on purpose."""
@@ -92,3 +95,22 @@ class ExcavkinWarning(UserWarning):
 
 class SingularityWarning(ExcavkinWarning):
     """Some samples lie at a dead (singular) position."""
+
+
+class UnknownNameError(InputError, KeyError):
+    """A name (point, body, driver, column, ...) that the object does not have.
+
+    It is a :class:`KeyError` too, so ``except KeyError`` keeps working; its message lists the
+    closest known names.
+    """
+
+    def __str__(self) -> str:  # KeyError would quote the message
+        return str(self.args[0]) if self.args else ""
+
+
+def unknown_name(what: str, name: str, known: Sequence[str]) -> UnknownNameError:
+    """``no <what> 'name'; did you mean …? (known: …)``, as an error to raise."""
+    close = difflib.get_close_matches(name, list(known), n=3, cutoff=0.6)
+    hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+    shown = ", ".join(known[:30]) + (", …" if len(known) > 30 else "")
+    return UnknownNameError(f"no {what} {name!r}{hint} (known: {shown or 'none'})")

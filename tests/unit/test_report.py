@@ -15,7 +15,7 @@ from numpy.testing import assert_allclose
 import excavkin
 from excavkin.cli import main
 from excavkin.cli.progress import enabled, progress, solve_with_progress
-from excavkin.outputs.events import find_events, shock_samples
+from excavkin.outputs.events import find_events
 from excavkin.outputs.report import (
     MAX_FRAMES,
     build_report,
@@ -134,17 +134,39 @@ def test_report_lists_non_closure_and_dead_positions(tmp_path):
         write_report(mech, res, tmp_path / "dr.txt")
 
 
-def test_shocks_are_found_where_a_rate_jumps():
+def test_no_shock_is_guessed_from_differences_of_samples():
     n = 101
     t = np.linspace(0.0, 1.0, n)
-    # a constant-acceleration law: a soft shock at t = 0.5, sample 50
+    # a piecewise-constant acceleration: a difference-based guess would call sample 50 a shock
     accel = np.where(t < 0.5, 2.0, -2.0)
     frame = pd.DataFrame(
         {"t": t, "P.ax": accel, "P.vx": np.cumsum(accel) / n, "status": ["ok"] * n}
     )
-    shocks = shock_samples(frame)
-    assert list(shocks) == ["P.ax"] and shocks["P.ax"].tolist() == [50]
-    assert any(e.kind == "shock" and "soft shock: P.ax" in e.message for e in find_events(frame))
+    assert find_events(frame) == []
+
+
+def test_a_smooth_sweep_of_the_excavator_reports_no_warning():
+    mech = excavkin.load(excavkin.example_path("excavator"))
+    events = find_events(mech.solve(default_sweep(mech)))
+    assert [e for e in events if e.severity != "note"] == []
+
+
+def test_exact_shocks_of_a_run_in_time_are_listed(tmp_path):
+    from excavkin.motion import get_law
+    from excavkin.simulation.shocks import shock_report
+    from excavkin.simulation.timeline import Drive, simulate
+
+    mech = excavkin.load(excavkin.example_path("pasika_module"))
+    drives = {"cyl": Drive(get_law("cubic", 0.5, 5.0))}
+    result = simulate(mech, drives, t=np.linspace(0.0, 5.0, 101))
+    report = shock_report(mech, drives, result)
+    events = find_events(result, shocks=report.shocks)
+    shocks = [e for e in events if e.kind == "shock"]
+    assert shocks and all("soft shock" in e.message for e in shocks)
+    assert {e.message.rsplit("t = ", 1)[1] for e in shocks} == {"0 s", "5 s"}
+    path = tmp_path / "pasika.html"
+    write_report(mech, result, path, shocks=report.shocks)
+    assert "soft shock" in path.read_text()
 
 
 def test_a_mechanism_without_moving_inputs_still_reports(fourbar, tmp_path):

@@ -2,11 +2,21 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from excavkin.errors import unknown_name
+from excavkin.kinematics.columns import (
+    QUANTITIES,
+    TIME,
+    Column,
+    column,
+    driver_columns,
+    table_attrs,
+)
 from excavkin.kinematics.kernels import Code, F
 from excavkin.structure.plan import Dyad, NewtonGroup, SliderStep, SolvePlan
 
@@ -183,14 +193,20 @@ class KinematicResult:
         return int(self.positions.shape[0])
 
     # ---- lookups by name
+    def _index(self, what: str, names: Sequence[str], name: str) -> int:
+        try:
+            return names.index(name)
+        except ValueError:
+            raise unknown_name(what, name, names) from None
+
     def point(self, name: str) -> tuple[F, F, F]:
         """Position, velocity and acceleration of a point, each shape (n, 2)."""
-        i = self.plan.points.index(name)
+        i = self._index("point", self.plan.points, name)
         return self.positions[:, i], self.velocities[:, i], self.accelerations[:, i]
 
     def body(self, name: str) -> tuple[F, F, F]:
         """Angle, ω and ε of a body, each shape (n,)."""
-        j = self.plan.bodies.index(name)
+        j = self._index("body", self.plan.bodies, name)
         return self.body_angle[:, j], self.body_omega[:, j], self.body_epsilon[:, j]
 
     def driver(self, name: str) -> tuple[F, F, F]:
@@ -199,59 +215,67 @@ class KinematicResult:
             i = self.plan.inputs.index(name)
             if self.plan.input_kinds[i] == "angle":
                 return self.inputs[:, i], self.input_rates[:, i], self.input_accels[:, i]
-        j = [e.name for e in self.plan.elements].index(name)
+        names = [e.name for e in self.plan.elements]
+        rotary = [
+            n for n, k in zip(self.plan.inputs, self.plan.input_kinds, strict=True) if k == "angle"
+        ]
+        j = self._index("driver", [*rotary, *names], name) - len(rotary)
         return self.element_length[:, j], self.element_rate[:, j], self.element_accel[:, j]
+
+    @property
+    def columns(self) -> tuple[Column, ...]:
+        """What each column of :meth:`to_frame` holds (``status`` aside), in table order."""
+        return tuple(c for c, _ in self._columns())
 
     def column(self, name: str) -> F:
         """One column of :meth:`to_frame` by name, without building the table."""
-        owner, _, qty = name.rpartition(".")
-        if not owner:
-            raise KeyError(f"no column {name!r}: columns are named <name>.<quantity>")
-        for key, arr in self._columns():
-            if key == name:
+        cols = self._columns()
+        for c, arr in cols:
+            if c.name == name:
                 return np.asarray(arr, dtype=np.float64)
-        raise KeyError(f"no column {name!r}")
+        raise unknown_name("column", name, [c.name for c, _ in cols])
 
-    def _columns(self) -> list[tuple[str, Any]]:
-        cols: list[tuple[str, Any]] = []
+    def _columns(self) -> list[tuple[Column, F]]:
+        plan = self.plan
+        cols: list[tuple[Column, F]] = []
         if self.time is not None:
-            cols.append(("t", self.time))
-        for i, p in enumerate(self.plan.points):
-            for qty, arr, c in (
-                ("x", self.positions, 0),
-                ("y", self.positions, 1),
-                ("vx", self.velocities, 0),
-                ("vy", self.velocities, 1),
-                ("ax", self.accelerations, 0),
-                ("ay", self.accelerations, 1),
-            ):
-                cols.append((f"{p}.{qty}", arr[:, i, c]))
-        for j, b in enumerate(self.plan.bodies):
-            if j == self.plan.ground:
+            cols.append((TIME, self.time))
+        point_quantities = ("x", "y", "vx", "vy", "ax", "ay")
+        point_arrays = (self.positions, self.velocities, self.accelerations)
+        for i, p in enumerate(plan.points):
+            for k, qty in enumerate(point_quantities):
+                kind = QUANTITIES[qty][1]
+                cols.append((column(p, "point", qty, kind), point_arrays[k // 2][:, i, k % 2]))
+        body_arrays = (self.body_angle, self.body_omega, self.body_epsilon)
+        for j, b in enumerate(plan.bodies):
+            if j == plan.ground:
                 continue
-            cols += [
-                (f"{b}.angle", self.body_angle[:, j]),
-                (f"{b}.omega", self.body_omega[:, j]),
-                (f"{b}.epsilon", self.body_epsilon[:, j]),
+            for qty, arr in zip(("angle", "omega", "epsilon"), body_arrays, strict=True):
+                cols.append((column(b, "body", qty, QUANTITIES[qty][1]), arr[:, j]))
+        input_arrays = (self.inputs, self.input_rates, self.input_accels)
+        for i, name in enumerate(plan.inputs):
+            if plan.input_kinds[i] == "angle":
+                for c, arr in zip(driver_columns(name, "angle"), input_arrays, strict=True):
+                    cols.append((c, arr[:, i]))
+        element_arrays = (
+            self.element_length,
+            self.element_rate,
+            self.element_accel,
+            self.element_angle,
+            self.element_omega,
+            self.element_epsilon,
+        )
+        for j, e in enumerate(plan.elements):
+            line = [
+                column(e.name, "driver", qty, QUANTITIES[qty][1])
+                for qty in ("angle", "omega", "epsilon")
             ]
-        for i, name in enumerate(self.plan.inputs):
-            if self.plan.input_kinds[i] == "angle":
-                cols += [
-                    (f"{name}.value", self.inputs[:, i]),
-                    (f"{name}.rate", self.input_rates[:, i]),
-                    (f"{name}.accel", self.input_accels[:, i]),
-                ]
-        for j, e in enumerate(self.plan.elements):
-            cols += [
-                (f"{e.name}.value", self.element_length[:, j]),
-                (f"{e.name}.rate", self.element_rate[:, j]),
-                (f"{e.name}.accel", self.element_accel[:, j]),
-                (f"{e.name}.angle", self.element_angle[:, j]),
-                (f"{e.name}.omega", self.element_omega[:, j]),
-                (f"{e.name}.epsilon", self.element_epsilon[:, j]),
-            ]
-        for k, p in enumerate(self.plan.transmissions):
-            cols.append((f"{p}.transmission", self.transmission[:, k]))
+            for c, arr in zip(
+                [*driver_columns(e.name, "length"), *line], element_arrays, strict=True
+            ):
+                cols.append((c, arr[:, j]))
+        for k, p in enumerate(plan.transmissions):
+            cols.append((column(p, "point", "transmission", "angle"), self.transmission[:, k]))
         return cols
 
     def to_frame(self) -> pd.DataFrame:
@@ -261,12 +285,17 @@ class KinematicResult:
         ``<body>.angle .omega .epsilon`` (moving bodies), ``<driver>.value .rate .accel`` (every
         driver; linear ones also ``.angle .omega .epsilon`` of the line between their points),
         ``<point>.transmission`` for each dyad and slider, and ``status`` ("ok" or why not).
+        ``frame.attrs`` holds the model's name and each column's kind
+        (``"excavkin.kinds"``), so that a table keeps its meaning apart from its result.
         """
         import pandas as pd
 
-        cols = dict(self._columns())
-        frame = pd.DataFrame(cols)
-        frame["status"] = pd.Categorical(self.status.labels())
+        cols = self._columns()
+        data: dict[str, Any] = {c.name: arr for c, arr in cols}
+        data["status"] = pd.Categorical(self.status.labels())
+        # the columns are views of the solver's arrays: no copy
+        frame = pd.DataFrame(data, copy=False)
+        frame.attrs.update(table_attrs(self.plan.model.name, [c for c, _ in cols]))
         return frame
 
     def with_time(self, t: F) -> KinematicResult:

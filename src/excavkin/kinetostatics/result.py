@@ -19,10 +19,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from excavkin.errors import unknown_name
+from excavkin.kinematics.columns import Column, column, table_attrs
 from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import StaticsSystem
@@ -180,34 +182,39 @@ class ForceResult:
         return out
 
     # ---- tables
-    def _columns(self, resultants: Sequence[str]) -> list[tuple[str, Any]]:
+    def _columns(self, resultants: Sequence[str]) -> list[tuple[Column, F]]:
         sy = self.system
-        cols: list[tuple[str, Any]] = []
+        cols: list[tuple[Column, F]] = []
         for k, (p, b) in enumerate(self.pins):
-            cols += [
-                (f"{p}.{b}.Fx", self.pin_force[:, k, 0]),
-                (f"{p}.{b}.Fy", self.pin_force[:, k, 1]),
-            ]
+            for c, qty in enumerate(("Fx", "Fy")):
+                cols.append((column(f"{p}.{b}", "pin", qty, "force"), self.pin_force[:, k, c]))
         for k, e in enumerate(sy.elements):
-            cols.append((f"{e[0]}.force", self.element_force[:, k]))
+            cols.append((column(e[0], "driver", "force", "force"), self.element_force[:, k]))
         for k, d in enumerate(sy.rotary):
-            cols.append((f"{d[0]}.torque", self.driver_torque[:, k]))
+            cols.append((column(d[0], "driver", "torque", "torque"), self.driver_torque[:, k]))
         for k, s in enumerate(sy.sliders):
-            cols.append((f"{s[0]}.normal", self.slider_force[:, k]))
+            cols.append((column(s[0], "slider", "normal", "force"), self.slider_force[:, k]))
         for b in resultants:
             r = self.resultant(b)
-            cols += [(f"{b}.Rx", r[:, 0]), (f"{b}.Ry", r[:, 1])]
+            cols += [(column(b, "body", q, "force"), r[:, c]) for c, q in enumerate(("Rx", "Ry"))]
         return cols
+
+    @property
+    def columns(self) -> tuple[Column, ...]:
+        """What each column of :meth:`to_frame` holds (``status`` aside), in table order."""
+        ground = self.system.bodies[self.system.ground]
+        return self.kinematics.columns + tuple(c for c, _ in self._columns((ground,)))
 
     def column(self, name: str) -> F:
         """One force column of :meth:`to_frame` by name (any body's ``.Rx``/``.Ry`` too)."""
         owner, _, qty = name.rpartition(".")
         if qty in ("Rx", "Ry") and owner in self.system.bodies:
             return self.resultant(owner)[:, 0 if qty == "Rx" else 1]
-        for key, arr in self._columns(()):
-            if key == name:
+        cols = self._columns(())
+        for c, arr in cols:
+            if c.name == name:
                 return np.asarray(arr)
-        raise KeyError(f"no force column {name!r}")
+        raise unknown_name("force column", name, [c.name for c, _ in cols])
 
     def status_labels(self) -> np.ndarray:
         """Per-sample label: the kinematic status, or ``"statically singular"``, shape (n,)."""
@@ -240,13 +247,20 @@ class ForceResult:
 
         if resultants is None:
             resultants = (self.system.bodies[self.system.ground],)
-        forces = pd.DataFrame(dict(self._columns(resultants)))
+        described = self._columns(resultants)
+        forces = pd.DataFrame({c.name: arr for c, arr in described}, copy=False)
+        force_cols = [c for c, _ in described]
         if not kinematics:
+            forces.attrs.update(table_attrs(self.kinematics.plan.model.name, force_cols))
             return forces
-        frame = self.kinematics.to_frame()
-        status = frame.pop("status")
-        frame = pd.concat([frame, forces], axis=1)
-        frame["status"] = pd.Categorical(self.status_labels()) if self.singular.any() else status
+        kin = self.kinematics.to_frame()
+        status = pd.Categorical(self.status_labels()) if self.singular.any() else kin["status"]
+        # one frame from all the columns at once: no insertions, no fragmentation
+        frame = pd.concat(
+            [kin.drop(columns="status"), forces, pd.DataFrame({"status": status})], axis=1
+        )
+        kin_cols = self.kinematics.columns
+        frame.attrs.update(table_attrs(self.kinematics.plan.model.name, [*kin_cols, *force_cols]))
         return frame
 
     # ---- checks

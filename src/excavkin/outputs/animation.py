@@ -45,7 +45,7 @@ def value_text(table: Any, columns: Sequence[str], units: DisplayUnits, sample: 
     for c in columns:
         d = units(c)
         v = float(d.convert(table.frame[c].to_numpy(dtype=np.float64)[sample]))
-        name = c.removesuffix(".value") if c.endswith(".value") else c
+        name = d.owner if d.quantity == "value" else c
         pu = pretty_unit(d.unit)
         unit = "" if not pu else pu if pu == "°" else f" {pu}"
         lines.append(f"{name} = {v:.4g}{unit}" if np.isfinite(v) else f"{name} = —")

@@ -20,8 +20,9 @@ column                                      kind                    default unit
 ``<x>.power``                               power                   kW
 ==========================================  ======================  ===============
 
-A driver's ``.value`` is an angle for a rotary driver and a length for a linear one, which
-only the solve plan knows: pass a result (or :func:`column_kinds` of its plan) to get it right.
+Every result describes its own columns (:attr:`KinematicResult.columns`), kinds included: a
+driver's ``.value`` is an angle for a rotary driver and a length for a linear one. A table read
+back from a file keeps the kinds in its metadata, or has them guessed from the names alone.
 """
 
 from __future__ import annotations
@@ -31,6 +32,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+from excavkin.kinematics.columns import columns_from_names
 
 #: the display unit of each kind unless the caller chooses another
 DEFAULT_UNITS: dict[str, str] = {
@@ -51,33 +54,6 @@ DEFAULT_UNITS: dict[str, str] = {
 
 #: SI units of the kinds :mod:`excavkin.units` does not list
 _EXTRA_SI = {"power": "W"}
-
-#: kind of the quantity after the last dot of a column name
-_SUFFIX_KIND = {
-    "x": "length",
-    "y": "length",
-    "vx": "velocity",
-    "vy": "velocity",
-    "ax": "acceleration",
-    "ay": "acceleration",
-    "angle": "angle",
-    "omega": "angular_velocity",
-    "epsilon": "angular_acceleration",
-    "transmission": "angle",
-    "Fx": "force",
-    "Fy": "force",
-    "F": "force",
-    "force": "force",
-    "torque": "torque",
-    "power": "power",
-    "pressure": "pressure",
-}
-
-#: a driver's value kind → kinds of its value, rate and acceleration
-_DRIVER_KINDS = {
-    "angle": ("angle", "angular_velocity", "angular_acceleration"),
-    "length": ("length", "velocity", "acceleration"),
-}
 
 #: words for axis labels
 KIND_NAMES = {
@@ -110,30 +86,6 @@ _PRETTY = (
 )
 
 
-def column_kinds(plan: Any) -> dict[str, str]:
-    """Kinds of the driver columns of a solve plan, which the column names alone cannot tell.
-
-    Parameters
-    ----------
-    plan : SolvePlan
-        ``result.plan`` or ``mechanism.plan``.
-
-    Returns
-    -------
-    dict
-        ``{"<driver>.value": kind, "<driver>.rate": kind, "<driver>.accel": kind}`` for every
-        rotary driver and every linear element.
-    """
-    out: dict[str, str] = {}
-    for name, kind in zip(plan.inputs, plan.input_kinds, strict=True):
-        for qty, k in zip(("value", "rate", "accel"), _DRIVER_KINDS[kind], strict=True):
-            out[f"{name}.{qty}"] = k
-    for e in plan.elements:
-        for qty, k in zip(("value", "rate", "accel"), _DRIVER_KINDS["length"], strict=True):
-            out[f"{e.name}.{qty}"] = k
-    return out
-
-
 def kind_of(column: str, kinds: Mapping[str, str] | None = None) -> str:
     """The quantity kind of a result column.
 
@@ -142,22 +94,20 @@ def kind_of(column: str, kinds: Mapping[str, str] | None = None) -> str:
     column : str
         A column name such as ``"B.vx"`` or ``"boom_cyl.force"``.
     kinds : mapping, optional
-        Known kinds by column (from :func:`column_kinds`), consulted first.
+        Known kinds by column (a result's own :class:`~excavkin.kinematics.columns.Column`
+        descriptions, through :func:`~excavkin.outputs.events.as_table`), consulted first.
 
     Returns
     -------
     str
-        A kind of :data:`DEFAULT_UNITS`, or ``"unknown"`` (a driver's ``.value`` without its plan,
-        or a column excavkin does not name).
+        A kind of :data:`DEFAULT_UNITS`, or ``"unknown"`` (a driver's ``.value`` whose kind is
+        not known, or a column excavkin does not name).
     """
     if kinds and column in kinds:
         return kinds[column]
-    if column == "t":
-        return "time"
     if column == "sample":
         return "dimensionless"
-    _, _, qty = column.rpartition(".")
-    return _SUFFIX_KIND.get(qty, "unknown")
+    return columns_from_names([column])[0].kind
 
 
 def _si_unit(kind: str) -> str:
@@ -223,6 +173,16 @@ class Display:
     unit: str
 
     @property
+    def owner(self) -> str:
+        """The point, body or driver the column belongs to."""
+        return columns_from_names([self.column])[0].owner
+
+    @property
+    def quantity(self) -> str:
+        """The column's quantity (``x``, ``value``, ``transmission``, ...)."""
+        return columns_from_names([self.column])[0].quantity
+
+    @property
     def label(self) -> str:
         """``"B.x [mm]"``, or the bare name without a unit."""
         return f"{self.column} [{pretty_unit(self.unit)}]" if self.unit else self.column
@@ -238,7 +198,7 @@ class Display:
         draws a continuous curve; NaN samples are skipped over.
         """
         a = np.array(values, dtype=np.float64)
-        if self.kind == "angle" and not self.column.endswith(".transmission"):
+        if self.kind == "angle" and self.quantity != "transmission":
             ok = np.isfinite(a)
             if ok.sum() > 1:
                 a[ok] = np.unwrap(a[ok])
@@ -255,7 +215,7 @@ class DisplayUnits:
         mapped to a unit; a column's entry wins over its kind's. A unit given for a column of
         unknown kind also sets its kind (``{"boom_cyl.value": "mm"}`` → a length).
     kinds : mapping of str to str, optional
-        Known column kinds, e.g. :func:`column_kinds` of a plan.
+        Known column kinds (``Table.kinds``).
 
     Raises
     ------

@@ -1,61 +1,115 @@
-"""What an engineer must be warned of in a result: dead positions, non-closure, shocks.
+"""What an engineer must be warned of in a result: non-closure, dead positions, shocks.
 
-Found from the per-sample status (the solver's verdict) and the result's columns:
+Every warning is exact, taken from what the solver and the motion laws know, never guessed from
+differences of samples:
 
-* **does not close** — runs of samples the solver could not assemble (``status`` not ``"ok"``);
-* **dead position** — samples the solver flagged as singular, and samples where a transmission
-  angle comes within ``dead_tol`` (3°) of 0 or π (a local minimum of its distance to them);
+* **does not close** — runs of samples the solver could not assemble (their status codes);
+* **dead position** — samples the solver flagged as singular (status code), and samples where a
+  transmission angle comes within ``dead_tol`` (3°) of 0 or π (a local minimum of its distance
+  to them, read from the transmission columns);
 * **low transmission** — the worst transmission angle of each dyad and slider, when it drops below
   ``transmission_limit``;
-* **shock** — a jump of a velocity (rigid shock) or acceleration (soft shock) column between two
-  samples, much larger than its neighbours' steps.
+* **shock** — for runs in time, the jumps of velocity (hard) and acceleration (soft) that the
+  exact shock report (:func:`excavkin.simulation.shocks.shock_report`) found at the motion
+  laws' breakpoints, when it is given.
 
-All functions take a :class:`~excavkin.kinematics.KinematicResult`, any object with
-``to_frame()``, or a DataFrame with the same columns.
+All functions take a :class:`~excavkin.kinematics.KinematicResult`, a
+:class:`~excavkin.kinetostatics.ForceResult` or a DataFrame with the same columns.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
+
+from excavkin.kinematics.columns import Column, columns_from_names
+from excavkin.kinematics.kernels import Code
 
 if TYPE_CHECKING:
     import pandas as pd
 
-_VELOCITY_KINDS = ("velocity", "angular_velocity")
-_ACCEL_KINDS = ("acceleration", "angular_acceleration")
+
+class TableSource(Protocol):
+    """A result that can be shown: it makes a table and describes its columns."""
+
+    @property
+    def columns(self) -> tuple[Column, ...]: ...
+
+    def to_frame(self) -> pd.DataFrame: ...
+
+
+class ShockLike(Protocol):
+    """One exact shock of a run in time (:class:`excavkin.simulation.shocks.Shock`)."""
+
+    @property
+    def time(self) -> float: ...
+
+    @property
+    def column(self) -> str: ...
+
+    @property
+    def kind(self) -> str: ...
+
+    @property
+    def before(self) -> float: ...
+
+    @property
+    def after(self) -> float: ...
+
+
+#: status labels' openings → codes, for tables read back from files (the one fallback)
+_LABEL_CODES = (
+    ("dead position", Code.SINGULAR),
+    ("cannot close", Code.NO_CLOSURE),
+    ("newton did not converge", Code.NO_CONVERGENCE),
+    ("assembly branch changed", Code.BRANCH_CHANGED),
+)
+
+
+def codes_from_labels(labels: np.ndarray) -> np.ndarray:
+    """Status codes from status labels: for a table without its result, shape (n,)."""
+    text = np.char.lower(labels.astype(str))
+    codes = np.where(text == "ok", int(Code.OK), int(Code.BAD_INPUT)).astype(np.int8)
+    for opening, code in _LABEL_CODES:
+        codes[np.char.startswith(text, opening)] = code
+    return codes
 
 
 @dataclass(frozen=True, slots=True)
 class Table:
-    """A result as a table plus what its plan says about its columns.
+    """A result as a table, with what each column is and each sample's status code.
 
     Attributes
     ----------
     frame : pandas.DataFrame
         One row per sample, SI.
-    kinds : dict
-        Column kinds known from the plan (driver values), see
-        :func:`~excavkin.outputs.display_units.column_kinds`.
+    columns : dict of str to Column
+        Every column's description, by name.
+    codes : ndarray of int8, shape (n,)
+        Status codes (:class:`~excavkin.kinematics.kernels.Code`).
     plan : SolvePlan or None
     result : object or None
         The result the table came from, if any.
     """
 
     frame: pd.DataFrame
-    kinds: dict[str, str] = field(default_factory=dict)
+    columns: dict[str, Column] = field(default_factory=dict)
+    codes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int8))
     plan: Any = None
     result: Any = None
 
     @property
+    def kinds(self) -> dict[str, str]:
+        """Every column's kind, by name."""
+        return {name: c.kind for name, c in self.columns.items()}
+
+    @property
     def ok(self) -> np.ndarray:
         """Boolean mask of solved samples, shape (n,)."""
-        if "status" not in self.frame:
-            return np.ones(len(self.frame), dtype=bool)
-        return np.asarray(self.frame["status"].astype(str) == "ok")
+        return np.asarray(self.codes == Code.OK)
 
     @property
     def labels(self) -> np.ndarray:
@@ -64,39 +118,68 @@ class Table:
             return np.full(len(self.frame), "ok", dtype=object)
         return np.asarray(self.frame["status"].astype(str), dtype=object)
 
+    def describe(self, name: str) -> Column:
+        """The description of a column (of any name: ``t``, ``sample`` and unknown ones too)."""
+        return self.columns.get(name) or columns_from_names([name])[0]
+
+    def of_quantity(self, quantity: str, owner_kind: str | None = None) -> list[str]:
+        """Names of the columns of this quantity (and owner kind), in table order."""
+        return [
+            n
+            for n, c in self.columns.items()
+            if c.quantity == quantity and (owner_kind is None or c.owner_kind == owner_kind)
+        ]
+
+    def of_kind(self, *kinds: str, quantity: str | None = None) -> list[str]:
+        """Names of the columns of these kinds (and this quantity, if given), in table order."""
+        return [
+            n
+            for n, c in self.columns.items()
+            if c.kind in kinds and (quantity is None or c.quantity == quantity)
+        ]
+
 
 def as_table(data: Any, kinds: Mapping[str, str] | None = None) -> Table:
     """Wrap a result or a DataFrame as a :class:`Table`.
 
     Parameters
     ----------
-    data : KinematicResult, object with ``to_frame()``, or pandas.DataFrame
-        A result with a ``plan`` (or a ``kinematics`` result with one) gives the kinds of the
-        driver columns.
+    data : KinematicResult, ForceResult, Table or pandas.DataFrame
+        A result describes its own columns and gives its status codes; a DataFrame's columns
+        are described by :func:`~excavkin.kinematics.columns.columns_from_names` (with the
+        kinds its ``attrs`` keep) and its codes read from its status labels.
     kinds : mapping, optional
-        Further column kinds, which win.
+        Column kinds that win over the description.
     """
     import pandas as pd
 
-    from excavkin.outputs.display_units import column_kinds
-
     if isinstance(data, Table):
-        return Table(data.frame, {**data.kinds, **(kinds or {})}, data.plan, data.result)
-    if isinstance(data, pd.DataFrame):
+        frame, described, codes, plan, result = (
+            data.frame,
+            list(data.columns.values()),
+            data.codes,
+            data.plan,
+            data.result,
+        )
+    elif isinstance(data, pd.DataFrame):
         frame, plan, result = data, None, None
-        known = dict(frame.attrs.get("excavkin.kinds", {}))
-    elif hasattr(data, "to_frame"):
+        described = columns_from_names(frame.columns, frame.attrs.get("excavkin.kinds", {}))
+        labels = frame["status"] if "status" in frame else pd.Series(["ok"] * len(frame))
+        codes = codes_from_labels(np.asarray(labels.astype(str)))
+    elif hasattr(data, "to_frame") and hasattr(data, "columns"):
         frame, result = data.to_frame(), data
-        plan = getattr(data, "plan", None)
-        if plan is None:
-            plan = getattr(getattr(data, "kinematics", None), "plan", None)
-        known = {}
+        kin = getattr(data, "kinematics", data)
+        plan = kin.plan
+        described = list(data.columns)
+        codes = np.asarray(kin.status.code, dtype=np.int8)
     else:
         raise TypeError(f"expected a result or a pandas DataFrame, got {type(data).__name__}")
-    if plan is not None:
-        known.update(column_kinds(plan))
-    known.update(kinds or {})
-    return Table(frame, known, plan, result)
+    cols = {c.name: c for c in described if c.name in frame}
+    for name, kind in (kinds or {}).items():
+        if name in cols:
+            c = cols[name]
+            cols[name] = Column(c.name, c.owner, c.owner_kind, c.quantity, kind)
+    return Table(frame, cols, codes, plan, result)
 
 
 @dataclass(frozen=True, slots=True)
@@ -137,7 +220,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def failed_runs(data: Any) -> list[tuple[int, int, str]]:
-    """Runs of samples that did not solve, except lone dead positions.
+    """Runs of samples that did not solve, dead positions aside.
 
     Returns
     -------
@@ -145,8 +228,8 @@ def failed_runs(data: Any) -> list[tuple[int, int, str]]:
         Inclusive sample indices and the first sample's status label.
     """
     t = as_table(data)
+    bad = (t.codes != Code.OK) & (t.codes != Code.SINGULAR)
     labels = t.labels
-    bad = ~t.ok & ~np.char.startswith(labels.astype(str), "dead position")
     return [(a, b, str(labels[a])) for a, b in _runs(bad)]
 
 
@@ -160,11 +243,8 @@ def dead_samples(data: Any, dead_tol: float = np.radians(3.0)) -> np.ndarray:
         rad; a local minimum of a transmission angle's distance to 0 or π below this counts.
     """
     t = as_table(data)
-    labels = t.labels.astype(str)
-    found = set(np.flatnonzero(np.char.startswith(labels, "dead position")).tolist())
-    for col in t.frame.columns:
-        if not str(col).endswith(".transmission"):
-            continue
+    found = set(np.flatnonzero(t.codes == Code.SINGULAR).tolist())
+    for col in t.of_kind("angle", quantity="transmission"):
         mu = np.asarray(t.frame[col], dtype=np.float64)
         dist = np.minimum(np.abs(mu), np.abs(np.pi - mu))
         d = np.where(np.isfinite(dist), dist, np.inf)
@@ -174,49 +254,13 @@ def dead_samples(data: Any, dead_tol: float = np.radians(3.0)) -> np.ndarray:
     return np.array(sorted(found), dtype=np.int64)
 
 
-def shock_samples(data: Any, *, ratio: float = 25.0, floor: float = 0.05) -> dict[str, np.ndarray]:
-    """Jumps in velocity and acceleration columns.
-
-    A step between consecutive samples is a jump when it exceeds ``ratio`` times the median step
-    of its column and ``floor`` times the column's range. Steps into or out of unsolved samples
-    are ignored.
-
-    Returns
-    -------
-    dict
-        ``{column: sample indices after each jump}``, only columns with jumps.
-    """
-    from excavkin.outputs.display_units import kind_of
-
-    t = as_table(data)
-    out: dict[str, np.ndarray] = {}
-    if len(t.frame) < 5:
-        return out
-    for col in t.frame.columns:
-        kind = kind_of(str(col), t.kinds)
-        if kind not in _VELOCITY_KINDS + _ACCEL_KINDS:
-            continue
-        y = np.asarray(t.frame[col], dtype=np.float64)
-        step = np.abs(np.diff(y))
-        finite = np.isfinite(step)
-        if finite.sum() < 4:
-            continue
-        span = float(np.nanmax(y) - np.nanmin(y))
-        if span <= 0.0:
-            continue
-        typical = float(np.median(step[finite]))
-        jump = finite & (step > ratio * typical) & (step > floor * span)
-        if jump.any():
-            out[str(col)] = np.flatnonzero(jump) + 1
-    return out
-
-
 def find_events(
     data: Any,
     *,
     dead_tol: float = np.radians(3.0),
     transmission_limit: float = np.radians(30.0),
     describe_sample: Any = None,
+    shocks: Sequence[ShockLike] = (),
 ) -> list[Event]:
     """Every warning about a result, most serious first.
 
@@ -230,6 +274,9 @@ def find_events(
     describe_sample : callable, optional
         ``describe_sample(i) -> str`` names sample ``i`` in messages (e.g. ``"crank = 35°"``);
         the default is ``"sample i"``.
+    shocks : sequence of Shock, optional
+        For a run in time: the exact shock report's shocks (``report.shocks`` of
+        :func:`excavkin.simulation.shocks.shock_report`), listed as warnings.
 
     Returns
     -------
@@ -256,28 +303,20 @@ def find_events(
                 "warning",
             )
         )
-    for col, idx in shock_samples(t).items():
-        kind = "rigid" if col.rsplit(".", 1)[-1] in ("vx", "vy", "omega", "rate") else "soft"
-        shown = ", ".join(f"{int(i)} ({name(int(i))})" for i in idx[:5])
-        more = f" and {idx.size - 5} more" if idx.size > 5 else ""
-        events.append(
-            Event(
-                "shock",
-                idx,
-                f"{kind} shock: {col} jumps at sample{'s' if idx.size > 1 else ''} {shown}{more}",
-                "warning",
-            )
+    for sh in shocks:
+        message = (
+            f"{sh.kind} shock: {sh.column} jumps from {sh.before:.6g} to {sh.after:.6g} "
+            f"at t = {sh.time:.6g} s"
         )
-    for col in t.frame.columns:
-        if not str(col).endswith(".transmission"):
-            continue
+        events.append(Event("shock", np.array([], dtype=np.int64), message, "warning"))
+    for col in t.of_kind("angle", quantity="transmission"):
         mu = np.asarray(t.frame[col], dtype=np.float64)
         dist = np.minimum(np.abs(mu), np.abs(np.pi - mu))
         if not np.isfinite(dist).any():
             continue
         i = int(np.nanargmin(dist))
         if dist[i] < transmission_limit:
-            point = str(col).rsplit(".", 1)[0]
+            point = t.columns[col].owner
             events.append(
                 Event(
                     "low transmission",

@@ -88,11 +88,10 @@ def default_x(table: Table) -> str:
     frame = table.frame
     if "t" in frame:
         return "t"
-    candidates: list[str] = []
     if table.plan is not None:
         candidates = [f"{name}.value" for name in table.plan.inputs]
     else:
-        candidates = [str(c) for c in frame.columns if str(c).endswith(".value")]
+        candidates = table.of_quantity("value", "driver")
     for c in candidates:
         if c in frame and varies(frame[c]):
             return c
@@ -115,8 +114,8 @@ def _x_label(d: Display) -> str:
         return f"Time [{pretty_unit(d.unit)}]"
     if d.column == "sample":
         return "Sample"
-    if d.column.endswith(".value"):
-        name = d.column.removesuffix(".value")
+    if d.quantity == "value":
+        name = d.owner
         return f"{name} [{pretty_unit(d.unit)}]" if d.unit else name
     return d.label
 
@@ -281,9 +280,8 @@ def main_columns(data: Any) -> list[str]:
     accelerations, then driver forces and torques if present; the plotted input excluded.
     """
     table = as_table(data)
-    cols = [str(c) for c in table.frame.columns]
     x = default_x(table)
-    order = (".value", ".angle", ".transmission", ".omega", ".epsilon", ".force", ".torque")
+    order = ("value", "angle", "transmission", "omega", "epsilon", "force", "torque")
     out: list[str] = []
     elements = {e.name for e in table.plan.elements} if table.plan is not None else set()
     inputs = set(table.plan.inputs) if table.plan is not None else set()
@@ -292,19 +290,19 @@ def main_columns(data: Any) -> list[str]:
         if table.plan is not None
         else set()
     )
-    for suffix in order:
-        for c in cols:
-            if not c.endswith(suffix) or c == x or c in out:
+    for quantity in order:
+        for c in table.of_quantity(quantity):
+            if c == x or c in out:
                 continue
-            owner = c.removesuffix(suffix)
-            if suffix in (".angle", ".omega", ".epsilon") and owner in elements | driven:
+            owner = table.columns[c].owner
+            if quantity in ("angle", "omega", "epsilon") and owner in elements | driven:
                 continue  # a cylinder's line (its length says more) or a body the input turns
-            if suffix == ".value" and table.plan is not None and owner not in elements | inputs:
+            if quantity == "value" and table.plan is not None and owner not in elements | inputs:
                 continue
             v = np.asarray(table.frame[c], dtype=np.float64)
             if v.size and not np.isfinite(v).any():
                 continue
-            if suffix == ".value" and not varies(v):
+            if quantity == "value" and not varies(v):
                 continue  # a locked element or a held input
             out.append(c)
     return out

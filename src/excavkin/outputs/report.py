@@ -21,7 +21,7 @@ from __future__ import annotations
 import base64
 import datetime as _dt
 import html
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from string import Template
 from typing import Any
@@ -40,6 +40,7 @@ from excavkin.outputs.drawing import (
 )
 from excavkin.outputs.events import (
     Event,
+    ShockLike,
     Table,
     as_table,
     dead_samples,
@@ -212,21 +213,39 @@ class _Context:
             return "t"
         if self.x == "sample":
             return "sample"
-        return self.x.removesuffix(".value")
+        return self.table.describe(self.x).owner
+
+    def moving_inputs(self) -> list[str]:
+        """The value columns of the inputs that vary over the result (the x column first)."""
+        frame = self.table.frame
+        names = [c for c in self.table.of_quantity("value", "driver") if varies(frame[c])]
+        if self.table.plan is not None:
+            inputs = {f"{n}.value" for n in self.table.plan.inputs}
+            names = [c for c in names if c in inputs]
+        return sorted(names, key=lambda c: c != self.x)
 
     def name(self, i: int) -> str:
-        """Sample ``i`` in words: ``"crank = 35°"``."""
-        if self.x == "sample":
+        """Sample ``i`` in words, by every input that moves: ``"crank = 35°"``."""
+        if self.x == "t":
+            return f"t = {_fmt(float(self.xv[i]), self.xd.unit)}"
+        moving = self.moving_inputs()
+        if not moving:
             return f"sample {i}"
-        return f"{self.x_name()} = {_fmt(float(self.xv[i]), self.xd.unit)}"
+        return ", ".join(
+            f"{self.table.describe(c).owner} = {_fmt(self._display(c, i), self.units(c).unit)}"
+            for c in moving
+        )
+
+    def _display(self, column: str, i: int) -> float:
+        d = self.units(column)
+        return float(d.convert(self.table.frame[column].to_numpy(dtype=np.float64)[i]))
 
     def values(self, columns: Iterable[str], i: int) -> str:
         parts = []
         for c in columns:
-            d = self.units(c)
-            v = float(d.convert(self.table.frame[c].to_numpy(dtype=np.float64)[i]))
-            label = c.removesuffix(".value")
-            parts.append(f"{label} = {_fmt(v, d.unit)}")
+            described = self.table.describe(c)
+            label = described.owner if described.quantity == "value" else c
+            parts.append(f"{label} = {_fmt(self._display(c, i), self.units(c).unit)}")
         return "<br>".join(parts)
 
 
@@ -277,7 +296,7 @@ def mechanism_figure(
         show_cols = [f"{name}.value" for name in plan.inputs if varies(frame[f"{name}.value"])]
         if "t" in frame:
             show_cols.insert(0, "t")
-        show_cols += [c for c in frame.columns if str(c).endswith(".transmission")][:4]
+        show_cols += ctx.table.of_quantity("transmission")[:4]
     else:
         show_cols = list(show)
         for c in show_cols:
@@ -827,6 +846,7 @@ def build_report(
     length_unit: str = "mm",
     max_frames: int = MAX_FRAMES,
     command: str | None = None,
+    shocks: Sequence[ShockLike] = (),
 ) -> str:
     """The HTML text of a report on ``result`` of ``mech``.
 
@@ -848,6 +868,9 @@ def build_report(
     max_frames : int
     command : str, optional
         The command line that made the report, for the record.
+    shocks : sequence of Shock, optional
+        For a run in time, the exact shock report's shocks
+        (:func:`excavkin.simulation.shocks.shock_report`), listed among the warnings.
 
     Returns
     -------
@@ -879,7 +902,7 @@ def build_report(
     curves_html = cfig.to_html(
         full_html=False, include_plotlyjs=False, div_id="curves", config=config
     )
-    events = find_events(ctx.table, describe_sample=ctx.name)
+    events = find_events(ctx.table, describe_sample=ctx.name, shocks=shocks)
     frame = ctx.table.frame
     csv = frame.to_csv(index=False, float_format="%.10g")
     src = mech.model.source
@@ -949,7 +972,7 @@ def write_report(
         Replace an existing file.
     **options
         Passed to :func:`build_report` (``title``, ``units``, ``show``, ``curves``, ``ropes``,
-        ``length_unit``, ``max_frames``, ``command``).
+        ``length_unit``, ``max_frames``, ``command``, ``shocks``).
 
     Returns
     -------

@@ -1,0 +1,138 @@
+"""Typed columns: every result says what each of its table's columns is.
+
+A :class:`Column` names its owner (a point, body, driver, pin, slider or the time axis), the
+quantity and the physical kind (length, velocity, angle, force, ...). Outputs read these
+descriptions instead of parsing column names; a table read back from a file, which has only
+names, gets them from :func:`columns_from_names`, the one place that parses names.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Literal
+
+OwnerKind = Literal["time", "point", "body", "driver", "pin", "slider", "other"]
+
+#: kinds of a driver's value, rate and acceleration, by the kind of its value
+DRIVER_KINDS: dict[str, tuple[str, str, str]] = {
+    "angle": ("angle", "angular_velocity", "angular_acceleration"),
+    "length": ("length", "velocity", "acceleration"),
+}
+
+#: (owner kind, kind) of each quantity, where the quantity alone tells them
+QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
+    "x": ("point", "length"),
+    "y": ("point", "length"),
+    "vx": ("point", "velocity"),
+    "vy": ("point", "velocity"),
+    "ax": ("point", "acceleration"),
+    "ay": ("point", "acceleration"),
+    "angle": ("body", "angle"),
+    "omega": ("body", "angular_velocity"),
+    "epsilon": ("body", "angular_acceleration"),
+    "transmission": ("point", "angle"),
+    "Fx": ("pin", "force"),
+    "Fy": ("pin", "force"),
+    "F": ("pin", "force"),
+    "Rx": ("body", "force"),
+    "Ry": ("body", "force"),
+    "force": ("driver", "force"),
+    "torque": ("driver", "torque"),
+    "normal": ("slider", "force"),
+    "power": ("driver", "power"),
+    "pressure": ("driver", "pressure"),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Column:
+    """What one column of a result table holds.
+
+    Attributes
+    ----------
+    name : str
+        The column's name in the table, ``<owner>.<quantity>`` (``t`` for time).
+    owner : str
+        The point, body, driver, pin (``"<point>.<body>"``) or slider it belongs to.
+    owner_kind : {"time", "point", "body", "driver", "pin", "slider", "other"}
+    quantity : str
+        ``x``, ``vx``, ``angle``, ``omega``, ``value``, ``rate``, ``Fx``, ``force``, ...
+    kind : str
+        The physical kind, SI in the table: ``length``, ``velocity``, ``acceleration``,
+        ``angle``, ``angular_velocity``, ``angular_acceleration``, ``force``, ``torque``,
+        ``time``, ... (``unknown`` where a name read back from a file does not tell).
+    """
+
+    name: str
+    owner: str
+    owner_kind: OwnerKind
+    quantity: str
+    kind: str
+
+    @property
+    def is_velocity(self) -> bool:
+        """A first time derivative (a rate, a velocity or an ω)."""
+        return self.kind in ("velocity", "angular_velocity")
+
+    @property
+    def is_acceleration(self) -> bool:
+        """A second time derivative."""
+        return self.kind in ("acceleration", "angular_acceleration")
+
+
+def column(owner: str, owner_kind: OwnerKind, quantity: str, kind: str) -> Column:
+    """A column named ``<owner>.<quantity>``."""
+    return Column(f"{owner}.{quantity}", owner, owner_kind, quantity, kind)
+
+
+TIME = Column("t", "", "time", "t", "time")
+
+
+def driver_columns(name: str, value_kind: str) -> list[Column]:
+    """A driver's ``.value .rate .accel`` columns, of the kinds its value's kind implies."""
+    kinds = DRIVER_KINDS[value_kind]
+    return [
+        column(name, "driver", qty, kind)
+        for qty, kind in zip(("value", "rate", "accel"), kinds, strict=True)
+    ]
+
+
+def columns_from_names(
+    names: Iterable[str], known: Mapping[str, str] | None = None
+) -> list[Column]:
+    """Describe columns from their names alone: for tables read back from files.
+
+    Parameters
+    ----------
+    names : iterable of str
+    known : mapping of str to str, optional
+        Kinds already known by column name (for example kept in a file's metadata), which win.
+
+    Returns
+    -------
+    list of Column
+        One per name; a driver's ``.value`` without a known kind, or a name excavkin does not
+        make, has kind ``"unknown"``.
+    """
+    out = []
+    for name in names:
+        name = str(name)
+        if name == "t":
+            out.append(TIME)
+            continue
+        owner, _, qty = name.rpartition(".")
+        owner_kind, kind = QUANTITIES.get(qty, ("other", "unknown"))
+        if qty in ("value", "rate", "accel"):
+            owner_kind = "driver"
+        if owner.count(".") == 1 and qty in ("Fx", "Fy", "F"):
+            owner_kind = "pin"
+        if known and name in known:
+            kind = known[name]
+        out.append(Column(name, owner, owner_kind, qty, kind))
+    return out
+
+
+def table_attrs(model: str, columns: Iterable[Column]) -> dict[str, object]:
+    """What a result's table keeps in ``frame.attrs``: the model's name and every kind."""
+    return {"excavkin.model": model, "excavkin.kinds": {c.name: c.kind for c in columns}}
