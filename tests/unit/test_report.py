@@ -108,7 +108,7 @@ def test_mechanism_figure_has_a_frame_per_sample_and_a_slider(fourbar):
         xy = np.c_[frame.data[idx].x, frame.data[idx].y]
         assert_allclose(xy, res.positions[i] * 1000.0, atol=1e-5)
         assert frame.name == str(i)
-    assert fig.layout.sliders[0].steps[2].label == "30°"
+    assert fig.layout.sliders[0].steps[2].label == "crank = 30°"
     assert "crank = 15°" in fig.frames[1].layout.annotations[0].text
     long = fourbar.solve({"crank": np.linspace(0.0, 2 * np.pi, 1000)})
     assert len(mechanism_figure(long).frames) == MAX_FRAMES
@@ -270,3 +270,14 @@ def test_cli_report_refuses_a_sweep_where_nothing_solves(tmp_path):
     assert "20 of 20 samples failed" in r.output and "nothing was written" in r.output
     assert "Traceback" not in r.output and "RuntimeWarning" not in r.output
     assert not out.exists()
+
+
+def test_the_excavator_view_names_every_moving_input_and_keeps_its_values_box_aside():
+    mech = excavkin.load(excavkin.example_path("excavator"))
+    res = mech.solve(default_sweep(mech, n=9))
+    fig = mechanism_figure(res)
+    label = fig.layout.sliders[0].steps[3].label
+    assert all(f"{c} = " in label for c in ("boom_cyl", "arm_cyl", "bucket_cyl")), label
+    note = fig.layout.annotations[0]
+    # the box is placed in paper coordinates right of the plotting area, never over the axes
+    assert note.xref == "paper" and note.x > 1.0 and note.xanchor == "left"

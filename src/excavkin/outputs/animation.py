@@ -176,9 +176,10 @@ def animate(
     """
     from matplotlib.animation import FuncAnimation
 
-    from excavkin.outputs.drawing import FAIL_COLOR, draw_mechanism, trace_paths
+    from excavkin.outputs.drawing import draw_mechanism, trace_paths
     from excavkin.outputs.events import as_table, varies
     from excavkin.outputs.plots import default_x
+    from excavkin.outputs.style import FAIL_COLOR
 
     kin = result if hasattr(result, "positions") else getattr(result, "kinematics", result)
     table = as_table(result)

@@ -27,14 +27,13 @@ import numpy as np
 
 from excavkin.outputs.display_units import KIND_NAMES, Display, DisplayUnits, pretty_unit
 from excavkin.outputs.drawing import (
-    DEAD_COLOR,
-    FAIL_COLOR,
     MechanismDrawing,
     TracedPaths,
     draw_mechanism,
     trace_paths,
 )
 from excavkin.outputs.events import Table, as_table, dead_samples, failed_runs, varies
+from excavkin.outputs.style import DEAD_COLOR, FAIL_COLOR, check_line_style
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -54,32 +53,6 @@ __all__ = [
     "plot_curves",
     "trace_paths",
 ]
-
-
-def check_line_style(style: Mapping[str, Any]) -> dict[str, Any]:
-    """Normalise matplotlib ``Line2D`` keywords (``lw`` → ``linewidth``) and reject others.
-
-    Raises
-    ------
-    TypeError
-        Naming the keywords that are not ``Line2D`` properties.
-    """
-    from matplotlib import cbook
-    from matplotlib.artist import ArtistInspector
-    from matplotlib.lines import Line2D
-
-    norm = cbook.normalize_kwargs(dict(style), Line2D)
-    valid = set(ArtistInspector(Line2D).get_setters())
-    bad = sorted(
-        k for k in norm if k not in valid or k in ("data", "xdata", "ydata", "figure", "transform")
-    )
-    if bad:
-        raise TypeError(
-            f"unexpected keyword argument{'s' if len(bad) > 1 else ''} "
-            f"{', '.join(map(repr, bad))}: style keywords must be matplotlib Line2D "
-            "properties such as color, linewidth, linestyle, marker, alpha"
-        )
-    return dict(norm)
 
 
 def default_x(table: Table) -> str:

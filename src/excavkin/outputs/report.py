@@ -29,15 +29,6 @@ from typing import Any
 import numpy as np
 
 from excavkin.outputs.display_units import KIND_NAMES, DisplayUnits, pretty_unit
-from excavkin.outputs.drawing import (
-    BODY_COLORS,
-    CYLINDER_COLOR,
-    DEAD_COLOR,
-    FAIL_COLOR,
-    GROUND_COLOR,
-    ROD_COLOR,
-    Scene,
-)
 from excavkin.outputs.events import (
     Event,
     ShockLike,
@@ -47,6 +38,16 @@ from excavkin.outputs.events import (
     failed_runs,
     find_events,
     varies,
+)
+from excavkin.outputs.scene import Overlays, Scene, overlays, source
+from excavkin.outputs.style import (
+    BODY_COLORS,
+    CYLINDER_COLOR,
+    DEAD_COLOR,
+    FAIL_COLOR,
+    GROUND_COLOR,
+    PATH_COLOR,
+    ROD_COLOR,
 )
 
 #: samples in a default sweep of a rotary input (a full turn in 2° steps)
@@ -285,93 +286,99 @@ def mechanism_figure(
     """
     import plotly.graph_objects as go
 
-    from excavkin.outputs.drawing import _source
-
     ctx = _Context(result, units)
-    plan, positions, _ = _source(result)
+    plan, positions, _ = source(result)
     scene = Scene(plan, positions, tuple(ropes), length_unit)
-    frame = ctx.table.frame
-    n = len(scene)
-    if show is None:
-        show_cols = [f"{name}.value" for name in plan.inputs if varies(frame[f"{name}.value"])]
-        if "t" in frame:
-            show_cols.insert(0, "t")
-        show_cols += ctx.table.of_quantity("transmission")[:4]
-    else:
-        show_cols = list(show)
-        for c in show_cols:
-            if c not in frame:
-                raise KeyError(f"show: no column {c!r} in the result")
-    samples = _thin(n, max_frames)
-    ok = ctx.table.ok
-    labels = ctx.table.labels
-
+    show_cols = _shown_columns(ctx, show)
+    samples = _thin(len(scene), max_frames)
     fig = go.Figure()
-    static: list[Any] = []
+    for tr in _static_traces(scene, overlays(scene, ctx.table)):
+        fig.add_trace(tr)
+    first_dynamic = len(fig.data)
+    i0 = int(samples[0])
+    for tr in _dynamic_traces(scene, i0):
+        fig.add_trace(tr)
+    idx = list(range(first_dynamic, len(fig.data)))
+    fig.frames = [
+        go.Frame(
+            data=_dynamic_traces(scene, int(i)),
+            traces=idx,
+            name=str(int(i)),
+            layout={"annotations": [_note(ctx, show_cols, int(i))]},
+        )
+        for i in samples
+    ]
+    fig.update_layout(
+        title=title,
+        plot_bgcolor="white",
+        hovermode="closest",
+        legend={"orientation": "h", "yanchor": "bottom", "y": 1.0, "x": 1.0, "xanchor": "right"},
+        annotations=[_note(ctx, show_cols, i0)],
+        **_axes_layout(scene, length_unit),
+        **_player(ctx, samples),
+    )
+    # the values box stands right of the plot, so it never hides the mechanism
+    fig.layout.height = 700
+    fig.layout.margin = {"l": 60, "r": 230, "t": 40 if title else 20, "b": 110}
+    return fig
+
+
+def _shown_columns(ctx: _Context, show: Iterable[str] | None) -> list[str]:
+    """The columns whose value the view shows: the moving inputs and transmission angles."""
+    frame = ctx.table.frame
+    if show is None:
+        cols = ctx.moving_inputs()
+        if "t" in frame:
+            cols.insert(0, "t")
+        return cols + ctx.table.of_quantity("transmission")[:4]
+    cols = list(show)
+    for c in cols:
+        if c not in frame:
+            raise KeyError(f"show: no column {c!r} in the result")
+    return cols
+
+
+def _scatter(xy: np.ndarray, **kw: Any) -> Any:
+    import plotly.graph_objects as go
+
+    xs, ys = _xy(xy)
+    return go.Scatter(x=xs, y=ys, **kw)
+
+
+def _static_traces(scene: Scene, over: Overlays) -> list[Any]:
+    """Ground symbols, the paths of the moving points, dead-position and non-closure marks."""
+    plan = scene.plan
     tri, hatch = scene.ground_symbols()
-    static.append(
-        go.Scatter(
-            x=_xy(tri)[0],
-            y=_xy(tri)[1],
-            mode="lines",
-            name="ground",
-            line={"color": GROUND_COLOR, "width": 1.6},
-            hoverinfo="skip",
-            showlegend=False,
-        )
-    )
-    static.append(
-        go.Scatter(
-            x=_xy(hatch)[0],
-            y=_xy(hatch)[1],
-            mode="lines",
-            name="hatching",
-            line={"color": GROUND_COLOR, "width": 1.1},
-            hoverinfo="skip",
-            showlegend=False,
-        )
-    )
-    moving = np.nanmax(np.ptp(np.nan_to_num(scene.xy, nan=0.0), axis=0), axis=1)
-    first_path = True
-    for i, p in enumerate(plan.points):
-        if moving[i] <= 1e-9 * scene.extent:
-            continue
-        xs, ys = _xy(scene.xy[:, i])
-        static.append(
-            go.Scatter(
-                x=xs,
-                y=ys,
+    skip: dict[str, Any] = {"mode": "lines", "hoverinfo": "skip", "showlegend": False}
+    traces = [
+        _scatter(tri, name="ground", line={"color": GROUND_COLOR, "width": 1.6}, **skip),
+        _scatter(hatch, name="hatching", line={"color": GROUND_COLOR, "width": 1.1}, **skip),
+    ]
+    for k, i in enumerate(over.moving):
+        traces.append(
+            _scatter(
+                scene.xy[:, i],
                 mode="lines",
                 name="paths",
                 legendgroup="paths",
-                showlegend=first_path,
-                hovertemplate=f"path of {p}<extra></extra>",
-                line={"color": "#8a94a6", "width": 1, "dash": "dot"},
+                showlegend=k == 0,
+                hovertemplate=f"path of {plan.points[i]}<extra></extra>",
+                line={"color": PATH_COLOR, "width": 1, "dash": "dot"},
             )
         )
-        first_path = False
-    dead = dead_samples(ctx.table)
-    if dead.size:
-        xy = scene.xy[dead][:, scene.pins].reshape(-1, 2)
-        static.append(
-            go.Scatter(
-                x=_xy(xy)[0],
-                y=_xy(xy)[1],
+    if over.dead.size:
+        traces.append(
+            _scatter(
+                scene.xy[over.dead][:, scene.pins].reshape(-1, 2),
                 mode="markers",
                 name="dead position",
                 marker={"symbol": "x", "size": 10, "color": DEAD_COLOR},
             )
         )
-    edges = sorted(
-        {a - 1 for a, _, _ in failed_runs(ctx.table) if a > 0}
-        | {b + 1 for _, b, _ in failed_runs(ctx.table) if b + 1 < n}
-    )
-    if edges:
-        xy = scene.xy[edges][:, scene.pins].reshape(-1, 2)
-        static.append(
-            go.Scatter(
-                x=_xy(xy)[0],
-                y=_xy(xy)[1],
+    if over.edges:
+        traces.append(
+            _scatter(
+                scene.xy[over.edges][:, scene.pins].reshape(-1, 2),
                 mode="markers",
                 name="last position before non-closure",
                 marker={
@@ -382,222 +389,198 @@ def mechanism_figure(
                 },
             )
         )
-    for tr in static:
-        fig.add_trace(tr)
-    first_dynamic = len(fig.data)
+    return traces
 
-    def dynamic(i: int) -> list[Any]:
-        traces: list[Any] = []
-        for sl in scene.sliders:
-            g = scene.slider_guide(sl, i)
-            traces.append(
-                go.Scatter(
-                    x=_xy(g)[0],
-                    y=_xy(g)[1],
-                    mode="lines",
-                    showlegend=False,
-                    name=f"{sl[0]} guide",
-                    hoverinfo="skip",
-                    line={"color": GROUND_COLOR, "width": 1.5, "dash": "dash"},
-                )
-            )
-            b = scene.slider_block(sl, i)
-            traces.append(
-                go.Scatter(
-                    x=_xy(b)[0],
-                    y=_xy(b)[1],
-                    mode="lines",
-                    fill="toself",
-                    fillcolor="#dddddd",
-                    name=sl[0],
-                    showlegend=False,
-                    line={"color": GROUND_COLOR, "width": 1.5},
-                )
-            )
-        for body in scene.bodies:
-            path = scene.body_path(body, i)
-            xs, ys = _xy(path)
-            if body.closed:
-                traces.append(
-                    go.Scatter(
-                        x=xs,
-                        y=ys,
-                        mode="lines",
-                        fill="toself",
-                        name=body.name,
-                        fillcolor=_rgba(body.color, 0.35),
-                        line={"color": body.color, "width": 3},
-                        hovertemplate=f"{body.name}<extra></extra>",
-                    )
-                )
-            else:
-                traces.append(
-                    go.Scatter(
-                        x=xs,
-                        y=ys,
-                        mode="lines",
-                        name=body.name,
-                        line={"color": body.color, "width": 7},
-                        hovertemplate=f"{body.name}<extra></extra>",
-                    )
-                )
-        for el in scene.elements:
-            barrel, rod = scene.element_segments(el, i)
-            if el.style == "line":
-                traces.append(
-                    go.Scatter(
-                        x=_xy(barrel)[0],
-                        y=_xy(barrel)[1],
-                        mode="lines",
-                        name=el.name,
-                        line={"color": CYLINDER_COLOR, "width": 2},
-                        hovertemplate=f"{el.name}<extra></extra>",
-                    )
-                )
-                continue
-            traces.append(
-                go.Scatter(
-                    x=_xy(rod)[0],
-                    y=_xy(rod)[1],
-                    mode="lines",
-                    name=f"{el.name} rod",
-                    showlegend=False,
-                    line={"color": ROD_COLOR, "width": 5},
-                    hovertemplate=f"{el.name} (rod)<extra></extra>",
-                )
-            )
-            traces.append(
-                go.Scatter(
-                    x=_xy(barrel)[0],
-                    y=_xy(barrel)[1],
-                    mode="lines",
-                    name=el.name,
-                    line={"color": CYLINDER_COLOR, "width": 13},
-                    hovertemplate=f"{el.name}<extra></extra>",
-                )
-            )
-        xy = scene.xy[i]
-        pins = xy[scene.pins]
+
+def _dynamic_traces(scene: Scene, i: int) -> list[Any]:
+    """Everything that moves, at sample ``i``: sliders, bodies, cylinders, pins and labels."""
+    return (
+        _slider_traces(scene, i)
+        + _body_traces(scene, i)
+        + _element_traces(scene, i)
+        + _point_traces(scene, i)
+    )
+
+
+def _slider_traces(scene: Scene, i: int) -> list[Any]:
+    traces = []
+    for sl in scene.sliders:
         traces.append(
-            go.Scatter(
-                x=_xy(pins)[0],
-                y=_xy(pins)[1],
-                mode="markers",
-                name="pins",
+            _scatter(
+                scene.slider_guide(sl, i),
+                mode="lines",
                 showlegend=False,
-                text=[plan.points[k] for k in scene.pins],
-                hovertemplate="%{text}: (%{x:.1f}, %{y:.1f})<extra></extra>",
-                marker={"size": 10, "color": "white", "line": {"color": "black", "width": 2}},
-            )
-        )
-        dots = xy[scene.dots]
-        traces.append(
-            go.Scatter(
-                x=_xy(dots)[0],
-                y=_xy(dots)[1],
-                mode="markers",
-                name="points",
-                showlegend=False,
-                text=[plan.points[k] for k in scene.dots],
-                hovertemplate="%{text}: (%{x:.1f}, %{y:.1f})<extra></extra>",
-                marker={"size": 6, "color": "black"},
-            )
-        )
-        at = xy + 0.3 * scene.size
-        traces.append(
-            go.Scatter(
-                x=_xy(at)[0],
-                y=_xy(at)[1],
-                mode="text",
-                name="labels",
-                showlegend=False,
-                text=list(plan.points),
-                textposition="top right",
+                name=f"{sl[0]} guide",
                 hoverinfo="skip",
-                textfont={"size": 13, "color": "#111111"},
+                line={"color": GROUND_COLOR, "width": 1.5, "dash": "dash"},
             )
         )
-        return traces
-
-    def note(i: int) -> dict[str, Any]:
-        text = ctx.values(show_cols, i)
-        if not ok[i]:
-            text += ("<br>" if text else "") + f"<b>{html.escape(str(labels[i]))}</b>"
-        return {
-            "text": text or " ",
-            "xref": "x domain",
-            "yref": "y domain",
-            "x": 0.01,
-            "y": 0.99,
-            "xanchor": "left",
-            "yanchor": "top",
-            "align": "left",
-            "showarrow": False,
-            "font": {
-                "family": "DejaVu Sans Mono, monospace",
-                "size": 13,
-                "color": "black" if ok[i] else FAIL_COLOR,
-            },
-            "bgcolor": "rgba(255,255,255,0.9)",
-            "bordercolor": "#999999",
-            "borderpad": 5,
-        }
-
-    i0 = int(samples[0])
-    for tr in dynamic(i0):
-        fig.add_trace(tr)
-    idx = list(range(first_dynamic, len(fig.data)))
-    fig.frames = [
-        go.Frame(
-            data=dynamic(int(i)),
-            traces=idx,
-            name=str(int(i)),
-            layout={"annotations": [note(int(i))]},
+        traces.append(
+            _scatter(
+                scene.slider_block(sl, i),
+                mode="lines",
+                fill="toself",
+                fillcolor="#dddddd",
+                name=sl[0],
+                showlegend=False,
+                line={"color": GROUND_COLOR, "width": 1.5},
+            )
         )
-        for i in samples
+    return traces
+
+
+def _body_traces(scene: Scene, i: int) -> list[Any]:
+    traces = []
+    for body in scene.bodies:
+        hover = f"{body.name}<extra></extra>"
+        if body.closed:
+            style = {
+                "fill": "toself",
+                "fillcolor": _rgba(body.color, 0.35),
+                "line": {"color": body.color, "width": 3},
+            }
+        else:
+            style = {"line": {"color": body.color, "width": 7}}
+        traces.append(
+            _scatter(
+                scene.body_path(body, i), mode="lines", name=body.name, hovertemplate=hover, **style
+            )
+        )
+    return traces
+
+
+def _element_traces(scene: Scene, i: int) -> list[Any]:
+    traces = []
+    for el in scene.elements:
+        barrel, rod = scene.element_segments(el, i)
+        hover = f"{el.name}<extra></extra>"
+        if el.style == "line":
+            line = {"color": CYLINDER_COLOR, "width": 2}
+            traces.append(
+                _scatter(barrel, mode="lines", name=el.name, line=line, hovertemplate=hover)
+            )
+            continue
+        traces.append(
+            _scatter(
+                rod,
+                mode="lines",
+                name=f"{el.name} rod",
+                showlegend=False,
+                line={"color": ROD_COLOR, "width": 5},
+                hovertemplate=f"{el.name} (rod)<extra></extra>",
+            )
+        )
+        line = {"color": CYLINDER_COLOR, "width": 13}
+        traces.append(_scatter(barrel, mode="lines", name=el.name, line=line, hovertemplate=hover))
+    return traces
+
+
+def _point_traces(scene: Scene, i: int) -> list[Any]:
+    names = scene.plan.points
+    xy = scene.xy[i]
+    where = "%{text}: (%{x:.1f}, %{y:.1f})<extra></extra>"
+    return [
+        _scatter(
+            xy[scene.pins],
+            mode="markers",
+            name="pins",
+            showlegend=False,
+            text=[names[k] for k in scene.pins],
+            hovertemplate=where,
+            marker={"size": 10, "color": "white", "line": {"color": "black", "width": 2}},
+        ),
+        _scatter(
+            xy[scene.dots],
+            mode="markers",
+            name="points",
+            showlegend=False,
+            text=[names[k] for k in scene.dots],
+            hovertemplate=where,
+            marker={"size": 6, "color": "black"},
+        ),
+        _scatter(
+            xy + 0.3 * scene.size,
+            mode="text",
+            name="labels",
+            showlegend=False,
+            text=list(names),
+            textposition="top right",
+            hoverinfo="skip",
+            textfont={"size": 13, "color": "#111111"},
+        ),
     ]
-    anim = {
-        "mode": "immediate",
-        "frame": {"duration": 0, "redraw": False},
-        "transition": {"duration": 0},
+
+
+def _note(ctx: _Context, show_cols: list[str], i: int) -> dict[str, Any]:
+    """The values box at sample ``i``, beside the plot (right of it)."""
+    ok = bool(ctx.table.ok[i])
+    text = ctx.values(show_cols, i)
+    if not ok:
+        text += ("<br>" if text else "") + f"<b>{html.escape(str(ctx.table.labels[i]))}</b>"
+    return {
+        "text": text or " ",
+        "xref": "paper",
+        "yref": "paper",
+        "x": 1.02,
+        "y": 1.0,
+        "xanchor": "left",
+        "yanchor": "top",
+        "align": "left",
+        "showarrow": False,
+        "font": {
+            "family": "DejaVu Sans Mono, monospace",
+            "size": 13,
+            "color": "black" if ok else FAIL_COLOR,
+        },
+        "bgcolor": "rgba(255,255,255,0.9)",
+        "bordercolor": "#999999",
+        "borderpad": 5,
     }
-    steps = [
-        {
-            "method": "animate",
-            "args": [[str(int(i))], anim],
-            "label": _fmt(float(ctx.xv[i]), ctx.xd.unit) if ctx.x != "sample" else str(int(i)),
-        }
-        for i in samples
-    ]
+
+
+def _axes_layout(scene: Scene, length_unit: str) -> dict[str, Any]:
+    """Equal-scale x and y axes around every sample of the mechanism."""
     finite = scene.xy[np.isfinite(scene.xy).all(axis=-1)]
     lo, hi = (finite.min(axis=0), finite.max(axis=0)) if finite.size else (np.zeros(2), np.ones(2))
     pad = 0.06 * scene.extent
     unit = pretty_unit(length_unit)
-    fig.update_layout(
-        title=title,
-        height=640,
-        margin={"l": 60, "r": 20, "t": 40 if title else 20, "b": 10},
-        plot_bgcolor="white",
-        hovermode="closest",
-        legend={"orientation": "h", "yanchor": "bottom", "y": 1.0, "x": 1.0, "xanchor": "right"},
-        xaxis={
+    grid = {"constrain": "domain", "gridcolor": "#ececec", "zeroline": False}
+    return {
+        "xaxis": {
             "title": {"text": f"x [{unit}]"},
             "range": [lo[0] - pad, hi[0] + pad],
-            "constrain": "domain",
-            "gridcolor": "#ececec",
-            "zeroline": False,
+            **grid,
         },
-        yaxis={
+        "yaxis": {
             "title": {"text": f"y [{unit}]"},
             "range": [lo[1] - pad - 2.2 * scene.size, hi[1] + pad],
             "scaleanchor": "x",
             "scaleratio": 1,
-            "constrain": "domain",
-            "gridcolor": "#ececec",
-            "zeroline": False,
+            **grid,
         },
-        annotations=[note(i0)],
-        updatemenus=[
+    }
+
+
+def _player(ctx: _Context, samples: np.ndarray) -> dict[str, Any]:
+    """Play/pause buttons and a slider over the samples, labelled by the moving inputs."""
+    still = {"duration": 0, "redraw": False}
+    anim = {"mode": "immediate", "frame": still, "transition": {"duration": 0}}
+    steps = [
+        {"method": "animate", "args": [[str(int(i))], anim], "label": ctx.name(int(i))}
+        for i in samples
+    ]
+    play = {
+        "mode": "immediate",
+        "fromcurrent": True,
+        "frame": {"duration": 60, "redraw": False},
+        "transition": {"duration": 0},
+    }
+    buttons = [
+        {"label": "▶ Play", "method": "animate", "args": [None, play]},
+        {"label": "❚❚ Pause", "method": "animate", "args": [[None], anim]},
+    ]
+    return {
+        "updatemenus": [
             {
                 "type": "buttons",
                 "direction": "left",
@@ -607,36 +590,10 @@ def mechanism_figure(
                 "xanchor": "left",
                 "yanchor": "top",
                 "pad": {"t": 45, "r": 10},
-                "buttons": [
-                    {
-                        "label": "▶ Play",
-                        "method": "animate",
-                        "args": [
-                            None,
-                            {
-                                "mode": "immediate",
-                                "fromcurrent": True,
-                                "frame": {"duration": 60, "redraw": False},
-                                "transition": {"duration": 0},
-                            },
-                        ],
-                    },
-                    {
-                        "label": "❚❚ Pause",
-                        "method": "animate",
-                        "args": [
-                            [None],
-                            {
-                                "mode": "immediate",
-                                "frame": {"duration": 0, "redraw": False},
-                                "transition": {"duration": 0},
-                            },
-                        ],
-                    },
-                ],
+                "buttons": buttons,
             }
         ],
-        sliders=[
+        "sliders": [
             {
                 "active": 0,
                 "steps": steps,
@@ -645,16 +602,13 @@ def mechanism_figure(
                 "y": 0.0,
                 "yanchor": "top",
                 "pad": {"t": 35, "b": 10},
-                "currentvalue": {
-                    "prefix": f"{ctx.x_name()} = " if ctx.x != "sample" else "sample ",
-                    "font": {"size": 14},
-                },
+                # the step labels name every moving input: too long for ticks, so only the
+                # current one is shown, above the slider
+                "font": {"color": "rgba(0,0,0,0)"},
+                "currentvalue": {"prefix": "", "font": {"size": 14, "color": "#111111"}},
             }
         ],
-    )
-    fig.layout.height = 700
-    fig.layout.margin.b = 110
-    return fig
+    }
 
 
 def _rgba(hex_color: str, alpha: float) -> str:
