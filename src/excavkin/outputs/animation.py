@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from matplotlib.text import Text
 
     from excavkin.outputs.drawing import MechanismDrawing
+    from excavkin.outputs.protocols import Solved
 
 #: most frames an animation gets when ``samples`` is not given
 MAX_FRAMES = 180
@@ -123,7 +124,7 @@ class MechanismAnimation:
 
 
 def animate(
-    result: Any,
+    result: Solved,
     *,
     samples: Sequence[int] | None = None,
     show: Sequence[str] | None = None,

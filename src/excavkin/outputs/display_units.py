@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from excavkin.kinematics.columns import columns_from_names
 
@@ -116,7 +117,7 @@ def _si_unit(kind: str) -> str:
     return _EXTRA_SI.get(kind) or KINDS.get(kind, "")
 
 
-def convert(values: Any, kind: str, unit: str) -> Any:
+def convert(values: npt.ArrayLike, kind: str, unit: str) -> Any:
     """Convert SI ``values`` of ``kind`` to ``unit`` (unchanged for unknown kinds or no unit)."""
     if kind in ("unknown", "dimensionless") or not unit:
         return values
@@ -125,7 +126,7 @@ def convert(values: Any, kind: str, unit: str) -> Any:
     if kind in KINDS:
         return from_si(values, kind, unit)
     factor = ureg.Quantity(1.0, _si_unit(kind)).to(unit).magnitude
-    return values * factor
+    return np.asarray(values, dtype=np.float64) * factor
 
 
 def kind_of_unit(unit: str) -> str | None:
@@ -187,11 +188,11 @@ class Display:
         """``"B.x [mm]"``, or the bare name without a unit."""
         return f"{self.column} [{pretty_unit(self.unit)}]" if self.unit else self.column
 
-    def convert(self, values: Any) -> Any:
+    def convert(self, values: npt.ArrayLike) -> Any:
         """SI values → display values."""
         return convert(values, self.kind, self.unit)
 
-    def values(self, values: Any) -> np.ndarray:
+    def values(self, values: npt.ArrayLike) -> np.ndarray:
         """SI values → display values for a curve, shape (n,).
 
         Angles (not transmission angles) are unwrapped first, so a body turning past ±180°

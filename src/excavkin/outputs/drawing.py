@@ -40,6 +40,8 @@ if TYPE_CHECKING:
     from matplotlib.patches import Polygon
     from matplotlib.text import Annotation
 
+    from excavkin.outputs.protocols import Drawable, Solved
+
 
 class MechanismDrawing:
     """The artists of a mechanism drawn at one sample; :meth:`set_sample` moves them.
@@ -310,7 +312,7 @@ def _frame_axes(ax: Axes, scene: Scene) -> None:
 
 
 def draw_mechanism(
-    mech_or_result: Any,
+    mech_or_result: Drawable,
     sample: int | Sequence[int] = 0,
     *,
     ax: Axes | None = None,
@@ -406,7 +408,7 @@ class TracedPaths:
 
 
 def trace_paths(
-    result: Any,
+    result: Solved,
     points: Sequence[str] | None = None,
     *,
     ax: Axes | None = None,

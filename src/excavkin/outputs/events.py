@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
+import numpy.typing as npt
 
 from excavkin.kinematics.columns import Column, columns_from_names
 from excavkin.kinematics.kernels import Code
@@ -31,14 +32,7 @@ from excavkin.kinematics.kernels import Code
 if TYPE_CHECKING:
     import pandas as pd
 
-
-class TableSource(Protocol):
-    """A result that can be shown: it makes a table and describes its columns."""
-
-    @property
-    def columns(self) -> tuple[Column, ...]: ...
-
-    def to_frame(self) -> pd.DataFrame: ...
+    from excavkin.outputs.protocols import SampleNamer, TableData
 
 
 class ShockLike(Protocol):
@@ -139,7 +133,7 @@ class Table:
         ]
 
 
-def as_table(data: Any, kinds: Mapping[str, str] | None = None) -> Table:
+def as_table(data: TableData, kinds: Mapping[str, str] | None = None) -> Table:
     """Wrap a result or a DataFrame as a :class:`Table`.
 
     Parameters
@@ -168,7 +162,7 @@ def as_table(data: Any, kinds: Mapping[str, str] | None = None) -> Table:
         codes = codes_from_labels(np.asarray(labels.astype(str)))
     elif hasattr(data, "to_frame") and hasattr(data, "columns"):
         frame, result = data.to_frame(), data
-        kin = getattr(data, "kinematics", data)
+        kin: Any = getattr(data, "kinematics", data)  # a ForceResult's own kinematics
         plan = kin.plan
         described = list(data.columns)
         codes = np.asarray(kin.status.code, dtype=np.int8)
@@ -202,7 +196,7 @@ class Event:
     severity: str = "warning"
 
 
-def varies(values: Any) -> bool:
+def varies(values: npt.ArrayLike) -> bool:
     """Whether a column changes over its finite samples (beyond rounding), shape (n,) in."""
     v = np.asarray(values, dtype=np.float64)
     v = v[np.isfinite(v)]
@@ -219,7 +213,7 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return [(int(a), int(b) - 1) for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
 
-def failed_runs(data: Any) -> list[tuple[int, int, str]]:
+def failed_runs(data: TableData) -> list[tuple[int, int, str]]:
     """Runs of samples that did not solve, dead positions aside.
 
     Returns
@@ -233,7 +227,7 @@ def failed_runs(data: Any) -> list[tuple[int, int, str]]:
     return [(a, b, str(labels[a])) for a, b in _runs(bad)]
 
 
-def dead_samples(data: Any, dead_tol: float = np.radians(3.0)) -> np.ndarray:
+def dead_samples(data: TableData, dead_tol: float = np.radians(3.0)) -> np.ndarray:
     """Samples at or next to a dead position, sorted, shape (k,).
 
     Parameters
@@ -255,11 +249,11 @@ def dead_samples(data: Any, dead_tol: float = np.radians(3.0)) -> np.ndarray:
 
 
 def find_events(
-    data: Any,
+    data: TableData,
     *,
     dead_tol: float = np.radians(3.0),
     transmission_limit: float = np.radians(30.0),
-    describe_sample: Any = None,
+    describe_sample: SampleNamer | None = None,
     shocks: Sequence[ShockLike] = (),
 ) -> list[Event]:
     """Every warning about a result, most serious first.

@@ -40,6 +40,8 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
 
+    from excavkin.outputs.protocols import TableData
+
 __all__ = [
     "ColumnsPlot",
     "CurvesPlot",
@@ -151,7 +153,7 @@ def _mark(ax: Axes, table: Table, xv: np.ndarray, out: ColumnsPlot) -> None:
 
 
 def plot_columns(
-    data: Any,
+    data: TableData,
     y: str | Sequence[str],
     x: str | None = None,
     *,
@@ -302,7 +304,7 @@ class CurvesPlot:
 
 
 def plot_curves(
-    data: Any,
+    data: TableData,
     y: Sequence[str] | None = None,
     x: str | None = None,
     *,

@@ -39,6 +39,7 @@ from excavkin.outputs.events import (
     find_events,
     varies,
 )
+from excavkin.outputs.protocols import MechanismLike, Solved, TableData
 from excavkin.outputs.scene import Overlays, Scene, overlays, source
 from excavkin.outputs.style import (
     BODY_COLORS,
@@ -103,7 +104,7 @@ def _passable(code: np.ndarray) -> np.ndarray:
     return np.asarray((code == Code.OK) | (code == Code.SINGULAR))
 
 
-def default_sweep(mech: Any, n: int | None = None) -> dict[str, np.ndarray]:
+def default_sweep(mech: MechanismLike, n: int | None = None) -> dict[str, np.ndarray]:
     """A sensible sweep of every input of a mechanism, all moving together.
 
     * A rotary input turns a full turn, 0 to 2π (from the sketch value instead if 0 is a dead
@@ -164,7 +165,7 @@ def default_sweep(mech: Any, n: int | None = None) -> dict[str, np.ndarray]:
     return out
 
 
-def solve_default(mech: Any, n: int | None = None) -> Any:
+def solve_default(mech: MechanismLike, n: int | None = None) -> Any:
     """``mech.solve(default_sweep(mech, n))``: the result ``excavkin demo`` reports."""
     return mech.solve(default_sweep(mech, n))
 
@@ -194,7 +195,7 @@ def _fmt(v: float, unit: str) -> str:
 class _Context:
     """What the pieces of a report share: the table, display units, the x column."""
 
-    def __init__(self, result: Any, units: Mapping[str, str] | None) -> None:
+    def __init__(self, result: TableData, units: Mapping[str, str] | None) -> None:
         from excavkin.outputs.plots import default_x
 
         self.result = result
@@ -252,7 +253,7 @@ class _Context:
 
 # ------------------------------------------------------------------------------ mechanism view
 def mechanism_figure(
-    result: Any,
+    result: Solved,
     *,
     units: Mapping[str, str] | None = None,
     show: Iterable[str] | None = None,
@@ -619,7 +620,7 @@ def _rgba(hex_color: str, alpha: float) -> str:
 
 # ----------------------------------------------------------------------------------- curves
 def curves_figure(
-    result: Any,
+    result: Solved,
     y: Iterable[str] | None = None,
     *,
     units: Mapping[str, str] | None = None,
@@ -789,8 +790,8 @@ def _extremes_html(ctx: _Context, cols: list[str]) -> str:
 
 
 def build_report(
-    mech: Any,
-    result: Any,
+    mech: MechanismLike,
+    result: Solved,
     *,
     title: str | None = None,
     units: Mapping[str, str] | None = None,
@@ -907,8 +908,8 @@ def build_report(
 
 
 def write_report(
-    mech: Any,
-    result: Any,
+    mech: MechanismLike,
+    result: Solved,
     path: str | Path,
     *,
     force: bool = False,

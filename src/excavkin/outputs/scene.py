@@ -25,10 +25,11 @@ from typing import Any
 import numpy as np
 
 from excavkin.outputs.events import Table, dead_samples, failed_runs
+from excavkin.outputs.protocols import Drawable
 from excavkin.outputs.style import BODY_COLORS
 
 
-def source(mech_or_result: Any) -> tuple[Any, np.ndarray, Any]:
+def source(mech_or_result: Drawable) -> tuple[Any, np.ndarray, Any]:
     """(plan, positions shape (n, n_points, 2) in m, result or None)."""
     obj = mech_or_result
     if hasattr(obj, "positions") and hasattr(obj, "plan"):
@@ -334,7 +335,7 @@ class Scene:
         return np.vstack([a + lo * u, a + hi * u])
 
 
-def scene_of(mech_or_result: Any, ropes: Iterable[str], length_unit: str) -> tuple[Scene, Any]:
+def scene_of(mech_or_result: Drawable, ropes: Iterable[str], length_unit: str) -> tuple[Scene, Any]:
     plan, positions, result = source(mech_or_result)
     return Scene(plan, positions, tuple(ropes), length_unit), result
 
