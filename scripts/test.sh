@@ -20,4 +20,18 @@ fi
 echo "== ruff";        ruff check src tests benchmarks
 echo "== mypy";        mypy
 echo "== import-linter"; lint-imports
+# A newcomer's plain install: the wheel, non-editable, in a fresh virtual environment, runs the
+# demo on the built-in model and reproduces a paper (the examples travel in the wheel).
+echo "== wheel"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+python -m pip wheel --quiet --disable-pip-version-check --no-deps -w "$work/dist" .
+python -m venv "$work/venv"
+"$work/venv/bin/pip" install --quiet --disable-pip-version-check "$work"/dist/*.whl
+(cd "$work" && "$work/venv/bin/excavkin" demo --out-dir demo >/dev/null \
+   && test -s demo/fourbar.csv && test -s demo/fourbar-report.html \
+   && "$work/venv/bin/excavkin" reproduce pasika --out-dir pasika >/dev/null \
+   && test -s pasika/pasika-fig3.png)
+echo "wheel: demo and reproduce ran from a non-editable install"
+
 echo "== pytest";      python -m pytest -q -p no:cacheprovider "$@"

@@ -11,22 +11,61 @@ accelerations, transmission angles, and forces over millions of samples.
 
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-from excavkin.errors import (
-    AssemblyError,
-    ExcavkinError,
-    InputError,
-    MobilityError,
-    ModelError,
-    SingularityWarning,
-    SolveFailure,
-    UnitError,
-)
-from excavkin.kinematics import KinematicResult, Status, Tolerances
-from excavkin.mechanism import Mechanism
-from excavkin.model import Body, LinearDriver, Model, RotaryDriver, Slider
-from excavkin.model.entities import Gravity, PointForce, Torque
+if TYPE_CHECKING:
+    from excavkin.errors import (
+        AssemblyError,
+        ExcavkinError,
+        InputError,
+        MobilityError,
+        ModelError,
+        SingularityWarning,
+        SolveFailure,
+        UnitError,
+    )
+    from excavkin.kinematics import KinematicResult, Status, Tolerances
+    from excavkin.mechanism import Mechanism
+    from excavkin.model import Body, LinearDriver, Model, RotaryDriver, Slider
+    from excavkin.model.entities import Gravity, PointForce, Torque
+
+#: where each public name lives; imported on first use, so that ``import excavkin`` (and the
+#: command line's ``--help``) does not load NumPy, pandas or pint before they are needed
+_LAZY = {
+    **dict.fromkeys(
+        (
+            "AssemblyError",
+            "ExcavkinError",
+            "InputError",
+            "MobilityError",
+            "ModelError",
+            "SingularityWarning",
+            "SolveFailure",
+            "UnitError",
+        ),
+        "excavkin.errors",
+    ),
+    **dict.fromkeys(("KinematicResult", "Status", "Tolerances"), "excavkin.kinematics"),
+    "Mechanism": "excavkin.mechanism",
+    **dict.fromkeys(("Body", "LinearDriver", "Model", "RotaryDriver", "Slider"), "excavkin.model"),
+    **dict.fromkeys(("Gravity", "PointForce", "Torque"), "excavkin.model.entities"),
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'excavkin' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
 
 __version__ = "0.1.0"
 
@@ -52,6 +91,7 @@ __all__ = [
     "Tolerances",
     "UnitError",
     "example_path",
+    "examples",
     "load",
     "loads",
 ]
@@ -66,6 +106,7 @@ def load(path: str | Path) -> Mechanism:
         Naming the file, table and entry of the problem.
     """
     from excavkin.io.toml_model import load_model
+    from excavkin.mechanism import Mechanism
 
     return Mechanism(load_model(path))
 
@@ -73,23 +114,57 @@ def load(path: str | Path) -> Mechanism:
 def loads(text: str, source: str | None = None) -> Mechanism:
     """Like :func:`load`, from TOML text."""
     from excavkin.io.toml_model import loads_model
+    from excavkin.mechanism import Mechanism
 
     return Mechanism(loads_model(text, source))
 
 
+def _example_folders() -> list[Path]:
+    """The built-in examples: inside the installed package, or the checkout's examples/."""
+    from importlib.resources import files
+
+    here = Path(str(files("excavkin")))
+    return [f for f in (here / "examples", here.parents[1] / "examples") if f.is_dir()]
+
+
+def examples(kind: str | None = None) -> list[str]:
+    """Names of the built-in examples.
+
+    Parameters
+    ----------
+    kind : {"model", "machine"}, optional
+        Only mechanism models (for :func:`load`) or only excavator machine files (for
+        :func:`excavkin.excavator.machine_file.load_machine`); default both.
+
+    Returns
+    -------
+    list of str
+    """
+    names: dict[str, str] = {}
+    for folder in _example_folders():
+        for p in sorted(folder.glob("*.toml")):
+            is_machine = "\n[front]" in p.read_text(encoding="utf-8")
+            names.setdefault(p.stem, "machine" if is_machine else "model")
+    return sorted(n for n, k in names.items() if kind is None or k == kind)
+
+
 def example_path(name: str) -> Path:
-    """Path of a built-in example model, e.g. ``"fourbar"``, ``"slider_crank"``, ``"excavator"``."""
-    here = Path(__file__).resolve().parent
-    for folder in (here / "examples", here.parents[1] / "examples"):
+    """Path of a built-in example, e.g. ``"fourbar"``, ``"slider_crank"``, ``"excavator"``.
+
+    Raises
+    ------
+    ModelError
+        For an unknown name, listing the closest and all known names.
+    """
+    for folder in _example_folders():
         candidate = folder / f"{name}.toml"
         if candidate.is_file():
             return candidate
-    known = sorted(
-        {
-            p.stem
-            for f in (here / "examples", here.parents[1] / "examples")
-            if f.is_dir()
-            for p in f.glob("*.toml")
-        }
-    )
-    raise ModelError(f"no built-in example {name!r} (known: {', '.join(known)})")
+    import difflib
+
+    from excavkin.errors import ModelError
+
+    known = examples()
+    close = difflib.get_close_matches(name, known, n=3, cutoff=0.6)
+    hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+    raise ModelError(f"no built-in example {name!r}{hint} (known: {', '.join(known)})")

@@ -11,13 +11,13 @@ import functools
 import importlib
 import sys
 from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Any, TypeVar
 
 import click
 import numpy as np
 
 from excavkin.errors import ExcavkinError, UnitError
-from excavkin.units import to_si
 
 T = TypeVar("T", bound=Callable[..., Any])
 
@@ -58,6 +58,8 @@ def handle_errors(fn: T) -> T:
 
 def si_value(text: str, kind: str, what: str) -> float:
     """Read ``"31.416rad/s"``, ``"50 deg"`` or a bare SI number as an SI float."""
+    from excavkin.units import to_si
+
     text = text.strip()
     try:
         value = float(text)
@@ -69,6 +71,39 @@ def si_value(text: str, kind: str, what: str) -> float:
     if not np.isfinite(value):
         raise ExcavkinError(f"{what}: {text!r} is not a finite number")
     return value
+
+
+def model_path(text: str, kind: str = "model") -> Path:
+    """A model (or machine) file given on the command line: a path, or a built-in example's name.
+
+    Parameters
+    ----------
+    text : str
+        A path to a ``.toml`` file, or the name of a built-in example (``fourbar``).
+    kind : {"model", "machine"}
+        Which built-in examples a bare name may name.
+
+    Raises
+    ------
+    ExcavkinError
+        Neither a file nor a built-in example, with the closest names.
+    """
+    import difflib
+
+    import excavkin
+
+    path = Path(text)
+    if path.exists():
+        return path
+    known = excavkin.examples(kind)
+    if text in known:
+        return excavkin.example_path(text)
+    close = difflib.get_close_matches(path.stem, known, n=3, cutoff=0.6)
+    hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+    raise ExcavkinError(
+        f"{text}: no such file, and no built-in example of that name{hint} "
+        f"(built-in {kind}s: {', '.join(known)})"
+    )
 
 
 def parse_assignment(text: str, option: str) -> tuple[str, str]:

@@ -5,13 +5,13 @@ from __future__ import annotations
 import click
 import numpy as np
 
-from excavkin.cli.common import handle_errors, si_value
+from excavkin.cli.common import handle_errors, model_path, si_value
 
 
 def _machine(path: str):  # type: ignore[no-untyped-def]
     from excavkin.excavator.machine_file import load_machine
 
-    return load_machine(path)
+    return load_machine(model_path(path, "machine"))
 
 
 def _save_png(fig, path: str, force: bool) -> None:  # type: ignore[no-untyped-def]

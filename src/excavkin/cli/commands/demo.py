@@ -9,6 +9,7 @@ import numpy as np
 
 import excavkin
 from excavkin.cli.common import handle_errors
+from excavkin.errors import ExcavkinError
 from excavkin.outputs.tables import write_table
 
 DEFAULT_MODEL = "fourbar"
@@ -27,17 +28,26 @@ DEFAULT_MODEL = "fourbar"
     "model_name",
     default=DEFAULT_MODEL,
     show_default=True,
-    help="Built-in example to analyse.",
+    help="Built-in example model to analyse (see `excavkin demo --list`).",
 )
+@click.option("--list", "list_models", is_flag=True, help="List the built-in models and stop.")
 @handle_errors
-def command(out_dir: str, model_name: str) -> None:
+def command(out_dir: str, model_name: str, list_models: bool) -> None:
     """Analyse a built-in model (the four-bar, a full crank turn at 300 rpm) and write its
     table (CSV) and its self-contained HTML report into OUT_DIR."""
     from excavkin.outputs.report import default_sweep, write_report
 
+    if list_models:
+        click.echo("\n".join(excavkin.examples("model")))
+        return
+    if model_name not in excavkin.examples("model"):
+        raise ExcavkinError(
+            f"--model: {model_name!r} is not a built-in model (built-in models: "
+            f"{', '.join(excavkin.examples('model'))})"
+        )
+    path = excavkin.example_path(model_name)
     folder = Path(out_dir)
     folder.mkdir(parents=True, exist_ok=True)
-    path = excavkin.example_path(model_name)
     mech = excavkin.load(path)
     click.echo(mech.describe())
     if model_name == DEFAULT_MODEL:

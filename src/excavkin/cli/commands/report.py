@@ -7,19 +7,13 @@ from pathlib import Path
 import click
 
 from excavkin.cli.commands.solve import build_inputs, with_sweep_options
-from excavkin.cli.common import EXIT_SAMPLES, fail, handle_errors
+from excavkin.cli.common import EXIT_SAMPLES, fail, handle_errors, model_path
 
 
 def _load(model: str):  # type: ignore[no-untyped-def]
     import excavkin
 
-    path = Path(model)
-    if not path.exists() and path.suffix == "" and "/" not in model:
-        try:
-            return excavkin.load(excavkin.example_path(model))
-        except excavkin.ModelError:
-            pass
-    return excavkin.load(path)
+    return excavkin.load(model_path(model))
 
 
 @click.command(

@@ -27,6 +27,7 @@ from excavkin.cli.common import (
     JERK_KIND,
     RATE_KIND,
     handle_errors,
+    model_path,
     parse_assignment,
     si_value,
 )
@@ -305,7 +306,7 @@ def command(
     )
     if shock_target is not None and shock_target.resolve() == target.resolve():
         raise InputError("--out and --shock-table name the same file")
-    mech = excavkin.load(model)
+    mech = excavkin.load(model_path(model))
     drives = build_drives(mech, drive_texts)
     held: dict[str, float] = {}
     for text in sets:

@@ -14,6 +14,7 @@ from excavkin.cli.common import (
     RATE_KIND,
     fail,
     handle_errors,
+    model_path,
     parse_assignment,
     parse_sweep,
     si_value,
@@ -178,7 +179,7 @@ def command(
     <point>.<body>.Fx .Fy, <driver>.force, <driver>.torque, <slider>.normal, <ground>.Rx .Ry.
     """
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
-    mech = excavkin.load(model)
+    mech = excavkin.load(model_path(model))
     values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels)
     result = solve_with_progress(mech, values, rate_v, accel_v, quiet=quiet)
     report_failures(result, keep_going)

@@ -1,0 +1,58 @@
+"""Issue 17: a newcomer's first hour — built-in examples everywhere, forgiving names."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import excavkin
+from excavkin.cli import main
+from excavkin.errors import UnknownNameError
+
+
+def run(*args: str) -> tuple[int, str]:
+    r = CliRunner().invoke(main, list(args))
+    return r.exit_code, r.output
+
+
+def test_examples_are_listed_by_kind_and_found_by_name() -> None:
+    models, machines = excavkin.examples("model"), excavkin.examples("machine")
+    assert "fourbar" in models and "excavator_machine" not in models
+    assert machines == ["excavator_machine"]
+    assert "schema_version = 1" in excavkin.example_path("fourbar").read_text()
+    with pytest.raises(excavkin.ModelError, match="did you mean 'fourbar'"):
+        excavkin.example_path("fourbr")
+
+
+@pytest.mark.parametrize("command", [["check"], ["solve", "-o", "x.csv"]])
+def test_every_command_takes_a_built_in_name_and_suggests_close_ones(command, tmp_path) -> None:
+    out_opts = lambda k: ["-q", "-o", str(tmp_path / f"{k}.csv")] if command[0] == "solve" else []  # noqa: E731
+    code, out = run(command[0], "fourbar", *out_opts(1))
+    assert code == 0, out
+    code, out = run(command[0], "fourbr", *out_opts(2))
+    assert code == 2 and "did you mean 'fourbar'" in out and "Traceback" not in out
+
+
+def test_excavator_commands_take_the_built_in_machine_by_name() -> None:
+    code, out = run("excavator", "ranges", "excavator_machine")
+    assert code == 0 and "Maximum digging reach" in out
+
+
+def test_demo_lists_only_models_and_refuses_a_machine_file(tmp_path) -> None:
+    code, out = run("demo", "--list")
+    assert code == 0 and "fourbar" in out.split() and "excavator_machine" not in out
+    code, out = run("demo", "--model", "excavator_machine", "--out-dir", str(tmp_path / "d"))
+    assert code == 2 and "not a built-in model" in out and not (tmp_path / "d").exists()
+
+
+def test_unknown_names_of_a_result_suggest_the_close_ones() -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    res = mech.solve({"crank": np.radians([0.0, 90.0])})
+    with pytest.raises(UnknownNameError, match="did you mean 'rocker'"):
+        res.body("rockr")
+    with pytest.raises(KeyError, match="did you mean 'rocker.omega'"):
+        res.column("rocker.omga")
+    with pytest.raises(UnknownNameError, match="did you mean 'crank'"):
+        res.driver("crnk")
+    assert res.body("rocker")[0].shape == (2,)
