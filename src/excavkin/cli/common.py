@@ -93,8 +93,8 @@ def model_path(text: str, kind: str = "model") -> Path:
     import excavkin
 
     path = Path(text)
-    if path.exists():
-        return path
+    if path.exists() or path.suffix or len(path.parts) > 1:
+        return path  # a path: the reader says what is wrong with it
     known = excavkin.examples(kind)
     if text in known:
         return excavkin.example_path(text)
