@@ -56,3 +56,37 @@ def test_unknown_names_of_a_result_suggest_the_close_ones() -> None:
     with pytest.raises(UnknownNameError, match="did you mean 'crank'"):
         res.driver("crnk")
     assert res.body("rocker")[0].shape == (2,)
+
+
+def test_results_read_well_in_a_notebook() -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    res = mech.solve({"crank": np.linspace(0.0, 2 * np.pi, 361)})
+    forces = mech.forces(res)
+    for obj, limit in ((res, 400), (forces, 600), (res.status, 100), (mech, 200)):
+        assert len(repr(obj)) < limit, type(obj).__name__
+    assert repr(res).startswith("KinematicResult(361 samples: ok 361; 37 columns")
+    assert "bodies crank, coupler, rocker" in repr(res)
+    html = res._repr_html_()
+    assert "<table>" in html and "rocker" in html and len(html) < 5000
+    assert "<svg" in mech._repr_html_() and "dyad" in mech._repr_html_()
+    assert "<table>" in forces._repr_html_() and "<table>" in res.status._repr_html_()
+
+
+def test_failures_are_named_by_their_input_values() -> None:
+    from tests.models import double_rocker
+
+    res = double_rocker().solve({"crank": np.radians(np.arange(0.0, 360.0, 10.0))})
+    text = res.summary(limit=2)
+    assert "samples 0 (crank = 0°), 1 (crank = 10°)" in text
+
+
+def test_inverse_takes_a_single_pose_and_machine_results_print_short() -> None:
+    from excavkin.excavator.machine import forward, inverse
+    from excavkin.excavator.machine_file import load_machine
+
+    machine = load_machine(excavkin.example_path("excavator_machine"))
+    pose = forward(machine, machine.lengths_min[None, :])
+    one = inverse(machine, pose.tip[0], pose.bucket_angle[0])
+    many = inverse(machine, pose.tip, pose.bucket_angle)
+    np.testing.assert_array_equal(one.lengths, many.lengths)
+    assert len(repr(machine)) < 200

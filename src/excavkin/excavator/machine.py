@@ -717,16 +717,19 @@ def inverse(machine: Machine, tip: ArrayLike, bucket_angle: ArrayLike) -> Invers
     Parameters
     ----------
     machine : Machine
-    tip : array_like, shape (n, 2)
-        Tooth-tip positions (m).
-    bucket_angle : array_like, shape (n,)
+    tip : array_like, shape (n, 2) or (2,)
+        Tooth-tip positions (m); a single pose may be given as one (x, y) pair.
+    bucket_angle : array_like, shape (n,) or scalar
         Direction of bucket pin → tip (rad).
 
     Returns
     -------
     InverseSolution
+        With n = 1 for a single pose.
     """
     T = np.asarray(tip, dtype=np.float64)
+    if T.shape == (2,):  # one pose
+        T = T[None, :]
     beta = np.broadcast_to(np.asarray(bucket_angle, dtype=np.float64), T.shape[:1])
     if T.ndim != 2 or T.shape[1] != 2:
         raise InputError(f"tip positions must have shape (n, 2), got {T.shape}")

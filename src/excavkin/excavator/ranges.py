@@ -102,6 +102,10 @@ class WorkingRanges:
     envelope: F
     extra: dict[str, F]
 
+    def __repr__(self) -> str:
+        shown = ", ".join(f"{f.label} {f.value * 1000:.0f} mm" for f in self.figures[:3])
+        return f"WorkingRanges({len(self.figures)} figures: {shown}, …)"
+
     def figure(self, key: str) -> RangeFigure:
         """The figure called ``key``."""
         for f in self.figures:

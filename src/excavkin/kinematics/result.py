@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import html
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from excavkin.errors import unknown_name
+from excavkin.kinematics import summary
 from excavkin.kinematics.columns import (
     QUANTITIES,
     TIME,
@@ -33,7 +35,7 @@ _REASON = {
 }
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, repr=False)
 class Status:
     """Per-sample outcome.
 
@@ -91,8 +93,24 @@ class Status:
             out[bad] = [text[int(k)] for k in keys]
         return out
 
-    def summary(self, limit: int = 10) -> str:
-        """One paragraph listing the failing samples, grouped by reason."""
+    def __repr__(self) -> str:
+        counts = ", ".join(f"{lab} {k}" for lab, k in summary.status_counts(self.labels()))
+        return f"Status({self.code.size} samples: {counts or 'none'})"
+
+    def _repr_html_(self) -> str:
+        rows = [[html.escape(lab), str(k)] for lab, k in summary.status_counts(self.labels())]
+        return summary.html_table(rows, ["status", "samples"])
+
+    def summary(self, limit: int = 10, describe: Callable[[int], str] | None = None) -> str:
+        """One paragraph listing the failing samples, grouped by reason.
+
+        Parameters
+        ----------
+        limit : int
+            Samples listed per reason.
+        describe : callable, optional
+            ``describe(i)`` names sample ``i`` by its inputs (``"crank = 132°"``).
+        """
         bad = np.flatnonzero(self.code != 0)
         if not bad.size:
             return "all samples solved"
@@ -100,13 +118,15 @@ class Status:
         parts = []
         for lab in dict.fromkeys(labels[bad]):
             idx = bad[labels[bad] == lab]
-            shown = ", ".join(str(int(i)) for i in idx[:limit])
+            shown = ", ".join(
+                f"{int(i)} ({describe(int(i))})" if describe else str(int(i)) for i in idx[:limit]
+            )
             more = f" and {idx.size - limit} more" if idx.size > limit else ""
             parts.append(f"{lab}: sample{'s' if idx.size > 1 else ''} {shown}{more}")
         return f"{bad.size} of {self.code.size} samples failed — " + "; ".join(parts)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, repr=False)
 class KinematicResult:
     """Positions, velocities and accelerations of a mechanism over n samples (SI).
 
@@ -191,6 +211,32 @@ class KinematicResult:
 
     def __len__(self) -> int:
         return int(self.positions.shape[0])
+
+    def __repr__(self) -> str:
+        return summary.text("KinematicResult", len(self), self.status.labels(), self.columns)
+
+    def _repr_html_(self) -> str:
+        title = f"KinematicResult of {self.plan.model.name!r}"
+        return summary.result_html(title, len(self), self.status.labels(), self.columns)
+
+    def describe_sample(self, i: int) -> str:
+        """Sample ``i`` by its inputs that vary: ``"crank = 132°"``, ``"boom_cyl = 2.315 m"``."""
+        parts = []
+        for k, (name, kind) in enumerate(zip(self.plan.inputs, self.plan.input_kinds, strict=True)):
+            q = self.inputs[:, k]
+            if q.size > 1 and np.nanmax(q) == np.nanmin(q):
+                continue  # held: it does not tell samples apart
+            v = float(q[i])
+            parts.append(
+                f"{name} = {np.degrees(v):.4g}°" if kind == "angle" else f"{name} = {v:.6g} m"
+            )
+        if self.time is not None:
+            parts.insert(0, f"t = {float(self.time[i]):.6g} s")
+        return ", ".join(parts) or f"sample {i}"
+
+    def summary(self, limit: int = 10) -> str:
+        """The failing samples grouped by reason, each named by its inputs."""
+        return self.status.summary(limit, describe=self.describe_sample)
 
     # ---- lookups by name
     def _index(self, what: str, names: Sequence[str], name: str) -> int:

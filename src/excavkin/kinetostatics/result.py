@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from excavkin.errors import unknown_name
+from excavkin.kinematics import summary
 from excavkin.kinematics.columns import Column, column, table_attrs
 from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
@@ -79,7 +80,7 @@ class PowerBalance:
         return np.asarray(np.abs(self.residual) / scale)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, repr=False)
 class ForceResult:
     """Joint forces and driver efforts of a mechanism over n samples (SI).
 
@@ -117,6 +118,13 @@ class ForceResult:
 
     def __len__(self) -> int:
         return int(self.pin_force.shape[0])
+
+    def __repr__(self) -> str:
+        return summary.text("ForceResult", len(self), self.status_labels(), self.columns)
+
+    def _repr_html_(self) -> str:
+        title = f"ForceResult of {self.kinematics.plan.model.name!r}"
+        return summary.result_html(title, len(self), self.status_labels(), self.columns)
 
     # ---- names
     @property

@@ -57,7 +57,7 @@ def command(out_dir: str, model_name: str, list_models: bool) -> None:
         result = mech.solve(default_sweep(mech))
     table = write_table(result.to_frame(), folder / f"{path.stem}.csv", force=True)
     report = write_report(mech, result, folder / f"{path.stem}-report.html", force=True)
-    click.echo(f"\n{result.status.summary()}")
+    click.echo(f"\n{result.summary()}")
     for k, p in enumerate(result.plan.transmissions):
         mu = np.degrees(result.transmission[:, k])
         click.echo(f"transmission angle at {p}: {np.nanmin(mu):.2f}° … {np.nanmax(mu):.2f}°")

@@ -77,7 +77,7 @@ def command(
     result = solve_with_progress(mech, values, rate, accel, quiet=quiet)
     if not result.status.ok.any():
         fail(
-            f"{result.status.summary()}. No sample solved, so there is nothing to report; "
+            f"{result.summary()}. No sample solved, so there is nothing to report; "
             "nothing was written (check the --sweep ranges against `excavkin check`).",
             EXIT_SAMPLES,
         )

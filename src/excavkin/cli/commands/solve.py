@@ -78,7 +78,7 @@ def report_failures(result: KinematicResult, keep_going: bool) -> None:
     """Stop with the failing samples listed, unless asked to keep going (then warn)."""
     if result.status.all_ok:
         return
-    summary = result.status.summary()
+    summary = result.summary()
     if keep_going:
         click.echo(f"excavkin: warning: {summary} (rows marked in the status column)", err=True)
         return

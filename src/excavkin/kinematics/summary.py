@@ -1,0 +1,72 @@
+"""Short text and HTML summaries of results, for the REPL and notebooks.
+
+A result of a million samples must not print a million numbers: ``repr()`` gives the sample
+count, the status counts and the columns grouped by owner; ``_repr_html_`` the same as a small
+table. Nothing here imports pandas, matplotlib or pint.
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+from excavkin.kinematics.columns import Column
+
+_PLURAL = {"body": "bodies", "time": "time"}
+
+
+def status_counts(labels: np.ndarray) -> list[tuple[str, int]]:
+    """``[(label, count), ...]``, ``ok`` first, then by count."""
+    values, counts = np.unique(labels.astype(str), return_counts=True)
+    pairs = sorted(zip(values.tolist(), counts.tolist(), strict=True), key=lambda p: -p[1])
+    return sorted(pairs, key=lambda p: p[0] != "ok")
+
+
+def grouped(columns: Iterable[Column]) -> list[tuple[str, str, list[str]]]:
+    """Columns grouped by owner: ``[(owner kind, owner, [quantities]), ...]`` in table order."""
+    groups: dict[tuple[str, str], list[str]] = {}
+    for c in columns:
+        groups.setdefault((c.owner_kind, c.owner or c.name), []).append(c.quantity)
+    return [(kind, owner, qty) for (kind, owner), qty in groups.items()]
+
+
+def text(title: str, n: int, labels: np.ndarray, columns: Sequence[Column]) -> str:
+    """``Title(n samples: ok 359, dead position … 2; 38 columns: points A, B; bodies …)``."""
+    counts = ", ".join(f"{lab} {k}" for lab, k in status_counts(labels)) if n else "none"
+    owners: dict[str, list[str]] = {}
+    for kind, owner, _ in grouped(columns):
+        owners.setdefault(kind, []).append(owner)
+    shown = "; ".join(
+        f"{_PLURAL.get(kind, kind + 's')} {', '.join(names[:8])}{' …' if len(names) > 8 else ''}"
+        for kind, names in owners.items()
+    )
+    return f"{title}({n} samples: {counts}; {len(columns)} columns: {shown})"
+
+
+def html_table(rows: Sequence[Sequence[str]], header: Sequence[str]) -> str:
+    """A small HTML table of already-escaped cells."""
+    head = "".join(f"<th style='text-align:left'>{h}</th>" for h in header)
+    body = "".join(
+        "<tr>" + "".join(f"<td style='text-align:left'>{c}</td>" for c in row) + "</tr>"
+        for row in rows
+    )
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def result_html(title: str, n: int, labels: np.ndarray, columns: Sequence[Column]) -> str:
+    """A notebook summary: samples, status counts and the columns grouped by owner."""
+    e = html.escape
+    status = html_table(
+        [[e(lab), str(k)] for lab, k in status_counts(labels)], ["status", "samples"]
+    )
+    cols = html_table(
+        [[e(kind), e(owner), e(" ".join(qty))] for kind, owner, qty in grouped(columns)],
+        ["owner", "name", "columns (.quantity)"],
+    )
+    return (
+        f"<div><b>{e(title)}</b> — {n} samples, {len(columns)} columns (SI)"
+        f"<details open><summary>status</summary>{status}</details>"
+        f"<details><summary>columns</summary>{cols}</details></div>"
+    )
