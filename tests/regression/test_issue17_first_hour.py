@@ -90,3 +90,51 @@ def test_inverse_takes_a_single_pose_and_machine_results_print_short() -> None:
     many = inverse(machine, pose.tip, pose.bucket_angle)
     np.testing.assert_array_equal(one.lengths, many.lengths)
     assert len(repr(machine)) < 200
+
+
+def test_tables_use_shortest_floats_plain_names_and_carry_units(tmp_path) -> None:
+    import pandas as pd
+    import pyarrow.parquet as pq
+
+    code, _ = run(
+        "solve",
+        "fourbar",
+        "--sweep",
+        "crank=0deg:360deg:5",
+        "-q",
+        "-o",
+        str(tmp_path / "a.csv"),
+        "--units-row",
+    )
+    assert code == 0
+    lines = (tmp_path / "a.csv").read_text().splitlines()
+    assert lines[1].startswith("m,m,m/s,m/s,m/s^2,m/s^2") and "0.040000000000000001" not in lines[2]
+    back = pd.read_csv(tmp_path / "a.csv", skiprows=[1])
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    frame = mech.solve({"crank": np.radians(np.linspace(0, 360, 5))}).to_frame()
+    np.testing.assert_array_equal(back["B.vx"].to_numpy(), frame["B.vx"].to_numpy())
+    code, _ = run(
+        "solve",
+        "fourbar",
+        "--sweep",
+        "crank=0deg:360deg:5",
+        "-q",
+        "-o",
+        str(tmp_path / "a.parquet"),
+    )
+    meta = pq.read_schema(tmp_path / "a.parquet").metadata
+    assert b'"rocker.omega": "rad/s"' in meta[b"excavkin.units"]
+    assert meta[b"excavkin.model"] == b"crank-rocker four-bar"
+    assert frame.attrs["excavkin.kinds"]["crank.value"] == "angle"
+    code, _ = run("excavator", "forces", "excavator_machine", "-o", str(tmp_path / "f.csv"))
+    assert code == 0 and {"force", "own_limit", "x", "y"} <= set(pd.read_csv(tmp_path / "f.csv"))
+
+
+def test_the_report_says_how_its_rates_were_made(tmp_path) -> None:
+    from excavkin.outputs.report import build_report
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q = np.radians(np.linspace(0, 360, 13))
+    assert "transfer functions" in build_report(mech, mech.solve({"crank": q}))
+    given = build_report(mech, mech.solve({"crank": q}, rates={"crank": 31.4}))
+    assert "transfer functions" not in given and "input rates and accelerations given" in given

@@ -139,9 +139,9 @@ def test_cli_forces(tmp_path: Path) -> None:
     assert (tmp_path / "map-arm.png").is_file() and (tmp_path / "map-bucket.png").is_file()
     table = pd.read_csv(out)
     assert list(table["kind"]) == ["rated"] * 4 + ["sweep_max"] * 4
-    assert (table["force_N"] <= table["own_limit_N"] * (1 + 1e-12)).all()
+    assert (table["force"] <= table["own_limit"] * (1 + 1e-12)).all()
     rated = table[table["kind"] == "rated"]
-    assert rated["gravity"].eq(False).all() and rated["moment_Nm"].gt(0).all()
+    assert rated["gravity"].eq(False).all() and rated["moment"].gt(0).all()
     # an existing map is refused before anything is computed or written
     fresh = tmp_path / "g.csv"
     again = CliRunner().invoke(

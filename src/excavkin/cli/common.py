@@ -56,7 +56,7 @@ def handle_errors(fn: T) -> T:
     return wrapper  # type: ignore[return-value]
 
 
-def si_value(text: str, kind: str, what: str) -> float:
+def si_value(text: str, kind: str, what: str, *, hint: bool = True) -> float:
     """Read ``"31.416rad/s"``, ``"50 deg"`` or a bare SI number as an SI float."""
     from excavkin.units import to_si
 
@@ -70,6 +70,8 @@ def si_value(text: str, kind: str, what: str) -> float:
             raise UnitError(exc.problem) from None
     if not np.isfinite(value):
         raise ExcavkinError(f"{what}: {text!r} is not a finite number")
+    if hint:
+        _hint_bare([text], (value, value), kind, what)
     return value
 
 
@@ -119,7 +121,8 @@ def parse_sweep(text: str, kind: str, what: str) -> np.ndarray:
     parts = text.split(":")
     if len(parts) != 3:
         raise ExcavkinError(f"{what}: a sweep is START:STOP:N, got {text!r}")
-    start, stop = si_value(parts[0], kind, what), si_value(parts[1], kind, what)
+    start = si_value(parts[0], kind, what, hint=False)
+    stop = si_value(parts[1], kind, what, hint=False)
     try:
         n = int(parts[2])
     except ValueError:
@@ -141,6 +144,12 @@ def _hint_bare(texts: list[str], values: tuple[float, float], kind: str, what: s
             f"excavkin: warning: {what}: bare numbers are radians; "
             f"{big:g} rad is {big / (2 * np.pi):.1f} turns — write e.g. 360deg for "
             "degrees",
+            err=True,
+        )
+    elif bare and kind == "angular_velocity" and big > 20.0:
+        click.echo(
+            f"excavkin: warning: {what}: bare numbers are rad/s; {big:g} rad/s is "
+            f"{big * 60 / (2 * np.pi):.0f} rpm — write e.g. {big:g}rpm if you meant rpm",
             err=True,
         )
     elif bare and kind == "length" and big > 100.0:

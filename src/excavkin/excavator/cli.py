@@ -22,6 +22,26 @@ def _save_png(fig, path: str, force: bool) -> None:  # type: ignore[no-untyped-d
     click.echo(f"wrote {target}")
 
 
+#: kinds of the excavator tables' columns (SI, plain names, like every excavkin table)
+TABLE_KINDS = {
+    **dict.fromkeys(("value", "x", "y", "boom", "arm", "bucket", "radius"), "length"),
+    "bucket_angle": "angle",
+    **dict.fromkeys(("force", "own_limit"), "force"),
+    "moment": "torque",
+}
+
+
+def _si_table(rows, model: str):  # type: ignore[no-untyped-def]
+    """Rows as a table whose attrs record each column's kind (its unit in a file)."""
+    import pandas as pd
+
+    from excavkin.kinematics.columns import kinds_attrs
+
+    frame = pd.DataFrame(rows)
+    frame.attrs.update(kinds_attrs(model, {c: k for c, k in TABLE_KINDS.items() if c in frame}))
+    return frame
+
+
 def _mm(v: float) -> str:
     return f"{round(v * 1000) + 0.0:8.0f}"
 
@@ -51,7 +71,6 @@ def ranges(
     machine: str, plot: str | None, output: str | None, envelope: str | None, force: bool
 ) -> None:
     """Print the working-range figures (mm) and the cylinder lengths where they occur."""
-    import pandas as pd
 
     from excavkin.excavator.ranges import working_ranges
     from excavkin.outputs.tables import check_target, write_table
@@ -78,20 +97,20 @@ def ranges(
                 "key": f.key,
                 "code": f.code,
                 "label": f.label,
-                "value_m": f.value,
-                "x_m": f.tip[0],
-                "y_m": f.tip[1],
-                "boom_m": f.lengths[0],
-                "arm_m": f.lengths[1],
-                "bucket_m": f.lengths[2],
-                "bucket_angle_rad": f.bucket_angle,
+                "value": f.value,
+                "x": f.tip[0],
+                "y": f.tip[1],
+                "boom": f.lengths[0],
+                "arm": f.lengths[1],
+                "bucket": f.lengths[2],
+                "bucket_angle": f.bucket_angle,
                 "orientation": f.orientation,
             }
         )
     if output:
-        click.echo(f"wrote {write_table(pd.DataFrame(rows), output, force=force)}")
+        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
     if envelope:
-        frame = pd.DataFrame({"x_m": wr.envelope[:, 0], "y_m": wr.envelope[:, 1]})
+        frame = _si_table({"x": wr.envelope[:, 0], "y": wr.envelope[:, 1]}, m.name)
         click.echo(f"wrote {write_table(frame, envelope, force=force)}")
     if plot:
         import matplotlib
@@ -132,7 +151,6 @@ def forces(
 ) -> None:
     """Print the rated ISO 6015 (lip) and SAE J1179 (tooth tip) tool forces, and the largest
     over a sweep of the strokes."""
-    import pandas as pd
 
     from excavkin.excavator.forces import (
         ForceMaximum,
@@ -170,15 +188,15 @@ def forces(
                 "standard": std,
                 "cylinder": r.working,
                 "gravity": gravity,
-                "force_N": r.force,
-                "own_limit_N": r.uncapped,
-                "moment_Nm": moment,
-                "radius_m": radius,
-                "x_m": r.point[0],
-                "y_m": r.point[1],
-                "boom_m": r.lengths[0],
-                "arm_m": r.lengths[1],
-                "bucket_m": r.lengths[2],
+                "force": r.force,
+                "own_limit": r.uncapped,
+                "moment": moment,
+                "radius": radius,
+                "x": r.point[0],
+                "y": r.point[1],
+                "boom": r.lengths[0],
+                "arm": r.lengths[1],
+                "bucket": r.lengths[2],
                 "limited_by": r.limiting,
             }
         )
@@ -209,7 +227,7 @@ def forces(
                 maps[working] = tf
     click.echo("force: capped by the holding cylinders' reliefs; own: the working cylinder's limit")
     if output:
-        click.echo(f"wrote {write_table(pd.DataFrame(rows), output, force=force)}")
+        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
     if map_prefix:
         import matplotlib
 

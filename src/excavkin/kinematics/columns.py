@@ -45,6 +45,25 @@ QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
 }
 
 
+#: the SI unit of each kind, as tables record it
+SI_UNITS: dict[str, str] = {
+    "time": "s",
+    "length": "m",
+    "velocity": "m/s",
+    "acceleration": "m/s^2",
+    "angle": "rad",
+    "angular_velocity": "rad/s",
+    "angular_acceleration": "rad/s^2",
+    "force": "N",
+    "torque": "N*m",
+    "moment": "N*m",
+    "pressure": "Pa",
+    "power": "W",
+    "mass": "kg",
+    "dimensionless": "",
+}
+
+
 @dataclass(frozen=True, slots=True)
 class Column:
     """What one column of a result table holds.
@@ -136,3 +155,8 @@ def columns_from_names(
 def table_attrs(model: str, columns: Iterable[Column]) -> dict[str, object]:
     """What a result's table keeps in ``frame.attrs``: the model's name and every kind."""
     return {"excavkin.model": model, "excavkin.kinds": {c.name: c.kind for c in columns}}
+
+
+def kinds_attrs(model: str, kinds: Mapping[str, str]) -> dict[str, object]:
+    """``frame.attrs`` for a table whose columns' kinds are given by name."""
+    return {"excavkin.model": model, "excavkin.kinds": dict(kinds)}

@@ -612,6 +612,22 @@ def _player(ctx: _Context, samples: np.ndarray) -> dict[str, Any]:
     }
 
 
+def _curves_note(result: Solved, in_time: bool) -> str:
+    """How to read the rates: real ones, or per unit input rate (transfer functions)."""
+    if in_time:
+        return "Velocities and accelerations are in time, from the motion laws' rates."
+    kin: Any = getattr(result, "kinematics", result)
+    rates = np.asarray(getattr(kin, "input_rates", np.ones((0, 0))))
+    accels = np.asarray(getattr(kin, "input_accels", np.zeros((0, 0))))
+    unit_rates = rates.size == 0 or bool(np.all((rates == 1.0) | (rates == 0.0)))
+    if unit_rates and not np.any(accels):
+        return (
+            "Velocities and accelerations are per unit input rate (the transfer functions "
+            "dφ/dq and d²φ/dq²): no input rate was given."
+        )
+    return "Velocities and accelerations are for the input rates and accelerations given."
+
+
 def _rgba(hex_color: str, alpha: float) -> str:
     h = hex_color.lstrip("#")
     r, g, b = (int(h[k : k + 2], 16) for k in (0, 2, 4))
@@ -875,12 +891,7 @@ def build_report(
     notes = ""
     if getattr(mech.plan, "notes", ()):
         notes = "<ul>" + "".join(f"<li>{html.escape(n)}</li>" for n in mech.plan.notes) + "</ul>"
-    curves_note = (
-        "Velocities and accelerations are per unit input rate (the transfer "
-        "functions) unless the result was solved in time."
-        if "t" not in frame
-        else ""
-    )
+    curves_note = _curves_note(result, "t" in frame)
     template = Template(
         files("excavkin.outputs").joinpath("report_template.html").read_text(encoding="utf-8")
     )

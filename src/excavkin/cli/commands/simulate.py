@@ -278,6 +278,11 @@ def build_drives(mech: Mechanism, texts: Sequence[str]) -> dict[str, Drive]:
     help="Write the table even if some samples fail (rows marked in 'status').",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option(
+    "--units-row",
+    is_flag=True,
+    help="CSV: a second header row with each column's SI unit (Parquet always keeps them).",
+)
 @handle_errors
 def command(
     model: str,
@@ -291,6 +296,7 @@ def command(
     sets: tuple[str, ...],
     keep_going: bool,
     force: bool,
+    units_row: bool,
 ) -> None:
     """Solve MODEL.toml over time with drivers moved by motion laws; write one row per time.
 
@@ -319,7 +325,7 @@ def command(
     result = simulate(mech, drives, samples=samples, duration=dur, start=t0, held=held)
     report_failures(result, keep_going)
     frame = result.to_frame()
-    write_table(frame, target, force=force)
+    write_table(frame, target, force=force, units_row=units_row)
     t = np.asarray(result.time)
     click.echo(
         f"wrote {len(result)} samples × {frame.shape[1]} columns "

@@ -145,6 +145,11 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
 )
 @click.option("--force", is_flag=True, help="Replace the output file if it exists.")
 @click.option(
+    "--units-row",
+    is_flag=True,
+    help="CSV: a second header row with each column's SI unit (Parquet always keeps them).",
+)
+@click.option(
     "--forces",
     "with_forces",
     is_flag=True,
@@ -168,6 +173,7 @@ def command(
     out: str,
     keep_going: bool,
     force: bool,
+    units_row: bool,
     with_forces: bool,
     gravity: bool | None,
     quiet: bool,
@@ -205,5 +211,5 @@ def command(
         frame = forces.to_frame()
     else:
         frame = result.to_frame()
-    write_table(frame, target, force=force)
+    write_table(frame, target, force=force, units_row=units_row)
     click.echo(f"wrote {len(result)} samples × {frame.shape[1]} columns to {target}")
