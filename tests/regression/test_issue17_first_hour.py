@@ -138,3 +138,18 @@ def test_the_report_says_how_its_rates_were_made(tmp_path) -> None:
     assert "transfer functions" in build_report(mech, mech.solve({"crank": q}))
     given = build_report(mech, mech.solve({"crank": q}, rates={"crank": 31.4}))
     assert "transfer functions" not in given and "input rates and accelerations given" in given
+
+
+@pytest.mark.parametrize(
+    ("args", "expected"),
+    [
+        (["solv"], "did you mean 'solve'"),
+        (["solve"], "Missing argument 'MODEL'"),
+        (["solve", "fourbar", "--bogus"], "No such option '--bogus'"),
+        (["check", "nosuchmodel"], "no built-in example"),
+    ],
+)
+def test_one_error_style_for_every_mistake(args, expected) -> None:
+    code, out = run(*args)
+    assert code == 2
+    assert out.startswith("excavkin: error:") and expected in out and "Usage:" not in out
