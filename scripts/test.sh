@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-python -m pip install --quiet --disable-pip-version-check -e ".[test]"
+python -m pip install --quiet --disable-pip-version-check -e ".[test,docs]"
 
 # The report's browser test drives Debian's Chromium (no browser download is possible here).
 if ! command -v chromium >/dev/null 2>&1; then
@@ -20,6 +20,7 @@ fi
 echo "== ruff";        ruff check src tests benchmarks
 echo "== mypy";        mypy
 echo "== import-linter"; lint-imports
+echo "== docs";        NO_MKDOCS_2_WARNING=1 mkdocs build --strict --quiet -d "$(mktemp -d)/site"
 # A newcomer's plain install: the wheel, non-editable, in a fresh virtual environment, runs the
 # demo on the built-in model and reproduces a paper (the examples travel in the wheel).
 echo "== wheel"
