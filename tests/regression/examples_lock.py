@@ -61,7 +61,7 @@ def example_hashes() -> dict[str, dict[str, str]]:
         values, rates = sweep(mech)
         result = mech.solve(values, rates, workers=1)
         entry = {
-            "plan": hashlib.sha256(mech.describe().encode()).hexdigest(),
+            "plan": hashlib.sha256(mech.plan.describe().encode()).hexdigest(),
             "kinematics": frame_hash(result.to_frame()),
         }
         try:  # the model's own loads and gravity, or inertia alone
