@@ -10,7 +10,7 @@ True
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
-from typing import TYPE_CHECKING, Literal, overload
+from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -26,6 +26,33 @@ if TYPE_CHECKING:
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
 
 F = np.ndarray
+
+
+#: the kinds of a driver's value, rate and acceleration, by the kind of its value
+_ORDER_KINDS = {
+    "angle": ("angle", "angular_velocity", "angular_acceleration"),
+    "length": ("length", "velocity", "acceleration"),
+}
+
+
+def as_si(value: Any, kind: str, what: str) -> Any:
+    """A value given to the Python API in SI: plain numbers and arrays as they are; a pint
+    quantity (of any registry) or a string with a unit converted by its dimension.
+
+    Raises
+    ------
+    UnitError
+        A wrong dimension or an unreadable string, naming ``what``.
+    """
+    if isinstance(value, str) or (hasattr(value, "magnitude") and hasattr(value, "units")):
+        from excavkin.units import quantity_to_si  # pint only where a unit was given
+
+        return quantity_to_si(value, kind, where=f"{what}: ")
+    if isinstance(value, (list, tuple)) and any(isinstance(v, str) for v in value):
+        from excavkin.units import quantity_to_si
+
+        return np.array([quantity_to_si(v, kind, where=f"{what}: ") for v in value])
+    return value
 
 
 class Mechanism:
@@ -83,6 +110,17 @@ class Mechanism:
                     f"unknown driver {n!r} for {self.name!r}: its inputs are "
                     f"{', '.join(self.plan.inputs) or 'none'}"
                 )
+
+    def _in_si(self, given: Mapping[str, Any] | None, order: int) -> dict[str, Any]:
+        """Driver values (order 0), rates (1) or accelerations (2) as SI floats or arrays: a
+        quantity of any pint registry or a string such as ``"30 deg"`` is converted by its
+        dimension; a plain number is SI already."""
+        out = {}
+        for name, value in (given or {}).items():
+            kind = _ORDER_KINDS[self.input_kind(name)][order]
+            what = ("driver", "rate of driver", "acceleration of driver")[order]
+            out[name] = as_si(value, kind, f"{what} {name!r}")
+        return out
 
     @overload
     def solve(
@@ -166,10 +204,12 @@ class Mechanism:
             With ``loads``: forces plus the kinematics (``.kinematics``); its ``to_frame()``
             has the kinematic columns followed by the force columns.
         """
-        values = dict(values or {})
-        rates = dict(rates or {})
-        accels = dict(accels or {})
-        self._check_names([*values, *rates, *accels])
+        self._check_names([*(values or {}), *(rates or {}), *(accels or {})])
+        values = self._in_si(values, 0)
+        rates = self._in_si(rates, 1)
+        accels = self._in_si(accels, 2)
+        if time is not None:
+            time = as_si(time, "time", "time")
         arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
         for k, v in arrays.items():
             if v.ndim > 1:

@@ -7,6 +7,7 @@ import this module. Kernels receive plain floats in SI units: m, rad, s, kg, N, 
 from __future__ import annotations
 
 import math
+import re
 from functools import cache
 from typing import Any
 
@@ -79,6 +80,7 @@ def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str 
             )
         q = ureg.Quantity(float(value), default_unit)
     elif isinstance(value, str):
+        check_grammar(value, where=where)
         try:
             q = ureg.Quantity(value.strip())
         except Exception as exc:  # pint raises several unrelated types on bad input
@@ -99,6 +101,39 @@ def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str 
     if not math.isfinite(out):
         raise UnitError(f"{where}{value!r} is not a finite number")
     return out
+
+
+#: a quantity as text: a number, then a unit made of names, ``*``, ``/`` and small powers —
+#: checked before pint sees it, so that no text (``"9**9**9 mm"``) can run for long
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d{1,3})?"
+_NAME = r"(?:[A-Za-z_°µΩ][A-Za-z0-9_]*|%)"
+_FACTOR = rf"{_NAME}(?:\s*(?:\^|\*\*)\s*[+-]?[1-4])?"
+_UNIT = rf"(?:{_FACTOR}|1)(?:\s*(?:\*|/|\s)\s*{_FACTOR})*"
+_QUANTITY = re.compile(rf"\s*({_NUMBER})?\s*({_UNIT})?\s*")
+_UNIT_ONLY = re.compile(rf"\s*{_UNIT}\s*")
+#: longest text read as a quantity
+MAX_TEXT = 100
+
+
+def check_grammar(text: str, *, unit_only: bool = False, where: str = "") -> None:
+    """Refuse any text that is not a plain quantity (or unit): a number, unit names, ``*``,
+    ``/`` and integer powers up to 4.
+
+    Raises
+    ------
+    UnitError
+        Naming the text and what is allowed.
+    """
+    shown = text if len(text) <= 40 else text[:37] + "..."
+    if len(text) > MAX_TEXT:
+        raise UnitError(f"{where}{shown!r} is too long for a quantity ({len(text)} characters)")
+    pattern = _UNIT_ONLY if unit_only else _QUANTITY
+    if not pattern.fullmatch(text) or not text.strip():
+        what = "a unit" if unit_only else "a number with a unit"
+        raise UnitError(
+            f"{where}cannot read {shown!r} as {what}: write a number and unit names joined by "
+            '\'*\', \'/\' and small powers, such as "48 mm", "9.81 m/s^2" or "0.7 kg*m^2"'
+        )
 
 
 def _example_unit(kind: str) -> str:
@@ -124,6 +159,9 @@ def _example_unit(kind: str) -> str:
 
 def check_unit(unit: str, kind: str, *, where: str = "") -> str:
     """Check that ``unit`` names a unit of ``kind``; return it unchanged."""
+    if not isinstance(unit, str):
+        raise UnitError(f'{where}a unit must be a string such as "mm", got {unit!r}')
+    check_grammar(unit, unit_only=True, where=where)
     try:
         u = ureg.Unit(unit)
     except Exception:
@@ -141,3 +179,24 @@ def from_si(value: Any, kind: str, unit: str) -> Any:
 
 def _article(word: str) -> str:
     return "an" if word[:1] in "aeiou" else "a"
+
+
+def quantity_to_si(value: Any, kind: str, *, where: str = "") -> Any:
+    """A string with a unit, or a pint quantity of any registry (scalar or array), in the SI
+    unit of ``kind``.
+
+    Raises
+    ------
+    UnitError
+        On a wrong dimension or an unreadable string.
+    """
+    if isinstance(value, str):
+        return to_si(value, kind, where=where)
+    try:
+        out = value.to(KINDS[kind]).magnitude  # the quantity's own registry reads the unit
+    except Exception:
+        raise UnitError(
+            f"{where}{value!s} is not {_article(kind)} {kind} "
+            f"(expected units like {_example_unit(kind)})"
+        ) from None
+    return out

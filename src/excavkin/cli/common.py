@@ -10,6 +10,7 @@ from __future__ import annotations
 import difflib
 import functools
 import importlib
+import os
 import sys
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -132,8 +133,32 @@ def parse_sweep(text: str, kind: str, what: str) -> np.ndarray:
         ) from None
     if n < 1:
         raise ExcavkinError(f"{what}: the sample count must be at least 1, got {n}")
+    check_samples(n, what)
     _hint_bare(parts[:2], (start, stop), kind, what)
     return np.linspace(start, stop, n)
+
+
+#: bytes a sample costs at the least in a solve: its inputs, a few points, its table row
+MIN_BYTES_PER_SAMPLE = 400
+
+
+def available_memory() -> int:
+    """Physical memory of this machine, bytes (a large default where it cannot be read)."""
+    try:
+        return int(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return 1 << 40
+
+
+def check_samples(n: int, what: str, bytes_per_sample: int = MIN_BYTES_PER_SAMPLE) -> None:
+    """Refuse, before anything is allocated, a sample count that cannot fit in memory."""
+    need = n * bytes_per_sample
+    have = available_memory()
+    if need > have:
+        raise ExcavkinError(
+            f"{what}: {n:,} samples need about {need / 2**30:,.1f} GiB, more than this "
+            f"machine's {have / 2**30:,.1f} GiB; split the sweep into smaller runs"
+        )
 
 
 def _hint_bare(texts: list[str], values: tuple[float, float], kind: str, what: str) -> None:

@@ -30,7 +30,13 @@ from typing import Any
 
 from excavkin.errors import ModelError, UnitError
 from excavkin.excavator.machine import ROLES, Circuit, Cylinder, Front, Machine
-from excavkin.io.toml_model import TomlReader, build_model, load_model, read_toml
+from excavkin.io.toml_model import (
+    TomlReader,
+    build_model,
+    load_model,
+    read_text_file,
+    read_toml,
+)
 from excavkin.mechanism import Mechanism
 from excavkin.units import to_si
 
@@ -115,18 +121,13 @@ def load_machine(path: str | Path) -> Machine:
         Naming the file, the table and the entry of the first problem found (in the machine
         file or in the model it refers to).
     """
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ModelError(f"cannot read the file: {exc.strerror}", source=str(path)) from None
-    return loads_machine(text, str(path))
+    return loads_machine(read_text_file(path), str(path))
 
 
 def _machine(data: dict[str, Any], source: str | None) -> Machine:
     r = _Reader(data, source)
     ver = data.get("schema_version")
-    if ver != SCHEMA_VERSION:
+    if type(ver) is not int or ver != SCHEMA_VERSION:
         raise r.err(
             f"schema_version = {ver!r} is not supported (this version of excavkin reads "
             f"{SCHEMA_VERSION})"
@@ -167,8 +168,12 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
         r.keys(spec, {"working", "relief"}, table)
         circuits[cname] = Circuit(
             cname,
-            r.field_qty(spec, "working", "pressure", table),
-            r.field_qty(spec, "relief", "pressure", table),
+            _within(
+                r, r.field_qty(spec, "working", "pressure", table), table, "working", 0.0, 2e8, "Pa"
+            ),
+            _within(
+                r, r.field_qty(spec, "relief", "pressure", table), table, "relief", 0.0, 2e8, "Pa"
+            ),
         )
 
     cyl_t = r.subtable(data, "cylinders", "cylinders")
@@ -186,18 +191,30 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
             raise r.err("is missing or not a table", table)
         r.keys(spec, _CYL, table)
         count = spec.get("count", 1)
-        if not isinstance(count, int) or isinstance(count, bool) or count < 1:
-            raise r.err("count must be a whole number ≥ 1", table, "count")
+        if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= MAX_COUNT:
+            raise r.err(f"count must be a whole number from 1 to {MAX_COUNT}", table, "count")
         dig = spec.get("dig", "extend")
         if dig not in ("extend", "retract"):
             raise r.err(f"dig must be 'extend' or 'retract', not {dig!r}", table, "dig")
         cylinders[role] = Cylinder(
             role=role,
             driver=r.text(spec, "driver", table, f"{role}_cyl"),
-            retracted=r.field_qty(spec, "retracted", "length", table),
-            stroke=r.field_qty(spec, "stroke", "length", table),
-            bore=r.field_qty(spec, "bore", "length", table),
-            rod=r.field_qty(spec, "rod", "length", table),
+            retracted=_within(
+                r,
+                r.field_qty(spec, "retracted", "length", table),
+                table,
+                "retracted",
+                0.0,
+                50.0,
+                "m",
+            ),
+            stroke=_within(
+                r, r.field_qty(spec, "stroke", "length", table), table, "stroke", 0.0, 20.0, "m"
+            ),
+            bore=_within(
+                r, r.field_qty(spec, "bore", "length", table), table, "bore", 0.0, 2.0, "m"
+            ),
+            rod=_within(r, r.field_qty(spec, "rod", "length", table), table, "rod", 0.0, 2.0, "m"),
             circuit=r.text(spec, "circuit", table, role),
             count=count,
             dig=dig,
@@ -206,20 +223,84 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
     if not isinstance(grav, dict):
         raise r.err('must be a table such as { g = "9.81 m/s^2" }', "gravity")
     r.keys(grav, {"g"}, "gravity")
-    g = r.field_qty(grav, "g", "acceleration", "gravity", 9.80665)
+    g = _within(
+        r,
+        r.field_qty(grav, "g", "acceleration", "gravity", 9.80665),
+        "gravity",
+        "g",
+        0.0,
+        100.0,
+        "m/s^2",
+    )
     name = data.get("name", Path(source).stem if source else mech.name)
+    if not isinstance(name, str):
+        raise r.err(f"name must be a string, got {name!r}"[:120], "name")
     return Machine(
         mech,
         front,
         cylinders,
         circuits,
-        ground_line=r.field_qty(front_t, "ground_line", "length", "front", 0.0),
-        swing_axis=r.field_qty(front_t, "swing_axis", "length", "front", 0.0),
-        level_bottom=r.field_qty(front_t, "level_bottom", "length", "front", 2.44),
+        ground_line=_within(
+            r,
+            r.field_qty(front_t, "ground_line", "length", "front", 0.0),
+            "front",
+            "ground_line",
+            -1e3,
+            1e3,
+            "m",
+            open_low=False,
+        ),
+        swing_axis=_within(
+            r,
+            r.field_qty(front_t, "swing_axis", "length", "front", 0.0),
+            "front",
+            "swing_axis",
+            -1e3,
+            1e3,
+            "m",
+            open_low=False,
+        ),
+        level_bottom=_within(
+            r,
+            r.field_qty(front_t, "level_bottom", "length", "front", 2.44),
+            "front",
+            "level_bottom",
+            0.0,
+            100.0,
+            "m",
+        ),
         gravity=g,
         name=str(name),
         source=source,
     )
+
+
+#: the most cylinders acting together in one role
+MAX_COUNT = 16
+
+
+def _within(
+    r: _Reader,
+    value: float,
+    table: str,
+    key: str,
+    low: float,
+    high: float,
+    unit: str,
+    *,
+    open_low: bool = True,
+) -> float:
+    """``value`` if ``low < value ≤ high`` (``low ≤`` with ``open_low=False``), else an error
+    naming the file, the table and the entry."""
+    ok = (value > low if open_low else value >= low) and value <= high
+    if not ok:
+        side = "more than" if open_low else "at least"
+        raise r.err(
+            f"{key} = {value:.6g} {unit} must be {side} {low:g} and at most {high:g} {unit}",
+            table,
+            key,
+        )
+    return value
 
 
 def _model(r: _Reader, spec: Any, source: str | None) -> Mechanism:

@@ -6,6 +6,7 @@ file's ``[units]`` default for its kind, and is an error without one.
 
 from __future__ import annotations
 
+import math
 import re
 import tomllib
 from pathlib import Path
@@ -113,12 +114,80 @@ class TomlReader:
             )
 
 
+#: the largest model or machine file read (a real one is a few kB)
+MAX_FILE_BYTES = 2_000_000
+#: the most points a model may have
+MAX_POINTS = 10_000
+#: the deepest nesting of arrays and tables in a file (a model needs 3)
+MAX_DEPTH = 8
+
+
 def read_toml(text: str, source: str | None = None) -> dict[str, Any]:
-    """Parse TOML text; a syntax error becomes a :class:`ModelError` naming the file."""
+    """Parse TOML text; a syntax error, an oversized or too deeply nested file becomes a
+    :class:`ModelError` naming the file."""
+    if len(text) > MAX_FILE_BYTES:
+        raise ModelError(
+            f"the file is {len(text):,} characters long; a model or machine file is at most "
+            f"{MAX_FILE_BYTES:,}",
+            source=source,
+        )
+    if _nesting(text) > MAX_DEPTH:
+        raise ModelError(
+            f"arrays or tables are nested more than {MAX_DEPTH} deep; a model needs 3",
+            source=source,
+        )
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(f"not valid TOML: {exc}", source=source) from None
+    except RecursionError:  # a guard for nesting that _nesting could not see
+        raise ModelError("arrays or tables are nested too deeply", source=source) from None
+
+
+def _nesting(text: str) -> int:
+    """The deepest run of open brackets and braces outside strings and comments (an upper
+    bound of TOML's nesting, found in one pass without parsing)."""
+    depth = deepest = 0
+    quote = ""
+    comment = False
+    for ch in text:
+        if comment:
+            comment = ch != "\n"
+        elif quote:
+            if ch == quote:
+                quote = ""
+        elif ch in "\"'":
+            quote = ch
+        elif ch == "#":
+            comment = True
+        elif ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth = max(depth - 1, 0)
+    return deepest
+
+
+def read_text_file(path: str | Path) -> str:
+    """A model or machine file as text: size, encoding and file-system errors as one
+    :class:`ModelError` naming the file."""
+    p = Path(path)
+    try:
+        size = p.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise ModelError(
+                f"the file is {size:,} bytes; a model or machine file is at most "
+                f"{MAX_FILE_BYTES:,}",
+                source=str(path),
+            )
+        return p.read_bytes().decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ModelError(
+            f"the file is not UTF-8 text (byte {exc.start} is {exc.object[exc.start]:#04x})",
+            source=str(path),
+        ) from None
+    except OSError as exc:
+        raise ModelError(f"cannot read the file: {exc.strerror}", source=str(path)) from None
 
 
 def loads_model(text: str, source: str | None = None) -> Model:
@@ -134,12 +203,31 @@ def load_model(path: str | Path) -> Model:
     ModelError
         Naming the file, the table and the entry of the first problem found.
     """
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ModelError(f"cannot read the file: {exc.strerror}", source=str(path)) from None
-    return loads_model(text, str(path))
+    return loads_model(read_text_file(path), str(path))
+
+
+#: the sketch's size must lie between these (m): below, coordinates are round-off
+#: (1e-290 m underflows a squared distance); above, the model is not a machine
+MIN_EXTENT, MAX_EXTENT = 1e-6, 1e6
+
+
+def _check_extent(points: dict[str, tuple[float, float]], r: TomlReader) -> None:
+    xs = [x for x, _ in points.values()]
+    ys = [y for _, y in points.values()]
+    extent = max(max(xs) - min(xs), max(ys) - min(ys)) if points else 0.0
+    far = max((max(abs(x), abs(y)) for x, y in points.values()), default=0.0)
+    if len(points) > 1 and not extent >= MIN_EXTENT:
+        raise r.err(
+            f"the sketch spans {extent:.3g} m; points closer than {MIN_EXTENT:g} m cannot be "
+            "told apart in double precision (check the [units] length)",
+            "points",
+        )
+    if far > MAX_EXTENT:
+        raise r.err(
+            f"a point lies {far:.3g} m from the origin; coordinates are at most "
+            f"{MAX_EXTENT:g} m (check the [units] length)",
+            "points",
+        )
 
 
 def build_model(data: dict[str, Any], source: str | None = None) -> Model:
@@ -151,7 +239,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
             f"schema_version is missing (this version of excavkin reads "
             f"schema_version = {SCHEMA_VERSION})"
         )
-    if ver != SCHEMA_VERSION:
+    if type(ver) is not int or ver != SCHEMA_VERSION:
         raise r.err(
             f"schema_version = {ver!r} is not supported (this version of excavkin "
             f"reads {SCHEMA_VERSION})"
@@ -168,7 +256,13 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
             f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
         )
     name = data.get("name", Path(source).stem if source else "mechanism")
-    points = {r.name(k, "points"): r.xy(v, "points", k) for k, v in r.table("points", True).items()}
+    if not isinstance(name, str):
+        raise r.err(f"name must be a string, got {name!r}"[:120], "name")
+    raw_points = r.table("points", True)
+    if len(raw_points) > MAX_POINTS:
+        raise r.err(f"has {len(raw_points):,} points; a model has at most {MAX_POINTS:,}", "points")
+    points = {r.name(k, "points"): r.xy(v, "points", k) for k, v in raw_points.items()}
+    _check_extent(points, r)
 
     bodies = []
     for bname, spec in r.table("bodies", True).items():
@@ -277,12 +371,19 @@ def _gravity(r: TomlReader) -> Gravity | None:
             not isinstance(direction, list)
             or len(direction) != 2
             or not all(isinstance(c, int | float) and not isinstance(c, bool) for c in direction)
+            or not all(math.isfinite(c) for c in direction)
             or direction[0] == direction[1] == 0
         ):
             raise r.err(
-                "direction must be two numbers [x, y], not both zero", "gravity", "direction"
+                "direction must be two finite numbers [x, y], not both zero",
+                "gravity",
+                "direction",
             )
-        return Gravity(g, (float(direction[0]), float(direction[1])))
+        # a direction only: scale it to a unit vector here, so that no size overflows later
+        big = max(abs(float(direction[0])), abs(float(direction[1])))
+        dx, dy = float(direction[0]) / big, float(direction[1]) / big
+        norm = math.hypot(dx, dy)
+        return Gravity(g, (dx / norm, dy / norm))
     return Gravity(r.qty(spec, "acceleration", "gravity", "g"))
 
 

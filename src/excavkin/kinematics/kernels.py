@@ -38,6 +38,7 @@ class Code(IntEnum):
     BRANCH_CHANGED = 4
     BAD_INPUT = 5
     BAD_LENGTH = 6
+    NOT_FINITE = 7
 
 
 @dataclass(slots=True)

@@ -32,6 +32,7 @@ _REASON = {
     Code.BRANCH_CHANGED: "assembly branch changed",
     Code.BAD_INPUT: "input is NaN or infinite",
     Code.BAD_LENGTH: "a driven length is zero or negative",
+    Code.NOT_FINITE: "a result overflows (inputs or rates too large for double precision)",
 }
 
 
@@ -78,7 +79,7 @@ class Status:
         code = Code(int(self.code[i]))
         if code == Code.OK:
             return "ok"
-        if code in (Code.BAD_INPUT, Code.BAD_LENGTH):
+        if code in (Code.BAD_INPUT, Code.BAD_LENGTH, Code.NOT_FINITE):
             return _REASON[code]
         return f"{_REASON[code]} at {self.where(int(self.step[i]))}"
 

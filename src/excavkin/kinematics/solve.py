@@ -158,10 +158,11 @@ def solve_kinematics(
             q[:, bad_len] = np.nan
     derived = Derived.empty(plan, n)
     report = _Reporter(progress, n)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if plan.has_newton:
             _solve_newton(plan, assembly, q, qd, qdd, x, v, a, trans, status, failed, tol)
             derived.fill(plan, x, v, a, slice(None))
+            _flag_not_finite(x, v, a, trans, derived, slice(None), status)
             report(n)
         else:
             # one pass per chunk: steps, then derived quantities while the chunk is in cache
@@ -180,9 +181,10 @@ def solve_kinematics(
                     tol.close,
                     tol.singular,
                 )
-                with np.errstate(divide="ignore", invalid="ignore"):
+                with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                     _run_steps(plan, c, 2)
                     derived.fill(plan, c.x, c.v, c.a, slice(s, e))
+                    _flag_not_finite(c.x, c.v, c.a, c.trans, derived, slice(s, e), c.status)
                 report(e - s)
 
             starts = range(0, n, chunk)
@@ -196,6 +198,25 @@ def solve_kinematics(
     return KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
+
+
+def _flag_not_finite(
+    x: F, v: F, a: F, trans: F, derived: Derived, s: slice, status: np.ndarray
+) -> None:
+    """No non-finite number on a row marked ok: an overflow (a rate of 1e300) is a status.
+
+    ``x``, ``v``, ``a``, ``trans`` and ``status`` are the chunk's own slices; ``derived`` is
+    the whole result's, read at ``s``.
+    """
+    finite = (
+        np.isfinite(x).all(axis=(0, 1))
+        & np.isfinite(v).all(axis=(0, 1))
+        & np.isfinite(a).all(axis=(0, 1))
+        & np.isfinite(trans).all(axis=0)
+        & np.isfinite(derived.body[:, :, s]).all(axis=(0, 1))
+        & np.isfinite(derived.element[:, :, s]).all(axis=(0, 1))
+    )
+    status[~finite & (status == Code.OK)] = Code.NOT_FINITE
 
 
 class _Reporter:
@@ -271,7 +292,7 @@ def assemble(plan: SolvePlan) -> Assembly:
     failed = np.full(1, -1, dtype=np.int16)
     tol = Tolerances()
     c = Chunk(x, v, a, q, zero, zero.copy(), trans, status, failed, tol.close, tol.singular)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         _run_steps(plan, c, 0)
         signs = _run_steps(plan, c, 2, newton=False) if status[0] == 0 else []
     if status[0] != Code.OK:

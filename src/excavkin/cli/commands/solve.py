@@ -12,6 +12,7 @@ from excavkin.cli.common import (
     ACCEL_KIND,
     EXIT_SAMPLES,
     RATE_KIND,
+    check_samples,
     fail,
     handle_errors,
     model_path,
@@ -72,6 +73,14 @@ def build_inputs(
         name, spec = parse_assignment(text, "--accel")
         accel_v[name] = si_value(spec, ACCEL_KIND[mech.input_kind(name)], f"--accel {name}")
     return values, rate_v, accel_v
+
+
+def _columns_per_sample(mech: Mechanism, with_forces: bool) -> int:
+    """Float columns of a solve's table (forces roughly double them), and its status."""
+    plan = mech.plan
+    kin = 6 * len(plan.points) + 3 * len(plan.bodies) + 3 * len(plan.inputs)
+    kin += 6 * len(plan.elements) + len(plan.transmissions) + 1
+    return 2 * kin if with_forces else kin
 
 
 def report_failures(result: KinematicResult, keep_going: bool) -> None:
@@ -187,6 +196,9 @@ def command(
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
     values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels)
+    n = max((v.size for v in values.values() if isinstance(v, np.ndarray)), default=1)
+    # the result, its table and the file's copy: every column three times over
+    check_samples(n, "--sweep", 3 * 8 * _columns_per_sample(mech, with_forces))
     result = solve_with_progress(mech, values, rate_v, accel_v, quiet=quiet)
     report_failures(result, keep_going)
     if with_forces:

@@ -1,0 +1,148 @@
+"""Fuzz the readers: malformed model files, machine files and command-line values.
+
+Every case must end in success or in exit 2 with one ``excavkin: error:`` line naming the file —
+never a traceback, never a hang. Deterministic (derandomised) so that CI sees the same cases.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from click.testing import CliRunner
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import excavkin
+from excavkin.cli import main
+
+FUZZ = settings(
+    max_examples=150,
+    derandomize=True,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
+MODEL = excavkin.example_path("slider_crank").read_text()
+MACHINE = excavkin.example_path("excavator_machine").read_text()
+EXCAVATOR = excavkin.example_path("excavator").read_text()
+
+#: what a careless or hostile file puts where a value should be
+VALUES = st.one_of(
+    st.sampled_from(
+        [
+            "true",
+            "1.0",
+            "-1",
+            "0",
+            "1e308",
+            "-1e308",
+            "nan",
+            "inf",
+            '"9**9**9 mm"',
+            '"1 mm**99"',
+            '"(((mm)))"',
+            '""',
+            '"mm"',
+            '"12 parsecs"',
+            "[]",
+            "[1]",
+            "[1, 2, 3]",
+            "{}",
+            "{ a = 1 }",
+            '"' + "x" * 300 + '"',
+            "[[[[[[[[[[1]]]]]]]]]]",
+            '"30 deg"',
+            "99999999999999999999",
+            '"\\u0000"',
+            "1979-05-27",
+        ]
+    ),
+    st.floats(allow_nan=True, allow_infinity=True).map(lambda x: repr(x).replace("inf", "inf")),
+    st.text(alphabet="0123456789e.-+ mkgsNPadr/*^()", max_size=12).map(lambda t: f'"{t}"'),
+)
+
+
+def mutate(text: str, data: st.DataObject) -> str:
+    """Replace the value of one `key = value` line, delete a line, or add junk."""
+    lines = text.splitlines()
+    k = data.draw(st.integers(0, len(lines) - 1), label="line")
+    action = data.draw(st.sampled_from(["value", "delete", "junk", "duplicate"]), label="action")
+    line = lines[k]
+    if action == "value" and "=" in line:
+        key = line.split("=", 1)[0]
+        lines[k] = f"{key}= {data.draw(VALUES, label='value')}"
+    elif action == "delete":
+        del lines[k]
+    elif action == "duplicate":
+        lines.insert(k, line)
+    else:
+        lines.insert(k, data.draw(st.sampled_from(["[", "]]", "x =", "= 1", "[points", "\x00"])))
+    return "\n".join(lines) + "\n"
+
+
+def check_outcome(args: list[str], path: str) -> None:
+    start = time.perf_counter()
+    r = CliRunner().invoke(main, args)
+    seconds = time.perf_counter() - start
+    assert r.exception is None or isinstance(r.exception, SystemExit), (
+        f"{type(r.exception).__name__}: {r.exception}"
+    )
+    assert r.exit_code in (0, 2, 3), r.output
+    if r.exit_code == 2:
+        assert r.output.startswith("excavkin: error:") and path in r.output, r.output
+    assert seconds < 20
+
+
+@FUZZ
+@given(data=st.data())
+def test_mutated_models(tmp_path_factory, data) -> None:
+    folder = tmp_path_factory.mktemp("model")
+    path = folder / "m.toml"
+    path.write_text(mutate(MODEL, data))
+    check_outcome(["check", str(path)], str(path))
+
+
+@FUZZ
+@given(data=st.data())
+def test_mutated_machine_files(tmp_path_factory, data) -> None:
+    folder = tmp_path_factory.mktemp("machine")
+    (folder / "excavator.toml").write_text(EXCAVATOR)
+    path = folder / "machine.toml"
+    path.write_text(mutate(MACHINE, data))
+    check_outcome(["excavator", "ik", str(path), "--x", "7m", "--y", "-1.5m"], str(path))
+
+
+@FUZZ
+@given(raw=st.binary(max_size=400))
+def test_random_bytes(tmp_path_factory, raw: bytes) -> None:
+    path = tmp_path_factory.mktemp("bytes") / "b.toml"
+    path.write_bytes(raw)
+    check_outcome(["check", str(path)], str(path))
+
+
+@FUZZ
+@given(
+    start=VALUES.map(lambda v: v.strip('"')),
+    stop=VALUES.map(lambda v: v.strip('"')),
+    n=st.sampled_from(["5", "0", "-3", "1e30", "x", "2.5", str(10**30), "1"]),
+    rate=VALUES.map(lambda v: v.strip('"')),
+)
+def test_command_line_values(tmp_path_factory, start: str, stop: str, n: str, rate: str) -> None:
+    out = tmp_path_factory.mktemp("cli") / "o.csv"
+    args = [
+        "solve",
+        "slider_crank",
+        "-q",
+        "--sweep",
+        f"crank={start}:{stop}:{n}",
+        "--rate",
+        f"crank={rate}",
+        "-o",
+        str(out),
+    ]
+    start_t = time.perf_counter()
+    r = CliRunner().invoke(main, args)
+    assert r.exception is None or isinstance(r.exception, SystemExit), r.exception
+    assert r.exit_code in (0, 2, 3) and time.perf_counter() - start_t < 20
+    if r.exit_code:
+        assert "excavkin: error:" in r.output and not Path(out).exists()
