@@ -7,7 +7,7 @@ Every error a user can cause names *where* (file, table, entry, sample) and *wha
 from __future__ import annotations
 
 import difflib
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 
 class ExcavkinError(Exception):
@@ -108,9 +108,14 @@ class UnknownNameError(InputError, KeyError):
         return str(self.args[0]) if self.args else ""
 
 
+def did_you_mean(name: str, known: Iterable[str]) -> str:
+    """``"; did you mean 'rocker'?"`` for the closest known names, or ``""``."""
+    close = difflib.get_close_matches(name, list(known), n=3, cutoff=0.6)
+    return f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+
+
 def unknown_name(what: str, name: str, known: Sequence[str]) -> UnknownNameError:
     """``no <what> 'name'; did you mean …? (known: …)``, as an error to raise."""
-    close = difflib.get_close_matches(name, list(known), n=3, cutoff=0.6)
-    hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+    hint = did_you_mean(name, known)
     shown = ", ".join(known[:30]) + (", …" if len(known) > 30 else "")
     return UnknownNameError(f"no {what} {name!r}{hint} (known: {shown or 'none'})")

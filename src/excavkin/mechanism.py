@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from excavkin.errors import InputError, SolveFailure
+from excavkin.errors import InputError, SolveFailure, did_you_mean
 from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble, solve_kinematics
 from excavkin.model.entities import Model
 from excavkin.model.validate import validate
@@ -107,7 +107,8 @@ class Mechanism:
                         f"{self.name!r} are {', '.join(self.plan.inputs) or 'none'}"
                     )
                 raise InputError(
-                    f"unknown driver {n!r} for {self.name!r}: its inputs are "
+                    f"unknown driver {n!r} for {self.name!r}"
+                    f"{did_you_mean(n, self.plan.inputs)}: its inputs are "
                     f"{', '.join(self.plan.inputs) or 'none'}"
                 )
 

@@ -153,3 +153,36 @@ def test_one_error_style_for_every_mistake(args, expected) -> None:
     code, out = run(*args)
     assert code == 2
     assert out.startswith("excavkin: error:") and expected in out and "Usage:" not in out
+
+
+def test_the_excavator_default_sweep_stays_within_the_strokes() -> None:
+    from excavkin.outputs.report import default_sweep
+
+    mech = excavkin.load(excavkin.example_path("excavator"))
+    sweep = default_sweep(mech)
+    for d in mech.model.linear:
+        assert d.stroke is not None
+        lo, hi = d.stroke
+        assert lo - 1e-12 <= sweep[d.name].min() and sweep[d.name].max() <= hi + 1e-12, d.name
+
+
+def test_model_files_suggest_the_names_they_meant(tmp_path) -> None:
+    text = excavkin.example_path("fourbar").read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace('body = "crank"', 'body = "crnk"'))
+    code, out = run("check", str(bad))
+    assert code == 2 and "did you mean 'crank'" in out and "drivers.crank" in out
+    bad.write_text(text.replace('pivot = "O2"', 'pivot = "O2"\nrefrence = "ground"'))
+    code, out = run("check", str(bad))
+    assert code == 2 and "did you mean 'reference'" in out
+    bad.write_text(
+        text.replace(
+            "[drivers.crank]",
+            '[drivers.rod]\ntype = "linear"\nbetween = ["A", "O4"]\nmode = "free"\nstroke = [90, 50]\n[drivers.crank]',
+        )
+    )
+    code, out = run("check", str(bad))
+    assert code == 2 and "0 < shortest < longest" in out
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    with pytest.raises(excavkin.InputError, match="did you mean 'crank'"):
+        mech.solve({"crnk": 0.0})

@@ -12,7 +12,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from excavkin.errors import ModelError, UnitError
+from excavkin.errors import ModelError, UnitError, did_you_mean
 from excavkin.model.entities import (
     STANDARD_GRAVITY,
     Body,
@@ -106,9 +106,10 @@ class TomlReader:
     ) -> None:
         extra = set(entry) - allowed
         if extra:
+            hints = "".join(did_you_mean(k, allowed) for k in sorted(extra))
             raise self.err(
                 f"unknown key{'s' if len(extra) > 1 else ''} "
-                f"{', '.join(sorted(extra))} (allowed: {', '.join(sorted(allowed))})",
+                f"{', '.join(sorted(extra))}{hints} (allowed: {', '.join(sorted(allowed))})",
                 table,
                 name,
             )
@@ -253,7 +254,9 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     if unknown:
         raise r.err(
             f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
+            f"{', '.join(sorted(unknown))}"
+            f"{''.join(did_you_mean(k, _TOP) for k in sorted(unknown))} "
+            f"(allowed: {', '.join(sorted(_TOP))})"
         )
     name = data.get("name", Path(source).stem if source else "mechanism")
     if not isinstance(name, str):
@@ -302,7 +305,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
                 )
             )
         elif kind == "linear":
-            r.keys(spec, {"type", "between", "mode"}, "drivers", dname)
+            r.keys(spec, {"type", "between", "mode", "stroke"}, "drivers", dname)
             between = spec.get("between")
             if not isinstance(between, list) or len(between) != 2:
                 raise r.err("between must list two point names", table, "between")
@@ -311,7 +314,22 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
                 raise r.err(
                     f"mode must be 'driven', 'locked' or 'free', not {mode!r}", table, "mode"
                 )
-            linear.append(LinearDriver(dname, (str(between[0]), str(between[1])), mode))
+            stroke = None
+            if "stroke" in spec:
+                given = spec["stroke"]
+                if not isinstance(given, list) or len(given) != 2:
+                    raise r.err("stroke must be [shortest, longest] lengths", table, "stroke")
+                lo = r.qty(given[0], "length", table, "stroke")
+                hi = r.qty(given[1], "length", table, "stroke")
+                if not 0.0 < lo < hi:
+                    raise r.err(
+                        "stroke must be [shortest, longest] pin-to-pin lengths, "
+                        f"0 < shortest < longest (got {lo:.6g} m, {hi:.6g} m)",
+                        table,
+                        "stroke",
+                    )
+                stroke = (lo, hi)
+            linear.append(LinearDriver(dname, (str(between[0]), str(between[1])), mode, stroke))
         else:
             raise r.err(f"type must be 'rotary' or 'linear', not {kind!r}", table, "type")
 

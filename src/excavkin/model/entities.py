@@ -91,11 +91,15 @@ class LinearDriver:
     mode : {"driven", "locked", "free"}
         ``driven``: the length is an input. ``locked``: a rigid link at its sketch length (or its
         ``[lengths]`` entry). ``free``: passive, its length follows the mechanism and is reported.
+    stroke : (float, float) or None
+        The shortest and longest pin-to-pin length the element can take (a cylinder's
+        retracted length and that plus its stroke), m; default sweeps stay within it.
     """
 
     name: str
     between: tuple[str, str]
     mode: LinearMode = "driven"
+    stroke: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from excavkin.errors import MobilityError, ModelError
+from excavkin.errors import MobilityError, ModelError, did_you_mean
 from excavkin.model.entities import Model
 
 
@@ -94,11 +94,14 @@ def validate(model: Model) -> None:
     for d in model.rotary:
         if d.body not in body_names:
             raise ModelError(
-                f"unknown body {d.body!r}", table=f"drivers.{d.name}", entry="body", source=src
+                f"unknown body {d.body!r}{did_you_mean(d.body, body_names)}",
+                table=f"drivers.{d.name}",
+                entry="body",
+                source=src,
             )
         if d.reference not in body_names:
             raise ModelError(
-                f"unknown body {d.reference!r}",
+                f"unknown body {d.reference!r}{did_you_mean(d.reference, body_names)}",
                 table=f"drivers.{d.name}",
                 entry="reference",
                 source=src,
@@ -177,7 +180,12 @@ def validate(model: Model) -> None:
         key = f"{p}-{q}"
         if p not in model.points or q not in model.points:
             missing = p if p not in model.points else q
-            raise ModelError(f"unknown point {missing!r}", table="lengths", entry=key, source=src)
+            raise ModelError(
+                f"unknown point {missing!r}{did_you_mean(missing, model.points)}",
+                table="lengths",
+                entry=key,
+                source=src,
+            )
         if not value > 0:
             raise ModelError(
                 f"a length must be positive, got {value} m", table="lengths", entry=key, source=src
@@ -197,7 +205,8 @@ def _known_points(model: Model, names: tuple[str, ...], table: str, entry: str) 
     for n in names:
         if n not in model.points:
             raise ModelError(
-                f"unknown point {n!r} (known: {', '.join(model.points)})",
+                f"unknown point {n!r}{did_you_mean(n, model.points)} "
+                f"(known: {', '.join(model.points)})",
                 table=table,
                 entry=entry,
                 source=model.source,

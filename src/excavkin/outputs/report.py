@@ -111,8 +111,9 @@ def default_sweep(mech: MechanismLike, n: int | None = None) -> dict[str, np.nda
       position), if the mechanism closes all the way round;
       otherwise it sweeps the range around the sketch over which it closes (found by probing
       720 positions), from one dead position to the other.
-    * A linear input (a cylinder, a rope) sweeps from 0.8 to 1.25 times its sketch length
-      (:data:`STROKE`), cut to the range around the sketch over which the mechanism closes.
+    * A linear input (a cylinder, a rope) sweeps its ``stroke`` when the model gives one,
+      else from 0.8 to 1.25 times its sketch length (:data:`STROKE`), cut to the range around
+      the sketch over which the mechanism closes.
 
     Each input's range is found with the others held at their sketch values.
 
@@ -156,7 +157,11 @@ def default_sweep(mech: MechanismLike, n: int | None = None) -> dict[str, np.nda
             out[name] = np.linspace(start, probe[hi], n)
         else:
             m = 401
-            probe = q0 * np.linspace(STROKE[0], STROKE[1], m)
+            stroke = next((d.stroke for d in mech.model.linear if d.name == name), None)
+            if stroke is not None:  # the cylinder's own stroke, pin to pin
+                probe = np.linspace(stroke[0], stroke[1], m)
+            else:
+                probe = q0 * np.linspace(STROKE[0], STROKE[1], m)
             i0 = int(np.argmin(np.abs(probe - q0)))
             ok = _passable(mech.solve({name: probe}).status.code)
             run = _run_containing(ok, i0, circular=False)
