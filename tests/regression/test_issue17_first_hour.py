@@ -178,7 +178,8 @@ def test_model_files_suggest_the_names_they_meant(tmp_path) -> None:
     bad.write_text(
         text.replace(
             "[drivers.crank]",
-            '[drivers.rod]\ntype = "linear"\nbetween = ["A", "O4"]\nmode = "free"\nstroke = [90, 50]\n[drivers.crank]',
+            '[drivers.rod]\ntype = "linear"\nbetween = ["A", "O4"]\nmode = "free"\n'
+            'stroke = [90, 50]\n[drivers.crank]',
         )
     )
     code, out = run("check", str(bad))
