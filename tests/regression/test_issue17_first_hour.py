@@ -179,7 +179,7 @@ def test_model_files_suggest_the_names_they_meant(tmp_path) -> None:
         text.replace(
             "[drivers.crank]",
             '[drivers.rod]\ntype = "linear"\nbetween = ["A", "O4"]\nmode = "free"\n'
-            'stroke = [90, 50]\n[drivers.crank]',
+            "stroke = [90, 50]\n[drivers.crank]",
         )
     )
     code, out = run("check", str(bad))
