@@ -250,26 +250,150 @@ def _solve_newton(
     failed: np.ndarray,
     tol: Tolerances,
 ) -> None:
-    x[:] = assembly.positions[:, :, None]
-    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    stages = _stages(plan, q)
-    zero = np.zeros_like(q)
-    c = Chunk(x, v, a, q0 + zero, zero, zero, trans, status, failed, tol.close, tol.singular)
-    # the path to each target: angles go the shorter way round (q and q ± 2π are one pose)
-    delta = q - q0
-    for i, kind in enumerate(plan.input_kinds):
-        if kind == "angle":
-            delta[i] = np.angle(np.exp(1j * delta[i]))
-    for k in range(1, stages):
-        c.q = q0 + delta * (k / stages)
-        _run_steps(plan, c, 0)
+    """Positions by continuation along the sweep's own order, then the rates.
+
+    The sample nearest the sketch is reached from the sketch; every other sample then follows
+    the sweep from there, through the samples between, in stages small enough for Newton.
+    A sweep is a path the user asked for, so this keeps each sample on the branch the sweep
+    itself is on — through a full turn, too. Samples the sweep cannot reach (the path passes
+    a position that does not close) try the straight way from the sketch.
+    """
+    steps = _step_sizes(plan)
+    _continue_along_sweep(plan, assembly, q, x, v, a, trans, status, failed, tol, steps)
+    # a sample whose path along the sweep met a position that does not close tries again
+    for long_way in (False, True):  # straight from the sketch, either way round
+        reached = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
+        retry = np.flatnonzero(~reached)
+        if not retry.size or (long_way and "angle" not in plan.input_kinds):
+            break
+        _continue_from_sketch(
+            plan, assembly, q, x, v, a, trans, status, failed, tol, steps, retry, long_way
+        )
     c = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular)
-    _run_steps(plan, c, 0)
     signs = _run_steps(plan, c, 2, newton=False)
     groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
     for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
         flipped = (sign != ref) | ~rotary_branch_ok(c, st)
         kernels.flag(c, flipped & np.isfinite(x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
+
+
+def _step_sizes(plan: SolvePlan) -> F:
+    """The largest move of each input in one continuation stage: 0.1 rad, or 5 % of the size."""
+    return np.array(
+        [0.1 if kind == "angle" else 0.05 * plan.scale for kind in plan.input_kinds]
+    ).reshape(-1, 1)
+
+
+def _wrapped(delta: F, plan: SolvePlan) -> F:
+    """Input differences, angles the shorter way round (q and q ± 2π are one pose)."""
+    out = delta.copy()
+    for i, kind in enumerate(plan.input_kinds):
+        if kind == "angle":
+            out[i] = np.angle(np.exp(1j * out[i]))
+    return out
+
+
+def _continue_along_sweep(
+    plan: SolvePlan,
+    assembly: Assembly,
+    q: F,
+    x: F,
+    v: F,
+    a: F,
+    trans: F,
+    status: np.ndarray,
+    failed: np.ndarray,
+    tol: Tolerances,
+    steps: F,
+) -> None:
+    n = q.shape[1]
+    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
+    ok_in = np.isfinite(q).all(axis=0)
+    far = np.abs(_wrapped(q - q0, plan)) / steps
+    k0 = int(np.argmin(np.where(ok_in, far.max(axis=0), np.inf)))
+    # the sketch → sample k0, for one sample, then every sample starts there
+    one = [arr[:, :, k0 : k0 + 1].copy() for arr in (x, v, a)]
+    one[0][:] = assembly.positions[:, :, None]
+    mini = Chunk(
+        one[0],
+        one[1],
+        one[2],
+        q0.copy(),
+        q0 * 0,
+        q0 * 0,
+        trans[:, :1].copy(),
+        np.zeros(1, np.int8),
+        np.full(1, -1, np.int16),
+        tol.close,
+        tol.singular,
+    )
+    leg = _wrapped(q[:, k0 : k0 + 1] - q0, plan)
+    first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)
+    for k in range(1, first + 1):
+        mini.q = q0 + leg * (k / first)
+        _run_steps(plan, mini, 0)
+    x[:] = one[0]
+    # then along the sweep: at stage s sample i stands at sample k0 + (i − k0)·s/S
+    jump = np.abs(_wrapped(np.diff(q, axis=1), plan)) / steps
+    jump = np.where(np.isfinite(jump), jump, 0.0).max(axis=0)
+    walked = np.concatenate([[0.0], np.cumsum(jump)])
+    stages = int(min(max(np.ceil(np.max(np.abs(walked - walked[k0]))), 1), 4000))
+    idx = np.arange(n)
+    zero = np.zeros_like(q)
+    c = Chunk(x, v, a, q, zero, zero, trans, status, failed, tol.close, tol.singular)
+    after = idx >= k0
+    for s in range(1, stages + 1):
+        # the sample each one stands at: as far along the sweep from k0 as s/S of its way
+        target = walked[k0] + (walked[idx] - walked[k0]) * (s / stages)
+        ahead = np.searchsorted(walked, target, side="right") - 1
+        behind = np.searchsorted(walked, target, side="left")
+        at = np.where(after, np.clip(ahead, k0, idx), np.clip(behind, idx, k0))
+        if s == stages:  # its own value at last, whatever the rounding of ``target``
+            at = idx
+        c.q = q[:, at]  # the sweep's own values: its path, its turns
+        _run_steps(plan, c, 0)
+
+
+def _continue_from_sketch(
+    plan: SolvePlan,
+    assembly: Assembly,
+    q: F,
+    x: F,
+    v: F,
+    a: F,
+    trans: F,
+    status: np.ndarray,
+    failed: np.ndarray,
+    tol: Tolerances,
+    steps: F,
+    samples: np.ndarray,
+    long_way: bool = False,
+) -> None:
+    """Samples the sweep could not reach: straight from the sketch, the shorter way round (or
+    the longer, past what the shorter way could not pass)."""
+    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
+    sub_q = q[:, samples]
+    delta = _wrapped(sub_q - q0, plan)
+    if long_way:
+        for i, kind in enumerate(plan.input_kinds):
+            if kind == "angle":
+                delta[i] -= 2 * np.pi * np.sign(delta[i])
+    stages = int(min(max(np.ceil(np.nanmax(np.abs(delta) / steps)), 1), 400))
+    sx = np.repeat(assembly.positions[:, :, None], samples.size, axis=2)
+    sv, sa = np.zeros_like(sx), np.zeros_like(sx)
+    st_ = np.zeros(samples.size, np.int8)
+    sf = np.full(samples.size, -1, np.int16)
+    strans = trans[:, samples].copy()
+    zero = np.zeros_like(sub_q)
+    c = Chunk(sx, sv, sa, q0 + zero, zero, zero, strans, st_, sf, tol.close, tol.singular)
+    for k in range(1, stages + 1):
+        c.q = q0 + delta * (k / stages)
+        _run_steps(plan, c, 0)
+    c.q = sub_q
+    _run_steps(plan, c, 0)
+    x[:, :, samples] = sx
+    status[samples] = st_
+    failed[samples] = sf
 
 
 def assemble(plan: SolvePlan) -> Assembly:
