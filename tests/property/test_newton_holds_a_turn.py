@@ -2,9 +2,10 @@
 
 Over random four-bars — Grashof crank-rockers, double-cranks and double-rockers, and
 non-Grashof triple-rockers, either branch; change-point linkages aside —
-``method="newton"`` solves every sample that the closed form solves and that the mechanism can reach from its sketch by moving along the sweep
-(the closed form's run of solved samples that holds the sketch, round the turn), on the same
-branch: positions to 1e-12 of the size, rates to 1e-9 of their scale.
+``method="newton"`` solves every sample that the closed form solves and that the mechanism
+can reach from its sketch by moving along the sweep (the closed form's run of solved samples
+that holds the sketch, round the turn), on the same branch: positions to 1e-12 of the size,
+rates to 1e-9 of their scale.
 """
 
 from __future__ import annotations
