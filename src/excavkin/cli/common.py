@@ -194,6 +194,13 @@ def _is_number(text: str) -> bool:
     return True
 
 
+#: ``--units-row``, for the commands that write tables
+units_row_option = click.option(
+    "--units-row",
+    is_flag=True,
+    help="CSV: a second header row with each column's SI unit (Parquet always keeps them).",
+)
+
 RATE_KIND = {"angle": "angular_velocity", "length": "velocity"}
 ACCEL_KIND = {"angle": "angular_acceleration", "length": "acceleration"}
 JERK_KIND = {"angle": "angular_jerk", "length": "jerk"}

@@ -256,25 +256,24 @@ def _solve_newton(
     the sweep from there, through the samples between, in stages small enough for Newton.
     A sweep is a path the user asked for, so this keeps each sample on the branch the sweep
     itself is on — through a full turn, too. Samples the sweep cannot reach (the path passes
-    a position that does not close) try the straight way from the sketch.
+    a position that does not close) try the straight way from the sketch, the shorter way
+    round and then the longer.
     """
+    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular)
     steps = _step_sizes(plan)
-    _continue_along_sweep(plan, assembly, q, x, v, a, trans, status, failed, tol, steps)
-    # a sample whose path along the sweep met a position that does not close tries again
-    for long_way in (False, True):  # straight from the sketch, either way round
+    _continue_along_sweep(plan, assembly, full, steps)
+    for long_way in (False, True):
         reached = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
         retry = np.flatnonzero(~reached)
         if not retry.size or (long_way and "angle" not in plan.input_kinds):
             break
-        _continue_from_sketch(
-            plan, assembly, q, x, v, a, trans, status, failed, tol, steps, retry, long_way
-        )
-    c = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular)
-    signs = _run_steps(plan, c, 2, newton=False)
+        _continue_from_sketch(plan, assembly, full, steps, retry, long_way)
+    full.q = q
+    signs = _run_steps(plan, full, 2, newton=False)
     groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
     for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
-        flipped = (sign != ref) | ~rotary_branch_ok(c, st)
-        kernels.flag(c, flipped & np.isfinite(x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
+        flipped = (sign != ref) | ~rotary_branch_ok(full, st)
+        kernels.flag(full, flipped & np.isfinite(x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
 
 
 def _step_sizes(plan: SolvePlan) -> F:
@@ -293,57 +292,49 @@ def _wrapped(delta: F, plan: SolvePlan) -> F:
     return out
 
 
-def _continue_along_sweep(
-    plan: SolvePlan,
-    assembly: Assembly,
-    q: F,
-    x: F,
-    v: F,
-    a: F,
-    trans: F,
-    status: np.ndarray,
-    failed: np.ndarray,
-    tol: Tolerances,
-    steps: F,
-) -> None:
+def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
+    """A chunk of ``full``'s samples (copies when ``samples`` picks some) for position passes."""
+    zero = np.zeros_like(q)
+    return Chunk(
+        full.x[:, :, samples],
+        full.v[:, :, samples],
+        full.a[:, :, samples],
+        q,
+        zero,
+        zero,
+        full.trans[:, samples],
+        full.status[samples],
+        full.failed[samples],
+        full.close_tol,
+        full.singular_tol,
+    )
+
+
+def _continue_along_sweep(plan: SolvePlan, assembly: Assembly, full: Chunk, steps: F) -> None:
+    q = full.q
     n = q.shape[1]
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    ok_in = np.isfinite(q).all(axis=0)
     far = np.abs(_wrapped(q - q0, plan)) / steps
-    k0 = int(np.argmin(np.where(ok_in, far.max(axis=0), np.inf)))
-    # the sketch → sample k0, for one sample, then every sample starts there
-    one = [arr[:, :, k0 : k0 + 1].copy() for arr in (x, v, a)]
-    one[0][:] = assembly.positions[:, :, None]
-    mini = Chunk(
-        one[0],
-        one[1],
-        one[2],
-        q0.copy(),
-        q0 * 0,
-        q0 * 0,
-        trans[:, :1].copy(),
-        np.zeros(1, np.int8),
-        np.full(1, -1, np.int16),
-        tol.close,
-        tol.singular,
-    )
+    k0 = int(np.argmin(np.where(np.isfinite(q).all(axis=0), far.max(axis=0), np.inf)))
+    # the sketch → sample k0, for that one sample, then every sample starts there
+    mini = _positions_only(full, np.array([k0]), q0.copy())
+    mini.x[:] = assembly.positions[:, :, None]
+    mini.status[:] = 0
     leg = _wrapped(q[:, k0 : k0 + 1] - q0, plan)
     first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
         _run_steps(plan, mini, 0)
-    x[:] = one[0]
-    # then along the sweep: at stage s sample i stands at sample k0 + (i − k0)·s/S
+    full.x[:] = mini.x
+    # then along the sweep: at stage s, sample i stands s/S of its way from k0 along the sweep
     jump = np.abs(_wrapped(np.diff(q, axis=1), plan)) / steps
     jump = np.where(np.isfinite(jump), jump, 0.0).max(axis=0)
     walked = np.concatenate([[0.0], np.cumsum(jump)])
     stages = int(min(max(np.ceil(np.max(np.abs(walked - walked[k0]))), 1), 4000))
     idx = np.arange(n)
-    zero = np.zeros_like(q)
-    c = Chunk(x, v, a, q, zero, zero, trans, status, failed, tol.close, tol.singular)
     after = idx >= k0
+    c = _positions_only(full, slice(None), q)
     for s in range(1, stages + 1):
-        # the sample each one stands at: as far along the sweep from k0 as s/S of its way
         target = walked[k0] + (walked[idx] - walked[k0]) * (s / stages)
         ahead = np.searchsorted(walked, target, side="right") - 1
         behind = np.searchsorted(walked, target, side="left")
@@ -357,43 +348,33 @@ def _continue_along_sweep(
 def _continue_from_sketch(
     plan: SolvePlan,
     assembly: Assembly,
-    q: F,
-    x: F,
-    v: F,
-    a: F,
-    trans: F,
-    status: np.ndarray,
-    failed: np.ndarray,
-    tol: Tolerances,
+    full: Chunk,
     steps: F,
     samples: np.ndarray,
-    long_way: bool = False,
+    long_way: bool,
 ) -> None:
     """Samples the sweep could not reach: straight from the sketch, the shorter way round (or
     the longer, past what the shorter way could not pass)."""
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    sub_q = q[:, samples]
-    delta = _wrapped(sub_q - q0, plan)
+    target = full.q[:, samples]
+    delta = _wrapped(target - q0, plan)
     if long_way:
         for i, kind in enumerate(plan.input_kinds):
             if kind == "angle":
                 delta[i] -= 2 * np.pi * np.sign(delta[i])
     stages = int(min(max(np.ceil(np.nanmax(np.abs(delta) / steps)), 1), 400))
-    sx = np.repeat(assembly.positions[:, :, None], samples.size, axis=2)
-    sv, sa = np.zeros_like(sx), np.zeros_like(sx)
-    st_ = np.zeros(samples.size, np.int8)
-    sf = np.full(samples.size, -1, np.int16)
-    strans = trans[:, samples].copy()
-    zero = np.zeros_like(sub_q)
-    c = Chunk(sx, sv, sa, q0 + zero, zero, zero, strans, st_, sf, tol.close, tol.singular)
+    c = _positions_only(full, samples, q0.copy())
+    c.x[:] = assembly.positions[:, :, None]
+    c.status[:] = 0
+    c.failed[:] = -1
     for k in range(1, stages + 1):
         c.q = q0 + delta * (k / stages)
         _run_steps(plan, c, 0)
-    c.q = sub_q
+    c.q = target
     _run_steps(plan, c, 0)
-    x[:, :, samples] = sx
-    status[samples] = st_
-    failed[samples] = sf
+    full.x[:, :, samples] = c.x
+    full.status[samples] = c.status
+    full.failed[samples] = c.failed
 
 
 def assemble(plan: SolvePlan) -> Assembly:

@@ -30,6 +30,7 @@ from excavkin.cli.common import (
     model_path,
     parse_assignment,
     si_value,
+    units_row_option,
 )
 from excavkin.errors import InputError
 from excavkin.mechanism import Mechanism
@@ -278,11 +279,7 @@ def build_drives(mech: Mechanism, texts: Sequence[str]) -> dict[str, Drive]:
     help="Write the table even if some samples fail (rows marked in 'status').",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
-@click.option(
-    "--units-row",
-    is_flag=True,
-    help="CSV: a second header row with each column's SI unit (Parquet always keeps them).",
-)
+@units_row_option
 @handle_errors
 def command(
     model: str,

@@ -19,6 +19,7 @@ from excavkin.cli.common import (
     parse_assignment,
     parse_sweep,
     si_value,
+    units_row_option,
 )
 from excavkin.cli.progress import solve_with_progress
 from excavkin.errors import InputError
@@ -153,11 +154,7 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="Write the table even if some samples fail (rows marked in 'status').",
 )
 @click.option("--force", is_flag=True, help="Replace the output file if it exists.")
-@click.option(
-    "--units-row",
-    is_flag=True,
-    help="CSV: a second header row with each column's SI unit (Parquet always keeps them).",
-)
+@units_row_option
 @click.option(
     "--forces",
     "with_forces",
