@@ -187,3 +187,16 @@ def test_model_files_suggest_the_names_they_meant(tmp_path) -> None:
     mech = excavkin.load(excavkin.example_path("fourbar"))
     with pytest.raises(excavkin.InputError, match="did you mean 'crank'"):
         mech.solve({"crnk": 0.0})
+
+
+def test_excavator_results_read_well_in_a_notebook() -> None:
+    from excavkin.excavator.forces import tool_forces
+    from excavkin.excavator.machine import forward
+    from excavkin.excavator.machine_file import load_machine
+
+    machine = load_machine(excavkin.example_path("excavator_machine"))
+    lengths = np.repeat(machine.lengths_min[None, :], 500, axis=0)
+    for obj in (forward(machine, lengths), tool_forces(machine, lengths)):
+        assert len(repr(obj)) < 400 and "500 samples" in repr(obj)
+    html = machine._repr_html_()
+    assert "<table>" in html and "boom_cyl" in html and "1990–3325" in html

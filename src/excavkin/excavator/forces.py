@@ -40,6 +40,7 @@ from excavkin.excavator.machine import (
     transfer,
 )
 from excavkin.excavator.search import Evaluate, maximize_strokes
+from excavkin.kinematics.summary import batch_repr
 
 Working = Literal["arm", "bucket"]
 At = Literal["lip", "tip"]
@@ -71,6 +72,9 @@ class ToolForces:
         rod side when pulling.
     pose : FrontPose
     """
+
+    def __repr__(self) -> str:
+        return batch_repr(self)
 
     working: str
     at: str

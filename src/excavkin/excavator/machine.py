@@ -45,6 +45,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from excavkin.errors import InputError, ModelError
 from excavkin.kinematics import KinematicResult
+from excavkin.kinematics.summary import batch_repr
 from excavkin.mechanism import Mechanism
 from excavkin.structure.plan import Dyad
 
@@ -421,6 +422,25 @@ class Machine:
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, cylinders={list(self.drivers)})"
 
+    def _repr_html_(self) -> str:
+        """The machine's cylinders and circuits as a small table, for notebooks."""
+        import html
+
+        rows = "".join(
+            f"<tr><td>{html.escape(c.role)}</td><td>{html.escape(c.driver)}</td>"
+            f"<td>{c.count}</td><td>{c.bore * 1e3:.0f}/{c.rod * 1e3:.0f}</td>"
+            f"<td>{c.retracted * 1e3:.0f}–{(c.retracted + c.stroke) * 1e3:.0f}</td>"
+            f"<td>{self.circuits[c.circuit].working / 1e6:.1f} / "
+            f"{self.circuits[c.circuit].relief / 1e6:.1f}</td></tr>"
+            for c in self.cylinders
+        )
+        return (
+            f"<div><b>{html.escape(self.name)}</b> — excavator front on model "
+            f"{html.escape(self.mechanism.name)!s}<table><thead><tr><th>cylinder</th>"
+            "<th>driver</th><th>count</th><th>bore/rod mm</th><th>pin to pin mm</th>"
+            f"<th>working / relief MPa</th></tr></thead><tbody>{rows}</tbody></table></div>"
+        )
+
 
 def as_lengths(lengths: ArrayLike) -> F:
     """Cylinder lengths as an array of shape (n, 3), boom, arm, bucket; refuses other shapes."""
@@ -460,6 +480,9 @@ class FrontPose:
     result : KinematicResult
         Everything else (all points, body angles, transmission angles).
     """
+
+    def __repr__(self) -> str:
+        return batch_repr(self)
 
     lengths: F
     tip: F
@@ -508,6 +531,9 @@ class Transfer:
     result : KinematicResult
         The solve with unit boom rate (its positions are ``positions``).
     """
+
+    def __repr__(self) -> str:
+        return batch_repr(self)
 
     positions: F
     d: F
@@ -559,6 +585,9 @@ class FrontJacobian:
         inf at a singular pose.
     pose : FrontPose
     """
+
+    def __repr__(self) -> str:
+        return batch_repr(self)
 
     matrix: F
     condition: F
@@ -655,6 +684,9 @@ class InverseSolution:
         Every dyad of the model is on its sketch branch, so the forward kinematics of these
         lengths reproduces the target (other solutions need the machine re-assembled).
     """
+
+    def __repr__(self) -> str:
+        return batch_repr(self)
 
     lengths: F
     reachable: B

@@ -39,6 +39,7 @@ class Code(IntEnum):
     BAD_INPUT = 5
     BAD_LENGTH = 6
     NOT_FINITE = 7
+    UNDETERMINED = 8
 
 
 @dataclass(slots=True)
@@ -140,6 +141,11 @@ def dyad(c: Chunk, st: Dyad, order: int, k: int) -> None:
     # `not >=` also catches NaN: A and B coincide (l2 = 0), so the dyad has no base
     low = ~(h2 >= c.close_tol)
     if low.any():
+        # partners that coincide with equal distances leave P anywhere on a circle: that is
+        # undetermined, not a failure to close
+        size = np.abs(d1) + np.abs(d2)
+        loose = ~(l2 > (1e-12 * size) ** 2) & (np.abs(d1 - d2) <= 1e-12 * size)
+        flag(c, low & loose, Code.UNDETERMINED, k)
         bad = ~(h2 >= -c.close_tol)
         flag(c, bad, Code.NO_CLOSURE, k)
         h2 = np.where(bad, np.nan, np.maximum(h2, 0.0))

@@ -33,6 +33,7 @@ _REASON = {
     Code.BAD_INPUT: "input is NaN or infinite",
     Code.BAD_LENGTH: "a driven length is zero or negative",
     Code.NOT_FINITE: "a result overflows (inputs or rates too large for double precision)",
+    Code.UNDETERMINED: "undetermined (its two partners coincide)",
 }
 
 

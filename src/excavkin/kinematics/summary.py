@@ -70,3 +70,19 @@ def result_html(title: str, n: int, labels: np.ndarray, columns: Sequence[Column
         f"<details open><summary>status</summary>{status}</details>"
         f"<details><summary>columns</summary>{cols}</details></div>"
     )
+
+
+def batch_repr(obj: object) -> str:
+    """``Name(n samples; field shape, …)`` for a dataclass of batch arrays: short at any n."""
+    import dataclasses
+
+    parts, n = [], None
+    for f in dataclasses.fields(obj):  # type: ignore[arg-type]
+        value = getattr(obj, f.name)
+        if isinstance(value, np.ndarray):
+            n = value.shape[0] if value.ndim and n is None else n
+            parts.append(f"{f.name} {value.shape}")
+        elif isinstance(value, str | bool | int | float):
+            parts.append(f"{f.name}={value!r}")
+    head = f"{n} samples; " if n is not None else ""
+    return f"{type(obj).__name__}({head}{', '.join(parts)})"

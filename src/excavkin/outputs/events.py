@@ -60,6 +60,8 @@ _LABEL_CODES = (
     ("cannot close", Code.NO_CLOSURE),
     ("newton did not converge", Code.NO_CONVERGENCE),
     ("assembly branch changed", Code.BRANCH_CHANGED),
+    ("undetermined", Code.UNDETERMINED),
+    ("a result overflows", Code.NOT_FINITE),
 )
 
 
