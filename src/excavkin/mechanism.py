@@ -136,6 +136,7 @@ class Mechanism:
         workers: int | None = None,
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
+        continuation: Literal["side", "smooth"] = "side",
         loads: None = None,
     ) -> KinematicResult: ...
 
@@ -152,6 +153,7 @@ class Mechanism:
         workers: int | None = None,
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
+        continuation: Literal["side", "smooth"] = "side",
         loads: Iterable[Load] | Literal["model"],
     ) -> ForceResult: ...
 
@@ -167,6 +169,7 @@ class Mechanism:
         workers: int | None = None,
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
+        continuation: Literal["side", "smooth"] = "side",
         loads: Iterable[Load] | Literal["model"] | None = None,
     ) -> KinematicResult | ForceResult:
         """Positions, velocities and accelerations for a batch of driver inputs.
@@ -193,6 +196,10 @@ class Mechanism:
             are serialised and ``done`` increases); for progress bars.
         chunk : int, optional
             Samples per chunk (default: a cache-sized 32 768).
+        continuation : {"side", "smooth"}
+            At a change point between neighbouring samples (a dyad folding flat): keep each
+            dyad on its sketch side, or continue the motion onto the other side (the samples
+            taken in order, as a path). ``result.change_points`` lists them either way.
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only).
@@ -254,6 +261,7 @@ class Mechanism:
             tol=tol or Tolerances(),
             workers=workers,
             progress=progress,
+            continuation=continuation,
             **({} if chunk is None else {"chunk": int(chunk)}),
         )
         if time is not None:

@@ -91,6 +91,7 @@ def solve_with_progress(
     chunk: int | None = None,
     description: str = "solving",
     stream: TextIO | None = None,
+    continuation: str = "side",
 ) -> Any:
     """``mech.solve(values, rates, accels, time=time)`` with a progress bar on long sweeps.
 
@@ -119,7 +120,7 @@ def solve_with_progress(
         arrays.append(np.asarray(time))
     n = max((a.size for a in arrays if a.ndim == 1), default=1)
     if chunk is None and n < MIN_SAMPLES_FOR_BAR:
-        return mech.solve(values, rates, accels, time=time)
+        return mech.solve(values, rates, accels, time=time, continuation=continuation)
     with progress(description, n, quiet=quiet, stream=stream) as advance:
         seen = [0]
 
@@ -127,4 +128,12 @@ def solve_with_progress(
             advance(done - seen[0])
             seen[0] = done
 
-        return mech.solve(values, rates, accels, time=time, progress=report, chunk=chunk)
+        return mech.solve(
+            values,
+            rates,
+            accels,
+            time=time,
+            progress=report,
+            chunk=chunk,
+            continuation=continuation,
+        )

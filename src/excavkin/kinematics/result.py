@@ -11,6 +11,7 @@ import numpy as np
 
 from excavkin.errors import unknown_name
 from excavkin.kinematics import summary
+from excavkin.kinematics.change_points import ChangePoint
 from excavkin.kinematics.columns import (
     QUANTITIES,
     TIME,
@@ -148,6 +149,9 @@ class KinematicResult:
         Transmission angle of each dyad (between its two links, in [0, π]) and each slider
         (between the link and the slide's normal, in [0, π/2]); dead at 0 or π.
     status : Status
+    change_points : tuple of ChangePoint
+        Dyads that fold between neighbouring samples, and how the engine went on
+        (:mod:`excavkin.kinematics.change_points`).
     """
 
     plan: SolvePlan
@@ -169,6 +173,7 @@ class KinematicResult:
     transmission: F
     status: Status
     time: F | None = None
+    change_points: tuple[ChangePoint, ...] = ()
 
     @classmethod
     def build(

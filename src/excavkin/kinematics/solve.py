@@ -9,6 +9,7 @@ Newton, so that every sample stays on the sketch's assembly branch.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import threading
@@ -18,8 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from excavkin.errors import AssemblyError
+from excavkin.errors import AssemblyError, InputError
 from excavkin.kinematics import kernels
+from excavkin.kinematics.change_points import ChangePoint, find_change_points, smooth_signs
 from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.newton import newton_positions, newton_rates, rotary_branch_ok
 from excavkin.kinematics.result import Derived, KinematicResult, Status
@@ -110,6 +112,7 @@ def solve_kinematics(
     chunk: int = 32768,
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    continuation: str = "side",
 ) -> KinematicResult:
     """Positions, velocities and accelerations of every point for every sample.
 
@@ -130,6 +133,11 @@ def solve_kinematics(
         ``progress(done, total)``, called after each chunk with the samples finished so far;
         calls are serialised (never two at once, ``done`` increasing), though they may come
         from worker threads.
+    continuation : {"side", "smooth"}
+        At a change point between neighbouring samples (a dyad folding flat), keep each dyad on
+        its sketch side (``"side"``) or continue the motion onto the other side (``"smooth"``:
+        the samples are then taken in order, as a path). Either way the result lists the change
+        points it found.
 
     Returns
     -------
@@ -143,19 +151,8 @@ def solve_kinematics(
     trans = np.empty((len(plan.transmissions), n))
     status = np.zeros(n, dtype=np.int8)
     failed = np.full(n, -1, dtype=np.int16)
-    bad_in = ~(
-        np.isfinite(q).all(axis=0) & np.isfinite(qd).all(axis=0) & np.isfinite(qdd).all(axis=0)
-    )
-    status[bad_in] = Code.BAD_INPUT
-    # a length is a distance: zero or negative would be solved as its mirror image
     q_given = q
-    lengths = [i for i, kind in enumerate(plan.input_kinds) if kind == "length"]
-    if lengths:
-        bad_len = ~(q[lengths] > 0.0).all(axis=0) & (status == 0)
-        if bad_len.any():
-            status[bad_len] = Code.BAD_LENGTH
-            q = q.copy()
-            q[:, bad_len] = np.nan
+    q = _check_inputs(plan, q, qd, qdd, status)
     derived = Derived.empty(plan, n)
     report = _Reporter(progress, n)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -195,9 +192,55 @@ def solve_kinematics(
             else:
                 for s in starts:
                     one(s)
-    return KinematicResult.build(
+    if continuation == "smooth":
+        return _smooth(plan, assembly, q_given, qd, qdd, tol, x, status)
+    result = KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
+    return dataclasses.replace(result, change_points=tuple(find_change_points(plan, x)))
+
+
+def _smooth(
+    plan: SolvePlan,
+    assembly: Assembly,
+    q: F,
+    qd: F,
+    qdd: F,
+    tol: Tolerances,
+    x: F,
+    status: np.ndarray,
+) -> KinematicResult:
+    """Solve again with each dyad's side flipped after its change points, dyad by dyad in
+    plan order (a flip moves what is built on the dyad, and so its later change points)."""
+    if plan.has_newton:
+        raise InputError(
+            'continuation="smooth" follows dyads through their change points; this plan has '
+            "a Newton group, which keeps its own branch"
+        )
+    found: list[ChangePoint] = []
+    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
+    far = np.abs(_wrapped(q - q0, plan)) / _step_sizes(plan)
+    anchor = int(np.argmin(np.where(np.isfinite(far).all(axis=0), far.max(axis=0), np.inf)))
+    for k, st in enumerate(plan.steps):
+        if not isinstance(st, Dyad):
+            continue
+        signs = smooth_signs(x, st, anchor)
+        if signs is None:
+            continue
+        steps = list(plan.steps)
+        steps[k] = dataclasses.replace(st, sign=signs)  # type: ignore[arg-type]
+        plan = dataclasses.replace(plan, steps=tuple(steps))
+        found += [
+            dataclasses.replace(cp, continued="smooth")
+            for cp in find_change_points(dataclasses.replace(plan, steps=(st,)), x)
+        ]
+        # the whole batch as one chunk: per-sample signs are indexed by sample
+        again = solve_kinematics(plan, assembly, q, qd, qdd, tol=tol, chunk=q.shape[1], workers=1)
+        x = np.moveaxis(again.positions, 0, -1)
+    result = solve_kinematics(
+        plan, assembly, q, qd, qdd, tol=tol, chunk=max(q.shape[1], 1), workers=1
+    )
+    return dataclasses.replace(result, change_points=tuple(found))
 
 
 def _flag_not_finite(
@@ -217,6 +260,23 @@ def _flag_not_finite(
         & np.isfinite(derived.element[:, :, s]).all(axis=(0, 1))
     )
     status[~finite & (status == Code.OK)] = Code.NOT_FINITE
+
+
+def _check_inputs(plan: SolvePlan, q: F, qd: F, qdd: F, status: np.ndarray) -> F:
+    """Mark non-finite inputs and non-positive driven lengths; those samples' q become NaN."""
+    bad_in = ~(
+        np.isfinite(q).all(axis=0) & np.isfinite(qd).all(axis=0) & np.isfinite(qdd).all(axis=0)
+    )
+    status[bad_in] = Code.BAD_INPUT
+    # a length is a distance: zero or negative would be solved as its mirror image
+    lengths = [i for i, kind in enumerate(plan.input_kinds) if kind == "length"]
+    if lengths:
+        bad_len = ~(q[lengths] > 0.0).all(axis=0) & (status == 0)
+        if bad_len.any():
+            status[bad_len] = Code.BAD_LENGTH
+            q = q.copy()
+            q[:, bad_len] = np.nan
+    return q
 
 
 class _Reporter:

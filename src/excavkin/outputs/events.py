@@ -7,6 +7,8 @@ differences of samples:
 * **dead position** — samples the solver flagged as singular (status code), and samples where a
   transmission angle comes within ``dead_tol`` (3°) of 0 or π (a local minimum of its distance
   to them, read from the transmission columns);
+* **change point** — a dyad folding flat between two neighbouring samples
+  (``result.change_points``), and how the engine went on;
 * **low transmission** — the worst transmission angle of each dyad and slider, when it drops below
   ``transmission_limit``;
 * **shock** — for runs in time, the jumps of velocity (hard) and acceleration (soft) that the
@@ -184,7 +186,7 @@ class Event:
 
     Attributes
     ----------
-    kind : {"does not close", "dead position", "low transmission", "shock"}
+    kind : {"does not close", "dead position", "change point", "low transmission", "shock"}
     samples : ndarray of int
         The samples concerned (for a shock: the sample after the jump).
     message : str
@@ -296,6 +298,17 @@ def find_events(
                 dead,
                 f"at or within {np.degrees(dead_tol):.0f}° of a dead position: "
                 f"sample{'s' if dead.size > 1 else ''} {shown}{more}",
+                "warning",
+            )
+        )
+    kin = getattr(t.result, "kinematics", t.result)
+    for cp in getattr(kin, "change_points", ()):
+        where = f"{name(cp.before)} … {name(cp.after)}"
+        events.append(
+            Event(
+                "change point",
+                np.array([cp.before, cp.after]),
+                f"{cp.describe()} ({where})",
                 "warning",
             )
         )

@@ -168,6 +168,14 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="With --forces: add gravity (the model's, else 9.80665 m/s^2 along -y) or leave it "
     "out (default: as the model says).",
 )
+@click.option(
+    "--continuation",
+    type=click.Choice(["side", "smooth"]),
+    default="side",
+    show_default=True,
+    help="At a change point between samples: keep each dyad on its sketch side, or continue "
+    "the motion onto the other side (a parallelogram stays a parallelogram).",
+)
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @handle_errors
 def command(
@@ -182,6 +190,7 @@ def command(
     units_row: bool,
     with_forces: bool,
     gravity: bool | None,
+    continuation: str,
     quiet: bool,
 ) -> None:
     """Solve MODEL.toml over driver sweeps and write one row per sample.
@@ -196,7 +205,11 @@ def command(
     n = max((v.size for v in values.values() if isinstance(v, np.ndarray)), default=1)
     # the result, its table and the file's copy: every column three times over
     check_samples(n, "--sweep", 3 * 8 * _columns_per_sample(mech, with_forces))
-    result = solve_with_progress(mech, values, rate_v, accel_v, quiet=quiet)
+    result = solve_with_progress(
+        mech, values, rate_v, accel_v, quiet=quiet, continuation=continuation
+    )
+    for cp in result.change_points:
+        click.echo(f"excavkin: warning: {cp.describe()}", err=True)
     report_failures(result, keep_going)
     if with_forces:
         from excavkin.kinetostatics import model_loads
