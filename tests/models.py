@@ -36,3 +36,20 @@ def double_rocker() -> excavkin.Mechanism:
     text = excavkin.example_path("fourbar").read_text()
     text = text.replace("A  = [0, 40]", "A  = [0, 80]").replace('"A-B"  = 120', '"A-B"  = 60')
     return excavkin.loads(text.replace("B  = [110, 90]", "B  = [50, 110]"), "double-rocker")
+
+
+def parallelogram() -> excavkin.Model:
+    """Four links of 100 mm, crank upright: a change point where the crank's end meets O4."""
+    from excavkin import Body, Model, RotaryDriver
+
+    return Model(
+        name="parallelogram",
+        points={"O2": (0.0, 0.0), "A": (0.0, 0.1), "B": (0.1, 0.1), "O4": (0.1, 0.0)},
+        bodies=(
+            Body("ground", ("O2", "O4"), ground=True),
+            Body("crank", ("O2", "A")),
+            Body("coupler", ("A", "B")),
+            Body("rocker", ("O4", "B")),
+        ),
+        rotary=(RotaryDriver("crank", body="crank", pivot="O2", reference="ground"),),
+    )

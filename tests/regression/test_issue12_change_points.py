@@ -7,22 +7,13 @@ import pytest
 from click.testing import CliRunner
 
 import excavkin
-from excavkin import Body, Mechanism, Model, RotaryDriver
+from excavkin import Mechanism
 from excavkin.cli import main
 from excavkin.errors import InputError
 from excavkin.outputs.events import find_events
+from tests.models import parallelogram
 
-SQUARE = Model(
-    name="parallelogram",
-    points={"O2": (0.0, 0.0), "A": (0.0, 0.1), "B": (0.1, 0.1), "O4": (0.1, 0.0)},
-    bodies=(
-        Body("ground", ("O2", "O4"), ground=True),
-        Body("crank", ("O2", "A")),
-        Body("coupler", ("A", "B")),
-        Body("rocker", ("O4", "B")),
-    ),
-    rotary=(RotaryDriver("crank", body="crank", pivot="O2", reference="ground"),),
-)
+SQUARE = parallelogram()
 
 
 def coupler_offset(res: excavkin.KinematicResult) -> np.ndarray:

@@ -203,19 +203,10 @@ def test_a_killed_write_leaves_no_file_and_a_later_one_cleans_up(tmp_path) -> No
 
 
 def test_a_coincident_pivot_is_undetermined_not_a_failure_to_close() -> None:
-    from excavkin import Body, Mechanism, Model, RotaryDriver
+    from excavkin import Mechanism
+    from tests.models import parallelogram
 
-    square = Model(
-        name="parallelogram",
-        points={"O2": (0.0, 0.0), "A": (0.0, 0.1), "B": (0.1, 0.1), "O4": (0.1, 0.0)},
-        bodies=(
-            Body("ground", ("O2", "O4"), ground=True),
-            Body("crank", ("O2", "A")),
-            Body("coupler", ("A", "B")),
-            Body("rocker", ("O4", "B")),
-        ),
-        rotary=(RotaryDriver("crank", body="crank", pivot="O2", reference="ground"),),
-    )
+    square = parallelogram()
     res = Mechanism(square).solve({"crank": np.radians([-1.0, 0.0, 1.0])})
     labels = res.status.labels()
     assert labels[0] == labels[2] == "ok"

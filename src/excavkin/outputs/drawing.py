@@ -1,18 +1,9 @@
 """Draw a mechanism with matplotlib: bodies, pins, ground hatching, cylinders, labels, paths.
 
-The geometry comes from :class:`~excavkin.outputs.scene.Scene`, computed once with NumPy and
-shared with the HTML report's plotly renderer, so every view of a mechanism looks the same;
-this module only translates its primitives into matplotlib artists::
-
-        cylinder (linear driver, barrel at its first point)      binary body   ternary body
-      p o===[##########]-------------o q                        o-------o      o-----o
-            barrel          rod                                                 \\###/
-                                                                                 \\#/
-      ground pivot:   o        slider:  [=o=]  on its guide                       o
-                     /_\\
-                    //////
-
-matplotlib is imported only inside the drawing functions.
+The geometry comes from :class:`~excavkin.outputs.scene.Scene` (which draws what each part
+looks like), computed once with NumPy and shared with the HTML report's plotly renderer, so
+every view of a mechanism looks the same; this module only translates its primitives into
+matplotlib artists, imported inside the drawing functions.
 """
 
 from __future__ import annotations
