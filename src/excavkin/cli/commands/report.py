@@ -53,6 +53,7 @@ def command(
     sets: tuple[str, ...],
     rates: tuple[str, ...],
     accels: tuple[str, ...],
+    grid: bool,
     out: str | None,
     title: str | None,
     ropes: tuple[str, ...],
@@ -70,7 +71,7 @@ def command(
     check_target(target, force=force, suffixes=(".html", ".htm"))
     mech = _load(model)
 
-    values, rate, accel = build_inputs(mech, sweeps, sets, rates, accels)
+    values, rate, accel = build_inputs(mech, sweeps, sets, rates, accels, grid)
     if not sweeps:
         for name, arr in default_sweep(mech).items():
             values.setdefault(name, arr)

@@ -34,10 +34,13 @@ def build_inputs(
     sets: Sequence[str],
     rates: Sequence[str],
     accels: Sequence[str],
+    grid: bool = False,
 ) -> tuple[dict[str, np.ndarray | float], dict[str, float], dict[str, float]]:
     """Turn ``--sweep/--set/--rate/--accel`` texts into SI solve inputs.
 
-    Several sweeps run side by side (sample k of each), so they must have the same N.
+    Several sweeps run side by side (sample k of each), so they must have the same N; with
+    ``grid`` they form every combination instead (the first sweep varying slowest), N₁·N₂·…
+    samples.
     """
     values: dict[str, np.ndarray | float] = {}
     for option, texts in (
@@ -55,10 +58,14 @@ def build_inputs(
         kind = mech.input_kind(name)
         values[name] = parse_sweep(spec, kind, f"--sweep {name}")
     lengths = {k: v.size for k, v in values.items() if isinstance(v, np.ndarray)}
-    if len(set(lengths.values())) > 1:
+    if grid and len(lengths) > 1:
+        check_samples(int(np.prod(list(lengths.values()), dtype=object)), "--grid")
+        axes = np.meshgrid(*[values[k] for k in lengths], indexing="ij")
+        values.update({k: a.ravel() for k, a in zip(lengths, axes, strict=True)})
+    elif len(set(lengths.values())) > 1:
         raise InputError(
-            "sweeps run side by side and need the same number of samples; got "
-            + ", ".join(f"{k}: {n}" for k, n in lengths.items())
+            "sweeps run side by side and need the same number of samples (or --grid for "
+            "every combination); got " + ", ".join(f"{k}: {n}" for k, n in lengths.items())
         )
     for text in sets:
         name, spec = parse_assignment(text, "--set")
@@ -128,6 +135,12 @@ sweep_options = [
         metavar="NAME=VALUE",
         help="Driver acceleration (default 0).",
     ),
+    click.option(
+        "--grid",
+        is_flag=True,
+        help="Sweeps form every combination (the first varying slowest) instead of moving "
+        "together, e.g. a boom × stick map.",
+    ),
 ]
 
 
@@ -184,6 +197,7 @@ def command(
     sets: tuple[str, ...],
     rates: tuple[str, ...],
     accels: tuple[str, ...],
+    grid: bool,
     out: str,
     keep_going: bool,
     force: bool,
@@ -201,7 +215,7 @@ def command(
     """
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
-    values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels)
+    values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels, grid)
     n = max((v.size for v in values.values() if isinstance(v, np.ndarray)), default=1)
     # the result, its table and the file's copy: every column three times over
     check_samples(n, "--sweep", 3 * 8 * _columns_per_sample(mech, with_forces))
