@@ -200,3 +200,17 @@ def quantity_to_si(value: Any, kind: str, *, where: str = "") -> Any:
             f"(expected units like {_example_unit(kind)})"
         ) from None
     return out
+
+
+def is_unit_text(text: str) -> bool:
+    """Whether ``text`` names a unit (``"m/s^2"``, ``"rad"``; an empty text is
+    dimensionless): for telling a table's units row from its first row of numbers."""
+    text = text.strip()
+    if not text:
+        return True
+    try:
+        check_grammar(text, unit_only=True)
+        ureg.Unit(text)
+    except Exception:
+        return False
+    return True

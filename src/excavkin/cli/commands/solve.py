@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 import click
 import numpy as np
@@ -91,6 +92,86 @@ def _columns_per_sample(mech: Mechanism, with_forces: bool) -> int:
     return 2 * kin if with_forces else kin
 
 
+def read_inputs(
+    mech: Mechanism, path: str
+) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], dict[str, np.ndarray], np.ndarray | None]:
+    """One row per sample from a CSV or Parquet table, SI: ``<driver>`` (or
+    ``<driver>.value``), ``<driver>.rate``, ``<driver>.accel`` and ``t``.
+
+    A CSV may carry the units row that ``--units-row`` writes; it is skipped.
+    """
+    import pandas as pd
+
+    from excavkin.errors import did_you_mean
+
+    p = check_target_readable(path)
+    try:
+        if p.suffix.lower() == ".parquet":
+            frame = pd.read_parquet(p)
+        else:
+            frame = pd.read_csv(p, dtype=str, keep_default_na=False)
+            if len(frame) and _units_row(frame.iloc[0]):
+                frame = frame.iloc[1:].reset_index(drop=True)
+            frame = frame.apply(pd.to_numeric, errors="coerce")
+    except (OSError, ValueError) as exc:
+        raise InputError(f"--inputs {path}: cannot read the table: {exc}") from None
+    values: dict[str, np.ndarray] = {}
+    rates: dict[str, np.ndarray] = {}
+    accels: dict[str, np.ndarray] = {}
+    time = None
+    known = [*mech.inputs, *(f"{d}.{q}" for d in mech.inputs for q in ("value", "rate", "accel"))]
+    for col in map(str, frame.columns):
+        data = frame[col].to_numpy(dtype=np.float64)
+        name, _, qty = col.partition(".")
+        if col == "t":
+            time = data
+        elif name in mech.inputs and qty in ("", "value"):
+            values[name] = data
+        elif name in mech.inputs and qty == "rate":
+            rates[name] = data
+        elif name in mech.inputs and qty == "accel":
+            accels[name] = data
+        else:
+            raise InputError(
+                f"--inputs {path}: column {col!r} is not an input of {mech.name!r}"
+                f"{did_you_mean(col, known)} (columns: <driver>, <driver>.rate, "
+                f"<driver>.accel, t; inputs: {', '.join(mech.inputs) or 'none'})"
+            )
+    if not len(frame):
+        raise InputError(f"--inputs {path}: the table has no samples")
+    bad = [c for c in map(str, frame.columns) if not np.isfinite(frame[c].to_numpy(float)).all()]
+    if bad:
+        raise InputError(f"--inputs {path}: column {bad[0]!r} holds a value that is not a number")
+    return values, rates, accels, time
+
+
+def _units_row(row: object) -> bool:
+    """A row of unit names (as ``--units-row`` writes), not of numbers."""
+    from excavkin.units import is_unit_text
+
+    cells = [str(v) for v in row]  # type: ignore[attr-defined]
+    numbers = sum(_is_number(c) for c in cells)
+    return numbers == 0 and all(is_unit_text(c) for c in cells)
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def check_target_readable(path: str) -> Path:
+    """The input table's path, if it exists and ends in .csv or .parquet."""
+    p = Path(path)
+    if p.suffix.lower() not in TABLE_SUFFIXES:
+        raise InputError(f"--inputs {path}: the table must end in .csv or .parquet")
+    if not p.is_file():
+        raise InputError(f"--inputs {path}: no such file")
+    return p
+
+
 def report_failures(result: KinematicResult, keep_going: bool) -> None:
     """Stop with the failing samples listed, unless asked to keep going (then warn)."""
     if result.status.all_ok:
@@ -169,6 +250,13 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
 @click.option("--force", is_flag=True, help="Replace the output file if it exists.")
 @units_row_option
 @click.option(
+    "--inputs",
+    "inputs_file",
+    type=click.Path(dir_okay=False),
+    help="A table of inputs, one row per sample (SI): <driver> or <driver>.value, "
+    "<driver>.rate, <driver>.accel, t.",
+)
+@click.option(
     "--forces",
     "with_forces",
     is_flag=True,
@@ -202,6 +290,7 @@ def command(
     keep_going: bool,
     force: bool,
     units_row: bool,
+    inputs_file: str | None,
     with_forces: bool,
     gravity: bool | None,
     continuation: str,
@@ -216,11 +305,22 @@ def command(
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
     values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels, grid)
+    time = None
+    if inputs_file:
+        if sweeps:
+            raise InputError("--inputs and --sweep both give the samples; use one of them")
+        t_values, t_rates, t_accels, time = read_inputs(mech, inputs_file)
+        twice = sorted(set(t_values) & set(values))
+        if twice:
+            raise InputError(f"{', '.join(twice)}: given both in --inputs and by --set")
+        values.update(t_values)
+        rate_v.update(t_rates)  # type: ignore[arg-type]
+        accel_v.update(t_accels)  # type: ignore[arg-type]
     n = max((v.size for v in values.values() if isinstance(v, np.ndarray)), default=1)
     # the result, its table and the file's copy: every column three times over
     check_samples(n, "--sweep", 3 * 8 * _columns_per_sample(mech, with_forces))
     result = solve_with_progress(
-        mech, values, rate_v, accel_v, quiet=quiet, continuation=continuation
+        mech, values, rate_v, accel_v, time=time, quiet=quiet, continuation=continuation
     )
     for cp in result.change_points:
         click.echo(f"excavkin: warning: {cp.describe()}", err=True)
