@@ -160,11 +160,8 @@ def example_path(name: str) -> Path:
         candidate = folder / f"{name}.toml"
         if candidate.is_file():
             return candidate
-    import difflib
-
-    from excavkin.errors import ModelError
+    from excavkin.errors import ModelError, did_you_mean
 
     known = examples()
-    close = difflib.get_close_matches(name, known, n=3, cutoff=0.6)
-    hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+    hint = did_you_mean(name, known)
     raise ModelError(f"no built-in example {name!r}{hint} (known: {', '.join(known)})")

@@ -7,7 +7,6 @@ exit, never a traceback: wrap a command's body in :func:`handle_errors`.
 
 from __future__ import annotations
 
-import difflib
 import functools
 import importlib
 import os
@@ -19,7 +18,7 @@ from typing import Any, TypeVar
 import click
 import numpy as np
 
-from excavkin.errors import ExcavkinError, UnitError
+from excavkin.errors import ExcavkinError, UnitError, did_you_mean
 
 T = TypeVar("T", bound=Callable[..., Any])
 
@@ -92,8 +91,6 @@ def model_path(text: str, kind: str = "model") -> Path:
     ExcavkinError
         Neither a file nor a built-in example, with the closest names.
     """
-    import difflib
-
     import excavkin
 
     path = Path(text)
@@ -102,8 +99,7 @@ def model_path(text: str, kind: str = "model") -> Path:
     known = excavkin.examples(kind)
     if text in known:
         return excavkin.example_path(text)
-    close = difflib.get_close_matches(path.stem, known, n=3, cutoff=0.6)
-    hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+    hint = did_you_mean(path.stem, known)
     raise ExcavkinError(
         f"{text}: no such file, and no built-in example of that name{hint} "
         f"(built-in {kind}s: {', '.join(known)})"
@@ -244,8 +240,7 @@ class LazyGroup(click.Group):
         name = args[0] if args else ""
         if name and not name.startswith("-") and self.get_command(ctx, name) is None:
             known = self.list_commands(ctx)
-            close = difflib.get_close_matches(name, known, n=3, cutoff=0.6)
-            hint = f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+            hint = did_you_mean(name, known)
             raise click.UsageError(f"no command {name!r}{hint} (commands: {', '.join(known)})", ctx)
         return super().resolve_command(ctx, args)
 

@@ -89,16 +89,6 @@ class Column:
     quantity: str
     kind: str
 
-    @property
-    def is_velocity(self) -> bool:
-        """A first time derivative (a rate, a velocity or an ω)."""
-        return self.kind in ("velocity", "angular_velocity")
-
-    @property
-    def is_acceleration(self) -> bool:
-        """A second time derivative."""
-        return self.kind in ("acceleration", "angular_acceleration")
-
 
 def column(owner: str, owner_kind: OwnerKind, quantity: str, kind: str) -> Column:
     """A column named ``<owner>.<quantity>``."""

@@ -10,7 +10,6 @@ Newton, so that every sample stays on the sketch's assembly branch.
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 import threading
 from collections.abc import Callable
@@ -87,18 +86,6 @@ def _run_steps(plan: SolvePlan, c: Chunk, order: int, newton: bool = True) -> li
             if order:
                 signs.append(newton_rates(c, st, k))
     return signs
-
-
-def _stages(plan: SolvePlan, q: F) -> int:
-    """Continuation stages so that no input moves more than ~0.1 rad or 5 % of the size a stage."""
-    if not plan.has_newton or q.shape[1] == 0:
-        return 0
-    worst = 0.0
-    for i, kind in enumerate(plan.input_kinds):
-        dq = np.nanmax(np.abs(q[i] - plan.input_sketch[i])) if q.shape[1] else 0.0
-        step = 0.1 if kind == "angle" else 0.05 * plan.scale
-        worst = max(worst, float(dq) / step)
-    return int(min(max(math.ceil(worst), 1), 400))
 
 
 def solve_kinematics(
