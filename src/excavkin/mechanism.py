@@ -55,6 +55,41 @@ def as_si(value: Any, kind: str, what: str) -> Any:
     return value
 
 
+def _vector_si(value: Any, kind: str, what: str) -> Any:
+    """A force vector (Fx, Fy) — a quantity array, a pair of quantities or strings, or plain
+    numbers — in SI."""
+    if isinstance(value, (list, tuple)) and any(
+        isinstance(v, str) or hasattr(v, "units") for v in value
+    ):
+        return np.array([as_si(v, kind, what) for v in value], dtype=np.float64)
+    return as_si(value, kind, what)
+
+
+def _load_in_si(load: Load) -> Load:
+    """A load given to the Python API, with any units converted by dimension (a function's
+    result converted when it is called)."""
+    import dataclasses
+
+    from excavkin.kinetostatics import Gravity, PointForce, Torque
+
+    if isinstance(load, Gravity):
+        return dataclasses.replace(load, g=float(as_si(load.g, "acceleration", "gravity")))
+    kind = "force" if isinstance(load, PointForce) else "torque"
+    what = f"load {load.name!r}"
+    convert = _vector_si if isinstance(load, PointForce) else as_si
+    value = load.value
+    if callable(value):
+        given = value
+
+        def value(result: KinematicResult) -> Any:
+            return convert(given(result), kind, what)
+
+    else:
+        value = convert(value, kind, what)
+    assert isinstance(load, PointForce | Torque)
+    return dataclasses.replace(load, value=value)
+
+
 class Mechanism:
     """A planar mechanism ready to solve.
 
@@ -306,7 +341,10 @@ class Mechanism:
             From :meth:`solve` on this mechanism.
         loads : iterable of PointForce, Torque, Gravity, optional
             Default: the model's own (:attr:`loads`). Given, they replace the model's; pass
-            ``[*mech.loads, extra]`` to add to them.
+            ``[*mech.loads, extra]`` to add to them. Values may carry units: a pint quantity
+            (of any registry) or a string such as ``"5 kN"`` or ``("5 kN", "-2 kN")`` for a
+            force, ``"300 N*m"`` for a torque, ``"9.81 m/s^2"`` for gravity; a wrong dimension
+            is a :class:`~excavkin.errors.UnitError` naming the load.
 
         Returns
         -------
@@ -316,7 +354,8 @@ class Mechanism:
 
         if result.plan is not self.plan:
             raise InputError("the kinematic result belongs to another mechanism")
-        return solve_forces(result, self.loads if loads is None else loads, system=self.statics)
+        given = self.loads if loads is None else [_load_in_si(load) for load in loads]
+        return solve_forces(result, given, system=self.statics)
 
     def describe(self) -> str:
         """Bodies, joints, drivers, mobility and the solve plan, as text."""

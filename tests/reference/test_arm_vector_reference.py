@@ -290,6 +290,71 @@ def test_misprint_eq9_cos_phiz_quadrant() -> None:
     assert abs(rx[0]) < 1e-12
 
 
+def _eq12_system(
+    m: av.CylinderMount, psi: np.ndarray, w: np.ndarray, e: np.ndarray, printed: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Solve the time derivative of (11) for (z'', eps_z), as printed before (12) or complete.
+
+    Printed (seed 001, the system after "Продифференцируем по времени систему уравнений (11)"):
+    z'' cos - 2 z' w_z sin - z eps_z sin - l' w^2 cos(psi - a) - l' eps sin(psi - a)
+    = -l w^2 cos psi - l eps sin psi, and the y line likewise; the complete derivative of
+    z cos(phi_z) also has -z w_z^2 cos(phi_z) (y line: -z w_z^2 sin(phi_z))."""
+    z, pz = av.cylinder_position(m, psi)
+    v_r, w_z = av.cylinder_velocity(m, psi, w)
+    lp, l, a = m.l_prime, m.l, m.alpha
+    cp, sp = np.cos(pz), np.sin(pz)
+    rhs_x = (
+        2 * v_r * w_z * sp
+        + lp * (w**2 * np.cos(psi - a) + e * np.sin(psi - a))
+        - l * (w**2 * np.cos(psi) + e * np.sin(psi))
+    )
+    rhs_y = (
+        -2 * v_r * w_z * cp
+        + lp * (w**2 * np.sin(psi - a) - e * np.cos(psi - a))
+        - l * (w**2 * np.sin(psi) - e * np.cos(psi))
+    )
+    if not printed:
+        rhs_x = rhs_x + z * w_z**2 * cp
+        rhs_y = rhs_y + z * w_z**2 * sp
+    mat = np.stack([np.stack([cp, -z * sp], -1), np.stack([sp, z * cp], -1)], axis=1)
+    sol = np.linalg.solve(mat, np.stack([rhs_x, rhs_y], -1)[..., None])[..., 0]
+    return sol[:, 0], sol[:, 1]
+
+
+@pytest.mark.parametrize("name", list(MOUNTS))
+def test_misprint_eq12_missing_z_omega_z_squared(name: str) -> None:
+    """Docs correction 6 (issue 12): the time derivative of (11), printed just before (12) (from
+    which (12) is obtained; (12) itself is lost), has no z omega_z^2 terms: its x line reads
+    "cos sin sin sin cos( ) sin( )" with the subscripts of seven z-quantities and four z's
+    (z'', z', z', z), where the complete derivative has a fifth, -z omega_z^2 cos(phi_z).
+
+    Solved as printed, the system gives a_r short by exactly z omega_z^2 (eps_z is unaffected:
+    the missing terms lie along the cylinder); the complete system equals the reference and the
+    8th-order differences of z (relative 1e-8). Spec mount, psi = 48.5 deg, omega = 1 rad/s,
+    eps = 0: a_r = -0.48226 m/s^2, printed -1.43942 (z omega_z^2 = 0.95716, 198 % of a_r)."""
+    m = MOUNTS[name]
+    psi = _mount_psi(m)
+    rng = np.random.default_rng(12)
+    w = rng.uniform(-0.6, 0.6, psi.size)
+    e = rng.uniform(-1.0, 1.0, psi.size)
+    ck = av.cylinder_kinematics(m, psi, w, e)
+    a_full, e_full = _eq12_system(m, psi, w, e, printed=False)
+    a_pr, e_pr = _eq12_system(m, psi, w, e, printed=True)
+    _close(a_full, ck.a_r, 1e-12)
+    _close(e_full, ck.eps_z, 1e-12)
+    dz1, dz2 = _fd(lambda t: av.cylinder_position(m, psi + w * t + 0.5 * e * t**2)[0])
+    _close(a_full, dz2)
+    centripetal = ck.z * ck.omega_z**2
+    _close(a_full - a_pr, centripetal, 1e-12)
+    _close(e_pr, e_full, 1e-12)
+    assert np.max(np.abs(a_pr - dz2)) > 0.02 * np.max(np.abs(dz2))
+    if m is SPEC_MOUNT:
+        one = np.radians([48.5])
+        a_r = av.cylinder_kinematics(m, one, np.ones(1), np.zeros(1)).a_r
+        a_pr1, _ = _eq12_system(m, one, np.ones(1), np.zeros(1), printed=True)
+        assert_allclose([a_r[0], a_pr1[0]], [-0.48226, -1.43942], atol=5e-6)
+
+
 def test_spec_self_consistency_case() -> None:
     """Spec §4: arm l = (5.7, 2.9, 1.4) m and the synthetic cylinder agree with differences."""
     dims = av.ArmDimensions(

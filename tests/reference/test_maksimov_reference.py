@@ -293,6 +293,37 @@ def test_misprint_eq17_quadrant() -> None:
     assert_allclose(ke + eh * np.cos(p7) - hk * np.cos(gamma), 0.0, atol=1e-15)
 
 
+def test_misprint_vector_loop_before_eq7() -> None:
+    """Docs correction 11 (issue 12): the vector loop printed above (7), l1 + l2 + l3 = l4, and
+    its projections (7), which carry -l3 cos phi3, -l3 sin phi3. phi3 of (6) is the angle of
+    A->B (B - A = l3 e^{i phi3} to 1e-12 m), so with every vector l_i = l_i e^{i phi_i} the
+    loop O1 -> O2 -> B -> A = O1 -> A reads l1 + l2 - l3 = l4: it closes to 1e-12 m, while the
+    printed line leaves 2 l3 (1.96 m here, 2.2 m in the spec §4 case). The projections (7) and
+    everything after them are right as printed (test_loop_closures)."""
+    o2 = G.l1 * np.exp(1j * S.phi1)
+    b = o2 + G.l2 * np.exp(1j * S.phi2)
+    assert_allclose(np.abs(b - G.l4 - G.l3 * np.exp(1j * S.phi3)), 0.0, atol=1e-12)
+    l1, l2, l3 = (
+        G.l1 * np.exp(1j * S.phi1),
+        G.l2 * np.exp(1j * S.phi2),
+        G.l3 * np.exp(1j * S.phi3),
+    )
+    assert_allclose(np.abs(l1 + l2 - l3 - G.l4), 0.0, atol=1e-12)
+    printed = np.abs(l1 + l2 + l3 - G.l4)
+    assert_allclose(printed, 2 * G.l3, rtol=1e-12)
+    # (7) as printed (its two projections, phi4 = 0) closes
+    assert_allclose(l1.real + l2.real - G.l3 * np.cos(S.phi3), G.l4, atol=1e-12)
+    assert_allclose(l1.imag + l2.imag - G.l3 * np.sin(S.phi3), 0.0, atol=1e-12)
+    fb1 = mk.fourbar1_position(1.0, 0.45, 1.1, 0.9, np.radians(70.0))
+    z1, z2, z3 = (
+        np.exp(1j * np.radians(70.0)),
+        0.45 * np.exp(1j * fb1.phi2),
+        1.1 * np.exp(1j * fb1.phi3),
+    )
+    assert_allclose(np.abs(z1 + z2 - z3 - 0.9), 0.0, atol=1e-12)
+    assert_allclose(np.abs(z1 + z2 + z3 - 0.9), 2.2, rtol=1e-12)
+
+
 def test_branch_flags_validated() -> None:
     """Branch flags accept only +1/-1 (spec §5.11)."""
     with pytest.raises(ValueError, match="branch"):

@@ -7,6 +7,7 @@ manipulator of excavator EO-2621 with mounted hammer MO-100" (seed 002). Specifi
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -15,6 +16,7 @@ from numpy.testing import assert_allclose
 
 from excavkin.papers.errors import ReferenceAssemblyError
 from excavkin.papers.mo100 import reference as m
+from excavkin.papers.mo100 import study
 
 D = m.MO100_PAPER
 DEG = math.pi / 180.0
@@ -250,9 +252,14 @@ def test_printed_angle_sense_misprint():
 
 
 def test_r12_sign_misprint_and_eq9_from_eq8():
-    """Spec §3.4, §5 item 2: (9) satisfies the moment equation (8); (10) solves (6)-(7); the
-    printed (11) has the opposite sign to the R12 that solves (6)-(7), and only the printed pair
-    (11) + "R10 = R12" (or the corrected pair) reproduces Rx, Ry; mixing them does not."""
+    """Spec §3.4, §5 item 2 (corrections 3 and 7 of docs/papers/mo100.md): (9) satisfies the
+    moment equation (8) about C; (10) solves (6)-(7); the printed (11) has the opposite sign to
+    the R12 that solves (6)-(7), and only the printed pair (11) + "R10 = R12" (or the corrected
+    pair) reproduces Rx, Ry; mixing them does not.
+
+    This is also the check of the reading "eqs. (6) and (7) disagree with (10) and (11)"
+    (issue 12): it holds for (11) only (its sign, correction 3); (10) is exactly the R03^n that
+    (6)-(7) give, to 1e-9."""
     phi = np.deg2rad(np.arange(5.0, 356.0, 10.0))
     g = m.group_reactions(phi, D)
     loads = m.inertia_loads(phi, D)
@@ -325,6 +332,37 @@ def test_published_mu_t1_eq16():
     assert_allclose(mu, 170.0, rtol=1e-6)
     assert_allclose(t1, 0.1815, atol=5e-5)
     assert_allclose(t1, 0.18152, atol=5e-6)
+
+
+def test_eq16_mu_two_h_over_s_is_as_printed():
+    """Issue 12, "the impulse relation should be mu = 2H/S": not a misprint. Eq. (16) is printed
+    as mu = 2H/S, t1 = T - pi/mu, which is what equal impulse gives: the corrected (15),
+    H sin(mu (t - t1)) on [t1, T] with T - t1 = pi/mu, has the impulse 2H/mu exactly
+    (20-point Gauss-Legendre, 1e-13), so S = 2H/mu. The paper's mu = 170 1/s is what the
+    printed relation gives with the impulses of its own Ry curve (S from 453 to 535 N s ->
+    149...176 1/s); mu = H/S would give 75...88 1/s, mu = 4H/S 298...352 1/s. (The bracket of
+    the integral before (16) reads [cos mu(T - t1) - 1] in the seed, which is -2; only that
+    bracket, not (16), could be a slip: docs/papers/mo100.md.)"""
+    h, period = m.PAPER_H, D.period
+    x, w = np.polynomial.legendre.leggauss(20)
+    for s_imp in (453.1, 469.35, 483.2, 534.6):
+        mu, t1 = m.half_sine_fit(h, s_imp, period)
+        assert mu == 2.0 * h / s_imp
+        assert_allclose(period - t1, math.pi / mu, rtol=1e-14)
+        t = t1 + 0.5 * (period - t1) * (x + 1.0)
+        impulse = 0.5 * (period - t1) * float(np.sum(w * m.half_sine_pulse(t, h, mu, t1, period)))
+        assert_allclose(impulse, s_imp, rtol=1e-13)
+        assert_allclose((h / mu) * (math.cos(mu * (period - t1)) - 1.0), -s_imp, rtol=1e-13)
+    table = m.paper_comparison(D)
+    readings = [
+        m.ry_impulse_trapezoid(310.0, 360.0, 10.0, D),
+        table["S_implied"].ours,
+        m.cycle_impulse(D)[1],
+    ]
+    mus = np.array([2.0 * h / s_imp for s_imp in readings])
+    assert mus.min() < m.PAPER_MU < mus.max()
+    assert np.all(np.abs(np.array([h / s_imp for s_imp in readings]) - m.PAPER_MU) > 80.0)
+    assert np.all(np.abs(np.array([4.0 * h / s_imp for s_imp in readings]) - m.PAPER_MU) > 120.0)
 
 
 def test_mu_t1_our_readings():
@@ -417,3 +455,132 @@ def test_invalid_data_raises():
         m.transfer_functions(np.zeros((2, 2)), D)
     with pytest.raises(ValueError):
         m.impact_limits(m.MO100Data(l2=0.140))
+
+
+def test_eq13_eq14_share_one_sense():
+    """Issue 12, "eq. (13) has its x sense reversed relative to (14)": not a misprint.
+
+    (13) and (14) are the x and y components of one vector, R10 + R30 with R10 = R12 along
+    alpha - beta and R30 = -R03 split along D->C (at alpha - psi) and its CCW normal, in one
+    right-handed pair of axes (identity to 1e-12). With the Fig. 4 angle sense that vector is
+    minus the force on the housing at every crank angle (a rotation by pi, correction 2), for x
+    and y alike. Reversing x alone would turn it into a reflection: its angle to the housing
+    force then wanders over the cycle instead of staying pi."""
+    phi = np.deg2rad(np.arange(5.0, 356.0, 5.0))
+    g = m.group_reactions(phi, D)
+    psi, beta = m.position_functions(phi, D)
+    psi, beta = -psi, -beta  # Fig. 4 sense
+    a = D.alpha
+    e3 = np.exp(1j * (a - psi))
+    total = g.r12 * np.exp(1j * (a - beta)) - (g.r03_n * e3 + g.r03_tau * 1j * e3)
+    scale = float(np.max(np.abs(g.r12)))
+    assert_allclose(total.real, g.rx, rtol=0, atol=1e-12 * scale)
+    assert_allclose(total.imag, g.ry, rtol=0, atol=1e-12 * scale)
+    rx, ry = m.housing_force(phi, D)
+    housing = rx + 1j * ry
+    turn = np.angle((g.rx + 1j * g.ry) / housing)
+    assert_allclose(np.abs(turn), math.pi, rtol=0, atol=1e-9)
+    turn_x_reversed = np.angle((-g.rx + 1j * g.ry) / housing)
+    assert np.ptp(np.unwrap(turn_x_reversed)) > 1.0
+
+
+def _engine_reactions(run: study.MO100Run) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """R03^tau, R03^n, R12 from the engine's pins, in the printed chain's signs (the crossmethod
+    force test): minus pin D on the rocker across / along D->C; pin B on the coupler along
+    B->C."""
+    kin = run.forces.kinematics
+    a3, a2 = kin.body("rocker")[0], kin.body("coupler")[0]
+    e3 = np.stack([np.cos(a3), np.sin(a3)], axis=-1)
+    n3 = np.stack([-e3[:, 1], e3[:, 0]], axis=-1)
+    e2 = np.stack([np.cos(a2), np.sin(a2)], axis=-1)
+    on_d = run.forces.pin("D", "rocker")
+    on_b = run.forces.pin("B", "coupler")
+    return -np.sum(on_d * n3, axis=1), -np.sum(on_d * e3, axis=1), np.sum(on_b * e2, axis=1)
+
+
+def _rel_close(actual: np.ndarray, expected: np.ndarray, rtol: float) -> None:
+    scale = float(np.max(np.abs(expected)))
+    assert_allclose(actual, expected, rtol=0, atol=rtol * scale)
+
+
+def test_centre_of_mass_side_reading():
+    """docs/papers/mo100.md, "Side of the centre of mass" (issue 12). S can lie on either side of
+    D->C; the engine's model file puts it clockwise (alpha = +50 deg in (8)-(14)). Mirroring S
+    about D->C (``study.mirror_center_of_mass``, the reference with alpha = -50 deg):
+
+    * Rx, Ry (each in its reading's housing axes, x along D->S at impact: -50 / +50 deg in
+      frame axes), R12 and H = max Ry on the 10 deg grid are identical to 1e-9;
+    * R03^tau and R03^n differ; the documented values (N, the printed chain's signs) are
+      asserted to 0.05 N, and the engine's pins equal the reference under each reading."""
+    mech = study.load_mo100()
+    other = study.mirror_center_of_mass(mech)
+    assert_allclose(math.degrees(study.housing_axes_angle(mech)), -50.0, atol=1e-7)
+    assert_allclose(math.degrees(study.housing_axes_angle(other)), 50.0, atol=1e-7)
+    data_other = study.reference_data(other)
+    assert_allclose(data_other.alpha, -D.alpha, rtol=1e-9)
+    assert_allclose(study.reference_data(mech).alpha, D.alpha, rtol=1e-9)
+    mirrored = dataclasses.replace(D, alpha=-D.alpha)
+
+    phi = study.cycle_grid(720)  # 0.5 ... 359.5 deg
+    run_cw, run_ccw = study.mo100_run(phi, mech), study.mo100_run(phi, other)
+    tau_cw, n_cw, r12_cw = _engine_reactions(run_cw)
+    tau_ccw, n_ccw, r12_ccw = _engine_reactions(run_ccw)
+    _rel_close(run_ccw.rx, run_cw.rx, 1e-9)
+    _rel_close(run_ccw.ry, run_cw.ry, 1e-9)
+    _rel_close(r12_ccw, r12_cw, 1e-9)
+    grid10 = np.deg2rad(np.arange(10.0, 351.0, 10.0))
+    h_cw = float(np.max(study.mo100_run(grid10, mech).ry))
+    h_ccw = float(np.max(study.mo100_run(grid10, other).ry))
+    assert_allclose(h_ccw, h_cw, rtol=1e-9)
+    assert_allclose(h_cw, 39_899.72, atol=0.01)
+    assert np.max(np.abs(tau_ccw - tau_cw)) > 0.5 * np.max(np.abs(tau_cw))
+    assert np.max(np.abs(n_ccw - n_cw)) > 2e4
+
+    # the reference under each reading equals the engine's pins (R03^n, R12: the 0/0 forms of
+    # the singular group, compared from 1 deg on, as in the crossmethod force test)
+    away = (phi > np.radians(1.0)) & (phi < np.radians(359.0))
+    for data, tau, n, r12 in ((D, tau_cw, n_cw, r12_cw), (mirrored, tau_ccw, n_ccw, r12_ccw)):
+        g = m.group_reactions(phi, data)
+        _rel_close(tau, g.r03_tau, 1e-9)
+        _rel_close(n[away], g.r03_n[away], 1e-9)
+        _rel_close(r12[away], g.r12[away], 1e-9)
+    g_cw, g_ccw = m.group_reactions(phi, D), m.group_reactions(phi, mirrored)
+    for arr in ("rx", "ry", "r12"):
+        _rel_close(getattr(g_ccw, arr), getattr(g_cw, arr), 1e-9)
+
+    # documented values: 350 deg (H), 343.9 deg (min P_tau, M_u), the blow 2 pi - and 0 +
+    at = np.array([math.radians(350.0), math.radians(343.9), 2 * math.pi, 0.0])
+    g_cw, g_ccw = m.group_reactions(at, D), m.group_reactions(at, mirrored)
+    assert_allclose(g_cw.r03_tau, [-66_061.4, -61_209.6, -42_476.3, -1_305.8], atol=0.05)
+    assert_allclose(g_ccw.r03_tau, [-524.3, -15_547.9, 42_476.3, 1_305.8], atol=0.05)
+    assert_allclose(g_cw.r03_n, [601_157.9, 435_103.1, 750_438.8, 2_214.4], atol=0.05)
+    assert_allclose(g_ccw.r03_n, [574_120.7, 403_935.7, 750_438.8, 2_214.4], atol=0.05)
+    assert_allclose(g_cw.r12, [561_918.9, 403_655.1, 714_797.0, 1_118.7], atol=0.05)
+    assert_allclose(g_ccw.r12, g_cw.r12, rtol=1e-12)
+    # at the change point eps3 = 0: R03^tau changes sign, R03^n is the same
+    assert_allclose(g_ccw.r03_tau[2:], -g_cw.r03_tau[2:], rtol=1e-9)
+    assert_allclose(g_ccw.r03_n[2:], g_cw.r03_n[2:], rtol=1e-9)
+
+    # extremes over the cycle: (data, field, window [deg], argmin/argmax, angle, value)
+    extremes = (
+        (D, "r03_tau", (345.0, 352.0), np.argmin, 349.49, -66_111.9),
+        (D, "r03_n", (359.0, 359.99), np.argmax, 359.56, 750_819.1),
+        (D, "r03_n", (155.0, 170.0), np.argmin, 162.65, 2_160.9),
+        (mirrored, "r03_tau", (330.0, 340.0), np.argmin, 335.74, -20_909.7),
+        (mirrored, "r03_n", (180.0, 195.0), np.argmin, 188.43, 1_084.3),
+    )
+    for data, field, (lo, hi), pick, where, value in extremes:
+        f = np.deg2rad(np.linspace(lo, hi, 70_001))
+        vals = getattr(m.group_reactions(f, data), field)
+        k = int(pick(vals))
+        assert 0 < k < f.size - 1  # an interior extremum
+        assert_allclose(math.degrees(f[k]), where, atol=0.005)
+        assert_allclose(vals[k], value, atol=0.05)
+    whole = np.deg2rad(np.linspace(0.0, 360.0, 36_001))
+    g_cw, g_ccw = m.group_reactions(whole, D), m.group_reactions(whole, mirrored)
+    assert_allclose(g_cw.r03_tau.max(), -1_305.8, atol=0.05)  # at 0 +
+    assert_allclose(g_ccw.r03_tau.max(), 42_476.3, atol=0.05)  # at 2 pi -
+    assert_allclose(g_ccw.r03_n.max(), 750_438.8, atol=0.05)  # at 2 pi -
+    assert np.all(g_cw.r03_n > 0) and np.all(g_ccw.r03_n > 0)
+    assert_allclose([g_cw.r12.min(), g_cw.r12.max()], [1_118.7, 714_797.0], atol=0.05)
+    assert_allclose(g_ccw.r12, g_cw.r12, rtol=1e-12)

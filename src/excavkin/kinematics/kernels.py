@@ -40,6 +40,7 @@ class Code(IntEnum):
     BAD_LENGTH = 6
     NOT_FINITE = 7
     UNDETERMINED = 8
+    IMPRECISE = 9
 
 
 @dataclass(slots=True)
@@ -57,6 +58,12 @@ class Chunk:
     failed: NDArray[np.int16]  # (c,)
     close_tol: float
     singular_tol: float
+    #: how far each sample is from a dead position of a Newton group (the Jacobian's
+    #: determinant over its rows' norms), where the solve keeps it
+    near: F | None = None
+    #: the precision check's emulated rounding: per-sample ±units by which each step's
+    #: cancelling quantity (a dyad's or slider's squared half-chord) and its output are moved
+    nudge: F | None = None
 
 
 def flag(c: Chunk, mask: NDArray[np.bool_], code: Code, step: int) -> None:
@@ -70,6 +77,8 @@ def flag(c: Chunk, mask: NDArray[np.bool_], code: Code, step: int) -> None:
 def dist(c: Chunk, d: Dist) -> tuple[F | float, F | float, F | float]:
     """A distance and its first and second time derivatives."""
     if d.kind == "fixed":
+        if c.x.dtype != np.float64:  # a wider solve: products of lengths in its own precision
+            return c.x.dtype.type(d.value), 0.0, 0.0
         return d.value, 0.0, 0.0
     return c.q[d.input], c.qd[d.input], c.qdd[d.input]
 
@@ -138,6 +147,8 @@ def dyad(c: Chunk, st: Dyad, order: int, k: int) -> None:
     l2 = ex * ex + ey * ey
     kk = (d1 * d1 - d2 * d2 + l2) / (2.0 * l2)
     h2 = d1 * d1 / l2 - kk * kk
+    if c.nudge is not None:  # the rounding of the cancelling difference, emulated
+        h2 = h2 + c.nudge * (d1 * d1 / l2 + kk * kk)
     # `not >=` also catches NaN: A and B coincide (l2 = 0), so the dyad has no base
     low = ~(h2 >= c.close_tol)
     if low.any():
@@ -205,6 +216,8 @@ def slider(c: Chunk, st: SliderStep, order: int, k: int) -> None:
     off = ex * gy - ey * gx
     d, dd, ddd = dist(c, st.da)
     s2 = (d * d - off * off) / (d * d)
+    if c.nudge is not None:
+        s2 = s2 + c.nudge * (1.0 + off * off / (d * d))
     low = ~(s2 >= c.close_tol)  # NaN too: the slide's two points coincide
     if low.any():
         bad = ~(s2 >= -c.close_tol)

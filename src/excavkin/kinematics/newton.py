@@ -32,7 +32,7 @@ def _equations(
     c: Chunk, g: NewtonGroup, x: F, v: F | None, a: F | None
 ) -> Iterator[tuple[F, Grad, F | None, F | None]]:
     """Yield, per equation: residual, gradient per point, Φ̇ and Φ̈ (when v, a given)."""
-    zero = np.zeros(x.shape[-1])
+    zero = np.zeros(x.shape[-1], dtype=x.dtype)
     for con in g.constraints:
         if isinstance(con, CDist):
             d, dd, ddd = dist(c, con.dist)
@@ -95,7 +95,7 @@ def _frame(arr: F, con: CFrame, comp: int) -> F:
         out = arr[con.p, 0] - arr[con.a, 0] - con.s * wx + con.t * wy
     else:
         out = arr[con.p, 1] - arr[con.a, 1] - con.s * wy - con.t * wx
-    return np.asarray(out, dtype=np.float64)
+    return np.asarray(out)
 
 
 def _angle(
@@ -148,10 +148,11 @@ def _system(c: Chunk, g: NewtonGroup, order: int) -> tuple[F, F, F | None, F | N
     n = c.x.shape[-1]
     col = {p: 2 * k for k, p in enumerate(g.points)}
     m = 2 * len(g.points)
-    jac = np.zeros((n, m, m))
-    res = np.empty((n, m))
-    r1 = np.empty((n, m)) if order else None
-    r2 = np.empty((n, m)) if order else None
+    dt = c.x.dtype
+    jac = np.zeros((n, m, m), dtype=dt)
+    res = np.empty((n, m), dtype=dt)
+    r1 = np.empty((n, m), dtype=dt) if order else None
+    r2 = np.empty((n, m), dtype=dt) if order else None
     for row, (f, grad, f1, f2) in enumerate(
         _equations(c, g, c.x, c.v if order else None, c.a if order else None)
     ):
@@ -166,25 +167,44 @@ def _system(c: Chunk, g: NewtonGroup, order: int) -> tuple[F, F, F | None, F | N
     return res, jac, r1, r2
 
 
-def _safe_solve(jac: F, rhs: F, tol: float) -> tuple[F, NDArray[np.bool_]]:
-    """Solve per sample; singular samples get NaN and a True in the mask."""
+def _hadamard(jac: F) -> tuple[F, F]:
+    """Sign of the determinant, and the log of |det| over the product of the rows' norms
+    (0 for orthogonal rows, −∞ at a singular matrix): a scale-free distance from singular."""
     sign, logdet = np.linalg.slogdet(jac)
-    # scale-free test: determinant against the product of row norms (Hadamard bound)
     rows = np.linalg.norm(jac, axis=2)
     bound = np.sum(np.log(np.where(rows > 0, rows, 1.0)), axis=1)
-    sing = (sign == 0) | (logdet - bound < np.log(tol))
+    return sign, np.where(sign == 0, -np.inf, logdet - bound)
+
+
+def _safe_solve(jac: F, rhs: F, tol: float) -> tuple[F, NDArray[np.bool_]]:
+    """Solve per sample; singular samples get NaN and a True in the mask.
+
+    An extended-precision system (the precision check's) is solved in double precision and
+    refined with residuals in its own precision, since LAPACK has no long double.
+    """
+    wide = jac.dtype != np.float64
+    j64 = jac.astype(np.float64) if wide else jac
+    sign, ratio = _hadamard(j64)
+    sing = (sign == 0) | (ratio < np.log(tol))
     if sing.any():
-        jac = jac.copy()
-        jac[sing] = np.eye(jac.shape[1])
-    out = np.linalg.solve(jac, rhs[..., None])[..., 0]
+        j64 = j64.copy()
+        j64[sing] = np.eye(j64.shape[1])
+    out = np.linalg.solve(j64, rhs.astype(np.float64)[..., None])[..., 0]
+    if wide:
+        out = out.astype(jac.dtype)
+        for _ in range(3):  # mixed-precision iterative refinement
+            resid = rhs - np.einsum("nij,nj->ni", jac, out)
+            out += np.linalg.solve(j64, resid.astype(np.float64)[..., None])[..., 0]
     out[sing] = np.nan
-    return np.asarray(out, dtype=np.float64), np.asarray(sing, dtype=bool)
+    return np.asarray(out), np.asarray(sing, dtype=bool)
 
 
 def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: int = 50) -> None:
     """Newton iterations from the current ``c.x`` of the group's points."""
     pts = list(g.points)
     active = np.ones(c.x.shape[-1], dtype=bool)
+    # converged at 1e-14 of the size in double precision, proportionally finer in a wider one
+    small = 1e-14 * scale * float(np.finfo(c.x.dtype).eps / np.finfo(np.float64).eps)
     for _ in range(max_iter):
         res, jac, _, _ = _system(c, g, 0)
         step, sing = _safe_solve(jac, -res, 1e-13)
@@ -194,7 +214,7 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
             c.x[p, 0] += step[:, 2 * j]
             c.x[p, 1] += step[:, 2 * j + 1]
         size = np.max(np.abs(step), axis=1)
-        active &= ~(size <= 1e-14 * scale) & ~sing
+        active &= ~(size <= small) & ~sing
         if not active.any():
             break
     res, _, _, _ = _system(c, g, 0)
@@ -223,7 +243,9 @@ def newton_rates(c: Chunk, g: NewtonGroup, k: int) -> F:
     for j, p in enumerate(pts):
         c.a[p, 0] = acc[:, 2 * j]
         c.a[p, 1] = acc[:, 2 * j + 1]
-    sign, _ = np.linalg.slogdet(jac)
+    sign, ratio = _hadamard(jac.astype(np.float64))
+    if c.near is not None:
+        np.minimum(c.near, np.exp(ratio), out=c.near)
     return np.asarray(sign, dtype=np.float64)
 
 

@@ -35,6 +35,7 @@ _REASON = {
     Code.BAD_LENGTH: "a driven length is zero or negative",
     Code.NOT_FINITE: "a result overflows (inputs or rates too large for double precision)",
     Code.UNDETERMINED: "undetermined (its two partners coincide)",
+    Code.IMPRECISE: "rates lose precision near a dead position",
 }
 
 
@@ -58,6 +59,13 @@ class Status:
     def ok(self) -> np.ndarray:
         """Boolean mask of solved samples, shape (n,)."""
         return np.asarray(self.code == 0)
+
+    @property
+    def solved(self) -> np.ndarray:
+        """Samples that have values: ``ok``, or solved with rates that lose precision near a
+        dead position (the values are the best available; the status says how far to trust
+        them), shape (n,)."""
+        return np.asarray((self.code == 0) | (self.code == Code.IMPRECISE))
 
     @property
     def all_ok(self) -> bool:
@@ -152,6 +160,12 @@ class KinematicResult:
     change_points : tuple of ChangePoint
         Dyads that fold between neighbouring samples, and how the engine went on
         (:mod:`excavkin.kinematics.change_points`).
+    error_estimate : ndarray, shape (n,), optional
+        For the samples near a dead position, the estimated error of the row's values relative
+        to their quantities' scales over the sweep (measured against an extended-precision
+        solve, :mod:`excavkin.kinematics.precision`); NaN for the samples far from one (not
+        checked, their rounding error is far below 1e-8) and for those that did not solve.
+        Rows whose estimate exceeds 1e-8 are marked "rates lose precision".
     """
 
     plan: SolvePlan
@@ -174,6 +188,7 @@ class KinematicResult:
     status: Status
     time: F | None = None
     change_points: tuple[ChangePoint, ...] = ()
+    error_estimate: F | None = None
 
     @classmethod
     def build(
@@ -370,9 +385,12 @@ class Derived:
     element: F
 
     @classmethod
-    def empty(cls, plan: SolvePlan, n: int) -> Derived:
+    def empty(cls, plan: SolvePlan, n: int, dtype: type = np.float64) -> Derived:
         """Arrays to fill chunk by chunk (the ground's row stays zero)."""
-        return cls(np.zeros((3, len(plan.bodies), n)), np.empty((6, len(plan.elements), n)))
+        return cls(
+            np.zeros((3, len(plan.bodies), n), dtype=dtype),
+            np.empty((6, len(plan.elements), n), dtype=dtype),
+        )
 
     def fill(self, plan: SolvePlan, x: F, v: F, a: F, s: slice) -> None:
         """Compute the chunk ``s`` from its point arrays (n_points, 2, chunk)."""

@@ -19,18 +19,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from excavkin.errors import AssemblyError, InputError
-from excavkin.kinematics import kernels
+from excavkin.kinematics import kernels, precision
 from excavkin.kinematics.change_points import ChangePoint, find_change_points, smooth_signs
 from excavkin.kinematics.kernels import Chunk, Code, F
-from excavkin.kinematics.newton import newton_positions, newton_rates, rotary_branch_ok
+from excavkin.kinematics.newton import rotary_branch_ok
 from excavkin.kinematics.result import Derived, KinematicResult, Status
+from excavkin.kinematics.steps import run_steps
 from excavkin.structure.plan import (
-    Attach,
     Dyad,
-    Fixed,
     NewtonGroup,
-    Rotate,
-    SliderStep,
     SolvePlan,
 )
 
@@ -65,27 +62,6 @@ class Assembly:
 
     positions: F
     newton_signs: tuple[float, ...]
-
-
-def _run_steps(plan: SolvePlan, c: Chunk, order: int, newton: bool = True) -> list[F]:
-    signs: list[F] = []
-    for k, st in enumerate(plan.steps):
-        if isinstance(st, Dyad):
-            kernels.dyad(c, st, order, k)
-        elif isinstance(st, Attach):
-            kernels.attach(c, st, order)
-        elif isinstance(st, Rotate):
-            kernels.rotate(c, st, order)
-        elif isinstance(st, SliderStep):
-            kernels.slider(c, st, order, k)
-        elif isinstance(st, Fixed):
-            kernels.fixed(c, st, order)
-        elif isinstance(st, NewtonGroup):
-            if newton:
-                newton_positions(c, st, k, plan.scale)
-            if order:
-                signs.append(newton_rates(c, st, k))
-    return signs
 
 
 def solve_kinematics(
@@ -142,49 +118,73 @@ def solve_kinematics(
     q = _check_inputs(plan, q, qd, qdd, status)
     derived = Derived.empty(plan, n)
     report = _Reporter(progress, n)
+    newton_near = np.ones(n) if plan.has_newton else None
+    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if plan.has_newton:
-            _solve_newton(plan, assembly, q, qd, qdd, x, v, a, trans, status, failed, tol)
+            _solve_newton(plan, assembly, full)
             derived.fill(plan, x, v, a, slice(None))
             _flag_not_finite(x, v, a, trans, derived, slice(None), status)
             report(n)
         else:
-            # one pass per chunk: steps, then derived quantities while the chunk is in cache
-            def one(s: int) -> None:
-                e = min(s + chunk, n)
-                c = Chunk(
-                    x[:, :, s:e],
-                    v[:, :, s:e],
-                    a[:, :, s:e],
-                    q[:, s:e],
-                    qd[:, s:e],
-                    qdd[:, s:e],
-                    trans[:, s:e],
-                    status[s:e],
-                    failed[s:e],
-                    tol.close,
-                    tol.singular,
-                )
-                with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-                    _run_steps(plan, c, 2)
-                    derived.fill(plan, c.x, c.v, c.a, slice(s, e))
-                    _flag_not_finite(c.x, c.v, c.a, c.trans, derived, slice(s, e), c.status)
-                report(e - s)
-
-            starts = range(0, n, chunk)
-            threads = min(workers or os.cpu_count() or 1, len(starts))
-            if threads > 1:
-                with ThreadPoolExecutor(threads) as pool:
-                    list(pool.map(one, starts))
-            else:
-                for s in starts:
-                    one(s)
+            _solve_chunks(plan, full, derived, chunk, workers, report)
     if continuation == "smooth":
         return _smooth(plan, assembly, q_given, qd, qdd, tol, x, status)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        arrays = precision.Arrays(x, v, a, trans, derived)
+        limits = (tol.close, tol.singular)
+        error = precision.check(plan, q, qd, qdd, arrays, status, failed, newton_near, limits)
+        _flag_not_finite(x, v, a, trans, derived, slice(None), status)
     result = KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
-    return dataclasses.replace(result, change_points=tuple(find_change_points(plan, x)))
+    return dataclasses.replace(
+        result, change_points=tuple(find_change_points(plan, x)), error_estimate=error
+    )
+
+
+def _solve_chunks(
+    plan: SolvePlan,
+    full: Chunk,
+    derived: Derived,
+    chunk: int,
+    workers: int | None,
+    report: _Reporter,
+) -> None:
+    """The closed-form plan over chunks of samples, on a thread per core: each chunk runs the
+    steps and then its derived quantities while it is in cache."""
+    n = full.status.size
+
+    def one(s: int) -> None:
+        e = min(s + chunk, n)
+        part = slice(s, e)
+        c = Chunk(
+            full.x[:, :, part],
+            full.v[:, :, part],
+            full.a[:, :, part],
+            full.q[:, part],
+            full.qd[:, part],
+            full.qdd[:, part],
+            full.trans[:, part],
+            full.status[part],
+            full.failed[part],
+            full.close_tol,
+            full.singular_tol,
+        )
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            run_steps(plan, c, 2)
+            derived.fill(plan, c.x, c.v, c.a, part)
+            _flag_not_finite(c.x, c.v, c.a, c.trans, derived, part, c.status)
+        report(e - s)
+
+    starts = range(0, n, chunk)
+    threads = min(workers or os.cpu_count() or 1, len(starts))
+    if threads > 1:
+        with ThreadPoolExecutor(threads) as pool:
+            list(pool.map(one, starts))
+    else:
+        for s in starts:
+            one(s)
 
 
 def _smooth(
@@ -283,20 +283,7 @@ class _Reporter:
             self.progress(self.done, self.total)
 
 
-def _solve_newton(
-    plan: SolvePlan,
-    assembly: Assembly,
-    q: F,
-    qd: F,
-    qdd: F,
-    x: F,
-    v: F,
-    a: F,
-    trans: F,
-    status: np.ndarray,
-    failed: np.ndarray,
-    tol: Tolerances,
-) -> None:
+def _solve_newton(plan: SolvePlan, assembly: Assembly, full: Chunk) -> None:
     """Positions by continuation along the sweep's own order, then the rates.
 
     The sample nearest the sketch is reached from the sketch; every other sample then follows
@@ -306,7 +293,7 @@ def _solve_newton(
     a position that does not close) try the straight way from the sketch, the shorter way
     round and then the longer.
     """
-    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular)
+    q, x, status = full.q, full.x, full.status
     steps = _step_sizes(plan)
     _continue_along_sweep(plan, assembly, full, steps)
     for long_way in (False, True):
@@ -316,7 +303,7 @@ def _solve_newton(
             break
         _continue_from_sketch(plan, assembly, full, steps, retry, long_way)
     full.q = q
-    signs = _run_steps(plan, full, 2, newton=False)
+    signs = run_steps(plan, full, 2, newton=False)
     groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
     for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
         flipped = (sign != ref) | ~rotary_branch_ok(full, st)
@@ -371,7 +358,7 @@ def _continue_along_sweep(plan: SolvePlan, assembly: Assembly, full: Chunk, step
     first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
-        _run_steps(plan, mini, 0)
+        run_steps(plan, mini, 0)
     full.x[:] = mini.x
     # then along the sweep: at stage s, sample i stands s/S of its way from k0 along the sweep
     jump = np.abs(_wrapped(np.diff(q, axis=1), plan)) / steps
@@ -389,7 +376,7 @@ def _continue_along_sweep(plan: SolvePlan, assembly: Assembly, full: Chunk, step
         if s == stages:  # its own value at last, whatever the rounding of ``target``
             at = idx
         c.q = q[:, at]  # the sweep's own values: its path, its turns
-        _run_steps(plan, c, 0)
+        run_steps(plan, c, 0)
 
 
 def _continue_from_sketch(
@@ -416,9 +403,9 @@ def _continue_from_sketch(
     c.failed[:] = -1
     for k in range(1, stages + 1):
         c.q = q0 + delta * (k / stages)
-        _run_steps(plan, c, 0)
+        run_steps(plan, c, 0)
     c.q = target
-    _run_steps(plan, c, 0)
+    run_steps(plan, c, 0)
     full.x[:, :, samples] = c.x
     full.status[samples] = c.status
     full.failed[samples] = c.failed
@@ -445,8 +432,8 @@ def assemble(plan: SolvePlan) -> Assembly:
     tol = Tolerances()
     c = Chunk(x, v, a, q, zero, zero.copy(), trans, status, failed, tol.close, tol.singular)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        _run_steps(plan, c, 0)
-        signs = _run_steps(plan, c, 2, newton=False) if status[0] == 0 else []
+        run_steps(plan, c, 0)
+        signs = run_steps(plan, c, 2, newton=False) if status[0] == 0 else []
     if status[0] != Code.OK:
         st = Status(status, failed, plan)
         if status[0] == Code.SINGULAR:

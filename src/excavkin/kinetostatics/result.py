@@ -186,7 +186,7 @@ class ForceResult:
                 e = x[:, l2] - x[:, l1]
                 n = np.stack([-e[:, 1], e[:, 0]], axis=1) / np.hypot(e[:, 0], e[:, 1])[:, None]
                 out -= self.slider_force[:, k, None] * n
-        out[~self.ok] = np.nan
+        out[~(self.kinematics.status.solved & ~self.singular)] = np.nan
         return out
 
     # ---- tables

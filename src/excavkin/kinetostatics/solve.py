@@ -176,10 +176,12 @@ def solve_forces(
                 for col, val in enumerate(sol):
                     out[col, sl] = val
                 singular[sl] = sing
-    bad = singular | ~result.status.ok
+    # a row whose rates lose precision near a dead position keeps its forces (its status says
+    # how far to trust them)
+    bad = singular | ~result.status.solved
     if bad.any():
         out[:, bad] = np.nan
-    singular &= result.status.ok
+    singular &= result.status.solved
     ns = len(sy.slots)
     e0, s0, t0 = sy.element_col0, sy.slider_col0, sy.torque_col0
     return ForceResult(

@@ -64,6 +64,7 @@ _LABEL_CODES = (
     ("assembly branch changed", Code.BRANCH_CHANGED),
     ("undetermined", Code.UNDETERMINED),
     ("a result overflows", Code.NOT_FINITE),
+    ("rates lose precision", Code.IMPRECISE),
 )
 
 

@@ -101,7 +101,7 @@ def _passable(code: np.ndarray) -> np.ndarray:
     """Samples a sweep may pass: solved, or exactly at a dead position it can go through."""
     from excavkin.kinematics.kernels import Code
 
-    return np.asarray((code == Code.OK) | (code == Code.SINGULAR))
+    return np.asarray((code == Code.OK) | (code == Code.SINGULAR) | (code == Code.IMPRECISE))
 
 
 def default_sweep(mech: MechanismLike, n: int | None = None) -> dict[str, np.ndarray]:

@@ -135,7 +135,11 @@ class MO100Data:
     l_s : float
         Pivot-to-centre-of-mass distance DS [m].
     alpha : float
-        Angle CDS between the rocker arm and the line DS [rad].
+        Angle CDS between the rocker arm and the line DS [rad], signed: positive (the printed
+        50 deg) puts S on the side of D->C that eqs. (8)-(14) describe with the Fig. 4 angle
+        sense, clockwise of D->C in the frame axes of eqs. (2)-(3) (the engine's model file);
+        negative mirrors S about D->C. Rx, Ry and R12 do not depend on the sign; R03^tau,
+        R03^n do (``docs/papers/mo100.md``).
     m3 : float
         Rocker mass [kg].
     inertia : float

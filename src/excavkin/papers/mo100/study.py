@@ -62,6 +62,7 @@ there; it is never solved silently. This module handles it explicitly:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -91,6 +92,7 @@ __all__ = [
     "load_mo100",
     "lobes",
     "main_ry_lobe",
+    "mirror_center_of_mass",
     "mo100_run",
     "one_sided_limits",
     "reference_data",
@@ -128,6 +130,43 @@ def _mech(mech: Mechanism | None) -> Mechanism:
 
 def _angle(v: tuple[float, float]) -> float:
     return math.atan2(v[1], v[0])
+
+
+def mirror_center_of_mass(mech: Mechanism | None = None) -> Mechanism:
+    """The hammer with the rocker's centre of mass S mirrored about the line D->C.
+
+    The paper's figures are lost, and ∠CDS = α does not say on which side of D->C the centre
+    of mass lies. The model file puts S on the clockwise side (the side eqs. (8)-(14) describe
+    with the printed α > 0, see ``docs/papers/mo100.md``); this returns the other reading:
+    the same hammer, with S reflected in the line D->C of the sketch. Rx, Ry (in the housing
+    axes of each reading, :func:`housing_axes_angle` +50 deg instead of -50 deg), R12 and H do
+    not depend on the side; R03 does.
+
+    Parameters
+    ----------
+    mech : Mechanism, optional
+        The hammer; default :func:`load_mo100`.
+
+    Returns
+    -------
+    Mechanism
+        A new mechanism; ``mech`` is not changed.
+    """
+    import excavkin
+
+    model = _mech(mech).model
+    d, c = np.asarray(model.points["D"]), np.asarray(model.points["C"])
+    e = (c - d) / np.linalg.norm(c - d)
+    bodies = []
+    for body in model.bodies:
+        if body.name == "rocker":
+            if body.center_of_mass is None:
+                raise ValueError("the rocker of the MO-100 model has no center_of_mass")
+            v = np.asarray(body.center_of_mass) - d
+            s = d + 2.0 * float(np.dot(v, e)) * e - v
+            body = dataclasses.replace(body, center_of_mass=(float(s[0]), float(s[1])))
+        bodies.append(body)
+    return excavkin.Mechanism(dataclasses.replace(model, bodies=tuple(bodies)))
 
 
 def housing_axes_angle(mech: Mechanism | None = None) -> float:
@@ -192,6 +231,8 @@ def reference_data(mech: Mechanism | None = None, omega1: float = MO100_OMEGA1) 
     excavkin.papers.mo100.reference.MO100Data
         Lengths from ``[lengths]``, ``l_s`` and ``alpha`` from the rocker's centre of mass,
         ``m3`` and the centroidal ``inertia`` from the rocker (the engine's J is about S).
+        ``alpha`` is signed like the reference's: positive when S lies clockwise of D->C (the
+        model file, +50 deg), negative for the other side (:func:`mirror_center_of_mass`).
     """
     m = _mech(mech).model
     ln = m.lengths
@@ -200,14 +241,15 @@ def reference_data(mech: Mechanism | None = None, omega1: float = MO100_OMEGA1) 
         raise ValueError("the rocker of the MO-100 model needs mass, inertia, center_of_mass")
     d, c = np.asarray(m.points["D"]), np.asarray(m.points["C"])
     ds, dc = np.asarray(rocker.center_of_mass) - d, c - d
-    alpha = abs(_angle((ds[0], ds[1])) - _angle((dc[0], dc[1])))
+    # angle from D->S to D->C: positive when S is clockwise of D->C
+    alpha = float(np.angle(np.exp(1j * (_angle((dc[0], dc[1])) - _angle((ds[0], ds[1]))))))
     return ref.MO100Data(
         l1=ln[("A", "B")],
         l2=ln[("B", "C")],
         l3=ln[("D", "C")],
         l0=ln[("A", "D")],
         l_s=float(np.hypot(*ds)),
-        alpha=min(alpha, _TWO_PI - alpha),
+        alpha=alpha,
         m3=rocker.mass,
         inertia=rocker.inertia,
         omega1=omega1,

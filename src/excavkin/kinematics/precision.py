@@ -1,0 +1,292 @@
+"""Honest precision near dead and change positions.
+
+Near a dead position (a dyad or a slider folding flat, a Newton group's Jacobian nearly
+singular) the rates are a ratio of two small numbers, and double precision loses digits as the
+triangle flattens: at the MO-100 hammer's change point the rocker's ε computed in double
+precision is off by about 1e-2·eps/θ³ (θ the crank angle from the change point).
+
+Every sample that comes within :data:`NEAR` of a dead position (the sine of a transmission
+angle, or the Newton Jacobian's determinant over the product of its rows' norms) is solved a
+second time, by the same plan, in extended precision (x87's 64-bit significand, 2¹¹ times finer
+than double; IEEE quad where ``long double`` is that). The difference measures the double
+evaluation's error directly. Where it exceeds :data:`SUBSTITUTE` of a quantity's scale, the
+extended values are returned (rounded to double), with an error estimated as that difference
+scaled by the ratio of the two precisions and a margin of :data:`MARGIN`. A sample whose
+estimate still exceeds :data:`TOLERANCE` is marked ``IMPRECISE`` ("rates lose precision near a
+dead position"), so that no row marked ``ok`` is off by more than that.
+
+The scale of a quantity is its largest magnitude over the sweep's solved samples, per kind:
+lengths (positions and element lengths), velocities, accelerations, angles, angular velocities
+and angular accelerations.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from excavkin.kinematics.kernels import Chunk, Code, F
+from excavkin.kinematics.result import Derived
+from excavkin.kinematics.steps import run_steps
+from excavkin.structure.plan import (
+    Dyad,
+    NewtonGroup,
+    SliderStep,
+    SolvePlan,
+)
+
+#: samples nearer a dead position than this (sine of a transmission angle) are checked
+NEAR = 0.05
+#: a row is ``ok`` only if every value is within this fraction of its quantity's scale
+TOLERANCE = 1e-8
+#: double values off by more than this fraction of their scale are replaced by extended ones
+SUBSTITUTE = 1e-13
+#: the wide solve's own error is measured by moving its roundings by this many units
+NUDGE = 16.0
+#: margin on the wide solve's error so measured
+MARGIN = 64.0
+
+#: the wider type, or None where ``long double`` is only double (then a conditioning bound)
+WIDE: type | None = np.longdouble if np.finfo(np.longdouble).eps < 1e-18 else None
+RATIO = float(np.finfo(WIDE).eps / np.finfo(np.float64).eps) if WIDE is not None else 1.0
+
+
+@dataclasses.dataclass(slots=True)
+class Arrays:
+    """The solve's arrays for a set of samples: points (n_points, 2, n) and the rest."""
+
+    x: F
+    v: F
+    a: F
+    trans: F
+    derived: Derived
+
+
+def nearness(plan: SolvePlan, trans: F, newton_near: F | None) -> tuple[F, np.ndarray]:
+    """How near each sample is to a dead position (0 at one, 1 far from any), and the plan
+    step nearest it."""
+    n = trans.shape[-1]
+    near = np.ones(n)
+    step = np.full(n, -1, dtype=np.int16)
+    steps_of = {st.index: k for k, st in enumerate(plan.steps) if isinstance(st, Dyad | SliderStep)}
+    for i in range(trans.shape[0]):
+        s = np.abs(np.sin(trans[i]))
+        closer = s < near
+        near = np.where(closer, s, near)
+        step[closer] = steps_of[i]
+    if newton_near is not None:
+        group = next(k for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup))
+        closer = newton_near < near
+        near = np.where(closer, newton_near, near)
+        step[closer] = group
+    return near, step
+
+
+def check(
+    plan: SolvePlan,
+    q: F,
+    qd: F,
+    qdd: F,
+    out: Arrays,
+    status: np.ndarray,
+    failed: np.ndarray,
+    newton_near: F | None,
+    tol: tuple[float, float],
+) -> F:
+    """Check (and where needed improve) the samples near a dead position, in place.
+
+    Returns the estimated error of each row relative to its quantities' scales: NaN where the
+    sample was far from any dead position (not checked) or did not solve.
+    """
+    n = status.size
+    error = np.full(n, np.nan)
+    near, step = nearness(plan, out.trans, newton_near)
+    pick = np.flatnonzero((status == Code.OK) & (near < NEAR))
+    if not pick.size:
+        return error
+    far = status == Code.OK
+    far[pick] = False
+    if WIDE is None:
+        # no wider type: the first-order bound of a ratio of small numbers, cubed for ε
+        error[pick] = 64.0 * np.finfo(np.float64).eps / near[pick] ** 3
+    else:
+        wide = _solve_wide(plan, q, qd, qdd, out, pick, tol)
+        ok = wide.status == Code.OK
+        # the wide solve's own error: how far it moves when its roundings are emulated by
+        # nudges of a few units (two draws of signs, the larger move)
+        shaken = [_solve_wide(plan, q, qd, qdd, out, pick, tol, nudge=seed) for seed in (1, 2)]
+        # the scales from values believed: the far samples' and the wide solve's, never the
+        # double values being judged
+        scales = _scales([(out, far), (wide.arrays, ok)])
+        diff = _difference(out.x, out, wide.arrays, pick, scales)
+        swap = ok & (diff > SUBSTITUTE)
+        moved = np.maximum(
+            *(_difference(wide.arrays.x, wide.arrays, s.arrays, None, scales) for s in shaken)
+        )
+        # kept double values: their measured error, plus the wide solve's own and the final
+        # rounding; replaced ones: the wide solve's error alone
+        wide_error = np.maximum(diff * RATIO, moved / NUDGE) * MARGIN
+        error[pick] = np.where(swap, wide_error, diff + wide_error + 4 * np.finfo(np.float64).eps)
+        _substitute(out, wide.arrays, pick, swap)
+        lost = ~ok
+        status[pick[lost]] = wide.status[lost]
+        failed[pick[lost]] = wide.failed[lost]
+        error[pick[lost]] = np.nan
+    bad = pick[error[pick] > TOLERANCE]
+    status[bad] = Code.IMPRECISE
+    failed[bad] = step[bad]
+    return error
+
+
+@dataclasses.dataclass(slots=True)
+class _Wide:
+    arrays: Arrays
+    status: np.ndarray
+    failed: np.ndarray
+
+
+def _solve_wide(
+    plan: SolvePlan,
+    q: F,
+    qd: F,
+    qdd: F,
+    out: Arrays,
+    pick: np.ndarray,
+    tol: tuple[float, float],
+    nudge: int = 0,
+) -> _Wide:
+    """The picked samples solved again in the wider type (Newton groups start from the double
+    solution and refine it). ``nudge`` > 0 emulates rounding: every step's cancelling
+    difference and output move by :data:`NUDGE` units of the wide rounding, with a sign per
+    sample drawn from that seed."""
+    assert WIDE is not None
+    sub = _subset_plan(plan, pick)
+    k = pick.size
+    q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
+    moves = None
+    if nudge:
+        rng = np.random.default_rng(nudge)
+        moves = (np.finfo(WIDE).eps * NUDGE * rng.choice([-1.0, 1.0], k)).astype(WIDE)
+    x: F = out.x[:, :, pick].astype(WIDE)
+    v = np.zeros_like(x)
+    a = np.zeros_like(x)
+    trans: F = np.zeros((out.trans.shape[0], k), dtype=WIDE)
+    status = np.zeros(k, dtype=np.int8)
+    failed = np.full(k, -1, dtype=np.int16)
+    c = Chunk(
+        x,
+        v,
+        a,
+        q,
+        qd,
+        qdd,
+        trans,
+        status,
+        failed,
+        *tol,
+        nudge=moves,
+    )
+    derived = Derived.empty(plan, k, dtype=WIDE)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        run_steps(sub, c, 2)
+        derived.fill(plan, x, v, a, slice(None))
+    return _Wide(Arrays(x, v, a, trans, derived), status, failed)
+
+
+def _subset_plan(plan: SolvePlan, pick: np.ndarray) -> SolvePlan:
+    """The plan for a subset of samples: per-sample branch signs (a smooth continuation's)
+    taken at those samples."""
+    steps = list(plan.steps)
+    changed = False
+    for k, st in enumerate(steps):
+        if isinstance(st, Dyad) and np.ndim(st.sign):
+            steps[k] = dataclasses.replace(st, sign=np.asarray(st.sign)[pick])  # type: ignore[arg-type]
+            changed = True
+    return dataclasses.replace(plan, steps=tuple(steps)) if changed else plan
+
+
+_KINDS = (
+    "length",
+    "velocity",
+    "acceleration",
+    "angle",
+    "angular velocity",
+    "angular acceleration",
+)
+
+
+def _groups(arr: Arrays) -> dict[str, list[F]]:
+    """The arrays by kind of quantity, each (m, n) with the sample axis last."""
+    d = arr.derived
+    npts = arr.x.shape[0]
+    return {
+        "length": [arr.x.reshape(2 * npts, -1), d.element[0]],
+        "velocity": [arr.v.reshape(2 * npts, -1), d.element[1]],
+        "acceleration": [arr.a.reshape(2 * npts, -1), d.element[2]],
+        "angle": [d.body[0], d.element[3], arr.trans],
+        "angular velocity": [d.body[1], d.element[4]],
+        "angular acceleration": [d.body[2], d.element[5]],
+    }
+
+
+def _scales(parts: list[tuple[Arrays, np.ndarray]]) -> dict[str, float]:
+    """Each kind's largest magnitude over the given samples of the given arrays (a tiny floor
+    for a kind that is zero throughout, such as velocities with every input held)."""
+    top: dict[str, float] = {}
+    for arrays, use in parts:
+        if not use.any():
+            continue
+        for kind, group in _groups(arrays).items():
+            for arr in group:
+                if arr.size:
+                    big = float(np.nanmax(np.abs(arr[:, use]).astype(np.float64), initial=0.0))
+                    top[kind] = max(top.get(kind, 0.0), big)
+    return floored({kind: top.get(kind, 0.0) for kind in _KINDS})
+
+
+def floored(top: dict[str, float]) -> dict[str, float]:
+    """Scales no smaller than the magnitudes the others imply: a velocity's ω·L and an
+    acceleration's v²/L (and ω, ω² for the angular ones), so that a quantity that happens to be
+    small over a short sweep (ε at a change point) is not judged against its own smallness."""
+    tiny = float(np.finfo(np.float64).tiny)
+    length = top["length"] or tiny
+    v, w = top["velocity"], top["angular velocity"]
+    out = dict(top)
+    out["velocity"] = max(v, w * length)
+    out["angular velocity"] = max(w, v / length)
+    out["acceleration"] = max(top["acceleration"], out["velocity"] ** 2 / length)
+    out["angular acceleration"] = max(top["angular acceleration"], out["angular velocity"] ** 2)
+    return {kind: val or tiny for kind, val in out.items()}
+
+
+def _difference(
+    like: F, out: Arrays, wide: Arrays, pick: np.ndarray | None, scales: dict[str, float]
+) -> F:
+    """The largest difference of each (picked) sample's values, relative to their kind's
+    scale; ``like`` is any (·, ·, n) array of ``wide``'s samples."""
+    worst = np.zeros(like.shape[-1] if pick is None else pick.size)
+    ours, theirs = _groups(out), _groups(wide)
+    for kind, arrays in ours.items():
+        for mine, other in zip(arrays, theirs[kind], strict=True):
+            if not mine.size:
+                continue
+            delta = ((mine if pick is None else mine[:, pick]) - other).astype(np.float64)
+            if kind == "angle":  # the same direction either side of ±π
+                delta = np.angle(np.exp(1j * delta))
+            rel = np.abs(delta).max(axis=0) / scales[kind]
+            worst = np.maximum(worst, np.where(np.isnan(rel), np.inf, rel))
+    return worst
+
+
+def _substitute(out: Arrays, wide: Arrays, pick: np.ndarray, swap: np.ndarray) -> None:
+    """Put the wide values, rounded to double, into the picked samples where ``swap``."""
+    rows = pick[swap]
+    if not rows.size:
+        return
+    out.x[:, :, rows] = wide.x[:, :, swap]
+    out.v[:, :, rows] = wide.v[:, :, swap]
+    out.a[:, :, rows] = wide.a[:, :, swap]
+    out.trans[:, rows] = wide.trans[:, swap]
+    out.derived.body[:, :, rows] = wide.derived.body[:, :, swap]
+    out.derived.element[:, :, rows] = wide.derived.element[:, :, swap]
