@@ -74,6 +74,8 @@ def _load_in_si(load: Load) -> Load:
 
     if isinstance(load, Gravity):
         return dataclasses.replace(load, g=float(as_si(load.g, "acceleration", "gravity")))
+    if not isinstance(load, PointForce | Torque):
+        return load  # not a load record: the loads' own check names it
     kind = "force" if isinstance(load, PointForce) else "torque"
     what = f"load {load.name!r}"
     convert = _vector_si if isinstance(load, PointForce) else as_si
@@ -86,7 +88,6 @@ def _load_in_si(load: Load) -> Load:
 
     else:
         value = convert(value, kind, what)
-    assert isinstance(load, PointForce | Torque)
     return dataclasses.replace(load, value=value)
 
 

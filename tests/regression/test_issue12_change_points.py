@@ -105,3 +105,78 @@ def test_smooth_continuation_is_for_closed_form_plans() -> None:
     mech = Mechanism(SQUARE, method="newton")
     with pytest.raises(InputError, match="Newton group"):
         mech.solve({"crank": np.radians([1.0, 2.0])}, continuation="smooth")
+
+
+@pytest.mark.parametrize("degrees", [np.linspace(90, 270, 181), np.linspace(270, 90, 180)])
+def test_a_fold_that_passes_flat_is_a_bend(degrees) -> None:
+    """At 180° the parallelogram lies flat along its long diagonal (A, B, O4 collinear, base
+    200 mm): the side rule bends B's path back rather than jumping it. It is named, and the
+    smooth continuation keeps the parallelogram through it."""
+    mech = Mechanism(SQUARE)
+    q = np.radians(degrees)
+    side = mech.solve({"crank": q})
+    (cp,) = side.change_points
+    assert (cp.point, cp.partners, cp.shape, cp.continued) == ("B", ("A", "O4"), "bend", "side")
+    crossing = int(np.argmin(np.abs(degrees - 180)))
+    assert cp.before < crossing < cp.after or crossing in (cp.before, cp.after)
+    assert "its path bends back" in cp.describe()
+    ok = side.status.ok
+    # positions stay continuous (no jump) but leave the parallelogram: a bend, not a jump
+    step = np.hypot(*np.diff(side.point("B")[0][ok], axis=0).T)
+    assert step.max() < 0.01
+    assert np.nanmax(coupler_offset(side)[ok]) > 0.05
+    smooth = mech.solve({"crank": q}, continuation="smooth")
+    assert [(c.shape, c.continued) for c in smooth.change_points] == [("bend", "smooth")]
+    assert np.nanmax(coupler_offset(smooth)[smooth.status.ok]) < 1e-12
+
+
+def test_the_mo100_blow_is_a_bend() -> None:
+    mech = excavkin.load(excavkin.example_path("mo100_hammer"))
+    res = mech.solve({"crank": np.radians(np.linspace(-20, 20, 41))})
+    (cp,) = res.change_points
+    assert (cp.point, cp.shape, cp.before, cp.after) == ("C", "bend", 19, 21)
+    # a turn that ends either side of the blow passes none
+    turn = mech.solve({"crank": np.radians(np.linspace(0.5, 359.5, 359))})
+    assert turn.change_points == ()
+
+
+def test_no_bend_is_seen_on_random_crank_rockers() -> None:
+    """200 random Grashof crank-rockers through a turn of 361 samples, at rates 1 and 7 rad/s:
+    the dyad never folds, and no change point is reported."""
+    from excavkin import Body, Model, RotaryDriver
+
+    rng = np.random.default_rng(12)
+    seen = 0
+    while seen < 200:
+        r, b, c = rng.uniform(0.05, 1.0, 3)
+        g = 1.0
+        short, long_ = min(r, b, c, g), max(r, b, c, g)
+        if short != r or short + long_ >= r + b + c + g - short - long_:
+            continue  # not a crank-rocker
+        ax, ay = 0.0, r
+        ex, ey = g - ax, -ay
+        l2 = ex * ex + ey * ey
+        kk = (b * b - c * c + l2) / (2 * l2)
+        h = np.sqrt(b * b / l2 - kk * kk)
+        model = Model(
+            name="crank-rocker",
+            points={
+                "O2": (0.0, 0.0),
+                "A": (ax, ay),
+                "B": (ax + kk * ex - h * ey, ay + kk * ey + h * ex),
+                "O4": (g, 0.0),
+            },
+            bodies=(
+                Body("ground", ("O2", "O4"), ground=True),
+                Body("crank", ("O2", "A")),
+                Body("coupler", ("A", "B")),
+                Body("rocker", ("O4", "B")),
+            ),
+            rotary=(RotaryDriver("crank", body="crank", pivot="O2", reference="ground"),),
+        )
+        res = Mechanism(model).solve(
+            {"crank": np.linspace(0, 2 * np.pi, 361)}, rates={"crank": 1.0 + 6.0 * (seen % 2)}
+        )
+        assert res.status.all_ok
+        assert res.change_points == (), seen
+        seen += 1

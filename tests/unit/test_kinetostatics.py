@@ -12,7 +12,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import excavkin
-from excavkin.errors import InputError, ModelError
+from excavkin.errors import InputError, ModelError, UnitError
 from excavkin.kinematics import KinematicResult
 from excavkin.kinetostatics import (
     ForceResult,
@@ -243,7 +243,11 @@ def test_resistance_along_velocity() -> None:
         (PointForce("f", "crank", "B", (1.0, 0.0)), ModelError, "not a point of body"),
         (PointForce("f", "rocker", "B", (1.0, 0.0, 2.0)), InputError, "shape"),
         (PointForce("f", "rocker", "B", np.zeros((3, 2))), InputError, "shape"),
-        (PointForce("f", "rocker", "B", "ten"), InputError, "not numeric"),
+        (
+            PointForce("f", "rocker", "B", "ten"),
+            UnitError,
+            "load 'f': cannot read 'ten' as a force",
+        ),
         (PointForce("f", "rocker", "B", lambda r: 1 / 0), InputError, "ZeroDivisionError"),
         (Torque("t", "rocker", np.zeros(4)), InputError, "shape"),
         (Torque("t", "rocker", 1.0, "rocker"), ModelError, "another body"),

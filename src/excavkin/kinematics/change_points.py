@@ -7,6 +7,13 @@ the sketch's side, which — seen from the samples either side — is a jump to 
 crossed) configuration. It is found from the samples alone: P at sample i + 1 lies much
 farther from P at sample i than P's mirror image in the line A→B does.
 
+Where the triangle folds *flat* with its base A→B still long (a parallelogram at 180°, the
+MO-100 hammer's blow), the side rule keeps P on its side and its path bends back instead of
+jumping: P's distance s from the line A→B runs down to zero and up again, a V. It is found
+from the samples and their rates: between neighbours, ṡ turns from approach to retreat with
+about the same speed, and s at the two samples adds up to the distance that speed covers in
+the step (a smooth turn short of the line covers about half of it).
+
 ``continuation="smooth"`` instead keeps the motion continuous: after each change point the
 dyad takes the other side, so a parallelogram stays a parallelogram.
 """
@@ -39,6 +46,10 @@ class ChangePoint:
     continued : {"side", "smooth"}
         How the engine went on: on the sketch's side of A→B (``"side"``) or on the other side,
         continuing the motion (``"smooth"``).
+    shape : {"jump", "bend"}
+        On the sketch's side, the configuration jumps (the base A→B vanishes, a parallelogram's
+        crank passing its ground pivot) or P's path bends back (the triangle folds flat on a
+        long base).
     """
 
     point: str
@@ -46,11 +57,13 @@ class ChangePoint:
     before: int
     after: int
     continued: str
+    shape: str = "jump"
 
     def describe(self) -> str:
         """One sentence for a person."""
+        kept = "a jump of the configuration" if self.shape == "jump" else "its path bends back"
         how = (
-            "kept the sketch's side of its base (a jump of the configuration)"
+            f"kept the sketch's side of its base ({kept})"
             if self.continued == "side"
             else "continued the motion on the other side"
         )
@@ -70,9 +83,7 @@ def folds(x: F, st: Dyad) -> np.ndarray:
     """Samples i (of pairs i, j, the next solved sample) between which the dyad ``st`` folds;
     x: (n_points, 2, n)."""
     p = x[st.point]
-    solved = np.flatnonzero(np.isfinite(p).all(axis=0))
-    pairs = np.diff(solved) <= MAX_GAP + 1
-    i, j = solved[:-1][pairs], solved[1:][pairs]
+    i, j = _neighbours(p)
     if not i.size:
         return np.zeros((2, 0), dtype=np.int64)
     a, b = x[st.a][:, j], x[st.b][:, j]
@@ -104,23 +115,89 @@ def _flatness(x: F, st: Dyad, k: np.ndarray) -> F:
     return np.asarray(np.minimum(base, np.where(np.isfinite(off), off, 0.0)), dtype=np.float64)
 
 
-def find_change_points(plan: SolvePlan, x: F, continued: str = "side") -> list[ChangePoint]:
-    """Every dyad's change points between neighbouring samples, in plan order."""
+def _neighbours(p: F) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs (i, j) of neighbouring solved samples, across at most MAX_GAP unsolved ones."""
+    solved = np.flatnonzero(np.isfinite(p).all(axis=0))
+    pairs = np.diff(solved) <= MAX_GAP + 1
+    return solved[:-1][pairs], solved[1:][pairs]
+
+
+def bends(x: F, v: F, q: F, qd: F, st: Dyad) -> np.ndarray:
+    """Samples (i, j) between which the dyad ``st`` folds flat on a long base and P's path bends
+    back; x, v: (n_points, 2, n), q, qd: (n_inputs, n)."""
+    i, j = _neighbours(np.concatenate([x[st.point], v[st.point]]))
+    if not i.size:
+        return np.zeros((2, 0), dtype=np.int64)
+    e = x[st.b] - x[st.a]
+    r = x[st.point] - x[st.a]
+    de = v[st.b] - v[st.a]
+    dr = v[st.point] - v[st.a]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        base = np.hypot(*e)
+        cross = e[0] * r[1] - e[1] * r[0]
+        side = np.sign(cross)
+        s = np.abs(cross) / base  # P's distance from the line A→B
+        sd = side * (
+            (de[0] * r[1] - de[1] * r[0] + e[0] * dr[1] - e[1] * dr[0]) / base
+            - cross * (e[0] * de[0] + e[1] * de[1]) / base**3
+        )
+        # the step's duration, from the input that moves most in it at a known rate
+        rate = 0.5 * (qd[:, i] + qd[:, j])
+        steps = np.where(rate != 0, (q[:, j] - q[:, i]) / rate, np.nan)
+        moved = np.where(np.isfinite(steps), np.abs(q[:, j] - q[:, i]), -1.0)
+        dt = np.take_along_axis(steps, np.argmax(moved, axis=0)[None], axis=0)[0]
+        speed = 0.5 * (np.abs(sd[i]) + np.abs(sd[j]))
+        covered = speed * np.abs(dt)
+        ratio = np.abs(sd[i]) / np.abs(sd[j])
+        found = (
+            (np.sign(dt) * sd[i] < 0)  # approaching the line along the sweep
+            & (np.sign(dt) * sd[j] > 0)  # … and leaving it on the same side
+            & (ratio > 1 / 3)
+            & (ratio < 3)
+            & (np.abs(s[i] + s[j] - covered) <= 0.25 * covered)
+            & (covered < 0.5 * base[i])  # a long base: a flat fold, not a vanishing one
+        )
+    return np.stack([i[found], j[found]])
+
+
+def _changes(x: F, v: F | None, q: F | None, qd: F | None, st: Dyad) -> list[tuple[int, int, str]]:
+    """The dyad's change points as (before, after, shape), in sample order."""
+    out = [(int(i), int(j), "jump") for i, j in folds(x, st).T]
+    if v is not None and q is not None and qd is not None:
+        jumps = {(i, j) for i, j, _ in out}
+        out += [
+            (int(i), int(j), "bend") for i, j in bends(x, v, q, qd, st).T if (i, j) not in jumps
+        ]
+    return sorted(out)
+
+
+def find_change_points(
+    plan: SolvePlan,
+    x: F,
+    continued: str = "side",
+    v: F | None = None,
+    q: F | None = None,
+    qd: F | None = None,
+) -> list[ChangePoint]:
+    """Every dyad's change points between neighbouring samples, in plan order (bends too when
+    the velocities and inputs are given)."""
     out = []
     names = plan.points
     for st in plan.steps:
         if isinstance(st, Dyad):
-            for i, j in folds(x, st).T:
+            for i, j, shape in _changes(x, v, q, qd, st):
                 partners = (names[st.a], names[st.b])
-                out.append(ChangePoint(names[st.point], partners, int(i), int(j), continued))
+                out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))
     return out
 
 
-def smooth_signs(x: F, st: Dyad, anchor: int) -> F | None:
+def smooth_signs(
+    x: F, st: Dyad, anchor: int, v: F | None = None, q: F | None = None, qd: F | None = None
+) -> F | None:
     """Per-sample branch signs that continue the motion through the dyad's change points, or
     None when it has none. The sample ``anchor`` (the one nearest the sketch) keeps the
     sketch's side; every change point between a sample and the anchor flips it once more."""
-    found = folds(x, st)
+    found = np.array([(i, j) for i, j, _ in _changes(x, v, q, qd, st)], dtype=np.int64).T
     if not found.size:
         return None
     n = x.shape[-1]

@@ -200,28 +200,60 @@ def _safe_solve(jac: F, rhs: F, tol: float) -> tuple[F, NDArray[np.bool_]]:
 
 
 def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: int = 50) -> None:
-    """Newton iterations from the current ``c.x`` of the group's points."""
+    """Newton iterations from the current ``c.x`` of the group's points.
+
+    Converged (and singular) samples leave the iteration: each pass works on the samples still
+    moving, so a batch costs what its slowest samples need, not every sample that many passes.
+    """
     pts = list(g.points)
-    active = np.ones(c.x.shape[-1], dtype=bool)
+    n = c.x.shape[-1]
+    live = np.arange(n)
+    sub = c
     # converged at 1e-14 of the size in double precision, proportionally finer in a wider one
     small = 1e-14 * scale * float(np.finfo(c.x.dtype).eps / np.finfo(np.float64).eps)
     for _ in range(max_iter):
-        res, jac, _, _ = _system(c, g, 0)
+        res, jac, _, _ = _system(sub, g, 0)
         step, sing = _safe_solve(jac, -res, 1e-13)
-        step[~active] = 0.0
         step[sing] = 0.0
         for j, p in enumerate(pts):
-            c.x[p, 0] += step[:, 2 * j]
-            c.x[p, 1] += step[:, 2 * j + 1]
-        size = np.max(np.abs(step), axis=1)
-        active &= ~(size <= small) & ~sing
-        if not active.any():
+            sub.x[p, 0] += step[:, 2 * j]
+            sub.x[p, 1] += step[:, 2 * j + 1]
+        if sub is not c:
+            c.x[pts, :, live[:, None]] = np.moveaxis(sub.x[pts], -1, 0)
+        moving = ~(np.max(np.abs(step), axis=1) <= small) & ~sing
+        if not moving.any():
             break
+        if not moving.all():
+            live = live[moving]
+            sub = _samples(c, live)
     res, _, _, _ = _system(c, g, 0)
     bad = ~(np.max(np.abs(res), axis=1) <= 1e-10 * scale * scale) | ~np.isfinite(res).all(axis=1)
     flag(c, bad, Code.NO_CONVERGENCE, k)
     for p in pts:
         c.x[p, :, bad] = np.nan
+
+
+def _samples(c: Chunk, idx: np.ndarray) -> Chunk:
+    """A copy of the chunk's arrays at samples ``idx`` (an input held for all samples, one
+    column wide, stays as it is)."""
+    n = c.x.shape[-1]
+
+    def take(arr: F) -> F:
+        return arr[..., idx] if arr.shape[-1] == n else arr
+
+    return Chunk(
+        take(c.x),
+        take(c.v),
+        take(c.a),
+        take(c.q),
+        take(c.qd),
+        take(c.qdd),
+        take(c.trans),
+        c.status[idx],
+        c.failed[idx],
+        c.close_tol,
+        c.singular_tol,
+    )
 
 
 def newton_rates(c: Chunk, g: NewtonGroup, k: int) -> F:

@@ -129,7 +129,7 @@ def solve_kinematics(
         else:
             _solve_chunks(plan, full, derived, chunk, workers, report)
     if continuation == "smooth":
-        return _smooth(plan, assembly, q_given, qd, qdd, tol, x, status)
+        return _smooth(plan, assembly, q_given, qd, qdd, tol, x, v)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         arrays = precision.Arrays(x, v, a, trans, derived)
         limits = (tol.close, tol.singular)
@@ -139,7 +139,9 @@ def solve_kinematics(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
     return dataclasses.replace(
-        result, change_points=tuple(find_change_points(plan, x)), error_estimate=error
+        result,
+        change_points=tuple(find_change_points(plan, x, v=v, q=q_given, qd=qd)),
+        error_estimate=error,
     )
 
 
@@ -195,7 +197,7 @@ def _smooth(
     qdd: F,
     tol: Tolerances,
     x: F,
-    status: np.ndarray,
+    v: F,
 ) -> KinematicResult:
     """Solve again with each dyad's side flipped after its change points, dyad by dyad in
     plan order (a flip moves what is built on the dyad, and so its later change points)."""
@@ -211,7 +213,7 @@ def _smooth(
     for k, st in enumerate(plan.steps):
         if not isinstance(st, Dyad):
             continue
-        signs = smooth_signs(x, st, anchor)
+        signs = smooth_signs(x, st, anchor, v, q, qd)
         if signs is None:
             continue
         steps = list(plan.steps)
@@ -219,11 +221,12 @@ def _smooth(
         plan = dataclasses.replace(plan, steps=tuple(steps))
         found += [
             dataclasses.replace(cp, continued="smooth")
-            for cp in find_change_points(dataclasses.replace(plan, steps=(st,)), x)
+            for cp in find_change_points(dataclasses.replace(plan, steps=(st,)), x, v=v, q=q, qd=qd)
         ]
         # the whole batch as one chunk: per-sample signs are indexed by sample
         again = solve_kinematics(plan, assembly, q, qd, qdd, tol=tol, chunk=q.shape[1], workers=1)
         x = np.moveaxis(again.positions, 0, -1)
+        v = np.moveaxis(again.velocities, 0, -1)
     result = solve_kinematics(
         plan, assembly, q, qd, qdd, tol=tol, chunk=max(q.shape[1], 1), workers=1
     )
