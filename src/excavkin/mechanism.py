@@ -9,6 +9,7 @@ True
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Iterable, Mapping
 from typing import TYPE_CHECKING, Any, Literal, overload
 
@@ -68,8 +69,6 @@ def _vector_si(value: Any, kind: str, what: str) -> Any:
 def _load_in_si(load: Load) -> Load:
     """A load given to the Python API, with any units converted by dimension (a function's
     result converted when it is called)."""
-    import dataclasses
-
     from excavkin.kinetostatics import Gravity, PointForce, Torque
 
     if isinstance(load, Gravity):
@@ -148,6 +147,38 @@ class Mechanism:
                     f"{', '.join(self.plan.inputs) or 'none'}"
                 )
 
+    @property
+    def parameters(self) -> dict[str, float]:
+        """Every dimension of the model by name, at its nominal SI value: ``P.x``, ``P.y`` of
+        each sketch point, each ``[lengths]`` entry by its key (``"A-B"``), and each body's
+        ``.mass``, ``.inertia`` and ``.center_of_mass.x``/``.y`` where given. Any of them may
+        vary per sample: ``solve(..., params={"A-B": lengths})``."""
+        from excavkin.structure.design import parameters
+
+        return parameters(self.model)
+
+    def _params_in_si(self, params: Mapping[str, Any] | None) -> dict[str, np.ndarray]:
+        """Parameter values in SI, each a scalar or a 1-D array."""
+        from excavkin.structure.design import parameter_kind, parameters
+
+        out: dict[str, np.ndarray] = {}
+        known = parameters(self.model)
+        for name, value in (params or {}).items():
+            if name not in known:
+                from excavkin.errors import unknown_name
+
+                raise unknown_name("parameter", name, list(known))
+            arr = np.asarray(
+                as_si(value, parameter_kind(name), f"parameter {name!r}"), dtype=np.float64
+            )
+            if arr.ndim > 1:
+                raise InputError(
+                    f"parameter {name!r}: values must be a scalar or a 1-D array, got shape "
+                    f"{arr.shape}"
+                )
+            out[name] = arr
+        return out
+
     def _in_si(self, given: Mapping[str, Any] | None, order: int) -> dict[str, Any]:
         """Driver values (order 0), rates (1) or accelerations (2) as SI floats or arrays: a
         quantity of any pint registry or a string such as ``"30 deg"`` is converted by its
@@ -207,6 +238,7 @@ class Mechanism:
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
         loads: Iterable[Load] | Literal["model"] | None = None,
+        params: Mapping[str, Any] | None = None,
     ) -> KinematicResult | ForceResult:
         """Positions, velocities and accelerations for a batch of driver inputs.
 
@@ -239,6 +271,12 @@ class Mechanism:
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only).
+        params : mapping of str to array_like, optional
+            Dimensions per sample: a parameter name of :attr:`parameters` → a scalar or an
+            array of shape (n,), SI or with units. Each sample is solved with its own geometry
+            (the plan and each dyad's sketch side are shared); a held driver keeps its own
+            design's sketch value; a design that builds no mechanism is marked "the design's
+            dimensions build no mechanism".
 
         Returns
         -------
@@ -273,6 +311,8 @@ class Mechanism:
                     sizes[k + " (rate/accel)"] = a.size
         if time is not None:
             sizes["time"] = np.asarray(time).size
+        given = self._params_in_si(params)
+        sizes.update({f"parameter {k}": v.size for k, v in given.items() if v.ndim == 1})
         distinct = set(sizes.values())
         if len(distinct) > 1:
             listing = ", ".join(f"{k}: {v}" for k, v in sizes.items())
@@ -282,14 +322,20 @@ class Mechanism:
         q = np.empty((n_in, n))
         qd = np.empty((n_in, n))
         qdd = np.empty((n_in, n))
+        plan, held, unbuildable = self.plan, np.asarray(self.plan.input_sketch)[:, None], None
+        if given:
+            from excavkin.structure.design import design_plan
+
+            designs = design_plan(self.plan, given, n)
+            plan, held, unbuildable = designs.plan, designs.input_sketch, designs.unbuildable
         for i, name in enumerate(self.plan.inputs):
             val = arrays.get(name)
             swept = val is not None and val.ndim == 1
-            q[i] = self.plan.input_sketch[i] if val is None else val
+            q[i] = held[i] if val is None else val
             qd[i] = rates.get(name, 1.0 if swept else 0.0)
             qdd[i] = accels.get(name, 0.0)
         result = solve_kinematics(
-            self.plan,
+            plan,
             self.assembly,
             q,
             qd,
@@ -298,8 +344,11 @@ class Mechanism:
             workers=workers,
             progress=progress,
             continuation=continuation,
+            unbuildable=unbuildable,
             **({} if chunk is None else {"chunk": int(chunk)}),
         )
+        if given:
+            result = dataclasses.replace(result, parameters={k: v for k, v in given.items()})
         if time is not None:
             result = result.with_time(np.asarray(time, dtype=np.float64).reshape(n))
         if strict and not result.status.all_ok:
@@ -353,7 +402,7 @@ class Mechanism:
         """
         from excavkin.kinetostatics import solve_forces
 
-        if result.plan is not self.plan:
+        if result.plan.model is not self.plan.model:  # (a family of designs has its own plan)
             raise InputError("the kinematic result belongs to another mechanism")
         given = self.loads if loads is None else [_load_in_si(load) for load in loads]
         return solve_forces(result, given, system=self.statics)

@@ -41,6 +41,7 @@ class Code(IntEnum):
     NOT_FINITE = 7
     UNDETERMINED = 8
     IMPRECISE = 9
+    BAD_DESIGN = 10
 
 
 @dataclass(slots=True)

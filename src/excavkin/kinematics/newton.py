@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.kinematics.kernels import Chunk, Code, F, dist, flag
+from excavkin.structure.design import take_step
 from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, NewtonGroup
 
 Grad = list[tuple[int, F | float, F | float]]
@@ -211,8 +212,9 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
     sub = c
     # converged at 1e-14 of the size in double precision, proportionally finer in a wider one
     small = 1e-14 * scale * float(np.finfo(c.x.dtype).eps / np.finfo(np.float64).eps)
+    group = g
     for _ in range(max_iter):
-        res, jac, _, _ = _system(sub, g, 0)
+        res, jac, _, _ = _system(sub, group, 0)
         step, sing = _safe_solve(jac, -res, 1e-13)
         step[sing] = 0.0
         for j, p in enumerate(pts):
@@ -226,6 +228,7 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
         if not moving.all():
             live = live[moving]
             sub = _samples(c, live)
+            group = take_step(g, live)  # type: ignore[assignment]
     res, _, _, _ = _system(c, g, 0)
     bad = ~(np.max(np.abs(res), axis=1) <= 1e-10 * scale * scale) | ~np.isfinite(res).all(axis=1)
     flag(c, bad, Code.NO_CONVERGENCE, k)

@@ -29,6 +29,7 @@ import numpy as np
 from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.result import Derived
 from excavkin.kinematics.steps import run_steps
+from excavkin.structure.design import take
 from excavkin.structure.plan import (
     Dyad,
     NewtonGroup,
@@ -161,7 +162,7 @@ def _solve_wide(
     difference and output move by :data:`NUDGE` units of the wide rounding, with a sign per
     sample drawn from that seed."""
     assert WIDE is not None
-    sub = _subset_plan(plan, pick)
+    sub = take(plan, pick)
     k = pick.size
     q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
     moves = None
@@ -192,18 +193,6 @@ def _solve_wide(
         run_steps(sub, c, 2)
         derived.fill(plan, x, v, a, slice(None))
     return _Wide(Arrays(x, v, a, trans, derived), status, failed)
-
-
-def _subset_plan(plan: SolvePlan, pick: np.ndarray) -> SolvePlan:
-    """The plan for a subset of samples: per-sample branch signs (a smooth continuation's)
-    taken at those samples."""
-    steps = list(plan.steps)
-    changed = False
-    for k, st in enumerate(steps):
-        if isinstance(st, Dyad) and np.ndim(st.sign):
-            steps[k] = dataclasses.replace(st, sign=np.asarray(st.sign)[pick])  # type: ignore[arg-type]
-            changed = True
-    return dataclasses.replace(plan, steps=tuple(steps)) if changed else plan
 
 
 _KINDS = (

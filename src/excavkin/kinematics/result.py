@@ -36,6 +36,7 @@ _REASON = {
     Code.NOT_FINITE: "a result overflows (inputs or rates too large for double precision)",
     Code.UNDETERMINED: "undetermined (its two partners coincide)",
     Code.IMPRECISE: "rates lose precision near a dead position",
+    Code.BAD_DESIGN: "the design's dimensions build no mechanism",
 }
 
 
@@ -89,7 +90,7 @@ class Status:
         code = Code(int(self.code[i]))
         if code == Code.OK:
             return "ok"
-        if code in (Code.BAD_INPUT, Code.BAD_LENGTH, Code.NOT_FINITE):
+        if code in (Code.BAD_INPUT, Code.BAD_LENGTH, Code.NOT_FINITE, Code.BAD_DESIGN):
             return _REASON[code]
         return f"{_REASON[code]} at {self.where(int(self.step[i]))}"
 
@@ -166,6 +167,9 @@ class KinematicResult:
         solve, :mod:`excavkin.kinematics.precision`); NaN for the samples far from one (not
         checked, their rounding error is far below 1e-8) and for those that did not solve.
         Rows whose estimate exceeds 1e-8 are marked "rates lose precision".
+    parameters : dict, optional
+        The dimensions given per sample (``Mechanism.solve(..., params=)``), SI, each a scalar
+        or shape (n,).
     """
 
     plan: SolvePlan
@@ -189,6 +193,7 @@ class KinematicResult:
     time: F | None = None
     change_points: tuple[ChangePoint, ...] = ()
     error_estimate: F | None = None
+    parameters: dict[str, F] | None = None
 
     @classmethod
     def build(

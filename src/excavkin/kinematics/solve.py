@@ -25,6 +25,7 @@ from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.newton import rotary_branch_ok
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
+from excavkin.structure.design import take
 from excavkin.structure.plan import (
     Dyad,
     NewtonGroup,
@@ -76,6 +77,7 @@ def solve_kinematics(
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
     continuation: str = "side",
+    unbuildable: np.ndarray | None = None,
 ) -> KinematicResult:
     """Positions, velocities and accelerations of every point for every sample.
 
@@ -101,6 +103,8 @@ def solve_kinematics(
         its sketch side (``"side"``) or continue the motion onto the other side (``"smooth"``:
         the samples are then taken in order, as a path). Either way the result lists the change
         points it found.
+    unbuildable : ndarray of bool, shape (n,), optional
+        Samples whose design (a plan with per-sample dimensions) builds no mechanism.
 
     Returns
     -------
@@ -116,6 +120,10 @@ def solve_kinematics(
     failed = np.full(n, -1, dtype=np.int16)
     q_given = q
     q = _check_inputs(plan, q, qd, qdd, status)
+    if unbuildable is not None and unbuildable.any():
+        status[unbuildable & (status == Code.OK)] = Code.BAD_DESIGN
+        q = q.copy()
+        q[:, unbuildable] = np.nan
     derived = Derived.empty(plan, n)
     report = _Reporter(progress, n)
     newton_near = np.ones(n) if plan.has_newton else None
@@ -160,6 +168,7 @@ def _solve_chunks(
     def one(s: int) -> None:
         e = min(s + chunk, n)
         part = slice(s, e)
+        here = take(plan, part)  # a design's dimensions, where they vary per sample
         c = Chunk(
             full.x[:, :, part],
             full.v[:, :, part],
@@ -174,7 +183,7 @@ def _solve_chunks(
             full.singular_tol,
         )
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            run_steps(plan, c, 2)
+            run_steps(here, c, 2)
             derived.fill(plan, c.x, c.v, c.a, part)
             _flag_not_finite(c.x, c.v, c.a, c.trans, derived, part, c.status)
         report(e - s)
@@ -359,9 +368,10 @@ def _continue_along_sweep(plan: SolvePlan, assembly: Assembly, full: Chunk, step
     mini.status[:] = 0
     leg = _wrapped(q[:, k0 : k0 + 1] - q0, plan)
     first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)
+    first_plan = take(plan, np.array([k0]))
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
-        run_steps(plan, mini, 0)
+        run_steps(first_plan, mini, 0)
     full.x[:] = mini.x
     # then along the sweep: at stage s, sample i stands s/S of its way from k0 along the sweep
     jump = np.abs(_wrapped(np.diff(q, axis=1), plan)) / steps
@@ -404,6 +414,7 @@ def _continue_from_sketch(
     c.x[:] = assembly.positions[:, :, None]
     c.status[:] = 0
     c.failed[:] = -1
+    plan = take(plan, samples)
     for k in range(1, stages + 1):
         c.q = q0 + delta * (k / stages)
         run_steps(plan, c, 0)

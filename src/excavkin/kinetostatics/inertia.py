@@ -24,6 +24,7 @@ import numpy as np
 
 from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
+from excavkin.structure.design import design_masses
 from excavkin.structure.plan import SolvePlan
 
 __all__ = [
@@ -41,11 +42,11 @@ class MassProperties:
 
     Attributes
     ----------
-    mass : ndarray, shape (n_bodies,)
-        kg.
-    inertia : ndarray, shape (n_bodies,)
+    mass : ndarray, shape (n_bodies,) or (n_bodies, n)
+        kg (the second form: one value per sample, for a family of designs).
+    inertia : ndarray, shape (n_bodies,) or (n_bodies, n)
         kg·m² about the centre of mass.
-    com : ndarray, shape (n_bodies, 2)
+    com : ndarray, shape (n_bodies, 2) or (n_bodies, 2, n)
         (s, t) of the centre of mass on the base vector p0→p1 (see the module docstring).
     base : ndarray of int, shape (n_bodies, 2)
         Indices of p0 and p1.
@@ -55,6 +56,24 @@ class MassProperties:
     inertia: F
     com: F
     base: np.ndarray
+
+    @classmethod
+    def of(cls, result: KinematicResult) -> MassProperties:
+        """The mass properties a result was solved with: its plan's, or, for a family of
+        designs whose dimensions or masses vary per sample, one value per sample."""
+        given = result.parameters or {}
+        if not given:
+            return cls.from_plan(result.plan)
+        mass, inertia, com = design_masses(result.plan.model, given, len(result))
+        return cls(mass, inertia, com, np.asarray(result.plan.body_base, dtype=np.intp))
+
+    def at(self, part: slice) -> MassProperties:
+        """The samples ``part`` of per-sample properties (constant ones as they are)."""
+        if self.mass.ndim == 1:
+            return self
+        return MassProperties(
+            self.mass[:, part], self.inertia[:, part], self.com[:, :, part], self.base
+        )
 
     @classmethod
     def from_plan(cls, plan: SolvePlan) -> MassProperties:
@@ -81,7 +100,8 @@ class MassProperties:
     @property
     def massive(self) -> tuple[int, ...]:
         """Indices of the bodies with a mass."""
-        return tuple(int(j) for j in np.flatnonzero(self.mass > 0))
+        massive = self.mass > 0 if self.mass.ndim == 1 else (self.mass > 0).any(axis=1)
+        return tuple(int(j) for j in np.flatnonzero(massive))
 
 
 def _soa(result: KinematicResult) -> tuple[F, F, F]:
@@ -113,7 +133,7 @@ def centre_of_mass(result: KinematicResult, mass: MassProperties | None = None) 
     position, velocity, acceleration : ndarray, shape (n, n_bodies, 2)
         NaN for bodies without a mass and for the ground.
     """
-    mp = mass or MassProperties.from_plan(result.plan)
+    mp = mass or MassProperties.of(result)
     x, v, a = _soa(result)
     n = len(result)
     out = np.full((3, len(mp.mass), 2, n), np.nan)
@@ -140,7 +160,7 @@ def inertia_loads(result: KinematicResult, mass: MassProperties | None = None) -
     couple : ndarray, shape (n, n_bodies)
         ``−J·ε``, N·m.
     """
-    mp = mass or MassProperties.from_plan(result.plan)
+    mp = mass or MassProperties.of(result)
     _, _, a = _soa(result)
     n = len(result)
     force = np.zeros((len(mp.mass), 2, n))
@@ -158,7 +178,7 @@ def inertia_loads(result: KinematicResult, mass: MassProperties | None = None) -
 
 def kinetic_energy(result: KinematicResult, mass: MassProperties | None = None) -> F:
     """Kinetic energy ``Σ ½·m·|v_S|² + ½·J·ω²``, J, shape (n,)."""
-    mp = mass or MassProperties.from_plan(result.plan)
+    mp = mass or MassProperties.of(result)
     _, v, _ = _soa(result)
     om = np.moveaxis(result.body_omega, 0, -1)
     out = np.zeros(len(result))
@@ -171,7 +191,7 @@ def kinetic_energy(result: KinematicResult, mass: MassProperties | None = None) 
 
 def kinetic_energy_rate(result: KinematicResult, mass: MassProperties | None = None) -> F:
     """Rate of change of the kinetic energy ``dT/dt = Σ m·a_S·v_S + J·ε·ω``, W, shape (n,)."""
-    mp = mass or MassProperties.from_plan(result.plan)
+    mp = mass or MassProperties.of(result)
     _, v, a = _soa(result)
     om = np.moveaxis(result.body_omega, 0, -1)
     eps = np.moveaxis(result.body_epsilon, 0, -1)

@@ -58,13 +58,14 @@ def _body_loads(
         couples[body] = _add(couples.get(body, 0.0), t)
         if reaction >= 0:
             couples[reaction] = _add(couples.get(reaction, 0.0), -t)
+    massive = set(mp.massive)
     for j in sy.moving:
         fx: Value = 0.0
         fy: Value = 0.0
         mz: Value = couples.get(j, 0.0)
         i0, i1 = mp.base[j]
-        m = float(mp.mass[j])
-        if m > 0.0:
+        m = mp.mass[j]
+        if j in massive:
             s, t = mp.com[j]
             wx = x[i1, 0] - x[i0, 0]
             wy = x[i1, 1] - x[i0, 1]
@@ -81,8 +82,8 @@ def _body_loads(
             fx, fy = sx, sy_
             if a is not None or g is not None:
                 mz = _add(mz, dx * sy_ - dy * sx)
-            if eps is not None and mp.inertia[j] != 0.0:
-                mz = _add(mz, -float(mp.inertia[j]) * eps[j])
+            if eps is not None and np.any(mp.inertia[j] != 0.0):
+                mz = _add(mz, -mp.inertia[j] * eps[j])
         for point, px, py in by_body.get(j, ()):
             px_ = px if isinstance(px, float) else px[sl]
             py_ = py if isinstance(py, float) else py[sl]
@@ -148,7 +149,7 @@ def solve_forces(
     model = plan.model
     checked = check_loads(model, loads)
     sy = system if system is not None else compile_statics(model)
-    mp = MassProperties.from_plan(plan)
+    mp = MassProperties.of(result)
     ev = evaluate_loads(model, checked, result)
     n = len(result)
     x = np.moveaxis(result.positions, 0, -1)
@@ -165,7 +166,7 @@ def solve_forces(
                 xc = x[:, :, sl]
                 rhs = _body_loads(
                     sy,
-                    mp,
+                    mp.at(sl),
                     ev,
                     xc,
                     None if a is None else a[:, :, sl],

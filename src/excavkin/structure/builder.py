@@ -343,7 +343,14 @@ class PlanBuilder:
             for a in body.points:
                 if a != p and a in self.known:
                     d = self.shapes[body.name].distance(p, a)
-                    out.append((a, Dist("fixed", d, label=f"body {body.name!r}"), bi, -1))
+                    dist = Dist(
+                        "fixed",
+                        d,
+                        label=f"body {body.name!r}",
+                        pair=(self.idx[p], self.idx[a]),
+                        body=body.name,
+                    )
+                    out.append((a, dist, bi, -1))
         for ei, el in enumerate(self.elements):
             if ei in self.used_elem or el.mode == "free":
                 continue
@@ -371,11 +378,17 @@ class PlanBuilder:
                 continue
             p0, p1 = b.points[0], b.points[1]
             sh = self.shapes[b.name]
-            d01 = Dist("fixed", sh.distance(p0, p1), label=f"body {b.name!r}")
+            d01 = Dist(
+                "fixed",
+                sh.distance(p0, p1),
+                label=f"body {b.name!r}",
+                pair=(idx[p0], idx[p1]),
+                body=b.name,
+            )
             cons.append(CDist(idx[p0], idx[p1], d01))
             for pi in b.points[2:]:
                 s, t = sh.frame_coords(pi, p0, p1)
-                cons.append(CFrame(idx[pi], idx[p0], idx[p1], s, t))
+                cons.append(CFrame(idx[pi], idx[p0], idx[p1], s, t, b.name))
             self.body_used[bi] += 2 * len(b.points) - 3
         return cons
 
@@ -491,7 +504,7 @@ def _element_dist(el: Element) -> Dist:
     """A driven element's distance is its input; a locked one's is its fixed length."""
     if el.mode == "driven":
         return Dist("input", el.length, el.input, label=el.name)
-    return Dist("fixed", el.length, label=f"locked {el.name!r}")
+    return Dist("fixed", el.length, label=f"locked {el.name!r}", pair=(el.p, el.q))
 
 
 def _unit(p: tuple[float, float], q: tuple[float, float]) -> tuple[float, float]:

@@ -38,6 +38,10 @@ class Dist:
     value: float
     input: int = -1
     label: str = ""
+    #: where a fixed distance comes from, so that a design of other dimensions can recompute
+    #: it: the two points (plan indices), and the body they are on ("" for a locked element)
+    pair: tuple[int, int] = (-1, -1)
+    body: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -117,6 +121,7 @@ class CFrame:
     b: int
     s: float
     t: float
+    body: str = ""
 
 
 @dataclass(frozen=True, slots=True)

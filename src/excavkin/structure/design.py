@@ -1,0 +1,356 @@
+"""Geometry as a batch axis: a model's dimensions as named parameters, and a plan whose
+constants hold one value per design.
+
+Every dimension of a model is a parameter with a name and a nominal SI value
+(:func:`parameters`):
+
+=========================  ==========================================================
+``P.x``, ``P.y``           the sketch coordinates of every point
+``"A-B"``                  every ``[lengths]`` entry, by its key
+``BODY.mass``              a body's mass, kg
+``BODY.inertia``           its moment of inertia about the centre of mass, kg·m²
+``BODY.center_of_mass.x``  its centre of mass in sketch coordinates (and ``.y``), m
+=========================  ==========================================================
+
+:func:`design_plan` recomputes the plan's constants (ground coordinates, radii, body
+distances, attachment coefficients, locked lengths) for arrays of parameter values, with the
+same arithmetic as the plan builder, through the same body shapes
+(:func:`~excavkin.structure.shapes.local_frame`). The plan's structure and its branch rule (each
+dyad keeps its nominal sketch side) are shared by every design. A design that cannot be built
+(a body whose first two points coincide, distances that form no triangle) is marked, not
+raised.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from excavkin.errors import unknown_name
+from excavkin.model.entities import Model
+from excavkin.structure.plan import (
+    Attach,
+    CDist,
+    CFrame,
+    Dist,
+    Dyad,
+    Fixed,
+    NewtonGroup,
+    Rotate,
+    SliderStep,
+    SolvePlan,
+    Step,
+)
+from excavkin.structure.shapes import LocalFrame, com_coords, local_frame
+
+F = NDArray[np.float64]
+Num = Any  # a float, or an array of one value per design
+
+#: the kind of value of each parameter suffix (for units at the edges)
+KIND_OF = {"x": "length", "y": "length", "mass": "mass", "inertia": "inertia"}
+
+
+def parameters(model: Model) -> dict[str, float]:
+    """Every dimension of the model by name, at its nominal SI value."""
+    out: dict[str, float] = {}
+    for name, (x, y) in model.points.items():
+        out[f"{name}.x"], out[f"{name}.y"] = float(x), float(y)
+    for (p, q), value in model.lengths.items():
+        out[f"{p}-{q}"] = float(value)
+    for b in model.bodies:
+        if b.mass is not None:
+            out[f"{b.name}.mass"] = float(b.mass)
+        if b.inertia is not None:
+            out[f"{b.name}.inertia"] = float(b.inertia)
+        if b.center_of_mass is not None:
+            out[f"{b.name}.center_of_mass.x"] = float(b.center_of_mass[0])
+            out[f"{b.name}.center_of_mass.y"] = float(b.center_of_mass[1])
+    return out
+
+
+def parameter_kind(name: str) -> str:
+    """``"length"``, ``"mass"`` or ``"inertia"``: what a parameter measures."""
+    return KIND_OF.get(name.rsplit(".", 1)[-1], "length")
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class Designs:
+    """A family of designs of one model.
+
+    Attributes
+    ----------
+    plan : SolvePlan
+        The model's plan with every constant that varies held as an array, shape (n,).
+    input_sketch : ndarray, shape (n_inputs, n)
+        Each design's driver values at its sketch (what a held driver keeps).
+    unbuildable : ndarray of bool, shape (n,)
+        Designs whose dimensions build no mechanism.
+    values : dict
+        The parameters given, as arrays of shape (n,).
+    """
+
+    plan: SolvePlan
+    input_sketch: F
+    unbuildable: NDArray[np.bool_]
+    values: dict[str, F]
+
+
+class _Geometry:
+    """The model's sketch and overrides with the given parameters, and its body frames."""
+
+    def __init__(self, model: Model, values: Mapping[str, F]) -> None:
+        self.model = model
+        self.sketch: dict[str, tuple[Num, Num]] = {
+            n: (values.get(f"{n}.x", x), values.get(f"{n}.y", y))
+            for n, (x, y) in model.points.items()
+        }
+        self.lengths: dict[tuple[str, str], Num] = {
+            (p, q): values.get(f"{p}-{q}", v) for (p, q), v in model.lengths.items()
+        }
+        self.frames: dict[str, LocalFrame] = {}
+        self.bad: Num = False
+        for b in model.bodies:
+            if len(b.points) >= 2:
+                frame = local_frame(b, self.sketch, self.lengths)
+                self.frames[b.name] = frame
+                self.bad = self.bad | ~(frame.base > 0.0)
+                for *_, bad in frame.triangles.values():
+                    self.bad = self.bad | bad
+
+    def distance(self, body: str, p: str, q: str) -> Num:
+        (x1, y1), (x2, y2) = self.frames[body].local[p], self.frames[body].local[q]
+        return np.hypot(x2 - x1, y2 - y1)
+
+    def frame_coords(self, body: str, p: str, a: str, b: str) -> tuple[Num, Num]:
+        loc = self.frames[body].local
+        (ax, ay), (bx, by), (px, py) = loc[a], loc[b], loc[p]
+        wx, wy = bx - ax, by - ay
+        rx, ry = px - ax, py - ay
+        w2 = wx * wx + wy * wy
+        return (rx * wx + ry * wy) / w2, (wx * ry - wy * rx) / w2
+
+    def override(self, p: str, q: str) -> Num | None:
+        return self.lengths.get((p, q), self.lengths.get((q, p)))
+
+    def unit(self, p: str, q: str) -> tuple[Num, Num]:
+        (px, py), (qx, qy) = self.sketch[p], self.sketch[q]
+        dx, dy = px - qx, py - qy
+        r = np.hypot(dx, dy)
+        return dx / r, dy / r
+
+
+def design_plan(plan: SolvePlan, values: Mapping[str, Any], n: int) -> Designs:
+    """The plan's constants for ``n`` designs.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        The nominal model's plan.
+    values : mapping
+        Parameter name → SI value: a scalar (every design) or an array of shape (n,).
+    n : int
+        The number of designs (samples).
+
+    Raises
+    ------
+    InputError
+        An unknown parameter (with the nearest names), or an array of another length.
+    """
+    model = plan.model
+    known = parameters(model)
+    arrays: dict[str, F] = {}
+    for name, value in values.items():
+        if name not in known:
+            raise unknown_name("parameter", name, list(known))
+        arr = np.asarray(value, dtype=np.float64)
+        arrays[name] = np.broadcast_to(arr, (n,)).copy() if arr.ndim == 0 else arr
+        if arrays[name].shape != (n,):
+            from excavkin.errors import InputError
+
+            raise InputError(
+                f"parameter {name!r} has {arrays[name].shape} values for {n} samples; give a "
+                "scalar or one value per sample"
+            )
+    geo = _Geometry(model, arrays)
+    names = plan.points
+    steps = [_step(st, geo, names, model) for st in plan.steps]
+    varied = dataclasses.replace(plan, steps=tuple(steps))
+    sketch = _input_sketch(plan, geo, n)
+    bad = np.broadcast_to(np.asarray(geo.bad | ~np.isfinite(sketch).all(axis=0)), (n,)).copy()
+    return Designs(varied, sketch, bad, arrays)
+
+
+def _varies(value: Num) -> bool:
+    return bool(np.ndim(value))
+
+
+def _dist(d: Dist, geo: _Geometry, names: tuple[str, ...]) -> Dist:
+    if d.kind != "fixed" or d.pair == (-1, -1):
+        return d
+    p, q = names[d.pair[0]], names[d.pair[1]]
+    if d.body:
+        value = geo.distance(d.body, p, q)
+    else:  # a locked element: its [lengths] entry, or its sketch length
+        given = geo.override(p, q)
+        (px, py), (qx, qy) = geo.sketch[p], geo.sketch[q]
+        value = given if given is not None else np.hypot(px - qx, py - qy)
+    return dataclasses.replace(d, value=value) if _varies(value) else d
+
+
+def _step(st: Step, geo: _Geometry, names: tuple[str, ...], model: Model) -> Step:
+    """One step with its constants for the designs (those that do not vary kept as they are)."""
+    if isinstance(st, Fixed):
+        coords = _ground_coords(geo, model)
+        if any(_varies(c) for xy in coords for c in xy):
+            return dataclasses.replace(st, coords=coords)
+        return st
+    if isinstance(st, Rotate):
+        body = next(d.body for d in model.rotary if d.name == st.driver)
+        radius = geo.distance(body, names[st.point], names[st.pivot])
+        return dataclasses.replace(st, radius=radius) if _varies(radius) else st
+    if isinstance(st, Attach):
+        s, t = geo.frame_coords(st.body, names[st.point], names[st.a], names[st.b])
+        return dataclasses.replace(st, s=s, t=t) if _varies(s) or _varies(t) else st
+    if isinstance(st, Dyad):
+        return dataclasses.replace(st, da=_dist(st.da, geo, names), db=_dist(st.db, geo, names))
+    if isinstance(st, SliderStep):
+        return dataclasses.replace(st, da=_dist(st.da, geo, names))
+    assert isinstance(st, NewtonGroup)
+    cons = []
+    for con in st.constraints:
+        if isinstance(con, CDist):
+            con = dataclasses.replace(con, dist=_dist(con.dist, geo, names))
+        elif isinstance(con, CFrame) and con.body:
+            s, t = geo.frame_coords(con.body, names[con.p], names[con.a], names[con.b])
+            if _varies(s) or _varies(t):
+                con = dataclasses.replace(con, s=s, t=t)
+        cons.append(con)
+    return dataclasses.replace(st, constraints=tuple(cons))
+
+
+def _ground_coords(geo: _Geometry, model: Model) -> tuple[tuple[Num, Num], ...]:
+    """As the plan builder places the ground: its sketch, or its shape where reshaped."""
+    ground = model.ground
+    members = set(ground.points)
+    reshaped = any(p in members and q in members for p, q in model.lengths)
+    if not reshaped:
+        return tuple(geo.sketch[n] for n in ground.points)
+    g0 = ground.points[0]
+    gex, gey = geo.unit(ground.points[1], g0)
+    local = geo.frames[ground.name].local
+    x0, y0 = geo.sketch[g0]
+    return tuple(
+        (x0 + local[n][0] * gex - local[n][1] * gey, y0 + local[n][0] * gey + local[n][1] * gex)
+        for n in ground.points
+    )
+
+
+def _input_sketch(plan: SolvePlan, geo: _Geometry, n: int) -> F:
+    """Each design's driver values at its sketch, as the plan builder reads them."""
+    model = geo.model
+    out = np.empty((len(plan.inputs), n))
+    for i, value in enumerate(plan.input_sketch):
+        out[i] = value
+    sk = geo.sketch
+    for d in model.rotary:
+        p = next(x for x in model.body(d.body).points if x != d.pivot)
+        ref = model.body(d.reference)
+        ex, ey = (1.0, 0.0) if ref.ground else geo.unit(ref.points[1], ref.points[0])
+        dx, dy = sk[p][0] - sk[d.pivot][0], sk[p][1] - sk[d.pivot][1]
+        out[plan.inputs.index(d.name)] = np.arctan2(ex * dy - ey * dx, ex * dx + ey * dy)
+    for ld in model.linear:
+        if ld.mode == "driven":
+            p, q = ld.between
+            given = geo.override(p, q)
+            (px, py), (qx, qy) = sk[p], sk[q]
+            out[plan.inputs.index(ld.name)] = (
+                given if given is not None else np.hypot(px - qx, py - qy)
+            )
+    return out
+
+
+def design_masses(model: Model, values: Mapping[str, Any], n: int) -> tuple[F, F, F]:
+    """Each body's mass, moment of inertia and centre of mass (as (s, t) on its base vector
+    p0→p1) for ``n`` designs: shapes (n_bodies, n), (n_bodies, n) and (n_bodies, 2, n). A body
+    with a mass but no centre of mass takes the centroid of its points; the ground and
+    massless bodies carry zeros."""
+    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
+    geo = _Geometry(model, arrays)
+    nb = len(model.bodies)
+    mass, inertia, com = np.zeros((nb, n)), np.zeros((nb, n)), np.zeros((nb, 2, n))
+    for j, b in enumerate(model.bodies):
+        if b.ground or b.mass is None:
+            continue
+        mass[j] = arrays.get(f"{b.name}.mass", b.mass)
+        inertia[j] = arrays.get(f"{b.name}.inertia", b.inertia or 0.0)
+        if b.center_of_mass is not None:
+            cx = arrays.get(f"{b.name}.center_of_mass.x", b.center_of_mass[0])
+            cy = arrays.get(f"{b.name}.center_of_mass.y", b.center_of_mass[1])
+            com[j, 0], com[j, 1] = com_coords(
+                geo.sketch[b.points[0]], geo.sketch[b.points[1]], (cx, cy)
+            )
+        else:  # centroid of the body's points, in units of the base vector
+            local = geo.frames[b.name].local
+            d01 = geo.distance(b.name, b.points[0], b.points[1])
+            com[j, 0] = sum(local[p][0] for p in b.points) / len(b.points) / d01
+            com[j, 1] = sum(local[p][1] for p in b.points) / len(b.points) / d01
+    return mass, inertia, com
+
+
+def take(plan: SolvePlan, index: slice | NDArray[np.intp]) -> SolvePlan:
+    """The plan for a subset of samples: every per-sample constant (a design's dimensions, a
+    smooth continuation's branch signs) taken at ``index``."""
+    steps = [take_step(st, index) for st in plan.steps]
+    if all(a is b for a, b in zip(steps, plan.steps, strict=True)):
+        return plan
+    return dataclasses.replace(plan, steps=tuple(steps))
+
+
+def _at(value: Any, index: slice | NDArray[np.intp]) -> Any:
+    return np.asarray(value)[index] if np.ndim(value) else value
+
+
+def _take_dist(d: Dist, index: slice | NDArray[np.intp]) -> Dist:
+    return dataclasses.replace(d, value=_at(d.value, index)) if np.ndim(d.value) else d
+
+
+def take_step(st: Step, index: slice | NDArray[np.intp]) -> Step:
+    """One step's per-sample constants taken at ``index``."""
+    if isinstance(st, Fixed):
+        if any(np.ndim(c) for xy in st.coords for c in xy):
+            coords = tuple((_at(x, index), _at(y, index)) for x, y in st.coords)
+            return dataclasses.replace(st, coords=coords)
+        return st
+    if isinstance(st, Rotate):
+        return dataclasses.replace(st, radius=_at(st.radius, index)) if np.ndim(st.radius) else st
+    if isinstance(st, Attach):
+        if np.ndim(st.s) or np.ndim(st.t):
+            return dataclasses.replace(st, s=_at(st.s, index), t=_at(st.t, index))
+        return st
+    if isinstance(st, Dyad):
+        if np.ndim(st.sign) or np.ndim(st.da.value) or np.ndim(st.db.value):
+            return dataclasses.replace(
+                st,
+                da=_take_dist(st.da, index),
+                db=_take_dist(st.db, index),
+                sign=_at(st.sign, index),
+            )
+        return st
+    if isinstance(st, SliderStep):
+        return dataclasses.replace(st, da=_take_dist(st.da, index)) if np.ndim(st.da.value) else st
+    assert isinstance(st, NewtonGroup)
+    cons = []
+    changed = False
+    for con in st.constraints:
+        if isinstance(con, CDist) and np.ndim(con.dist.value):
+            con = dataclasses.replace(con, dist=_take_dist(con.dist, index))
+            changed = True
+        elif isinstance(con, CFrame) and (np.ndim(con.s) or np.ndim(con.t)):
+            con = dataclasses.replace(con, s=_at(con.s, index), t=_at(con.t, index))
+            changed = True
+        cons.append(con)
+    return dataclasses.replace(st, constraints=tuple(cons)) if changed else st
