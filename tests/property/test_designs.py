@@ -163,10 +163,10 @@ def test_a_held_driver_keeps_its_own_designs_sketch_value() -> None:
     mech = excavkin.load(excavkin.example_path("excavator"))
     n = 3
     values = {"boom_cyl": np.full(n, mech.sketch_values()["boom_cyl"])}
-    moved = mech.parameters["H.x"] + np.array([0.0, 0.02, -0.02])
-    res = mech.solve(values, params={"H.x": moved})
+    moved = mech.parameters["E.x"] + np.array([0.0, 0.02, -0.02])
+    res = mech.solve(values, params={"E.x": moved})
     arm = res.driver("arm_cyl")[0]
     for i in range(n):
-        own = excavkin.Mechanism(as_own_model(mech.model, {"H.x": float(moved[i])}))
+        own = excavkin.Mechanism(as_own_model(mech.model, {"E.x": float(moved[i])}))
         assert arm[i] == own.sketch_values()["arm_cyl"]
     assert arm[1] != arm[0]
