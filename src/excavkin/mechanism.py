@@ -10,7 +10,7 @@ True
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
@@ -239,6 +239,7 @@ class Mechanism:
         continuation: Literal["side", "smooth"] = "side",
         loads: Iterable[Load] | Literal["model"] | None = None,
         params: Mapping[str, Any] | None = None,
+        sensitivities: Sequence[str] | None = None,
     ) -> KinematicResult | ForceResult:
         """Positions, velocities and accelerations for a batch of driver inputs.
 
@@ -277,6 +278,9 @@ class Mechanism:
             (the plan and each dyad's sketch side are shared); a held driver keeps its own
             design's sketch value; a design that builds no mechanism is marked "the design's
             dimensions build no mechanism".
+        sensitivities : sequence of str, optional
+            Parameters to differentiate every column by (exactly, forward mode through the
+            plan): ``result.sensitivity("B.x", "A-B")`` then gives dB.x/d(A-B) per sample.
 
         Returns
         -------
@@ -349,6 +353,11 @@ class Mechanism:
         )
         if given:
             result = dataclasses.replace(result, parameters={k: v for k, v in given.items()})
+        if sensitivities:
+            from excavkin.kinematics.sensitivity import solve_tangents
+
+            tangents = solve_tangents(result, list(sensitivities), given)
+            result = dataclasses.replace(result, tangents=tangents)
         if time is not None:
             result = result.with_time(np.asarray(time, dtype=np.float64).reshape(n))
         if strict and not result.status.all_ok:

@@ -170,6 +170,9 @@ class KinematicResult:
     parameters : dict, optional
         The dimensions given per sample (``Mechanism.solve(..., params=)``), SI, each a scalar
         or shape (n,).
+    tangents : dict, optional
+        Per parameter asked for (``solve(..., sensitivities=)``), a result whose columns are the
+        derivatives of these columns with respect to it: read them with :meth:`sensitivity`.
     """
 
     plan: SolvePlan
@@ -194,6 +197,7 @@ class KinematicResult:
     change_points: tuple[ChangePoint, ...] = ()
     error_estimate: F | None = None
     parameters: dict[str, F] | None = None
+    tangents: dict[str, KinematicResult] | None = None
 
     @classmethod
     def build(
@@ -299,6 +303,21 @@ class KinematicResult:
     def columns(self) -> tuple[Column, ...]:
         """What each column of :meth:`to_frame` holds (``status`` aside), in table order."""
         return tuple(c for c, _ in self._columns())
+
+    def sensitivity(self, column: str, parameter: str) -> F:
+        """d(column)/d(parameter) per sample, SI per SI unit, shape (n,): exact derivatives
+        by forward-mode differentiation through the plan (``solve(..., sensitivities=[...])``
+        asks for them). NaN where the sample did not solve."""
+        if not self.tangents:
+            from excavkin.errors import InputError
+
+            raise InputError(
+                "this result has no sensitivities: solve with sensitivities=[...] naming the "
+                "parameters"
+            )
+        if parameter not in self.tangents:
+            raise unknown_name("parameter with sensitivities", parameter, list(self.tangents))
+        return self.tangents[parameter].column(column)
 
     def column(self, name: str) -> F:
         """One column of :meth:`to_frame` by name, without building the table."""

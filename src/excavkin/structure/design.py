@@ -102,7 +102,7 @@ class Designs:
 class _Geometry:
     """The model's sketch and overrides with the given parameters, and its body frames."""
 
-    def __init__(self, model: Model, values: Mapping[str, F]) -> None:
+    def __init__(self, model: Model, values: Mapping[str, Any]) -> None:
         self.model = model
         self.sketch: dict[str, tuple[Num, Num]] = {
             n: (values.get(f"{n}.x", x), values.get(f"{n}.y", y))
@@ -175,13 +175,22 @@ def design_plan(plan: SolvePlan, values: Mapping[str, Any], n: int) -> Designs:
                 f"parameter {name!r} has {arrays[name].shape} values for {n} samples; give a "
                 "scalar or one value per sample"
             )
-    geo = _Geometry(model, arrays)
-    names = plan.points
-    steps = [_step(st, geo, names, model) for st in plan.steps]
-    varied = dataclasses.replace(plan, steps=tuple(steps))
-    sketch = _input_sketch(plan, geo, n)
-    bad = np.broadcast_to(np.asarray(geo.bad | ~np.isfinite(sketch).all(axis=0)), (n,)).copy()
+    varied, held, bad = vary(plan, arrays)
+    sketch = np.empty((len(plan.inputs), n))
+    for i, value in enumerate(held):
+        sketch[i] = value
+    bad = np.broadcast_to(np.asarray(bad | ~np.isfinite(sketch).all(axis=0)), (n,)).copy()
     return Designs(varied, sketch, bad, arrays)
+
+
+def vary(plan: SolvePlan, values: Mapping[str, Any]) -> tuple[SolvePlan, list[Any], Any]:
+    """The plan with its constants recomputed from the parameter ``values`` (arrays, or any
+    array-like number type such as dual numbers), each input's sketch value, and which
+    designs build no mechanism."""
+    geo = _Geometry(plan.model, values)
+    names = plan.points
+    steps = [_step(st, geo, names, plan.model) for st in plan.steps]
+    return dataclasses.replace(plan, steps=tuple(steps)), _input_sketch(plan, geo), geo.bad
 
 
 def _varies(value: Num) -> bool:
@@ -249,12 +258,10 @@ def _ground_coords(geo: _Geometry, model: Model) -> tuple[tuple[Num, Num], ...]:
     )
 
 
-def _input_sketch(plan: SolvePlan, geo: _Geometry, n: int) -> F:
+def _input_sketch(plan: SolvePlan, geo: _Geometry) -> list[Num]:
     """Each design's driver values at its sketch, as the plan builder reads them."""
     model = geo.model
-    out = np.empty((len(plan.inputs), n))
-    for i, value in enumerate(plan.input_sketch):
-        out[i] = value
+    out: list[Num] = list(plan.input_sketch)
     sk = geo.sketch
     for d in model.rotary:
         p = next(x for x in model.body(d.body).points if x != d.pivot)
@@ -311,7 +318,7 @@ def take(plan: SolvePlan, index: slice | NDArray[np.intp]) -> SolvePlan:
 
 
 def _at(value: Any, index: slice | NDArray[np.intp]) -> Any:
-    return np.asarray(value)[index] if np.ndim(value) else value
+    return value[index] if np.ndim(value) else value
 
 
 def _take_dist(d: Dist, index: slice | NDArray[np.intp]) -> Dist:

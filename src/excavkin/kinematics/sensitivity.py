@@ -1,0 +1,168 @@
+"""Exact design sensitivities: the derivative of every result column with respect to a model's
+dimensions, by forward-mode differentiation through the plan.
+
+The plan's constants are recomputed from the parameters as dual numbers
+(:mod:`excavkin.kinematics.dual`), each carrying a unit tangent for its own parameter, and the
+same closed-form kernels run on them: the tangents that come out are the derivatives of the
+closed forms — of positions, velocities, accelerations, transmission angles, body and driver
+quantities — to round-off, never difference quotients. A driver held at its sketch value moves
+with the dimensions that set that value, and its derivative says so.
+
+The derivatives of the rows whose values are not solved (their status says why) are NaN. Near a
+dead position the derivatives lose precision as the values do (see
+:mod:`excavkin.kinematics.precision`). A plan with a Newton group has no sensitivities yet.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from excavkin.errors import InputError
+from excavkin.kinematics.dual import Dual, seed, zeros
+from excavkin.kinematics.kernels import Chunk, F
+from excavkin.kinematics.result import Derived, KinematicResult, Status
+from excavkin.kinematics.steps import run_steps
+from excavkin.structure.design import parameters, take, vary
+from excavkin.structure.plan import SolvePlan
+
+#: samples per pass (the tangents multiply the memory of a pass by the parameter count)
+CHUNK = 4096
+
+
+def solve_tangents(
+    result: KinematicResult,
+    names: Sequence[str],
+    values: Mapping[str, Any] | None = None,
+) -> dict[str, KinematicResult]:
+    """For each parameter in ``names``, a result whose columns are the derivatives of
+    ``result``'s columns with respect to it (SI per SI unit).
+
+    Parameters
+    ----------
+    result : KinematicResult
+        A solve of the nominal model or of a family of designs (``params=``).
+    names : sequence of str
+        Parameters of :func:`~excavkin.structure.design.parameters`.
+    values : mapping, optional
+        The parameters given per sample (``result.parameters``); the rest are nominal.
+    """
+    plan = result.plan
+    if plan.has_newton:
+        raise InputError(
+            "sensitivities are computed through the closed-form steps; this plan has a Newton "
+            "group (a higher-class group, or method='newton')"
+        )
+    known = parameters(plan.model)
+    for name in names:
+        if name not in known:
+            from excavkin.errors import unknown_name
+
+            raise unknown_name("parameter", name, list(known))
+    n, m = len(result), len(names)
+    given = dict(values or {})
+    base = {**{k: known[k] for k in names}, **{k: v for k, v in given.items() if k in names}}
+    duals: dict[str, Any] = {**given, **seed(base, list(names), n)}
+    dual_plan, held, _ = vary(plan, duals)
+    q = np.moveaxis(result.inputs, 0, -1)
+    qd = np.moveaxis(result.input_rates, 0, -1)
+    qdd = np.moveaxis(result.input_accels, 0, -1)
+    q_dual = _inputs(plan, q, held, m)
+    out = _Tangents(plan, n, m)
+    for s in range(0, n, CHUNK):
+        part = slice(s, min(s + CHUNK, n))
+        out.solve(take(dual_plan, part), q_dual[part], qd[:, part], qdd[:, part], part)
+    return out.results(result, names)
+
+
+def _inputs(plan: SolvePlan, q: F, held: list[Any], m: int) -> _Rows:
+    """The inputs as duals: a driver held at its sketch value carries that value's tangent
+    (where the sketch value does not vary, and for every swept driver, the tangent is 0)."""
+    n = q.shape[1]
+    tan = np.zeros((m, *q.shape))
+    for i, h in enumerate(held):
+        if isinstance(h, Dual):
+            at_sketch = q[i] == np.broadcast_to(h.val, (n,))
+            tan[:, i] = np.where(at_sketch, np.broadcast_to(h.tan, (m, n)), 0.0)
+    return _Rows(Dual(q, tan))
+
+
+class _Rows:
+    """A dual (n_inputs, n) sliced by samples."""
+
+    def __init__(self, d: Dual) -> None:
+        self.d = d
+
+    def __getitem__(self, part: slice) -> Dual:
+        return self.d[:, part]
+
+
+class _Tangents:
+    """The tangent arrays of a whole solve, filled chunk by chunk."""
+
+    def __init__(self, plan: SolvePlan, n: int, m: int) -> None:
+        npts = len(plan.points)
+        self.plan = plan
+        self.m = m
+        self.x = np.full((m, npts, 2, n), np.nan)
+        self.v = np.full_like(self.x, np.nan)
+        self.a = np.full_like(self.x, np.nan)
+        self.q = np.zeros((m, len(plan.inputs), n))
+        self.trans = np.full((m, len(plan.transmissions), n), np.nan)
+        self.body = np.zeros((m, 3, len(plan.bodies), n))
+        self.element = np.full((m, 6, len(plan.elements), n), np.nan)
+
+    def solve(self, plan: SolvePlan, q: Dual, qd: F, qdd: F, part: slice) -> None:
+        m = self.m
+        k = qd.shape[1]
+        npts = len(plan.points)
+        c = Chunk(
+            zeros((npts, 2, k), m),  # type: ignore[arg-type]
+            zeros((npts, 2, k), m),  # type: ignore[arg-type]
+            zeros((npts, 2, k), m),  # type: ignore[arg-type]
+            q,  # type: ignore[arg-type]
+            qd,
+            qdd,
+            zeros((len(plan.transmissions), k), m),  # type: ignore[arg-type]
+            np.zeros(k, dtype=np.int8),
+            np.full(k, -1, dtype=np.int16),
+            1e-10,
+            1e-7,
+        )
+        derived = Derived(
+            zeros((3, len(plan.bodies), k), m),  # type: ignore[arg-type]
+            zeros((6, len(plan.elements), k), m),  # type: ignore[arg-type]
+        )
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            run_steps(plan, c, 2)
+            derived.fill(plan, c.x, c.v, c.a, slice(None))
+        self.x[..., part] = c.x.tan  # type: ignore[attr-defined]
+        self.v[..., part] = c.v.tan  # type: ignore[attr-defined]
+        self.a[..., part] = c.a.tan  # type: ignore[attr-defined]
+        self.q[..., part] = q.tan
+        self.trans[..., part] = c.trans.tan  # type: ignore[attr-defined]
+        self.body[..., part] = derived.body.tan  # type: ignore[attr-defined]
+        self.element[..., part] = derived.element.tan  # type: ignore[attr-defined]
+
+    def results(self, result: KinematicResult, names: Sequence[str]) -> dict[str, KinematicResult]:
+        """One result of derivatives per parameter, NaN where ``result`` did not solve."""
+        bad = ~result.status.solved
+        out = {}
+        zero = np.zeros_like(self.q[0])
+        for j, name in enumerate(names):
+            arrays = [self.x[j], self.v[j], self.a[j]]
+            for arr in arrays:
+                arr[..., bad] = np.nan
+            derived = Derived(self.body[j], self.element[j])
+            derived.body[..., bad] = np.nan
+            derived.body[:, self.plan.ground] = 0.0
+            derived.element[..., bad] = np.nan
+            self.trans[j][..., bad] = np.nan
+            status = Status(result.status.code, result.status.step, self.plan)
+            x, v, a = arrays
+            out[name] = KinematicResult.build(
+                self.plan, x, v, a, self.q[j], zero, zero, self.trans[j], derived, status
+            )
+        return out

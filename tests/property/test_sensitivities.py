@@ -1,0 +1,106 @@
+"""Exact design sensitivities against 8th-order central differences of whole solves, for every
+column kind of every closed-form example, at the nominal design and inside a family of
+designs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import excavkin
+from excavkin.errors import InputError
+
+#: 8th-order central-difference weights for the first derivative (offsets −4 … 4)
+WEIGHTS = np.array([1 / 280, -4 / 105, 1 / 5, -4 / 5, 0.0, 4 / 5, -1 / 5, 4 / 105, -1 / 280])
+
+
+def differences(mech, values, rates, params, name, step):  # type: ignore[no-untyped-def]
+    """d(every float column)/d(name) by 8th-order central differences of whole solves."""
+    tables = []
+    for k in range(-4, 5):
+        moved = dict(params)
+        moved[name] = params.get(name, mech.parameters[name]) + k * step
+        res = mech.solve(values, rates=rates, params=moved)
+        assert res.status.all_ok
+        tables.append(res.to_frame())
+    cols = [c for c in tables[0].columns if tables[0][c].dtype.kind == "f"]
+    return {
+        c: sum(w * t[c].to_numpy() for w, t in zip(WEIGHTS, tables, strict=True)) / step
+        for c in cols
+    }
+
+
+def check(mech, values, names, params=None) -> float:  # type: ignore[no-untyped-def]
+    rates = {k: 0.07 for k in values}
+    params = params or {}
+    res = mech.solve(values, rates=rates, params=params, sensitivities=names)
+    table = res.to_frame()
+    worst = 0.0
+    for name in names:
+        step = 3e-4 * (mech.plan.scale if not name.endswith((".mass", ".inertia")) else 1.0)
+        fd = differences(mech, values, rates, params, name, step)
+        for col, ref in fd.items():
+            exact = res.sensitivity(col, name)
+            # a derivative that is zero is judged against the column's own size per length
+            floor = 1e-3 * max(np.abs(table[col].to_numpy()).max(), 1e-3) / mech.plan.scale
+            scale = max(np.abs(ref).max(), floor)
+            worst = max(worst, float(np.abs(exact - ref).max() / scale))
+    return worst
+
+
+@pytest.mark.parametrize(
+    ("name", "names"),
+    [
+        ("fourbar", ["A-B", "O4-B", "O4.x", "A.y", "O2.y"]),
+        ("slider_crank", None),
+        ("excavator", None),
+        ("rope_shovel", None),
+        ("pasika_module", None),
+    ],
+)
+def test_sensitivities_equal_8th_order_differences(name: str, names: list[str] | None) -> None:
+    mech = excavkin.load(excavkin.example_path(name))
+    rng = np.random.default_rng(7)
+    n = 6
+    values = {
+        k: v + rng.uniform(-0.1, 0.1, n)
+        if mech.input_kind(k) == "angle"
+        else v * (1 + rng.uniform(-0.01, 0.01, n))
+        for k, v in mech.sketch_values().items()
+    }
+    if names is None:  # every fourth dimension, lengths and coordinates alike
+        names = [k for k in mech.parameters if not k.endswith((".mass", ".inertia"))][::4][:6]
+        names = [k for k in names if ".center_of_mass." not in k]
+    assert check(mech, values, names) <= 1e-8
+
+
+def test_sensitivities_inside_a_family_of_designs() -> None:
+    """Each sample's derivative is taken at its own design."""
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    rng = np.random.default_rng(11)
+    n = 5
+    params = {"A-B": 0.12 + rng.uniform(-5e-3, 5e-3, n), "O4.x": 0.1 + rng.uniform(-5e-3, 5e-3, n)}
+    values = {"crank": rng.uniform(0, 2 * np.pi, n)}
+    assert check(mech, values, ["A-B", "O4.x", "B.x"], params) <= 1e-8
+
+
+def test_a_held_driver_moves_with_its_sketch() -> None:
+    """The arm cylinder held at its sketch length: moving its end E changes that length by
+    exactly the derivative of |E − G|."""
+    mech = excavkin.load(excavkin.example_path("excavator"))
+    res = mech.solve({"boom_cyl": [mech.sketch_values()["boom_cyl"]]}, sensitivities=["E.x"])
+    (ex, ey), (gx, gy) = mech.model.points["E"], mech.model.points["G"]
+    expected = (ex - gx) / np.hypot(ex - gx, ey - gy)
+    assert res.sensitivity("arm_cyl.value", "E.x")[0] == pytest.approx(expected, rel=1e-12)
+
+
+def test_sensitivity_errors_are_plain() -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    res = mech.solve({"crank": [0.1]})
+    with pytest.raises(InputError, match="sensitivities="):
+        res.sensitivity("B.x", "A-B")
+    with pytest.raises(InputError, match="did you mean 'A-B'"):
+        mech.solve({"crank": [0.1]}, sensitivities=["A-C"])
+    newton = excavkin.Mechanism(mech.model, method="newton")
+    with pytest.raises(InputError, match="Newton group"):
+        newton.solve({"crank": [0.1]}, sensitivities=["A-B"])
