@@ -447,6 +447,13 @@ class Mechanism:
             lines.append(f"  slider  : {s.name} — {s.point} on {s.along[0]}→{s.along[1]}")
         mob = self.plan.mobility
         lines.append(f"  mobility: {mob.describe()}; inputs: {', '.join(self.inputs) or 'none'}")
+        params = self.parameters
+        lengths = [k for k in params if "-" in k]
+        named = ", ".join(lengths) + (", " if lengths else "")
+        lines.append(
+            f"  params  : {len(params)} ({named}P.x, P.y of each point, and each body's mass, "
+            "inertia, center_of_mass.x/.y where given)"
+        )
         lines.append("  plan    :")
         lines += ["    " + line for line in self.plan.describe().splitlines()]
         return "\n".join(lines)

@@ -170,3 +170,32 @@ def test_a_held_driver_keeps_its_own_designs_sketch_value() -> None:
         own = excavkin.Mechanism(as_own_model(mech.model, {"E.x": float(moved[i])}))
         assert arm[i] == own.sketch_values()["arm_cyl"]
     assert arm[1] != arm[0]
+
+
+def test_the_command_line_sweeps_a_parameter_and_adds_its_derivatives(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import pandas as pd
+    from click.testing import CliRunner
+
+    from excavkin.cli import main
+
+    out = tmp_path / "designs.csv"
+    args = ["solve", "fourbar", "--sweep", "crank=30deg:30deg:5", "--param", "A-B=110mm:130mm:5"]
+    r = CliRunner().invoke(main, [*args, "--sensitivity", "A-B", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    table = pd.read_csv(out)
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    ab = np.linspace(0.110, 0.130, 5)
+    res = mech.solve(
+        {"crank": np.full(5, np.radians(30.0))}, params={"A-B": ab}, sensitivities=["A-B"]
+    )
+    np.testing.assert_array_equal(table["design.A-B"], ab)
+    np.testing.assert_array_equal(table["B.x"], res.column("B.x"))
+    np.testing.assert_array_equal(table["d(B.x)/d(A-B)"], res.sensitivity("B.x", "A-B"))
+    for bad, words in [
+        (["--param", "A-C=1:2:5"], "did you mean 'A-B'"),
+        (["--param", "A-B=1kg:2kg:5"], "is not a length"),
+        (["--param", "A-B=0.1:0.2:4"], "same number of samples"),
+        (["--sensitivity", "O4"], "no parameter 'O4'"),
+    ]:
+        r = CliRunner().invoke(main, [*args[:4], *bad, "-o", str(tmp_path / "x.csv")])
+        assert r.exit_code == 2 and words in r.output, r.output

@@ -92,6 +92,7 @@ def solve_with_progress(
     description: str = "solving",
     stream: TextIO | None = None,
     continuation: str = "side",
+    **more: Any,
 ) -> Any:
     """``mech.solve(values, rates, accels, time=time)`` with a progress bar on long sweeps.
 
@@ -110,17 +111,20 @@ def solve_with_progress(
         Samples per chunk of the engine.
     description : str
     stream : file, optional
+    **more
+        Passed on to :meth:`Mechanism.solve` (``params``, ``sensitivities``).
 
     Returns
     -------
     KinematicResult
     """
-    arrays = [np.asarray(v) for src in (values, rates, accels) for v in (src or {}).values()]
+    given = (values, rates, accels, more.get("params"))
+    arrays = [np.asarray(v) for src in given for v in (src or {}).values()]
     if time is not None:
         arrays.append(np.asarray(time))
     n = max((a.size for a in arrays if a.ndim == 1), default=1)
     if chunk is None and n < MIN_SAMPLES_FOR_BAR:
-        return mech.solve(values, rates, accels, time=time, continuation=continuation)
+        return mech.solve(values, rates, accels, time=time, continuation=continuation, **more)
     with progress(description, n, quiet=quiet, stream=stream) as advance:
         seen = [0]
 
@@ -136,4 +140,5 @@ def solve_with_progress(
             progress=report,
             chunk=chunk,
             continuation=continuation,
+            **more,
         )

@@ -60,8 +60,33 @@ SI_UNITS: dict[str, str] = {
     "pressure": "Pa",
     "power": "W",
     "mass": "kg",
+    "inertia": "kg*m^2",
     "dimensionless": "",
 }
+
+
+def si_unit(kind: str) -> str:
+    """The SI unit of a kind, also of a derivative's ``"<kind> per <kind>"``."""
+    top, per, bottom = kind.partition(" per ")
+    if per:
+        return f"({SI_UNITS.get(top, '')})/({SI_UNITS.get(bottom, '')})"
+    return SI_UNITS.get(kind, "")
+
+
+def design_column(name: str, kind: str) -> Column:
+    """A design parameter's column in a table of a family of designs: ``design.<name>``."""
+    return Column(f"design.{name}", name, "other", "design", kind)
+
+
+def derivative_column(of: Column, parameter: str, kind: str) -> Column:
+    """d(column)/d(parameter): ``d(<column>)/d(<parameter>)``."""
+    return Column(
+        f"d({of.name})/d({parameter})",
+        of.owner,
+        of.owner_kind,
+        of.quantity,
+        f"{of.kind} per {kind}",
+    )
 
 
 @dataclass(frozen=True, slots=True)

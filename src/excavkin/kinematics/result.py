@@ -17,10 +17,13 @@ from excavkin.kinematics.columns import (
     TIME,
     Column,
     column,
+    derivative_column,
+    design_column,
     driver_columns,
     table_attrs,
 )
 from excavkin.kinematics.kernels import Code, F
+from excavkin.structure.design import parameter_kind
 from excavkin.structure.plan import Dyad, NewtonGroup, SliderStep, SolvePlan
 
 if TYPE_CHECKING:
@@ -368,6 +371,15 @@ class KinematicResult:
                 cols.append((c, arr[:, j]))
         for k, p in enumerate(plan.transmissions):
             cols.append((column(p, "point", "transmission", "angle"), self.transmission[:, k]))
+        n = len(self)
+        for name, value in (self.parameters or {}).items():
+            arr = np.broadcast_to(np.asarray(value, dtype=np.float64), (n,))
+            cols.append((design_column(name, parameter_kind(name)), arr))
+        for name, tangent in (self.tangents or {}).items():
+            kind = parameter_kind(name)
+            for c, arr in tangent._columns():
+                if c.owner_kind != "time":
+                    cols.append((derivative_column(c, name, kind), arr))
         return cols
 
     def to_frame(self) -> pd.DataFrame:

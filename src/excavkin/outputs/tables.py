@@ -119,10 +119,10 @@ def _terminate_as_exit() -> Iterator[None]:
 
 def units_of(frame: pd.DataFrame) -> dict[str, str]:
     """The SI unit of every column whose kind the table's ``attrs`` record (``""`` otherwise)."""
-    from excavkin.kinematics.columns import SI_UNITS
+    from excavkin.kinematics.columns import si_unit
 
     kinds = frame.attrs.get("excavkin.kinds", {})
-    return {str(c): SI_UNITS.get(kinds.get(str(c), ""), "") for c in frame.columns}
+    return {str(c): si_unit(kinds.get(str(c), "")) for c in frame.columns}
 
 
 def write_table(

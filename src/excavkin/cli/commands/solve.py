@@ -36,12 +36,15 @@ def build_inputs(
     rates: Sequence[str],
     accels: Sequence[str],
     grid: bool = False,
+    params: Sequence[str] = (),
 ) -> tuple[dict[str, np.ndarray | float], dict[str, float], dict[str, float]]:
-    """Turn ``--sweep/--set/--rate/--accel`` texts into SI solve inputs.
+    """Turn ``--sweep/--set/--rate/--accel/--param`` texts into SI solve inputs.
 
     Several sweeps run side by side (sample k of each), so they must have the same N; with
     ``grid`` they form every combination instead (the first sweep varying slowest), N₁·N₂·…
-    samples.
+    samples. A design parameter swept by ``--param NAME=START:STOP:N`` (or set by
+    ``NAME=VALUE``) is one more such axis; the parameters come back in the values under
+    ``"design." + NAME`` (:func:`split_params` takes them out).
     """
     values: dict[str, np.ndarray | float] = {}
     for option, texts in (
@@ -49,6 +52,7 @@ def build_inputs(
         ("--set", sets),
         ("--rate", rates),
         ("--accel", accels),
+        ("--param", params),
     ):
         names = [parse_assignment(t, option)[0] for t in texts]
         twice = sorted({n for n in names if names.count(n) > 1})
@@ -58,6 +62,13 @@ def build_inputs(
         name, spec = parse_assignment(text, "--sweep")
         kind = mech.input_kind(name)
         values[name] = parse_sweep(spec, kind, f"--sweep {name}")
+    for text in params:
+        name, spec = parse_assignment(text, "--param")
+        kind = parameter_kind(mech, name)
+        what = f"--param {name}"
+        values[PARAM + name] = (
+            parse_sweep(spec, kind, what) if ":" in spec else si_value(spec, kind, what)
+        )
     lengths = {k: v.size for k, v in values.items() if isinstance(v, np.ndarray)}
     if grid and len(lengths) > 1:
         check_samples(int(np.prod(list(lengths.values()), dtype=object)), "--grid")
@@ -82,6 +93,29 @@ def build_inputs(
         name, spec = parse_assignment(text, "--accel")
         accel_v[name] = si_value(spec, ACCEL_KIND[mech.input_kind(name)], f"--accel {name}")
     return values, rate_v, accel_v
+
+
+#: how build_inputs marks a design parameter among the drivers' values
+PARAM = "design."
+
+
+def parameter_kind(mech: Mechanism, name: str) -> str:
+    """What a parameter measures, after checking the name (with the nearest names)."""
+    from excavkin.errors import unknown_name
+    from excavkin.structure.design import parameter_kind as kind_of
+
+    if name not in mech.parameters:
+        raise unknown_name("parameter", name, list(mech.parameters))
+    return kind_of(name)
+
+
+def split_params(
+    values: dict[str, np.ndarray | float],
+) -> tuple[dict[str, np.ndarray | float], dict[str, np.ndarray | float]]:
+    """The drivers' values and the design parameters, apart."""
+    drivers = {k: v for k, v in values.items() if not k.startswith(PARAM)}
+    designs = {k[len(PARAM) :]: v for k, v in values.items() if k.startswith(PARAM)}
+    return drivers, designs
 
 
 def _columns_per_sample(mech: Mechanism, with_forces: bool) -> int:
@@ -277,6 +311,22 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="At a change point between samples: keep each dyad on its sketch side, or continue "
     "the motion onto the other side (a parallelogram stays a parallelogram).",
 )
+@click.option(
+    "--param",
+    "params",
+    multiple=True,
+    metavar="NAME=START:STOP:N",
+    help="Sweep a design parameter (a dimension, mass or inertia; see `excavkin check`): "
+    "each sample gets its own design, e.g. A-B=110mm:130mm:21 or O4.x=0.1m.",
+)
+@click.option(
+    "--sensitivity",
+    "sensitivities",
+    multiple=True,
+    metavar="NAME",
+    help="Add the exact derivative of every column with respect to this parameter, "
+    "d(<column>)/d(NAME).",
+)
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @handle_errors
 def command(
@@ -294,6 +344,8 @@ def command(
     with_forces: bool,
     gravity: bool | None,
     continuation: str,
+    params: tuple[str, ...],
+    sensitivities: tuple[str, ...],
     quiet: bool,
 ) -> None:
     """Solve MODEL.toml over driver sweeps and write one row per sample.
@@ -304,7 +356,10 @@ def command(
     """
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
-    values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels, grid)
+    values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels, grid, params)
+    values, designs = split_params(values)
+    for name in sensitivities:
+        parameter_kind(mech, name)
     time = None
     if inputs_file:
         if sweeps:
@@ -316,11 +371,22 @@ def command(
         values.update(t_values)
         rate_v.update(t_rates)  # type: ignore[arg-type]
         accel_v.update(t_accels)  # type: ignore[arg-type]
-    n = max((v.size for v in values.values() if isinstance(v, np.ndarray)), default=1)
+    n = max(
+        (v.size for v in (*values.values(), *designs.values()) if isinstance(v, np.ndarray)),
+        default=1,
+    )
     # the result, its table and the file's copy: every column three times over
     check_samples(n, "--sweep", 3 * 8 * _columns_per_sample(mech, with_forces))
     result = solve_with_progress(
-        mech, values, rate_v, accel_v, time=time, quiet=quiet, continuation=continuation
+        mech,
+        values,
+        rate_v,
+        accel_v,
+        time=time,
+        quiet=quiet,
+        continuation=continuation,
+        params=designs or None,
+        sensitivities=list(sensitivities) or None,
     )
     for cp in result.change_points:
         click.echo(f"excavkin: warning: {cp.describe()}", err=True)
