@@ -30,6 +30,7 @@ if TYPE_CHECKING:
     from excavkin.mechanism import Mechanism
     from excavkin.model import Body, LinearDriver, Model, RotaryDriver, Slider
     from excavkin.model.entities import Gravity, PointForce, Torque
+    from excavkin.studies.tolerance import ToleranceBands, tolerance_bands
 
 #: where each public name lives; imported on first use, so that ``import excavkin`` (and the
 #: command line's ``--help``) does not load NumPy, pandas or pint before they are needed
@@ -51,6 +52,7 @@ _LAZY = {
     "Mechanism": "excavkin.mechanism",
     **dict.fromkeys(("Body", "LinearDriver", "Model", "RotaryDriver", "Slider"), "excavkin.model"),
     **dict.fromkeys(("Gravity", "PointForce", "Torque"), "excavkin.model.entities"),
+    **dict.fromkeys(("ToleranceBands", "tolerance_bands"), "excavkin.studies.tolerance"),
 }
 
 
@@ -88,12 +90,14 @@ __all__ = [
     "SolveFailure",
     "Status",
     "Torque",
+    "ToleranceBands",
     "Tolerances",
     "UnitError",
     "example_path",
     "examples",
     "load",
     "loads",
+    "tolerance_bands",
 ]
 
 

@@ -159,10 +159,10 @@ class Mechanism:
 
     def _params_in_si(self, params: Mapping[str, Any] | None) -> dict[str, np.ndarray]:
         """Parameter values in SI, each a scalar or a 1-D array."""
-        from excavkin.structure.design import parameter_kind, parameters
+        from excavkin.structure.design import joint_offsets, parameter_kind, parameters
 
         out: dict[str, np.ndarray] = {}
-        known = parameters(self.model)
+        known = {**parameters(self.model), **joint_offsets(self.model)}
         for name, value in (params or {}).items():
             if name not in known:
                 from excavkin.errors import unknown_name
@@ -205,6 +205,8 @@ class Mechanism:
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
         loads: None = None,
+        params: Mapping[str, Any] | None = None,
+        sensitivities: Sequence[str] | None = None,
     ) -> KinematicResult: ...
 
     @overload
@@ -222,6 +224,8 @@ class Mechanism:
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
         loads: Iterable[Load] | Literal["model"],
+        params: Mapping[str, Any] | None = None,
+        sensitivities: Sequence[str] | None = None,
     ) -> ForceResult: ...
 
     def solve(

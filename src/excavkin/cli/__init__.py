@@ -17,7 +17,7 @@ from excavkin.cli.common import LazyGroup
 #: The general commands, by name: ``module:attribute``.
 CORE_COMMANDS = {
     name: f"excavkin.cli.commands.{name}:command"
-    for name in ("check", "demo", "report", "simulate", "solve")
+    for name in ("check", "demo", "report", "simulate", "solve", "tolerance")
 }
 
 

@@ -86,28 +86,32 @@ def folds(x: F, st: Dyad) -> np.ndarray:
     i, j = _neighbours(p)
     if not i.size:
         return np.zeros((2, 0), dtype=np.int64)
+    jump = np.hypot(*(p[:, j] - p[:, i]))
+    # a fold needs a nearly degenerate triangle at one of the two samples: its base nearly
+    # gone, or P nearly on it — so a coarse sweep's big step is not taken for one. That test
+    # first, on every pair; the mirror image only for the few pairs that pass it.
+    flat = _flatness(x, st)
+    with np.errstate(invalid="ignore"):
+        near = np.flatnonzero((jump > 0) & (np.minimum(flat[i], flat[j]) < 0.25 * jump))
+    i, j, jump = i[near], j[near], jump[near]
     a, b = x[st.a][:, j], x[st.b][:, j]
     nxt, prev = p[:, j], p[:, i]
     e = b - a
     e2 = e[0] * e[0] + e[1] * e[1]
     r = nxt - a
     # the mirror image of P in the line A→B
-    t = (r[0] * e[0] + r[1] * e[1]) / np.where(e2 > 0, e2, np.nan)
-    mirror = a + 2.0 * t * e - r
-    jump = np.hypot(*(nxt - prev))
-    back = np.hypot(*(mirror - prev))
-    # a fold needs a nearly degenerate triangle at one of the two samples: its base nearly
-    # gone, or P nearly on it — so a coarse sweep's big step is not taken for one
-    flat = np.minimum(_flatness(x, st, i), _flatness(x, st, j))
-    with np.errstate(invalid="ignore"):
-        found = (back < MIRROR_RATIO * jump) & (jump > 0) & (flat < 0.25 * jump)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = (r[0] * e[0] + r[1] * e[1]) / np.where(e2 > 0, e2, np.nan)
+        mirror = a + 2.0 * t * e - r
+        back = np.hypot(*(mirror - prev))
+        found = back < MIRROR_RATIO * jump
     return np.stack([i[found], j[found]])
 
 
-def _flatness(x: F, st: Dyad, k: np.ndarray) -> F:
-    """How far the dyad's triangle is from degenerate at samples ``k``: the smaller of its base
+def _flatness(x: F, st: Dyad) -> F:
+    """How far the dyad's triangle is from degenerate at every sample: the smaller of its base
     length |B − A| and the distance of P from the line A→B."""
-    a, b, p = x[st.a][:, k], x[st.b][:, k], x[st.point][:, k]
+    a, b, p = x[st.a], x[st.b], x[st.point]
     e, r = b - a, p - a
     base = np.hypot(*e)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -141,6 +145,9 @@ def bends(x: F, v: F, q: F, qd: F, st: Dyad) -> np.ndarray:
             (de[0] * r[1] - de[1] * r[0] + e[0] * dr[1] - e[1] * dr[0]) / base
             - cross * (e[0] * de[0] + e[1] * de[1]) / base**3
         )
+        # only where ṡ turns round between the two samples
+        turn = np.flatnonzero(sd[i] * sd[j] < 0)
+        i, j = i[turn], j[turn]
         # the step's duration, from the input that moves most in it at a known rate
         rate = 0.5 * (qd[:, i] + qd[:, j])
         steps = np.where(rate != 0, (q[:, j] - q[:, i]) / rate, np.nan)

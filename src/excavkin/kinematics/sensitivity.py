@@ -25,7 +25,7 @@ from excavkin.kinematics.dual import Dual, seed, zeros
 from excavkin.kinematics.kernels import Chunk, F
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
-from excavkin.structure.design import parameters, take, vary
+from excavkin.structure.design import joint_offsets, parameters, take, vary
 from excavkin.structure.plan import SolvePlan
 
 #: samples per pass (the tangents multiply the memory of a pass by the parameter count)
@@ -55,7 +55,7 @@ def solve_tangents(
             "sensitivities are computed through the closed-form steps; this plan has a Newton "
             "group (a higher-class group, or method='newton')"
         )
-    known = parameters(plan.model)
+    known = {**parameters(plan.model), **joint_offsets(plan.model)}
     for name in names:
         if name not in known:
             from excavkin.errors import unknown_name

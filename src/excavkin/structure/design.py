@@ -72,6 +72,25 @@ def parameters(model: Model) -> dict[str, float]:
     return out
 
 
+def joint_offsets(model: Model) -> dict[str, float]:
+    """The pin offsets of every joint, for clearances: ``P@BODY.x`` and ``P@BODY.y`` move body
+    BODY's pin at joint P by that much in the body's own frame (nominal 0). At a joint with
+    the ground every moving body's pin moves; between moving bodies, every body's but the
+    first's (which sets where the joint is)."""
+    out: dict[str, float] = {}
+    for p in model.points:
+        owners = [b for b in model.bodies if p in b.points]
+        if len(owners) < 2:
+            continue
+        moving = [b for b in owners if not b.ground]
+        if len(moving) == len(owners):
+            moving = moving[1:]
+        for b in moving:
+            out[f"{p}@{b.name}.x"] = 0.0
+            out[f"{p}@{b.name}.y"] = 0.0
+    return out
+
+
 def parameter_kind(name: str) -> str:
     """``"length"``, ``"mass"`` or ``"inertia"``: what a parameter measures."""
     return KIND_OF.get(name.rsplit(".", 1)[-1], "length")
@@ -120,6 +139,12 @@ class _Geometry:
                 self.bad = self.bad | ~(frame.base > 0.0)
                 for *_, bad in frame.triangles.values():
                     self.bad = self.bad | bad
+        for name, value in values.items():  # pin offsets (clearances) in a body's frame
+            if "@" in name:
+                pin, _, rest = name.partition("@")
+                body, _, axis = rest.rpartition(".")
+                x, y = self.frames[body].local[pin]
+                self.frames[body].local[pin] = (x + value, y) if axis == "x" else (x, y + value)
 
     def distance(self, body: str, p: str, q: str) -> Num:
         (x1, y1), (x2, y2) = self.frames[body].local[p], self.frames[body].local[q]
@@ -161,7 +186,7 @@ def design_plan(plan: SolvePlan, values: Mapping[str, Any], n: int) -> Designs:
         An unknown parameter (with the nearest names), or an array of another length.
     """
     model = plan.model
-    known = parameters(model)
+    known = {**parameters(model), **joint_offsets(model)}
     arrays: dict[str, F] = {}
     for name, value in values.items():
         if name not in known:

@@ -1,0 +1,169 @@
+"""``excavkin tolerance``: bands of every column over a sweep, from the dimensions' tolerances
+and the pins' clearances (worst case, root-sum-square, Monte Carlo)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import click
+
+from excavkin.cli.commands.solve import build_inputs, with_sweep_options
+from excavkin.cli.common import handle_errors, model_path, parse_assignment
+
+TABLE_SUFFIXES = (".csv", ".parquet")
+
+
+@click.command("tolerance")
+@click.argument("model", metavar="MODEL")
+@with_sweep_options
+@click.option(
+    "--tol",
+    "tols",
+    multiple=True,
+    metavar="NAME=±VALUE",
+    help="Tolerance of a dimension (a parameter, see `excavkin check`), e.g. A-B=±0.1mm.",
+)
+@click.option(
+    "--clearance",
+    "clearances",
+    multiple=True,
+    metavar="VALUE|JOINT=VALUE",
+    help="Radial pin clearance of every joint (0.05mm), or of one (B=0.05mm).",
+)
+@click.option(
+    "--column",
+    "columns",
+    multiple=True,
+    metavar="COLUMN",
+    help="Band these columns (default: every kinematic column); the first few are printed.",
+)
+@click.option(
+    "--draws",
+    default=1_000_000,
+    show_default=True,
+    type=click.IntRange(0, 10**9),
+    help="Monte Carlo designs per sample (0: the linear bands alone).",
+)
+@click.option("--seed", default=0, show_default=True, help="Seed of the random draws.")
+@click.option(
+    "--distribution",
+    type=click.Choice(["normal", "uniform"]),
+    default="normal",
+    show_default=True,
+    help="A dimension within its tolerance: normal with σ = tol/3 cut at ±tol, or uniform.",
+)
+@click.option("-o", "--out", type=click.Path(dir_okay=False), help="Bands table, .csv or .parquet.")
+@click.option(
+    "--plot",
+    "plot_to",
+    type=click.Path(dir_okay=False),
+    help="Plot the first column's bands (.png, .svg, .pdf).",
+)
+@click.option("--force", is_flag=True, help="Replace output files that exist.")
+@handle_errors
+def command(
+    model: str,
+    sweeps: tuple[str, ...],
+    sets: tuple[str, ...],
+    rates: tuple[str, ...],
+    accels: tuple[str, ...],
+    grid: bool,
+    tols: tuple[str, ...],
+    clearances: tuple[str, ...],
+    columns: tuple[str, ...],
+    draws: int,
+    seed: int,
+    distribution: str,
+    out: str | None,
+    plot_to: str | None,
+    force: bool,
+) -> None:
+    """Bands of MODEL's columns over a sweep when its dimensions are made within --tol and its
+    pins sit anywhere in their --clearance: the linear worst case and root-sum-square from
+    exact sensitivities, and a Monte Carlo over --draws designs per sample solved as one batch
+    over the geometry axis. Prints, per column, the largest half-width of each band and the
+    dimension that matters most."""
+    import excavkin
+    from excavkin.outputs.tables import check_target, write_atomic, write_table
+    from excavkin.studies.tolerance import summary_rows, tolerance_bands
+
+    table = check_target(out, force=force, suffixes=TABLE_SUFFIXES) if out else None
+    figure = (
+        check_target(plot_to, force=force, suffixes=(".png", ".svg", ".pdf")) if plot_to else None
+    )
+    mech = excavkin.load(model_path(model))
+    values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels, grid)
+    tolerances = dict(parse_assignment(t, "--tol") for t in tols)
+    clearance: object = 0.0
+    for text in clearances:
+        if "=" in text:
+            point, value = parse_assignment(text, "--clearance")
+            clearance = {**(clearance if isinstance(clearance, dict) else {}), point: value}
+        else:
+            clearance = text
+    bands = tolerance_bands(
+        mech,
+        values,
+        rate_v,
+        accel_v,
+        tolerances=tolerances,
+        clearance=clearance,
+        columns=list(columns) or None,
+        draws=draws,
+        seed=seed,
+        distribution=distribution,
+    )
+    shown = list(columns) or _widest(bands, 8)
+    head = ["column (SI)", "worst case ±", "root-sum-square ±", "Monte Carlo ±", "matters most"]
+    rows = [head, *summary_rows(bands, shown)]
+    widths = [max(len(r[i]) for r in rows) for i in range(len(head))]
+    for r in rows:
+        click.echo("  ".join(cell.ljust(w) for cell, w in zip(r, widths, strict=True)).rstrip())
+    if bands.failed.any():
+        click.echo(
+            f"excavkin: warning: {int(bands.failed.sum()):,} Monte Carlo designs did not solve "
+            "at their sample (left out of the Monte Carlo band)",
+            err=True,
+        )
+    if table is not None:
+        write_table(bands.to_frame(), table, force=force)
+        n = bands.nominal.shape[0]
+        click.echo(f"wrote {len(bands.columns)} columns × {n} samples of bands to {table}")
+    if figure is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from excavkin.outputs.bands import plot_bands
+
+        x, label = _abscissa(mech, values)
+        fig = plot_bands(bands, shown[0], x, x_label=label).ax.get_figure(root=True)
+        assert fig is not None
+        fig.tight_layout()
+        write_atomic(figure, lambda tmp: fig.savefig(tmp, dpi=110, format=Path(figure).suffix[1:]))
+        click.echo(f"wrote {figure}")
+
+
+def _abscissa(mech: Any, values: Mapping[str, Any]) -> tuple[Any, str]:
+    """The first swept input, in degrees or millimetres, or the sample number."""
+    import numpy as np
+
+    for name, v in values.items():
+        arr = np.asarray(v, dtype=np.float64)
+        if arr.ndim == 1 and arr.size > 1:
+            if mech.input_kind(name) == "angle":
+                return np.degrees(arr), f"{name} [°]"
+            return arr * 1e3, f"{name} [mm]"
+    return None, "sample"
+
+
+def _widest(bands: object, k: int) -> list[str]:
+    """The k columns of length kind with the widest worst-case band (points' coordinates)."""
+    import numpy as np
+
+    cols = bands.columns  # type: ignore[attr-defined]
+    worst = np.nanmax(bands.worst, axis=0)  # type: ignore[attr-defined]
+    coords = [i for i, c in enumerate(cols) if c.endswith((".x", ".y"))]
+    order = sorted(coords, key=lambda i: -worst[i])
+    return [cols[i] for i in order[:k]] or list(cols[:k])

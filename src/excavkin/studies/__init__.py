@@ -1,0 +1,1 @@
+"""Studies over families of designs: tolerance and pin-clearance bands."""
