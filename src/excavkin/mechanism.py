@@ -418,7 +418,13 @@ class Mechanism:
         if result.plan.model is not self.plan.model:  # (a family of designs has its own plan)
             raise InputError("the kinematic result belongs to another mechanism")
         given = self.loads if loads is None else [_load_in_si(load) for load in loads]
-        return solve_forces(result, given, system=self.statics)
+        forces = solve_forces(result, given, system=self.statics)
+        if result.tangents:
+            from excavkin.kinetostatics.sensitivity import force_tangents
+
+            tangents = force_tangents(forces, list(result.tangents))
+            forces = dataclasses.replace(forces, tangents=tangents)
+        return forces
 
     def describe(self) -> str:
         """Bodies, joints, drivers, mobility and the solve plan, as text."""

@@ -1,6 +1,6 @@
 """Exact design sensitivities against 8th-order central differences of whole solves, for every
-column kind of every closed-form example, at the nominal design and inside a family of
-designs."""
+column kind of every closed-form example — positions, velocities, accelerations, transmission
+angles, driver values and forces — at the nominal design and inside a family of designs."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import pytest
 
 import excavkin
 from excavkin.errors import InputError
+from excavkin.structure.design import joint_offsets
 
 #: 8th-order central-difference weights for the first derivative (offsets −4 … 4)
 WEIGHTS = np.array([1 / 280, -4 / 105, 1 / 5, -4 / 5, 0.0, 4 / 5, -1 / 5, 4 / 105, -1 / 280])
@@ -19,11 +20,12 @@ def differences(mech, values, rates, params, name, step):  # type: ignore[no-unt
     tables = []
     for k in range(-4, 5):
         moved = dict(params)
-        moved[name] = params.get(name, mech.parameters[name]) + k * step
-        res = mech.solve(values, rates=rates, params=moved)
-        assert res.status.all_ok
+        moved[name] = params.get(name, mech.parameters.get(name, 0.0)) + k * step
+        res = mech.solve(values, rates=rates, params=moved, loads="model")
+        assert res.kinematics.status.all_ok
         tables.append(res.to_frame())
     cols = [c for c in tables[0].columns if tables[0][c].dtype.kind == "f"]
+    cols = [c for c in cols if not c.startswith(("d(", "design."))]
     return {
         c: sum(w * t[c].to_numpy() for w, t in zip(WEIGHTS, tables, strict=True)) / step
         for c in cols
@@ -33,11 +35,12 @@ def differences(mech, values, rates, params, name, step):  # type: ignore[no-unt
 def check(mech, values, names, params=None) -> float:  # type: ignore[no-untyped-def]
     rates = {k: 0.07 for k in values}
     params = params or {}
-    res = mech.solve(values, rates=rates, params=params, sensitivities=names)
+    res = mech.solve(values, rates=rates, params=params, sensitivities=names, loads="model")
     table = res.to_frame()
     worst = 0.0
     for name in names:
-        step = 3e-4 * (mech.plan.scale if not name.endswith((".mass", ".inertia")) else 1.0)
+        mass = name.endswith((".mass", ".inertia"))
+        step = 3e-4 * (abs(mech.parameters[name]) if mass else mech.plan.scale)
         fd = differences(mech, values, rates, params, name, step)
         for col, ref in fd.items():
             exact = res.sensitivity(col, name)
@@ -68,9 +71,11 @@ def test_sensitivities_equal_8th_order_differences(name: str, names: list[str] |
         else v * (1 + rng.uniform(-0.01, 0.01, n))
         for k, v in mech.sketch_values().items()
     }
-    if names is None:  # every fourth dimension, lengths and coordinates alike
-        names = [k for k in mech.parameters if not k.endswith((".mass", ".inertia"))][::4][:6]
+    if names is None:  # every fourth dimension, a mass, a centre of mass and a pin offset
+        names = [k for k in mech.parameters if not k.endswith((".mass", ".inertia"))][::4][:5]
         names = [k for k in names if ".center_of_mass." not in k]
+        names += [k for k in mech.parameters if k.endswith((".mass", ".center_of_mass.x"))][:2]
+        names += list(joint_offsets(mech.model))[-1:]
     assert check(mech, values, names) <= 1e-8
 
 

@@ -556,8 +556,8 @@ def _dense_solve_unguarded(
     rhs = [_as_array(v, c) for v in b]
     scale = np.zeros(c)
     for row in m:
-        for v in row:
-            np.maximum(scale, np.abs(v), out=scale)
+        for v in row:  # (a dual number's value: the scale of a derivative pass is its values')
+            np.maximum(scale, np.abs(getattr(v, "val", v)), out=scale)
     singular = np.zeros(c, dtype=bool)
     for k in range(r):
         for i in range(k + 1, r):

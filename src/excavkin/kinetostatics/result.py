@@ -25,12 +25,13 @@ import numpy as np
 
 from excavkin.errors import unknown_name
 from excavkin.kinematics import summary
-from excavkin.kinematics.columns import Column, column, table_attrs
+from excavkin.kinematics.columns import Column, column, derivative_column, table_attrs
 from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import StaticsSystem
 from excavkin.kinetostatics.inertia import MassProperties, centre_of_mass, kinetic_energy_rate
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load
+from excavkin.structure.design import parameter_kind
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -103,6 +104,9 @@ class ForceResult:
         (their forces are NaN).
     loads : tuple of PointForce, Torque, Gravity
         The loads applied.
+    tangents : dict, optional
+        Per parameter (``solve(..., sensitivities=)``), the derivative of every force column:
+        read them with :meth:`sensitivity`.
     """
 
     kinematics: KinematicResult
@@ -115,6 +119,7 @@ class ForceResult:
     loads: tuple[Load, ...]
     evaluated: EvaluatedLoads
     mass: MassProperties
+    tangents: dict[str, dict[str, F]] | None = None
 
     def __len__(self) -> int:
         return int(self.pin_force.shape[0])
@@ -224,6 +229,13 @@ class ForceResult:
                 return np.asarray(arr)
         raise unknown_name("force column", name, [c.name for c, _ in cols])
 
+    def sensitivity(self, column: str, parameter: str) -> F:
+        """d(column)/d(parameter) per sample, SI per SI unit, shape (n,), for a force column
+        or a kinematic one (exact: the equilibrium differentiated on dual numbers)."""
+        if self.tangents and parameter in self.tangents and column in self.tangents[parameter]:
+            return self.tangents[parameter][column]
+        return self.kinematics.sensitivity(column, parameter)
+
     def status_labels(self) -> np.ndarray:
         """Per-sample label: the kinematic status, or ``"statically singular"``, shape (n,)."""
         labels = self.kinematics.status.labels()
@@ -256,6 +268,13 @@ class ForceResult:
         if resultants is None:
             resultants = (self.system.bodies[self.system.ground],)
         described = self._columns(resultants)
+        for name, tangent in (self.tangents or {}).items():
+            kind = parameter_kind(name)
+            described += [
+                (derivative_column(c, name, kind), tangent[c.name])
+                for c, _ in self._columns(resultants)
+                if c.name in tangent
+            ]
         forces = pd.DataFrame({c.name: arr for c, arr in described}, copy=False)
         force_cols = [c for c, _ in described]
         if not kinematics:

@@ -305,31 +305,40 @@ def _input_sketch(plan: SolvePlan, geo: _Geometry) -> list[Num]:
     return out
 
 
-def design_masses(model: Model, values: Mapping[str, Any], n: int) -> tuple[F, F, F]:
-    """Each body's mass, moment of inertia and centre of mass (as (s, t) on its base vector
-    p0→p1) for ``n`` designs: shapes (n_bodies, n), (n_bodies, n) and (n_bodies, 2, n). A body
-    with a mass but no centre of mass takes the centroid of its points; the ground and
-    massless bodies carry zeros."""
-    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
-    geo = _Geometry(model, arrays)
-    nb = len(model.bodies)
-    mass, inertia, com = np.zeros((nb, n)), np.zeros((nb, n)), np.zeros((nb, 2, n))
-    for j, b in enumerate(model.bodies):
+def mass_items(model: Model, values: Mapping[str, Any]) -> list[tuple[Num, Num, Num, Num]]:
+    """Per body: mass, moment of inertia and centre of mass (s, t) on its base vector p0→p1,
+    from the parameter ``values`` (arrays, or any array-like number type such as dual
+    numbers). A body with a mass but no centre of mass takes the centroid of its points; the
+    ground and massless bodies carry zeros."""
+    geo = _Geometry(model, values)
+    out: list[tuple[Num, Num, Num, Num]] = []
+    for b in model.bodies:
         if b.ground or b.mass is None:
+            out.append((0.0, 0.0, 0.0, 0.0))
             continue
-        mass[j] = arrays.get(f"{b.name}.mass", b.mass)
-        inertia[j] = arrays.get(f"{b.name}.inertia", b.inertia or 0.0)
+        mass = values.get(f"{b.name}.mass", b.mass)
+        inertia = values.get(f"{b.name}.inertia", b.inertia or 0.0)
         if b.center_of_mass is not None:
-            cx = arrays.get(f"{b.name}.center_of_mass.x", b.center_of_mass[0])
-            cy = arrays.get(f"{b.name}.center_of_mass.y", b.center_of_mass[1])
-            com[j, 0], com[j, 1] = com_coords(
-                geo.sketch[b.points[0]], geo.sketch[b.points[1]], (cx, cy)
-            )
+            cx = values.get(f"{b.name}.center_of_mass.x", b.center_of_mass[0])
+            cy = values.get(f"{b.name}.center_of_mass.y", b.center_of_mass[1])
+            s, t = com_coords(geo.sketch[b.points[0]], geo.sketch[b.points[1]], (cx, cy))
         else:  # centroid of the body's points, in units of the base vector
             local = geo.frames[b.name].local
             d01 = geo.distance(b.name, b.points[0], b.points[1])
-            com[j, 0] = sum(local[p][0] for p in b.points) / len(b.points) / d01
-            com[j, 1] = sum(local[p][1] for p in b.points) / len(b.points) / d01
+            s = sum(local[p][0] for p in b.points) / len(b.points) / d01
+            t = sum(local[p][1] for p in b.points) / len(b.points) / d01
+        out.append((mass, inertia, s, t))
+    return out
+
+
+def design_masses(model: Model, values: Mapping[str, Any], n: int) -> tuple[F, F, F]:
+    """Each body's mass, moment of inertia and centre of mass (as (s, t) on its base vector
+    p0→p1) for ``n`` designs: shapes (n_bodies, n), (n_bodies, n) and (n_bodies, 2, n)."""
+    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
+    nb = len(model.bodies)
+    mass, inertia, com = np.zeros((nb, n)), np.zeros((nb, n)), np.zeros((nb, 2, n))
+    for j, (m, i, s, t) in enumerate(mass_items(model, arrays)):
+        mass[j], inertia[j], com[j, 0], com[j, 1] = m, i, s, t
     return mass, inertia, com
 
 

@@ -1,0 +1,153 @@
+"""Exact sensitivities of the forces: the kinetostatic equilibrium differentiated with respect to
+the dimensions and masses, by running the same elimination on dual numbers.
+
+The positions, accelerations and angular accelerations carry their tangents from the kinematic
+sensitivities (:mod:`excavkin.kinematics.sensitivity`); the masses, moments of inertia and
+centres of mass carry theirs from the parameters. The equilibrium's own elimination and dense
+block solve run on them unchanged, so each force's tangent is the exact derivative of the
+solved forces. Loads are taken as given: a load that is a function of the result is held at its
+evaluated values (its own dependence on the dimensions is not differentiated).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from excavkin.kinematics.dual import Dual, seed
+from excavkin.kinematics.kernels import F
+from excavkin.kinetostatics.equilibrium import solve_system
+from excavkin.structure.design import mass_items
+
+if TYPE_CHECKING:
+    from excavkin.kinetostatics.result import ForceResult
+
+#: samples per pass
+CHUNK = 4096
+
+
+@dataclass(frozen=True, slots=True)
+class _Masses:
+    """Mass properties as the body loads read them, each a number, an array or a dual."""
+
+    mass: list[Any]
+    inertia: list[Any]
+    com: list[tuple[Any, Any]]
+    base: np.ndarray
+    massive: tuple[int, ...]
+
+    def at(self, part: slice) -> _Masses:
+        def cut(v: Any) -> Any:
+            return v[part] if np.ndim(v) else v
+
+        return _Masses(
+            [cut(m) for m in self.mass],
+            [cut(i) for i in self.inertia],
+            [(cut(s), cut(t)) for s, t in self.com],
+            self.base,
+            self.massive,
+        )
+
+
+def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[str, F]]:
+    """Per parameter, the derivative of every force column of ``forces.to_frame()``.
+
+    ``forces.kinematics`` must carry the kinematic tangents of ``names``
+    (``solve(..., sensitivities=names)``).
+    """
+    from excavkin.kinetostatics.solve import _body_loads
+
+    kin = forces.kinematics
+    assert kin.tangents is not None
+    tangents = [kin.tangents[p] for p in names]
+    sy, ev = forces.system, forces.evaluated
+    n, m = len(kin), len(names)
+    x = np.moveaxis(kin.positions, 0, -1)
+    a = np.moveaxis(kin.accelerations, 0, -1)
+    eps = np.moveaxis(kin.body_epsilon, 0, -1)
+    x_t = np.stack([np.moveaxis(t.positions, 0, -1) for t in tangents])
+    a_t = np.stack([np.moveaxis(t.accelerations, 0, -1) for t in tangents])
+    eps_t = np.stack([np.moveaxis(t.body_epsilon, 0, -1) for t in tangents])
+    masses = _dual_masses(forces, names, n)
+    out = np.zeros((m, sy.size, n))
+    for s in range(0, n, CHUNK):
+        part = slice(s, min(s + CHUNK, n))
+        xd = Dual(x[..., part], x_t[..., part])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rhs = _body_loads(
+                sy,
+                masses.at(part),  # type: ignore[arg-type]
+                ev,
+                xd,  # type: ignore[arg-type]
+                Dual(a[..., part], a_t[..., part]),  # type: ignore[arg-type]
+                Dual(eps[..., part], eps_t[..., part]),  # type: ignore[arg-type]
+                part,
+            )
+            sol, _ = solve_system(sy, xd, rhs)  # type: ignore[arg-type]
+        for col, val in enumerate(sol):
+            if isinstance(val, Dual) and val.tan.ndim:
+                out[:, col, part] = val.tan
+    bad = ~(kin.status.solved & ~forces.singular)
+    out[:, :, bad] = np.nan
+    return {name: _columns(forces, out[j], x, x_t[j]) for j, name in enumerate(names)}
+
+
+def _dual_masses(forces: ForceResult, names: Sequence[str], n: int) -> _Masses:
+    """The mass properties with the tangents of the parameters ``names``."""
+    kin = forces.kinematics
+    model = kin.plan.model
+    from excavkin.structure.design import joint_offsets, parameters
+
+    known = {**parameters(model), **joint_offsets(model)}
+    given = dict(kin.parameters or {})
+    base = {k: given.get(k, known[k]) for k in names}
+    values: dict[str, Any] = {**given, **seed(base, list(names), n)}
+    items = mass_items(model, values)
+    massive = forces.mass.massive
+    return _Masses(
+        [it[0] for it in items],
+        [it[1] for it in items],
+        [(it[2], it[3]) for it in items],
+        forces.mass.base,
+        massive,
+    )
+
+
+def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
+    """The force columns' derivatives from the unknowns' (``tan``: (size, n)), by name; the
+    ground's resultant includes its sliders' normal forces turning with their slides."""
+    sy = forces.system
+    n = tan.shape[-1]
+    pin = tan[: 2 * len(sy.slots)].reshape(len(sy.slots), 2, n)
+    e0, s0, t0 = sy.element_col0, sy.slider_col0, sy.torque_col0
+    out: dict[str, F] = {}
+    for k, (p, b) in enumerate(forces.pins):
+        out[f"{p}.{b}.Fx"], out[f"{p}.{b}.Fy"] = pin[k, 0], pin[k, 1]
+    for k, e in enumerate(sy.elements):
+        out[f"{e[0]}.force"] = tan[e0 + k]
+    for k, d in enumerate(sy.rotary):
+        out[f"{d[0]}.torque"] = tan[t0 + k]
+    for k, s in enumerate(sy.sliders):
+        out[f"{s[0]}.normal"] = tan[s0 + k]
+    ground = sy.ground
+    rx, ry = np.zeros(n), np.zeros(n)
+    for k, (_, j) in enumerate(sy.slots):
+        if j == ground:
+            rx, ry = rx + pin[k, 0], ry + pin[k, 1]
+    for k, (_, _, l1, l2, carrier) in enumerate(sy.sliders):
+        if carrier != ground:
+            continue
+        # −f·n with n = perp(e)/|e|: the product rule on the force and the slide's turn
+        slide = Dual(x[l2] - x[l1], (x_t[l2] - x_t[l1])[None])
+        length = np.hypot(slide[0], slide[1])  # type: ignore[call-overload]
+        nx, ny = -slide[1] / length, slide[0] / length
+        f = forces.slider_force[:, k]
+        df = tan[s0 + k]
+        rx = rx - (df * nx.val + f * nx.tan[0])
+        ry = ry - (df * ny.val + f * ny.tan[0])
+    name = sy.bodies[ground]
+    out[f"{name}.Rx"], out[f"{name}.Ry"] = rx, ry
+    return out
