@@ -144,6 +144,7 @@ def tolerance_bands(
     draws: int = 1_000_000,
     seed: int = 0,
     distribution: str = "normal",
+    loads: Any = None,
 ) -> ToleranceBands:
     """Worst-case, root-sum-square and Monte Carlo bands of every kinematic column.
 
@@ -165,6 +166,9 @@ def tolerance_bands(
     distribution : {"normal", "uniform"}
         How a dimension is drawn within its tolerance: normal with σ = tol/3 cut at ±tol, or
         uniform.
+    loads : iterable of loads or "model", optional
+        Also band the forces (joint, cylinder, driver) under these loads, as for
+        :meth:`Mechanism.solve`.
 
     Returns
     -------
@@ -178,7 +182,7 @@ def tolerance_bands(
     names = list(tols) + [p for _, axes in pins for p in axes]
     if not names:
         raise InputError("nothing is toleranced: give tolerances or a clearance")
-    nominal = mech.solve(values, rates, accels, sensitivities=names)
+    nominal: Any = mech.solve(values, rates, accels, sensitivities=names, loads=loads)
     table = nominal.to_frame()
     every = [c.name for c in nominal.columns if c.owner_kind != "time"]
     every = [c for c in every if not c.startswith(("d(", "design."))]
@@ -202,7 +206,7 @@ def tolerance_bands(
     if distribution not in ("normal", "uniform"):
         raise InputError(f"distribution must be 'normal' or 'uniform', got {distribution!r}")
     low, high, mean, std, failed = _monte_carlo(
-        mech, values, rates, accels, tols, pins, cols, n, draws, seed, distribution
+        mech, values, rates, accels, tols, pins, cols, n, draws, seed, distribution, loads
     )
     return ToleranceBands(
         tuple(cols), nom, worst, rss, low, high, mean, std, contributions, draws, failed
@@ -253,6 +257,7 @@ def _monte_carlo(
     draws: int,
     seed: int,
     distribution: str,
+    loads: Any,
 ) -> tuple[F, F, F, F, NDArray[np.int64]]:
     """Min, max, mean and standard deviation of every column over the draws, per sample, and
     the draws per sample that failed; the designs are solved ``BATCH`` samples at a time."""
@@ -279,14 +284,21 @@ def _monte_carlo(
             r = c * np.sqrt(rng.uniform(0.0, 1.0, d))
             th = rng.uniform(0.0, 2 * np.pi, d)
             params[ax], params[ay] = np.repeat(r * np.cos(th), n), np.repeat(r * np.sin(th), n)
-        res = mech.solve(
+        res: Any = mech.solve(
             _tiled(mech, values, n, d, 0),
             _tiled(mech, rates, n, d, 1),
             _tiled(mech, accels, n, d, 2),
             params=params,
+            loads=loads,
         )
-        ok = res.status.ok.reshape(d, n)
-        by_name = {c.name: arr for c, arr in res._columns()}
+        if loads is None:
+            ok = res.status.ok.reshape(d, n)
+            by_name = {c.name: arr for c, arr in res._columns()}
+        else:
+            ok = res.ok.reshape(d, n)
+            ground = res.system.bodies[res.system.ground]
+            by_name = {c.name: arr for c, arr in res.kinematics._columns()}
+            by_name.update({c.name: arr for c, arr in res._columns((ground,))})
         block = np.stack([by_name[c] for c in cols], axis=-1).reshape(d, n, k)
         if shift is None:  # sums about the first draw's values: no cancellation in the variance
             shift = np.where(np.isfinite(block[0]), block[0], 0.0)

@@ -54,6 +54,12 @@ TABLE_SUFFIXES = (".csv", ".parquet")
     show_default=True,
     help="A dimension within its tolerance: normal with σ = tol/3 cut at ±tol, or uniform.",
 )
+@click.option(
+    "--forces",
+    "with_forces",
+    is_flag=True,
+    help="Also band the forces (joints, cylinders, driver torques) under the model's loads.",
+)
 @click.option("-o", "--out", type=click.Path(dir_okay=False), help="Bands table, .csv or .parquet.")
 @click.option(
     "--plot",
@@ -76,6 +82,7 @@ def command(
     draws: int,
     seed: int,
     distribution: str,
+    with_forces: bool,
     out: str | None,
     plot_to: str | None,
     force: bool,
@@ -114,6 +121,7 @@ def command(
         draws=draws,
         seed=seed,
         distribution=distribution,
+        loads="model" if with_forces else None,
     )
     shown = list(columns) or _widest(bands, 8)
     head = ["column (SI)", "worst case ±", "root-sum-square ±", "Monte Carlo ±", "matters most"]
