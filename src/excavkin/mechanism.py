@@ -157,6 +157,12 @@ class Mechanism:
 
         return parameters(self.model)
 
+    @property
+    def design_variables(self) -> dict[str, tuple[float, tuple[float, float] | None, str]]:
+        """The model file's named design variables: name → (nominal SI value, bounds or
+        None, kind). Each is also a parameter, setting every entry that refers to it."""
+        return {v.name: (v.value, v.bounds, v.kind) for v in self.model.design}
+
     def _params_in_si(self, params: Mapping[str, Any] | None) -> dict[str, np.ndarray]:
         """Parameter values in SI, each a scalar or a 1-D array."""
         from excavkin.structure.design import joint_offsets, parameter_kind, parameters
@@ -169,7 +175,8 @@ class Mechanism:
 
                 raise unknown_name("parameter", name, list(known))
             arr = np.asarray(
-                as_si(value, parameter_kind(name), f"parameter {name!r}"), dtype=np.float64
+                as_si(value, parameter_kind(name, self.model), f"parameter {name!r}"),
+                dtype=np.float64,
             )
             if arr.ndim > 1:
                 raise InputError(

@@ -16,6 +16,7 @@ from excavkin.errors import ModelError, UnitError, did_you_mean
 from excavkin.model.entities import (
     STANDARD_GRAVITY,
     Body,
+    DesignVariable,
     Gravity,
     LinearDriver,
     Model,
@@ -41,6 +42,7 @@ _TOP = {
     "sliders",
     "loads",
     "gravity",
+    "design",
 }
 
 
@@ -66,23 +68,79 @@ class TomlReader:
             except UnitError as exc:
                 raise UnitError(exc.problem, table="units", entry=kind, source=source) from None
             self.units[kind] = unit
+        #: design variables: name → (value, kind); and the entries that refer to each
+        self.variables: dict[str, tuple[float, str]] = {}
+        self.references: dict[str, list[str]] = {}
 
     def err(self, problem: str, table: str | None = None, entry: str | None = None) -> ModelError:
         return ModelError(problem, table=table, entry=entry, source=self.source)
 
-    def qty(self, value: Any, kind: str, table: str, entry: str) -> float:
+    def qty(self, value: Any, kind: str, table: str, entry: str, param: str | None = None) -> float:
+        """A quantity in SI; where ``param`` names the parameter this entry is, the value may
+        also be the name of a design variable of the file (a reference, nothing evaluated)."""
+        if param is not None and isinstance(value, str) and value in self.variables:
+            nominal, var_kind = self.variables[value]
+            if var_kind != kind:
+                raise self.err(
+                    f"design variable {value!r} is a {var_kind}, but this entry is a {kind}",
+                    table,
+                    entry,
+                )
+            self.references.setdefault(value, []).append(param)
+            return nominal
         try:
             return to_si(value, kind, self.units.get(kind))
         except UnitError as exc:
             raise UnitError(exc.problem, table=table, entry=entry, source=self.source) from None
 
-    def xy(self, value: Any, table: str, entry: str) -> tuple[float, float]:
+    def xy(
+        self, value: Any, table: str, entry: str, param: str | None = None
+    ) -> tuple[float, float]:
         if not isinstance(value, list) or len(value) != 2:
             raise self.err("expected two coordinates [x, y]", table, entry)
+        px, py = (None, None) if param is None else (f"{param}.x", f"{param}.y")
         return (
-            self.qty(value[0], "length", table, entry),
-            self.qty(value[1], "length", table, entry),
+            self.qty(value[0], "length", table, entry, px),
+            self.qty(value[1], "length", table, entry, py),
         )
+
+    def design_variables(self) -> None:
+        """Read ``[design.NAME]`` tables: ``value``, optional ``bounds = [low, high]`` and
+        ``kind`` (length, the default; mass; inertia)."""
+        for name, spec in self.table("design").items():
+            self.name(name, "design")
+            table = f"design.{name}"
+            if not isinstance(spec, dict):
+                raise self.err('must be a table such as { value = "120 mm" }', table)
+            self.keys(spec, {"value", "bounds", "kind"}, "design", name)
+            kind = spec.get("kind", "length")
+            if kind not in ("length", "mass", "inertia"):
+                raise self.err(
+                    f"kind must be 'length', 'mass' or 'inertia', not {kind!r}", table, "kind"
+                )
+            if "value" not in spec:
+                raise self.err("a design variable needs its nominal value", table, "value")
+            value = self.qty(spec["value"], kind, table, "value")
+            self.variables[name] = (value, kind)
+
+    def design_bounds(self, name: str) -> tuple[float, float] | None:
+        spec = self.table("design")[name]
+        if "bounds" not in spec:
+            return None
+        table = f"design.{name}"
+        given = spec["bounds"]
+        if not isinstance(given, list) or len(given) != 2:
+            raise self.err("bounds must be [low, high]", table, "bounds")
+        kind = self.variables[name][1]
+        lo, hi = (self.qty(v, kind, table, "bounds") for v in given)
+        value = self.variables[name][0]
+        if not lo <= value <= hi:
+            raise self.err(
+                f"bounds must hold the nominal value: {lo:.6g} ≤ {value:.6g} ≤ {hi:.6g} fails",
+                table,
+                "bounds",
+            )
+        return lo, hi
 
     def name(self, value: Any, table: str, entry: str | None = None) -> str:
         if not isinstance(value, str) or not _NAME.match(value):
@@ -261,10 +319,11 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     name = data.get("name", Path(source).stem if source else "mechanism")
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], "name")
+    r.design_variables()
     raw_points = r.table("points", True)
     if len(raw_points) > MAX_POINTS:
         raise r.err(f"has {len(raw_points):,} points; a model has at most {MAX_POINTS:,}", "points")
-    points = {r.name(k, "points"): r.xy(v, "points", k) for k, v in raw_points.items()}
+    points = {r.name(k, "points"): r.xy(v, "points", k, k) for k, v in raw_points.items()}
     _check_extent(points, r)
 
     bodies = []
@@ -279,9 +338,21 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         ground = spec.get("ground", False)
         if not isinstance(ground, bool):
             raise r.err("ground must be true or false", "bodies", bname)
-        mass = r.qty(spec["mass"], "mass", "bodies", bname) if "mass" in spec else None
-        inertia = r.qty(spec["inertia"], "inertia", "bodies", bname) if "inertia" in spec else None
-        com = r.xy(spec["center_of_mass"], "bodies", bname) if "center_of_mass" in spec else None
+        mass = (
+            r.qty(spec["mass"], "mass", "bodies", bname, f"{bname}.mass")
+            if "mass" in spec
+            else None
+        )
+        inertia = (
+            r.qty(spec["inertia"], "inertia", "bodies", bname, f"{bname}.inertia")
+            if "inertia" in spec
+            else None
+        )
+        com = (
+            r.xy(spec["center_of_mass"], "bodies", bname, f"{bname}.center_of_mass")
+            if "center_of_mass" in spec
+            else None
+        )
         bodies.append(Body(bname, tuple(pts), ground, mass, inertia, com))
 
     rotary, linear = [], []
@@ -353,7 +424,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
             )
         if (parts[1], parts[0]) in lengths or (parts[0], parts[1]) in lengths:
             raise r.err(f"the distance {parts[0]}-{parts[1]} is given twice", "lengths", key)
-        lengths[(parts[0], parts[1])] = r.qty(value, "length", "lengths", key)
+        lengths[(parts[0], parts[1])] = r.qty(value, "length", "lengths", key, key)
 
     loads = _loads(r, {b.name for b in bodies}, {b.name: b.points for b in bodies})
     gravity = _gravity(r)
@@ -369,9 +440,26 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         source,
         loads,
         gravity,
+        _design(r),
     )
     validate(model)
     return model
+
+
+def _design(r: TomlReader) -> tuple[DesignVariable, ...]:
+    """The design variables, each with the entries that refer to it; one that nothing refers
+    to is a mistake worth a message."""
+    out = []
+    for name, (value, kind) in r.variables.items():
+        targets = tuple(r.references.get(name, ()))
+        if not targets:
+            raise r.err(
+                "no entry refers to this design variable (give its name as a value in "
+                "[points], [lengths] or [bodies])",
+                f"design.{name}",
+            )
+        out.append(DesignVariable(name, value, kind, r.design_bounds(name), targets))
+    return tuple(out)
 
 
 def _gravity(r: TomlReader) -> Gravity | None:

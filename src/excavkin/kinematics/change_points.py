@@ -83,8 +83,8 @@ def folds(x: F, st: Dyad) -> np.ndarray:
     """Samples i (of pairs i, j, the next solved sample) between which the dyad ``st`` folds;
     x: (n_points, 2, n)."""
     p = x[st.point]
-    i, j = _neighbours(p)
-    if not i.size:
+    i, j = _neighbours(np.isfinite(p).all(axis=0))
+    if not np.arange(p.shape[-1])[i].size:
         return np.zeros((2, 0), dtype=np.int64)
     jump = np.hypot(*(p[:, j] - p[:, i]))
     # a fold needs a nearly degenerate triangle at one of the two samples: its base nearly
@@ -93,7 +93,7 @@ def folds(x: F, st: Dyad) -> np.ndarray:
     flat = _flatness(x, st)
     with np.errstate(invalid="ignore"):
         near = np.flatnonzero((jump > 0) & (np.minimum(flat[i], flat[j]) < 0.25 * jump))
-    i, j, jump = i[near], j[near], jump[near]
+    i, j, jump = _picked(i, near), _picked(j, near), jump[near]
     a, b = x[st.a][:, j], x[st.b][:, j]
     nxt, prev = p[:, j], p[:, i]
     e = b - a
@@ -119,18 +119,32 @@ def _flatness(x: F, st: Dyad) -> F:
     return np.asarray(np.minimum(base, np.where(np.isfinite(off), off, 0.0)), dtype=np.float64)
 
 
-def _neighbours(p: F) -> tuple[np.ndarray, np.ndarray]:
-    """Pairs (i, j) of neighbouring solved samples, across at most MAX_GAP unsolved ones."""
-    solved = np.flatnonzero(np.isfinite(p).all(axis=0))
-    pairs = np.diff(solved) <= MAX_GAP + 1
-    return solved[:-1][pairs], solved[1:][pairs]
+Pairs = tuple["np.ndarray | slice", "np.ndarray | slice"]
+
+
+def _neighbours(solved: np.ndarray) -> Pairs:
+    """Pairs (i, j) of neighbouring solved samples, across at most MAX_GAP unsolved ones: as
+    two slices when every sample solved (views, no gathering), else as index arrays."""
+    n = solved.size
+    if solved.all():
+        return slice(0, max(n - 1, 0)), slice(1, n)
+    idx = np.flatnonzero(solved)
+    pairs = np.diff(idx) <= MAX_GAP + 1
+    return idx[:-1][pairs], idx[1:][pairs]
+
+
+def _picked(ix: np.ndarray | slice, sel: np.ndarray) -> np.ndarray:
+    """The samples of a pair side at the positions ``sel``."""
+    if isinstance(ix, slice):
+        return np.asarray(np.arange(ix.start, ix.stop)[sel])
+    return np.asarray(ix[sel])
 
 
 def bends(x: F, v: F, q: F, qd: F, st: Dyad) -> np.ndarray:
     """Samples (i, j) between which the dyad ``st`` folds flat on a long base and P's path bends
     back; x, v: (n_points, 2, n), q, qd: (n_inputs, n)."""
-    i, j = _neighbours(np.concatenate([x[st.point], v[st.point]]))
-    if not i.size:
+    i, j = _neighbours(np.isfinite(x[st.point]).all(axis=0) & np.isfinite(v[st.point]).all(axis=0))
+    if not np.arange(x.shape[-1])[i].size:
         return np.zeros((2, 0), dtype=np.int64)
     e = x[st.b] - x[st.a]
     r = x[st.point] - x[st.a]
@@ -147,7 +161,7 @@ def bends(x: F, v: F, q: F, qd: F, st: Dyad) -> np.ndarray:
         )
         # only where ṡ turns round between the two samples
         turn = np.flatnonzero(sd[i] * sd[j] < 0)
-        i, j = i[turn], j[turn]
+        i, j = _picked(i, turn), _picked(j, turn)
         # the step's duration, from the input that moves most in it at a known rate
         rate = 0.5 * (qd[:, i] + qd[:, j])
         steps = np.where(rate != 0, (q[:, j] - q[:, i]) / rate, np.nan)

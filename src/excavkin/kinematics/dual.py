@@ -66,36 +66,38 @@ class Dual:
         self.val[k] = v
         self.tan[_lead(k)] = t
 
-    # ---- arithmetic
+    # ---- arithmetic (a plain operand has no tangent: its products and sums are skipped)
     def __add__(self, o: Any) -> Dual:
-        v, t = _parts(o)
-        return Dual(self.val + v, self.tan + t)
+        if not isinstance(o, Dual):
+            return Dual(self.val + o, self.tan)
+        return Dual(self.val + o.val, self.tan + o.tan)
 
     __radd__ = __add__
 
     def __sub__(self, o: Any) -> Dual:
-        v, t = _parts(o)
-        return Dual(self.val - v, self.tan - t)
+        if not isinstance(o, Dual):
+            return Dual(self.val - o, self.tan)
+        return Dual(self.val - o.val, self.tan - o.tan)
 
     def __rsub__(self, o: Any) -> Dual:
-        v, t = _parts(o)
-        return Dual(v - self.val, t - self.tan)
+        return Dual(o - self.val, -self.tan)
 
     def __mul__(self, o: Any) -> Dual:
-        v, t = _parts(o)
-        return Dual(self.val * v, self.tan * v + self.val * t)
+        if not isinstance(o, Dual):
+            return Dual(self.val * o, self.tan * o)
+        return Dual(self.val * o.val, self.tan * o.val + self.val * o.tan)
 
     __rmul__ = __mul__
 
     def __truediv__(self, o: Any) -> Dual:
-        v, t = _parts(o)
-        q = self.val / v
-        return Dual(q, (self.tan - q * t) / v)
+        if not isinstance(o, Dual):
+            return Dual(self.val / o, self.tan / o)
+        q = self.val / o.val
+        return Dual(q, (self.tan - q * o.tan) / o.val)
 
     def __rtruediv__(self, o: Any) -> Dual:
-        v, t = _parts(o)
-        q = v / self.val
-        return Dual(q, (t - q * self.tan) / self.val)
+        q = o / self.val
+        return Dual(q, -q * self.tan / self.val)
 
     def __pow__(self, k: int) -> Dual:
         return Dual(self.val**k, k * self.val ** (k - 1) * self.tan)
@@ -141,8 +143,9 @@ class Dual:
         return NotImplemented
 
 
-def _binary(name: str) -> Any:
-    return lambda a, b: getattr(Dual(*_parts(a)) if not isinstance(a, Dual) else a, name)(b)
+def _binary(name: str, reflected: str) -> Any:
+    """A ufunc of two operands, at least one of them dual."""
+    return lambda a, b: getattr(a, name)(b) if isinstance(a, Dual) else getattr(b, reflected)(a)
 
 
 def _sqrt(a: Dual) -> Dual:
@@ -172,10 +175,10 @@ def _maximum(a: Any, b: Any) -> Dual:
 
 
 _RULES: dict[str, Any] = {
-    "add": _binary("__add__"),
-    "subtract": _binary("__sub__"),
-    "multiply": _binary("__mul__"),
-    "true_divide": _binary("__truediv__"),
+    "add": _binary("__add__", "__radd__"),
+    "subtract": _binary("__sub__", "__rsub__"),
+    "multiply": _binary("__mul__", "__rmul__"),
+    "true_divide": _binary("__truediv__", "__rtruediv__"),
     "negative": lambda a: -a,
     "absolute": abs,
     "sqrt": _sqrt,

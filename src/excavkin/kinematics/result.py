@@ -374,9 +374,9 @@ class KinematicResult:
         n = len(self)
         for name, value in (self.parameters or {}).items():
             arr = np.broadcast_to(np.asarray(value, dtype=np.float64), (n,))
-            cols.append((design_column(name, parameter_kind(name)), arr))
+            cols.append((design_column(name, parameter_kind(name, plan.model)), arr))
         for name, tangent in (self.tangents or {}).items():
-            kind = parameter_kind(name)
+            kind = parameter_kind(name, plan.model)
             for c, arr in tangent._columns():
                 if c.owner_kind != "time":
                     cols.append((derivative_column(c, name, kind), arr))

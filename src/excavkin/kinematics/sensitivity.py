@@ -29,7 +29,7 @@ from excavkin.structure.design import joint_offsets, parameters, take, vary
 from excavkin.structure.plan import SolvePlan
 
 #: samples per pass (the tangents multiply the memory of a pass by the parameter count)
-CHUNK = 4096
+CHUNK = 16384
 
 
 def solve_tangents(
@@ -106,13 +106,14 @@ class _Tangents:
         npts = len(plan.points)
         self.plan = plan
         self.m = m
-        self.x = np.full((m, npts, 2, n), np.nan)
-        self.v = np.full_like(self.x, np.nan)
-        self.a = np.full_like(self.x, np.nan)
+        # every sample is written by its chunk (the unsolved ones NaN afterwards)
+        self.x = np.empty((m, npts, 2, n))
+        self.v = np.empty_like(self.x)
+        self.a = np.empty_like(self.x)
         self.q = np.zeros((m, len(plan.inputs), n))
-        self.trans = np.full((m, len(plan.transmissions), n), np.nan)
+        self.trans = np.empty((m, len(plan.transmissions), n))
         self.body = np.zeros((m, 3, len(plan.bodies), n))
-        self.element = np.full((m, 6, len(plan.elements), n), np.nan)
+        self.element = np.empty((m, 6, len(plan.elements), n))
 
     def solve(self, plan: SolvePlan, q: Dual, qd: F, qdd: F, part: slice) -> None:
         m = self.m

@@ -269,7 +269,7 @@ class ForceResult:
             resultants = (self.system.bodies[self.system.ground],)
         described = self._columns(resultants)
         for name, tangent in (self.tangents or {}).items():
-            kind = parameter_kind(name)
+            kind = parameter_kind(name, self.kinematics.plan.model)
             described += [
                 (derivative_column(c, name, kind), tangent[c.name])
                 for c, _ in self._columns(resultants)

@@ -175,6 +175,29 @@ Load: TypeAlias = PointForce | Torque | Gravity
 
 
 @dataclass(frozen=True, slots=True)
+class DesignVariable:
+    """A named design variable of a model file: one value that several entries refer to.
+
+    Attributes
+    ----------
+    name : str
+    value : float
+        Nominal value, SI.
+    kind : {"length", "mass", "inertia"}
+    bounds : (float, float) or None
+        Lower and upper bound, SI (for design studies).
+    targets : tuple of str
+        The parameters that refer to it (``"A-B"``, ``"O4.x"``, ``"rocker.mass"``).
+    """
+
+    name: str
+    value: float
+    kind: str
+    bounds: tuple[float, float] | None
+    targets: tuple[str, ...]
+
+
+@dataclass(frozen=True, slots=True)
 class Model:
     """A planar mechanism as described by its user, in SI units.
 
@@ -196,6 +219,8 @@ class Model:
         External loads that :meth:`~excavkin.Mechanism.forces` applies by default.
     gravity : Gravity or None
         Gravity, when the model enables it (``None``: off).
+    design : tuple of DesignVariable
+        The file's named design variables and the entries that refer to them.
     """
 
     name: str
@@ -208,6 +233,7 @@ class Model:
     source: str | None = None
     loads: tuple[PointForce | Torque, ...] = ()
     gravity: Gravity | None = None
+    design: tuple[DesignVariable, ...] = ()
 
     def __hash__(self) -> int:
         return hash((self.name, tuple(self.points), self.bodies, self.rotary, self.linear))

@@ -81,6 +81,6 @@ def plot_bands(
         f"largest worst-case contributions: {ranked or 'none'}",
         fontsize=9,
     )
-    ax.legend(loc="upper right", fontsize=8)
+    ax.legend(loc="best", fontsize=8)
     ax.grid(alpha=0.3)
     return BandsPlot(ax, line)

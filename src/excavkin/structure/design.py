@@ -55,8 +55,9 @@ KIND_OF = {"x": "length", "y": "length", "mass": "mass", "inertia": "inertia"}
 
 
 def parameters(model: Model) -> dict[str, float]:
-    """Every dimension of the model by name, at its nominal SI value."""
-    out: dict[str, float] = {}
+    """Every dimension of the model by name, at its nominal SI value; the file's design
+    variables first (each sets every entry that refers to it)."""
+    out: dict[str, float] = {v.name: float(v.value) for v in model.design}
     for name, (x, y) in model.points.items():
         out[f"{name}.x"], out[f"{name}.y"] = float(x), float(y)
     for (p, q), value in model.lengths.items():
@@ -91,9 +92,44 @@ def joint_offsets(model: Model) -> dict[str, float]:
     return out
 
 
-def parameter_kind(name: str) -> str:
+def parameter_kind(name: str, model: Model | None = None) -> str:
     """``"length"``, ``"mass"`` or ``"inertia"``: what a parameter measures."""
+    if model is not None:
+        for var in model.design:
+            if var.name == name:
+                return var.kind
     return KIND_OF.get(name.rsplit(".", 1)[-1], "length")
+
+
+def expand(model: Model, values: Mapping[str, Any]) -> dict[str, Any]:
+    """The values with each design variable's value given to every entry that refers to it.
+
+    Raises
+    ------
+    InputError
+        An entry given both itself and through its design variable.
+    """
+    out = dict(values)
+    for var in model.design:
+        if var.name not in out:
+            continue
+        value = out.pop(var.name)
+        for target in var.targets:
+            if target in values and hasattr(value, "tan") and hasattr(values[target], "tan"):
+                # differentiating by both the variable and the entry (dual numbers at the
+                # same value): the entry moves with either
+                own = values[target]
+                out[target] = type(own)(own.val, own.tan + value.tan)
+            elif target in values:
+                from excavkin.errors import InputError
+
+                raise InputError(
+                    f"parameter {target!r} is given both itself and through design variable "
+                    f"{var.name!r}"
+                )
+            else:
+                out[target] = value
+    return out
 
 
 @dataclasses.dataclass(frozen=True, slots=True)
@@ -123,6 +159,7 @@ class _Geometry:
 
     def __init__(self, model: Model, values: Mapping[str, Any]) -> None:
         self.model = model
+        values = expand(model, values)
         self.sketch: dict[str, tuple[Num, Num]] = {
             n: (values.get(f"{n}.x", x), values.get(f"{n}.y", y))
             for n, (x, y) in model.points.items()
@@ -311,6 +348,7 @@ def mass_items(model: Model, values: Mapping[str, Any]) -> list[tuple[Num, Num, 
     numbers). A body with a mass but no centre of mass takes the centroid of its points; the
     ground and massless bodies carry zeros."""
     geo = _Geometry(model, values)
+    values = expand(model, values)
     out: list[tuple[Num, Num, Num, Num]] = []
     for b in model.bodies:
         if b.ground or b.mass is None:

@@ -218,7 +218,7 @@ def _kind(mech: Mechanism, name: str) -> str:
         from excavkin.errors import unknown_name
 
         raise unknown_name("parameter", name, list(mech.parameters))
-    return parameter_kind(name)
+    return parameter_kind(name, mech.model)
 
 
 def _pins(mech: Mechanism, clearance: Any) -> list[tuple[tuple[str, float], tuple[str, str]]]:

@@ -106,7 +106,7 @@ def parameter_kind(mech: Mechanism, name: str) -> str:
 
     if name not in mech.parameters:
         raise unknown_name("parameter", name, list(mech.parameters))
-    return kind_of(name)
+    return kind_of(name, mech.model)
 
 
 def split_params(
