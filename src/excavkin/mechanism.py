@@ -90,6 +90,28 @@ def _load_in_si(load: Load) -> Load:
     return dataclasses.replace(load, value=value)
 
 
+def _loads_of_designs(loads: Iterable[Load], params: Mapping[str, Any], n: int) -> list[Load]:
+    """The loads with the magnitudes a family of designs gives (``LOAD.Fx`` …) per sample."""
+    from excavkin.kinetostatics import PointForce, Torque
+
+    out: list[Load] = []
+    for ld in loads:
+        if isinstance(ld, PointForce) and {f"{ld.name}.Fx", f"{ld.name}.Fy"} & set(params):
+            fx, fy = np.asarray(ld.value, dtype=np.float64)
+            value = np.column_stack(
+                [
+                    np.broadcast_to(params.get(f"{ld.name}.Fx", fx), (n,)),
+                    np.broadcast_to(params.get(f"{ld.name}.Fy", fy), (n,)),
+                ]
+            )
+            ld = dataclasses.replace(ld, value=value)
+        elif isinstance(ld, Torque) and f"{ld.name}.torque" in params:
+            tau = np.broadcast_to(params[f"{ld.name}.torque"], (n,)).copy()
+            ld = dataclasses.replace(ld, value=tau)
+        out.append(ld)
+    return out
+
+
 class Mechanism:
     """A planar mechanism ready to solve.
 
@@ -425,6 +447,8 @@ class Mechanism:
         if result.plan.model is not self.plan.model:  # (a family of designs has its own plan)
             raise InputError("the kinematic result belongs to another mechanism")
         given = self.loads if loads is None else [_load_in_si(load) for load in loads]
+        if result.parameters:
+            given = _loads_of_designs(given, result.parameters, len(result))
         forces = solve_forces(result, given, system=self.statics)
         if result.tangents:
             from excavkin.kinetostatics.sensitivity import force_tangents

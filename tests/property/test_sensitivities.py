@@ -109,3 +109,28 @@ def test_sensitivity_errors_are_plain() -> None:
     newton = excavkin.Mechanism(mech.model, method="newton")
     with pytest.raises(InputError, match="Newton group"):
         newton.solve({"crank": [0.1]}, sensitivities=["A-B"])
+
+
+def test_load_magnitudes_are_parameters() -> None:
+    """A model's own constant loads: their magnitudes vary per sample and have exact
+    sensitivities (the forces are linear in them: the derivative is the response to a unit
+    load, checked against a solve with the load doubled)."""
+    text = excavkin.example_path("fourbar").read_text() + (
+        '\n[loads.push]\ntype = "force"\nbody = "coupler"\npoint = "B"\nvalue = ["40 N", "-25 N"]\n'
+        '\n[loads.brake]\ntype = "torque"\nbody = "rocker"\nvalue = "3 N*m"\n'
+    )
+    mech = excavkin.loads(text, "loaded.toml")
+    assert mech.parameters["push.Fx"] == 40.0 and mech.parameters["brake.torque"] == 3.0
+    q = {"crank": np.radians(np.linspace(0, 330, 12))}
+    names = ["push.Fx", "push.Fy", "brake.torque", "A-B"]
+    res = mech.solve(q, rates={"crank": 2.0}, loads="model", sensitivities=names)
+    base = mech.solve(q, rates={"crank": 2.0}, loads="model")
+    for name, nominal in (("push.Fx", 40.0), ("push.Fy", -25.0), ("brake.torque", 3.0)):
+        twice = mech.solve(q, rates={"crank": 2.0}, loads="model", params={name: 2 * nominal})
+        for col in ("crank.torque", "B.rocker.Fx", "ground.Ry"):
+            slope = (twice.column(col) - base.column(col)) / nominal
+            np.testing.assert_allclose(res.sensitivity(col, name), slope, rtol=1e-9, atol=1e-9)
+        assert np.all(res.sensitivity("B.x", name) == 0.0)  # a load moves nothing
+    per_sample = mech.solve(q, loads="model", params={"push.Fx": np.linspace(0, 80, 12)})
+    one = mech.solve({"crank": q["crank"][3:4]}, loads="model", params={"push.Fx": 80 * 3 / 11})
+    assert per_sample.torque("crank")[3] == pytest.approx(one.torque("crank")[0], rel=1e-12)

@@ -32,7 +32,8 @@ O4 = ["span", 0]
 ground  = { points = ["O2", "O4"], ground = true }
 crank   = { points = ["O2", "A"] }
 coupler = { points = ["A", "B"] }
-rocker  = { points = ["O4", "B"], mass = "rocker_mass", inertia = "4.5e-4 kg*m^2", center_of_mass = [105, 45] }
+rocker  = { points = ["O4", "B"], mass = "rocker_mass", inertia = "4.5e-4 kg*m^2", \
+center_of_mass = [105, 45] }
 [lengths]
 "A-B" = "coupler"
 "O4-B" = 90
@@ -66,7 +67,7 @@ def test_a_variable_is_a_parameter_that_sets_every_entry_referring_to_it() -> No
 
 def test_a_variable_shared_by_two_entries_differentiates_as_their_sum() -> None:
     text = TEXT.replace('"O4-B" = 90', '"O4-B" = "coupler"').replace(
-        'B  = [110, 90]', 'B  = [115, 95]'
+        "B  = [110, 90]", "B  = [115, 95]"
     )
     mech = excavkin.loads(text, "shared.toml")
     q = {"crank": np.radians([20.0, 140.0, 260.0])}
@@ -87,8 +88,8 @@ def test_a_variable_shared_by_two_entries_differentiates_as_their_sum() -> None:
         (('mass = "rocker_mass"', 'mass = "coupler"'), "design variable 'coupler' is a length"),
         (('bounds = ["110 mm", "130 mm"]', 'bounds = ["125 mm", "130 mm"]'), "hold the nominal"),
         (('bounds = ["110 mm", "130 mm"]', 'bounds = ["110 mm"]'), "bounds must be [low, high]"),
-        (('value = 100', 'value = 100\nstep = 1'), "unknown key step"),
-        (('[design.span]\nvalue = 100', '[design.span]\nkind = "length"'), "needs its nominal"),
+        (("value = 100", "value = 100\nstep = 1"), "unknown key step"),
+        (("[design.span]\nvalue = 100", '[design.span]\nkind = "length"'), "needs its nominal"),
         (('kind = "mass"', 'kind = "force"'), "kind must be"),
         (('O4 = ["span", 0]', 'O4 = ["spam", 0]'), "O4"),
     ],

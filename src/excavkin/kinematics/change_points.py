@@ -160,7 +160,7 @@ def bends(x: F, v: F, q: F, qd: F, st: Dyad) -> np.ndarray:
             - cross * (e[0] * de[0] + e[1] * de[1]) / base**3
         )
         # only where ṡ turns round between the two samples
-        turn = np.flatnonzero(sd[i] * sd[j] < 0)
+        turn = np.flatnonzero(np.sign(sd[i]) * np.sign(sd[j]) < 0)
         i, j = _picked(i, turn), _picked(j, turn)
         # the step's duration, from the input that moves most in it at a known rate
         rate = 0.5 * (qd[:, i] + qd[:, j])

@@ -72,6 +72,7 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
     a_t = np.stack([np.moveaxis(t.accelerations, 0, -1) for t in tangents])
     eps_t = np.stack([np.moveaxis(t.body_epsilon, 0, -1) for t in tangents])
     masses = _dual_masses(forces, names, n)
+    ev = _dual_loads(forces, names, n)
     out = np.zeros((m, sy.size, n))
     for s in range(0, n, CHUNK):
         part = slice(s, min(s + CHUNK, n))
@@ -93,6 +94,36 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
     bad = ~(kin.status.solved & ~forces.singular)
     out[:, :, bad] = np.nan
     return {name: _columns(forces, out[j], x, x_t[j]) for j, name in enumerate(names)}
+
+
+def _dual_loads(forces: ForceResult, names: Sequence[str], n: int) -> Any:
+    """The evaluated loads, with a unit tangent on each load magnitude among ``names``."""
+    import dataclasses
+
+    from excavkin.kinetostatics.loads import PointForce, Torque
+
+    ev = forces.evaluated
+    m = len(names)
+
+    def with_tangent(value: Any, name: str) -> Any:
+        if name not in names:
+            return value
+        tan = np.zeros((m, n))
+        tan[list(names).index(name)] = 1.0
+        return Dual(np.broadcast_to(np.asarray(value, dtype=np.float64), (n,)).copy(), tan)
+
+    # evaluate_loads keeps the loads' order: the k-th point force is forces[k], and so on
+    pushes = [ld for ld in forces.loads if isinstance(ld, PointForce)]
+    couples = [ld for ld in forces.loads if isinstance(ld, Torque)]
+    new_forces = [
+        (body, point, with_tangent(fx, f"{ld.name}.Fx"), with_tangent(fy, f"{ld.name}.Fy"))
+        for (body, point, fx, fy), ld in zip(ev.forces, pushes, strict=True)
+    ]
+    new_torques = [
+        (body, reaction, with_tangent(tau, f"{ld.name}.torque"))
+        for (body, reaction, tau), ld in zip(ev.torques, couples, strict=True)
+    ]
+    return dataclasses.replace(ev, forces=tuple(new_forces), torques=tuple(new_torques))
 
 
 def _dual_masses(forces: ForceResult, names: Sequence[str], n: int) -> _Masses:

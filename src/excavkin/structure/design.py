@@ -10,6 +10,8 @@ Every dimension of a model is a parameter with a name and a nominal SI value
 ``BODY.mass``              a body's mass, kg
 ``BODY.inertia``           its moment of inertia about the centre of mass, kg·m²
 ``BODY.center_of_mass.x``  its centre of mass in sketch coordinates (and ``.y``), m
+``LOAD.Fx``, ``LOAD.Fy``   a constant point force of the model's ``[loads]``, N
+``LOAD.torque``            a constant couple of the model's ``[loads]``, N·m
 =========================  ==========================================================
 
 :func:`design_plan` recomputes the plan's constants (ground coordinates, radii, body
@@ -51,7 +53,15 @@ F = NDArray[np.float64]
 Num = Any  # a float, or an array of one value per design
 
 #: the kind of value of each parameter suffix (for units at the edges)
-KIND_OF = {"x": "length", "y": "length", "mass": "mass", "inertia": "inertia"}
+KIND_OF = {
+    "x": "length",
+    "y": "length",
+    "mass": "mass",
+    "inertia": "inertia",
+    "Fx": "force",
+    "Fy": "force",
+    "torque": "torque",
+}
 
 
 def parameters(model: Model) -> dict[str, float]:
@@ -62,6 +72,8 @@ def parameters(model: Model) -> dict[str, float]:
         out[f"{name}.x"], out[f"{name}.y"] = float(x), float(y)
     for (p, q), value in model.lengths.items():
         out[f"{p}-{q}"] = float(value)
+    for name, value in load_parameters(model).items():
+        out[name] = value
     for b in model.bodies:
         if b.mass is not None:
             out[f"{b.name}.mass"] = float(b.mass)
@@ -70,6 +82,23 @@ def parameters(model: Model) -> dict[str, float]:
         if b.center_of_mass is not None:
             out[f"{b.name}.center_of_mass.x"] = float(b.center_of_mass[0])
             out[f"{b.name}.center_of_mass.y"] = float(b.center_of_mass[1])
+    return out
+
+
+def load_parameters(model: Model) -> dict[str, float]:
+    """The magnitudes of the model's own constant loads: ``LOAD.Fx``, ``LOAD.Fy`` of a point
+    force, ``LOAD.torque`` of a couple (N, N·m)."""
+    from excavkin.model.entities import PointForce
+
+    out: dict[str, float] = {}
+    for ld in model.loads:
+        if callable(ld.value):
+            continue
+        value = np.asarray(ld.value, dtype=np.float64)
+        if isinstance(ld, PointForce) and value.shape == (2,):
+            out[f"{ld.name}.Fx"], out[f"{ld.name}.Fy"] = float(value[0]), float(value[1])
+        elif not isinstance(ld, PointForce) and value.ndim == 0:
+            out[f"{ld.name}.torque"] = float(value)
     return out
 
 
