@@ -11,10 +11,9 @@ Not a test: machines differ; the ratio is what is tracked.
 from __future__ import annotations
 
 import sys
-import time
-from collections.abc import Callable
 
 import numpy as np
+from timing import best_of
 
 import excavkin
 
@@ -69,15 +68,6 @@ def hand_numpy(th: np.ndarray, w: float, al: float) -> dict[str, np.ndarray]:
         out[name + ".omega"] = (rx * vy - ry * vx) / r2
         out[name + ".epsilon"] = (rx * ay_ - ry * ax_) / r2
     return out
-
-
-def best_of(fn: Callable[[], object], repeat: int = 5) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def pylinkage_rates(n: int) -> tuple[float, float] | None:

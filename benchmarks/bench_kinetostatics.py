@@ -12,22 +12,12 @@ Not a test: machines differ; the ratio is what is tracked.
 from __future__ import annotations
 
 import sys
-import time
-from collections.abc import Callable
 
 import numpy as np
+from timing import best_of
 
 import excavkin
 from excavkin.kinetostatics import Gravity, PointForce, solve_forces
-
-
-def best_of(fn: Callable[[], object], repeat: int = 7) -> float:
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main(n: int = 1_000_000) -> float:
@@ -42,8 +32,8 @@ def main(n: int = 1_000_000) -> float:
     res = solve_forces(kin, loads, system=statics)
     worst = float(np.max(res.power_balance().relative))
 
-    t_kin = best_of(lambda: mech.solve({"crank": theta}, rates, accels))
-    t_force = best_of(lambda: solve_forces(kin, loads, system=statics))
+    t_kin = best_of(lambda: mech.solve({"crank": theta}, rates, accels), 7)
+    t_force = best_of(lambda: solve_forces(kin, loads, system=statics), 7)
     m = min(n, 20_000)
     part = mech.solve({"crank": theta[:m]}, rates, accels)
     t_dense = best_of(lambda: solve_forces(part, loads, system=statics, method="dense"), 3)

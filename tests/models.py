@@ -38,13 +38,18 @@ def double_rocker() -> excavkin.Mechanism:
     return excavkin.loads(text.replace("B  = [110, 90]", "B  = [50, 110]"), "double-rocker")
 
 
-def parallelogram() -> excavkin.Model:
-    """Four links of 100 mm, crank upright: a change point where the crank's end meets O4."""
+def fourbar_model(
+    points: dict[str, tuple[float, float]],
+    name: str = "four-bar",
+    lengths: dict[tuple[str, str], float] | None = None,
+) -> excavkin.Model:
+    """A crank-rocker from its sketch ``{"O2", "A", "B", "O4"}``: ground O2–O4, crank O2–A
+    driven from the ground, coupler A–B, rocker O4–B."""
     from excavkin import Body, Model, RotaryDriver
 
     return Model(
-        name="parallelogram",
-        points={"O2": (0.0, 0.0), "A": (0.0, 0.1), "B": (0.1, 0.1), "O4": (0.1, 0.0)},
+        name=name,
+        points=dict(points),
         bodies=(
             Body("ground", ("O2", "O4"), ground=True),
             Body("crank", ("O2", "A")),
@@ -52,4 +57,12 @@ def parallelogram() -> excavkin.Model:
             Body("rocker", ("O4", "B")),
         ),
         rotary=(RotaryDriver("crank", body="crank", pivot="O2", reference="ground"),),
+        lengths=dict(lengths or {}),
+    )
+
+
+def parallelogram() -> excavkin.Model:
+    """Four links of 100 mm, crank upright: a change point where the crank's end meets O4."""
+    return fourbar_model(
+        {"O2": (0.0, 0.0), "A": (0.0, 0.1), "B": (0.1, 0.1), "O4": (0.1, 0.0)}, "parallelogram"
     )

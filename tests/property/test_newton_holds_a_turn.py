@@ -14,7 +14,8 @@ import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from excavkin import Body, Mechanism, Model, RotaryDriver
+from excavkin import Mechanism, Model
+from tests.models import fourbar_model
 
 
 def fourbar(a: float, b: float, c: float, d: float, up: bool) -> Model | None:
@@ -29,16 +30,9 @@ def fourbar(a: float, b: float, c: float, d: float, up: bool) -> Model | None:
         return None
     u = e / base
     B = A + k * u + (1 if up else -1) * np.sqrt(h2) * np.array([-u[1], u[0]])
-    return Model(
-        name="random four-bar",
-        points={"O2": (0.0, 0.0), "A": (0.0, a), "B": (float(B[0]), float(B[1])), "O4": (d, 0.0)},
-        bodies=(
-            Body("ground", ("O2", "O4"), ground=True),
-            Body("crank", ("O2", "A")),
-            Body("coupler", ("A", "B")),
-            Body("rocker", ("O4", "B")),
-        ),
-        rotary=(RotaryDriver("crank", body="crank", pivot="O2", reference="ground"),),
+    return fourbar_model(
+        {"O2": (0.0, 0.0), "A": (0.0, a), "B": (float(B[0]), float(B[1])), "O4": (d, 0.0)},
+        "random four-bar",
     )
 
 

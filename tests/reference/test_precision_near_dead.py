@@ -12,10 +12,11 @@ import numpy as np
 import pytest
 
 import excavkin
-from excavkin import Body, Model, RotaryDriver
+from excavkin import Model
 from excavkin.kinematics import precision
 from excavkin.kinematics.kernels import Code
 from excavkin.structure.plan import Dyad, Fixed, Rotate
+from tests.models import fourbar_model
 
 TOL = 1e-8
 pytestmark = pytest.mark.skipif(precision.WIDE is None, reason="long double is double here")
@@ -157,17 +158,7 @@ def _fourbar(r: float, g: float, b: float, c: float, theta: float, side: float) 
     kk = (b * b - c * c + l2) / (2 * l2)
     h = side * np.sqrt(b * b / l2 - kk * kk)
     bx, by = ax + kk * ex - h * ey, ay + kk * ey + h * ex
-    return Model(
-        name="four-bar",
-        points={"O2": (0.0, 0.0), "A": (ax, ay), "B": (bx, by), "O4": (g, 0.0)},
-        bodies=(
-            Body("ground", ("O2", "O4"), ground=True),
-            Body("crank", ("O2", "A")),
-            Body("coupler", ("A", "B")),
-            Body("rocker", ("O4", "B")),
-        ),
-        rotary=(RotaryDriver("crank", body="crank", pivot="O2", reference="ground"),),
-    )
+    return fourbar_model({"O2": (0.0, 0.0), "A": (ax, ay), "B": (bx, by), "O4": (g, 0.0)})
 
 
 @pytest.mark.parametrize("seed", range(8))

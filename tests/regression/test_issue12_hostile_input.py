@@ -214,21 +214,15 @@ def test_a_coincident_pivot_is_undetermined_not_a_failure_to_close() -> None:
 
 
 def test_coincident_partners_at_unequal_distances_still_cannot_close() -> None:
-    from excavkin import Body, Mechanism, Model, RotaryDriver
+    from excavkin import Mechanism
+    from tests.models import fourbar_model
 
     # crank 100 mm onto O4, coupler 100 mm, rocker 120 mm: at crank 0, A = O4 and B cannot
     # be both 100 mm and 120 mm from that one point
-    model = Model(
-        name="unequal",
-        points={"O2": (0.0, 0.0), "A": (0.0, 0.1), "B": (0.06, 0.18), "O4": (0.1, 0.0)},
-        bodies=(
-            Body("ground", ("O2", "O4"), ground=True),
-            Body("crank", ("O2", "A")),
-            Body("coupler", ("A", "B")),
-            Body("rocker", ("O4", "B")),
-        ),
-        rotary=(RotaryDriver("crank", body="crank", pivot="O2", reference="ground"),),
-        lengths={("A", "B"): 0.1, ("O4", "B"): 0.12},
+    model = fourbar_model(
+        {"O2": (0.0, 0.0), "A": (0.0, 0.1), "B": (0.06, 0.18), "O4": (0.1, 0.0)},
+        "unequal",
+        {("A", "B"): 0.1, ("O4", "B"): 0.12},
     )
     res = Mechanism(model).solve({"crank": 0.0})
     assert res.status.labels()[0].startswith("cannot close at dyad B")
