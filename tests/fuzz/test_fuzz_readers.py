@@ -146,3 +146,75 @@ def test_command_line_values(tmp_path_factory, start: str, stop: str, n: str, ra
     assert r.exit_code in (0, 2, 3) and time.perf_counter() - start_t < 20
     if r.exit_code:
         assert "excavkin: error:" in r.output and not Path(out).exists()
+
+
+#: a model with design variables, referred to from points, lengths and a body's mass
+DESIGNED = (
+    excavkin.example_path("fourbar")
+    .read_text()
+    .replace('"A-B"  = 120', '"A-B"  = "coupler"')
+    .replace("O4 = [100, 0]", 'O4 = ["span", 0]')
+    .replace('mass = "0.6 kg"', 'mass = "rocker_mass"')
+    + '\n[design.coupler]\nvalue = "120 mm"\nbounds = ["110 mm", "130 mm"]\n'
+    + "\n[design.span]\nvalue = 100\n"
+    + '\n[design.rocker_mass]\nkind = "mass"\nvalue = "0.6 kg"\n'
+)
+
+
+def test_the_designed_model_reads() -> None:
+    mech = excavkin.loads(DESIGNED, "designed.toml")
+    assert set(mech.design_variables) == {"coupler", "span", "rocker_mass"}
+
+
+@FUZZ
+@given(data=st.data())
+def test_mutated_design_variables(tmp_path_factory, data) -> None:
+    path = tmp_path_factory.mktemp("designed") / "d.toml"
+    path.write_text(mutate(DESIGNED, data))
+    check_outcome(["check", str(path)], str(path))
+
+
+@FUZZ
+@given(
+    param=st.sampled_from(["A-B", "O4.x", "rocker.mass", "B@rocker.x", "A-C", "", "A-B.x"]),
+    start=VALUES.map(lambda v: v.strip('"')),
+    stop=VALUES.map(lambda v: v.strip('"')),
+    tol=VALUES.map(lambda v: v.strip('"')),
+)
+def test_design_command_line_values(tmp_path_factory, param, start, stop, tol) -> None:  # type: ignore[no-untyped-def]
+    """--param and --tol take the same hostile values as --sweep: success or one clear error,
+    and nothing written on an error."""
+    folder = tmp_path_factory.mktemp("designs")
+    out = folder / "o.csv"
+    for args in (
+        [
+            "solve",
+            "fourbar",
+            "-q",
+            "--sweep",
+            "crank=0:1:3",
+            "--param",
+            f"{param}={start}:{stop}:3",
+            "-o",
+            str(out),
+        ],
+        [
+            "tolerance",
+            "fourbar",
+            "--sweep",
+            "crank=0:1:3",
+            "--tol",
+            f"{param}={tol}",
+            "--draws",
+            "50",
+            "-o",
+            str(out),
+        ],
+    ):
+        start_t = time.perf_counter()
+        r = CliRunner().invoke(main, args)
+        assert r.exception is None or isinstance(r.exception, SystemExit), r.exception
+        assert r.exit_code in (0, 2, 3) and time.perf_counter() - start_t < 20
+        if r.exit_code:
+            assert "excavkin: error:" in r.output and not out.exists(), r.output
+        out.unlink(missing_ok=True)
