@@ -74,6 +74,9 @@ class ChangePoint:
         )
 
 
+#: a dyad whose transmission angle keeps sin γ at least this over a sweep cannot fold in it
+NEVER_FLAT = 0.3
+
 #: neighbouring solved samples are compared across at most this many unsolved ones (a fold
 #: exactly on a sample leaves that one undetermined)
 MAX_GAP = 2
@@ -199,13 +202,25 @@ def find_change_points(
     v: F | None = None,
     q: F | None = None,
     qd: F | None = None,
+    trans: F | None = None,
 ) -> list[ChangePoint]:
     """Every dyad's change points between neighbouring samples, in plan order (bends too when
-    the velocities and inputs are given)."""
+    the velocities and inputs are given).
+
+    With the transmission angles ``trans`` (n_transmissions, n), a dyad whose triangle never
+    comes nearer flat than sin γ = :data:`NEVER_FLAT` is passed over: its triangle's height
+    and base then stay above about a sixth of its shorter side, so a fold between two samples
+    would need P to move more than half a link in one step — no sweep that can be read.
+    """
     out = []
     names = plan.points
     for st in plan.steps:
         if isinstance(st, Dyad):
+            if trans is not None:
+                with np.errstate(invalid="ignore"):
+                    flattest = np.nanmin(np.abs(np.sin(trans[st.index])), initial=1.0)
+                if flattest >= NEVER_FLAT:
+                    continue
             for i, j, shape in _changes(x, v, q, qd, st):
                 partners = (names[st.a], names[st.b])
                 out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))

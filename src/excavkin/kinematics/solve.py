@@ -142,13 +142,23 @@ def solve_kinematics(
         arrays = precision.Arrays(x, v, a, trans, derived)
         limits = (tol.close, tol.singular)
         error = precision.check(plan, q, qd, qdd, arrays, status, failed, newton_near, limits)
-        _flag_not_finite(x, v, a, trans, derived, slice(None), status)
+        if np.isfinite(error).any():  # the checked samples may hold extended values now
+            checked = np.flatnonzero(np.isfinite(error))
+            _flag_not_finite(
+                x[..., checked],
+                v[..., checked],
+                a[..., checked],
+                trans[:, checked],
+                Derived(derived.body[..., checked], derived.element[..., checked]),
+                slice(None),
+                status[checked],
+            )
     result = KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
     return dataclasses.replace(
         result,
-        change_points=tuple(find_change_points(plan, x, v=v, q=q_given, qd=qd)),
+        change_points=tuple(find_change_points(plan, x, v=v, q=q_given, qd=qd, trans=trans)),
         error_estimate=error,
     )
 
