@@ -199,3 +199,18 @@ def test_the_command_line_sweeps_a_parameter_and_adds_its_derivatives(tmp_path) 
     ]:
         r = CliRunner().invoke(main, [*args[:4], *bad, "-o", str(tmp_path / "x.csv")])
         assert r.exit_code == 2 and words in r.output, r.output
+
+
+def test_derivative_columns_count_in_the_memory_check(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    """Each --sensitivity adds a derivative of every column: a sweep that fits without them is
+    refused with them, before anything is allocated."""
+    from click.testing import CliRunner
+
+    from excavkin.cli import main
+
+    names = ["A-B", "O4-B", "O4.x", "O4.y", "A.x", "A.y", "B.x", "B.y", "O2.x", "O2.y"]
+    args = ["solve", "fourbar", "-q", "--sweep", "crank=0:1:5000000", "-o", str(tmp_path / "o.csv")]
+    for name in names:
+        args += ["--sensitivity", name]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 2 and "GiB" in r.output and "5,000,000 samples" in r.output, r.output

@@ -376,7 +376,9 @@ def command(
         default=1,
     )
     # the result, its table and the file's copy: every column three times over
-    check_samples(n, "--sweep", 3 * 8 * _columns_per_sample(mech, with_forces))
+    # each --sensitivity adds a derivative of every column
+    copies = 1 + len(sensitivities)
+    check_samples(n, "--sweep", 3 * 8 * copies * _columns_per_sample(mech, with_forces))
     result = solve_with_progress(
         mech,
         values,
