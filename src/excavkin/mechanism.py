@@ -360,11 +360,19 @@ class Mechanism:
         qd = np.empty((n_in, n))
         qdd = np.empty((n_in, n))
         plan, held, unbuildable = self.plan, np.asarray(self.plan.input_sketch)[:, None], None
-        if given:
+        batch = None
+        if given and (self.plan.has_newton or continuation == "smooth"):
+            # these take the whole batch at once: its constants made for every sample
             from excavkin.structure.design import design_plan
 
             designs = design_plan(self.plan, given, n)
             plan, held, unbuildable = designs.plan, designs.input_sketch, designs.unbuildable
+        elif given:
+            from excavkin.structure.design import DesignBatch
+
+            batch = DesignBatch(self.plan, {k: np.broadcast_to(v, (n,)) for k, v in given.items()})
+            if any(name not in arrays for name in self.plan.inputs):
+                held = batch.held(n)
         for i, name in enumerate(self.plan.inputs):
             val = arrays.get(name)
             swept = val is not None and val.ndim == 1
@@ -382,6 +390,7 @@ class Mechanism:
             progress=progress,
             continuation=continuation,
             unbuildable=unbuildable,
+            designs=batch,
             **({} if chunk is None else {"chunk": int(chunk)}),
         )
         if given:

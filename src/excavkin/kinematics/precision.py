@@ -23,8 +23,10 @@ and angular accelerations.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 
 import numpy as np
+from numpy.typing import NDArray
 
 from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.result import Derived
@@ -94,11 +96,14 @@ def check(
     failed: np.ndarray,
     newton_near: F | None,
     tol: tuple[float, float],
+    plan_at: Callable[[NDArray[np.intp]], SolvePlan] | None = None,
 ) -> F:
     """Check (and where needed improve) the samples near a dead position, in place.
 
     Returns the estimated error of each row relative to its quantities' scales: NaN where the
-    sample was far from any dead position (not checked) or did not solve.
+    sample was far from any dead position (not checked) or did not solve. ``plan_at`` gives
+    the plan of a subset of samples (a family of designs'); default: the plan's own constants
+    taken at them.
     """
     n = status.size
     error = np.full(n, np.nan)
@@ -112,11 +117,12 @@ def check(
         # no wider type: the first-order bound of a ratio of small numbers, cubed for ε
         error[pick] = 64.0 * np.finfo(np.float64).eps / near[pick] ** 3
     else:
-        wide = _solve_wide(plan, q, qd, qdd, out, pick, tol)
+        sub = plan_at(pick) if plan_at is not None else take(plan, pick)
+        wide = _solve_wide(sub, q, qd, qdd, out, pick, tol)
         ok = wide.status == Code.OK
         # the wide solve's own error: how far it moves when its roundings are emulated by
         # nudges of a few units (two draws of signs, the larger move)
-        shaken = [_solve_wide(plan, q, qd, qdd, out, pick, tol, nudge=seed) for seed in (1, 2)]
+        shaken = [_solve_wide(sub, q, qd, qdd, out, pick, tol, nudge=seed) for seed in (1, 2)]
         # the scales from values believed: the far samples' and the wide solve's, never the
         # double values being judged
         scales = _scales([(out, far), (wide.arrays, ok)])
@@ -157,12 +163,12 @@ def _solve_wide(
     tol: tuple[float, float],
     nudge: int = 0,
 ) -> _Wide:
-    """The picked samples solved again in the wider type (Newton groups start from the double
-    solution and refine it). ``nudge`` > 0 emulates rounding: every step's cancelling
-    difference and output move by :data:`NUDGE` units of the wide rounding, with a sign per
-    sample drawn from that seed."""
+    """The picked samples solved again in the wider type, by ``plan`` (already taken at them;
+    Newton groups start from the double solution and refine it). ``nudge`` > 0 emulates
+    rounding: every step's cancelling difference and output move by :data:`NUDGE` units of the
+    wide rounding, with a sign per sample drawn from that seed."""
     assert WIDE is not None
-    sub = take(plan, pick)
+    sub = plan
     k = pick.size
     q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
     moves = None

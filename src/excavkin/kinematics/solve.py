@@ -25,7 +25,7 @@ from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.newton import rotary_branch_ok
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
-from excavkin.structure.design import take
+from excavkin.structure.design import DesignBatch, take
 from excavkin.structure.plan import (
     Dyad,
     NewtonGroup,
@@ -78,6 +78,7 @@ def solve_kinematics(
     progress: Callable[[int, int], None] | None = None,
     continuation: str = "side",
     unbuildable: np.ndarray | None = None,
+    designs: DesignBatch | None = None,
 ) -> KinematicResult:
     """Positions, velocities and accelerations of every point for every sample.
 
@@ -105,6 +106,9 @@ def solve_kinematics(
         points it found.
     unbuildable : ndarray of bool, shape (n,), optional
         Samples whose design (a plan with per-sample dimensions) builds no mechanism.
+    designs : DesignBatch, optional
+        A family of designs of ``plan`` (a closed-form one), one per sample: each chunk's
+        constants are made as the chunk is solved.
 
     Returns
     -------
@@ -135,13 +139,16 @@ def solve_kinematics(
             _flag_not_finite(x, v, a, trans, derived, slice(None), status)
             report(n)
         else:
-            _solve_chunks(plan, full, derived, chunk, workers, report)
+            _solve_chunks(plan, full, derived, chunk, workers, report, designs)
     if continuation == "smooth":
         return _smooth(plan, assembly, q_given, qd, qdd, tol, x, v)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         arrays = precision.Arrays(x, v, a, trans, derived)
         limits = (tol.close, tol.singular)
-        error = precision.check(plan, q, qd, qdd, arrays, status, failed, newton_near, limits)
+        plan_at = None if designs is None else (lambda index: designs.at(index)[0])
+        error = precision.check(
+            plan, q, qd, qdd, arrays, status, failed, newton_near, limits, plan_at
+        )
         if np.isfinite(error).any():  # the checked samples may hold extended values now
             checked = np.flatnonzero(np.isfinite(error))
             _flag_not_finite(
@@ -170,20 +177,31 @@ def _solve_chunks(
     chunk: int,
     workers: int | None,
     report: _Reporter,
+    designs: DesignBatch | None = None,
 ) -> None:
     """The closed-form plan over chunks of samples, on a thread per core: each chunk runs the
-    steps and then its derived quantities while it is in cache."""
+    steps and then its derived quantities while it is in cache (and, for a family of designs,
+    makes its own constants first)."""
     n = full.status.size
 
     def one(s: int) -> None:
         e = min(s + chunk, n)
         part = slice(s, e)
-        here = take(plan, part)  # a design's dimensions, where they vary per sample
+        q = full.q[:, part]
+        if designs is None:
+            here = take(plan, part)  # per-sample constants where the plan holds them
+        else:
+            here, bad = designs.at(part)
+            if bad.any():  # a design that builds no mechanism: a status, and no values
+                status = full.status[part]
+                status[bad & (status == Code.OK)] = Code.BAD_DESIGN
+                q = q.copy()
+                q[:, bad] = np.nan
         c = Chunk(
             full.x[:, :, part],
             full.v[:, :, part],
             full.a[:, :, part],
-            full.q[:, part],
+            q,
             full.qd[:, part],
             full.qdd[:, part],
             full.trans[:, part],

@@ -186,7 +186,7 @@ class Designs:
 class _Geometry:
     """The model's sketch and overrides with the given parameters, and its body frames."""
 
-    def __init__(self, model: Model, values: Mapping[str, Any]) -> None:
+    def __init__(self, model: Model, values: Mapping[str, Any], frames: bool = True) -> None:
         self.model = model
         values = expand(model, values)
         self.sketch: dict[str, tuple[Num, Num]] = {
@@ -198,7 +198,7 @@ class _Geometry:
         }
         self.frames: dict[str, LocalFrame] = {}
         self.bad: Num = False
-        for b in model.bodies:
+        for b in model.bodies if frames else ():
             if len(b.points) >= 2:
                 frame = local_frame(b, self.sketch, self.lengths)
                 self.frames[b.name] = frame
@@ -272,6 +272,39 @@ def design_plan(plan: SolvePlan, values: Mapping[str, Any], n: int) -> Designs:
         sketch[i] = value
     bad = np.broadcast_to(np.asarray(bad | ~np.isfinite(sketch).all(axis=0)), (n,)).copy()
     return Designs(varied, sketch, bad, arrays)
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class DesignBatch:
+    """A family of designs whose plan constants are made chunk by chunk, where they are used
+    (in cache, on the chunk's thread), rather than for the whole batch at once.
+
+    Attributes
+    ----------
+    plan : SolvePlan
+        The nominal model's plan.
+    values : dict
+        Parameter name → SI values, shape (n,).
+    """
+
+    plan: SolvePlan
+    values: dict[str, F]
+
+    def at(self, index: slice | NDArray[np.intp]) -> tuple[SolvePlan, NDArray[np.bool_]]:
+        """The plan for the samples ``index``, and which of them build no mechanism."""
+        part = {k: v[index] for k, v in self.values.items()}
+        varied, _, bad = vary(self.plan, part)
+        n = len(next(iter(part.values())))
+        return varied, np.broadcast_to(np.asarray(bad, dtype=bool), (n,))
+
+    def held(self, n: int) -> F:
+        """Each design's driver values at its sketch, shape (n_inputs, n): what a driver not
+        given keeps (sketch coordinates and overrides only; no body shapes are needed)."""
+        geo = _Geometry(self.plan.model, self.values, frames=False)
+        out = np.empty((len(self.plan.inputs), n))
+        for i, value in enumerate(_input_sketch(self.plan, geo)):
+            out[i] = value
+        return out
 
 
 def vary(plan: SolvePlan, values: Mapping[str, Any]) -> tuple[SolvePlan, list[Any], Any]:
