@@ -142,24 +142,8 @@ def solve_kinematics(
             _solve_chunks(plan, full, derived, chunk, workers, report, designs)
     if continuation == "smooth":
         return _smooth(plan, assembly, q_given, qd, qdd, tol, x, v)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        arrays = precision.Arrays(x, v, a, trans, derived)
-        limits = (tol.close, tol.singular)
-        plan_at = None if designs is None else (lambda index: designs.at(index)[0])
-        error = precision.check(
-            plan, q, qd, qdd, arrays, status, failed, newton_near, limits, plan_at
-        )
-        if np.isfinite(error).any():  # the checked samples may hold extended values now
-            checked = np.flatnonzero(np.isfinite(error))
-            _flag_not_finite(
-                x[..., checked],
-                v[..., checked],
-                a[..., checked],
-                trans[:, checked],
-                Derived(derived.body[..., checked], derived.element[..., checked]),
-                slice(None),
-                status[checked],
-            )
+    arrays = precision.Arrays(x, v, a, trans, derived)
+    error = _check_precision(plan, (q, qd, qdd), arrays, status, failed, newton_near, tol, designs)
     result = KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
@@ -168,6 +152,38 @@ def solve_kinematics(
         change_points=tuple(find_change_points(plan, x, v=v, q=q_given, qd=qd, trans=trans)),
         error_estimate=error,
     )
+
+
+def _check_precision(
+    plan: SolvePlan,
+    inputs: tuple[F, F, F],
+    arrays: precision.Arrays,
+    status: np.ndarray,
+    failed: np.ndarray,
+    newton_near: F | None,
+    tol: Tolerances,
+    designs: DesignBatch | None,
+) -> F:
+    """The precision check near dead positions (:mod:`excavkin.kinematics.precision`), and
+    the finiteness check again on the samples it may have given extended values."""
+    q, qd, qdd = inputs
+    limits = (tol.close, tol.singular)
+    plan_at = None if designs is None else (lambda index: designs.at(index)[0])
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        error = precision.check(
+            plan, q, qd, qdd, arrays, status, failed, newton_near, limits, plan_at
+        )
+    checked = np.flatnonzero(np.isfinite(error))
+    if checked.size:
+        d = arrays.derived
+        part = status[checked]  # a copy (fancy index): written back below
+        _flag_not_finite(
+            arrays.x[..., checked], arrays.v[..., checked], arrays.a[..., checked],
+            arrays.trans[:, checked], Derived(d.body[..., checked], d.element[..., checked]),
+            slice(None), part,
+        )  # fmt: skip
+        status[checked] = part
+    return error
 
 
 def _solve_chunks(

@@ -206,7 +206,7 @@ class _Geometry:
                 for *_, bad in frame.triangles.values():
                     self.bad = self.bad | bad
         for name, value in values.items():  # pin offsets (clearances) in a body's frame
-            if "@" in name:
+            if "@" in name and frames:
                 pin, _, rest = name.partition("@")
                 body, _, axis = rest.rpartition(".")
                 x, y = self.frames[body].local[pin]
