@@ -14,6 +14,8 @@ where ``Φ̇|ẋ_group=0`` is the time derivative of Φ with the group's own vel
 from __future__ import annotations
 
 from collections.abc import Iterator
+from dataclasses import replace
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -96,7 +98,7 @@ def _frame(arr: F, con: CFrame, comp: int) -> F:
         out = arr[con.p, 0] - arr[con.a, 0] - con.s * wx + con.t * wy
     else:
         out = arr[con.p, 1] - arr[con.a, 1] - con.s * wy - con.t * wx
-    return np.asarray(out)
+    return out  # type: ignore[no-any-return]
 
 
 def _angle(
@@ -104,7 +106,7 @@ def _angle(
 ) -> tuple[F, Grad, F | None, F | None]:
     q, qd, qdd = c.q[con.input], c.qd[con.input], c.qdd[con.input]
     cs, sn = np.cos(q), np.sin(q)
-    zero = np.zeros_like(q)
+    zero = np.zeros(q.shape)
     if con.ref is None:
         vx, vy = 1.0 + zero, zero
     else:
@@ -143,6 +145,61 @@ def _angle(
                 + _cross(ex, ey, dax, day)
             )
     return f, grad, f1, f2
+
+
+def tangents(c: Chunk, g: NewtonGroup, values: tuple[F, F, F]) -> None:
+    """The group's derivatives with respect to the parameters, by the implicit function
+    theorem, for a chunk of dual numbers (:mod:`excavkin.kinematics.dual`) whose known points
+    already carry theirs.
+
+    With the group's values (``values``: x, v, a of every point, plain arrays) and zero
+    tangents, the tangent of each constraint level is what the group's own tangent must cancel:
+    J·dx = −dΦ, then J·dv = −dΦ̇, then J·da = −dΦ̈, one Jacobian for all three.
+    """
+    pts = list(g.points)
+    xv, vv, av = values
+    for arr, solved in ((c.x, xv), (c.v, vv), (c.a, av)):
+        for p in pts:
+            arr[p] = solved[p]  # the solution's values, no tangent yet
+
+    def val(v: Any) -> Any:
+        return getattr(v, "val", v)
+
+    plain = Chunk(
+        xv, vv, av, val(c.q), c.qd, c.qdd, val(c.trans), c.status, c.failed,
+        c.close_tol, c.singular_tol,
+    )  # fmt: skip
+    # the group's own constants at their values: its Jacobian is a plain one
+    cons: list[Any] = []
+    for con in g.constraints:
+        if isinstance(con, CDist):
+            con = replace(con, dist=replace(con.dist, value=val(con.dist.value)))
+        elif isinstance(con, CFrame):
+            con = replace(con, s=val(con.s), t=val(con.t))
+        cons.append(con)
+    _, jac, _, _ = _system(plain, replace(g, constraints=tuple(cons)), 0)
+    sign, ratio = _hadamard(jac)
+    sing = (sign == 0) | (ratio < np.log(c.singular_tol**2))
+    if sing.any():
+        jac = jac.copy()
+        jac[sing] = np.eye(jac.shape[1])
+    for level, arr in enumerate((c.x, c.v, c.a)):
+        rows = [
+            eq[0] if level == 0 else eq[level + 1]
+            for eq in _equations(c, g, c.x, c.v if level else None, c.a if level == 2 else None)
+        ]
+        m = arr.tan.shape[0]  # type: ignore[attr-defined]
+        n = c.x.shape[-1]
+        rhs = np.zeros((n, len(rows), m))
+        for r, f in enumerate(rows):
+            tan = getattr(f, "tan", None)
+            if tan is not None and np.ndim(tan):
+                rhs[:, r, :] = np.broadcast_to(tan, (m, n)).T
+        step = -np.linalg.solve(jac, rhs)  # (n, 2·points, m)
+        step[sing] = np.nan
+        for j, p in enumerate(pts):
+            arr.tan[:, p, 0] = step[:, 2 * j, :].T  # type: ignore[attr-defined]
+            arr.tan[:, p, 1] = step[:, 2 * j + 1, :].T  # type: ignore[attr-defined]
 
 
 def _system(c: Chunk, g: NewtonGroup, order: int) -> tuple[F, F, F | None, F | None]:

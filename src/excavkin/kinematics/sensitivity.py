@@ -10,23 +10,25 @@ with the dimensions that set that value, and its derivative says so.
 
 The derivatives of the rows whose values are not solved (their status says why) are NaN. Near a
 dead position the derivatives lose precision as the values do (see
-:mod:`excavkin.kinematics.precision`). A plan with a Newton group has no sensitivities yet.
+:mod:`excavkin.kinematics.precision`). A Newton group's derivatives come from the implicit
+function theorem at its solved values: J·dx = −dΦ, and likewise for the rates.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
-from excavkin.errors import InputError
+from excavkin.kinematics import newton
 from excavkin.kinematics.dual import Dual, seed, zeros
 from excavkin.kinematics.kernels import Chunk, F
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
 from excavkin.structure.design import joint_offsets, parameters, take, vary
-from excavkin.structure.plan import SolvePlan
+from excavkin.structure.plan import NewtonGroup, SolvePlan
 
 #: samples per pass (the tangents multiply the memory of a pass by the parameter count)
 CHUNK = 16384
@@ -50,11 +52,6 @@ def solve_tangents(
         The parameters given per sample (``result.parameters``); the rest are nominal.
     """
     plan = result.plan
-    if plan.has_newton:
-        raise InputError(
-            "sensitivities are computed through the closed-form steps; this plan has a Newton "
-            "group (a higher-class group, or method='newton')"
-        )
     known = {**parameters(plan.model), **joint_offsets(plan.model)}
     for name in names:
         if name not in known:
@@ -71,10 +68,26 @@ def solve_tangents(
     qdd = np.moveaxis(result.input_accels, 0, -1)
     q_dual = _inputs(plan, q, held, m)
     out = _Tangents(plan, n, m)
+    solved = (
+        np.moveaxis(result.positions, 0, -1),
+        np.moveaxis(result.velocities, 0, -1),
+        np.moveaxis(result.accelerations, 0, -1),
+    )
     for s in range(0, n, CHUNK):
         part = slice(s, min(s + CHUNK, n))
-        out.solve(take(dual_plan, part), q_dual[part], qd[:, part], qdd[:, part], part)
+        here = tuple(arr[..., part] for arr in solved)
+        out.solve(take(dual_plan, part), q_dual[part], qd[:, part], qdd[:, part], part, here)
     return out.results(result, names)
+
+
+def _run_steps(plan: SolvePlan, c: Chunk, values: tuple[F, ...]) -> None:
+    """The plan's steps on dual numbers: the closed-form kernels as they are, and each Newton
+    group by the implicit function theorem at the values already solved."""
+    for st in plan.steps:
+        if isinstance(st, NewtonGroup):
+            newton.tangents(c, st, values)  # type: ignore[arg-type]
+        else:
+            run_steps(dataclasses.replace(plan, steps=(st,)), c, 2)
 
 
 def _inputs(plan: SolvePlan, q: F, held: list[Any], m: int) -> _Rows:
@@ -115,7 +128,9 @@ class _Tangents:
         self.body = np.zeros((m, 3, len(plan.bodies), n))
         self.element = np.empty((m, 6, len(plan.elements), n))
 
-    def solve(self, plan: SolvePlan, q: Dual, qd: F, qdd: F, part: slice) -> None:
+    def solve(
+        self, plan: SolvePlan, q: Dual, qd: F, qdd: F, part: slice, values: tuple[F, ...]
+    ) -> None:
         m = self.m
         k = qd.shape[1]
         npts = len(plan.points)
@@ -137,7 +152,7 @@ class _Tangents:
             zeros((6, len(plan.elements), k), m),  # type: ignore[arg-type]
         )
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            run_steps(plan, c, 2)
+            _run_steps(plan, c, values)
             derived.fill(plan, c.x, c.v, c.a, slice(None))
         self.x[..., part] = c.x.tan  # type: ignore[attr-defined]
         self.v[..., part] = c.v.tan  # type: ignore[attr-defined]
