@@ -196,10 +196,14 @@ class Mechanism:
                 from excavkin.errors import unknown_name
 
                 raise unknown_name("parameter", name, list(known))
-            arr = np.asarray(
-                as_si(value, parameter_kind(name, self.model), f"parameter {name!r}"),
-                dtype=np.float64,
-            )
+            given = as_si(value, parameter_kind(name, self.model), f"parameter {name!r}")
+            kind = np.asarray(given).dtype.kind
+            if kind not in "fiu" or isinstance(given, bool):
+                raise InputError(
+                    f"parameter {name!r}: a value is a number or an array of numbers "
+                    f"(with a unit or SI), got {value!r}"[:200]
+                )
+            arr = np.asarray(given, dtype=np.float64)
             if arr.ndim > 1:
                 raise InputError(
                     f"parameter {name!r}: values must be a scalar or a 1-D array, got shape "
@@ -395,6 +399,8 @@ class Mechanism:
         )
         if given:
             result = dataclasses.replace(result, parameters={k: v for k, v in given.items()})
+        if isinstance(sensitivities, str):  # one name, not its letters
+            sensitivities = [sensitivities]
         if sensitivities:
             from excavkin.kinematics.sensitivity import solve_tangents
 

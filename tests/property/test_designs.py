@@ -214,3 +214,28 @@ def test_derivative_columns_count_in_the_memory_check(tmp_path) -> None:  # type
         args += ["--sensitivity", name]
     r = CliRunner().invoke(main, args)
     assert r.exit_code == 2 and "GiB" in r.output and "5,000,000 samples" in r.output, r.output
+
+
+def test_values_no_design_can_have_are_a_status_or_an_error() -> None:
+    """A length or mass not positive, a negative inertia, a value not finite: the design
+    builds no mechanism (as the plain model refuses them); a value that is not a number at all
+    is an error naming the parameter."""
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q = {"crank": np.radians([10.0, 20.0, 30.0, 40.0, 50.0])}
+    res = mech.solve(
+        q,
+        params={
+            "A-B": np.array([0.12, -0.12, 0.12, np.nan, 0.12]),
+            "rocker.mass": np.array([0.6, 0.6, -1.0, 0.6, 0.6]),
+            "rocker.inertia": np.array([0.0, 1e-4, 1e-4, 1e-4, -1e-4]),
+            "B@rocker.x": np.array([-1e-5, 0.0, 0.0, 0.0, 0.0]),  # an offset may be negative
+        },
+        loads="model",
+    )
+    assert res.kinematics.status.code.tolist() == [Code.OK] + [Code.BAD_DESIGN] * 4
+    assert np.isnan(res.torque("crank")[1:]).all() and np.isfinite(res.torque("crank")[0])
+    for bad in (None, True, 0.12 + 1j, "twelve"):
+        with pytest.raises((InputError, UnitError), match="parameter 'A-B'"):
+            mech.solve(q, params={"A-B": bad})
+    one = mech.solve(q, sensitivities="A-B")  # one name, not its letters
+    assert np.isfinite(one.sensitivity("B.x", "A-B")).all()

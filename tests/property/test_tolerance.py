@@ -175,3 +175,39 @@ def test_force_bands_follow_the_linear_theory_too() -> None:
     reach = np.maximum(bands.mc_max - bands.nominal, bands.nominal - bands.mc_min)[:, 0]
     assert np.all(reach <= bands.worst[:, 0] * (1 + 1e-3))
     assert bands.ranking(col)[0][0] == "bucket.mass"
+
+
+def test_a_joints_own_clearance_wins_over_the_one_for_all(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    base = [
+        "tolerance",
+        "fourbar",
+        "--sweep",
+        "crank=0deg:360deg:13",
+        "--draws",
+        "0",
+        "--column",
+        "B.x",
+    ]
+    widths = []
+    for order in (["0.01mm", "A=0.05mm"], ["A=0.05mm", "0.01mm"]):
+        out = tmp_path / f"{len(widths)}.csv"
+        args = [*base, *sum((["--clearance", c] for c in order), []), "-o", str(out)]
+        r = CliRunner().invoke(main, args)
+        assert r.exit_code == 0, r.output
+        widths.append(pd.read_csv(out)["worst_high"].to_numpy())
+    np.testing.assert_array_equal(widths[0], widths[1])
+    alone = tolerance_bands(
+        excavkin.load(excavkin.example_path("fourbar")),
+        {"crank": np.radians(np.linspace(0, 360, 13))},
+        clearance={"A": 5e-5, "O2": 1e-5, "B": 1e-5, "O4": 1e-5},
+        columns=["B.x"],
+        draws=0,
+    )
+    np.testing.assert_allclose(widths[0], (alone.nominal + alone.worst)[:, 0], rtol=1e-12)
+    for twice, words in (
+        (["--clearance", "0.01mm", "--clearance", "0.02mm"], "more than once"),
+        (["--clearance", "A=0.01mm", "--clearance", "A=0.02mm"], "more than once"),
+        (["--tol", "A-B=0.1mm", "--tol", "A-B=0.2mm"], "more than once for A-B"),
+    ):
+        r = CliRunner().invoke(main, [*base, *twice])
+        assert r.exit_code == 2 and words in r.output, r.output

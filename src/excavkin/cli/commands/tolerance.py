@@ -11,6 +11,7 @@ import click
 
 from excavkin.cli.commands.solve import build_inputs, with_sweep_options
 from excavkin.cli.common import handle_errors, model_path, parse_assignment
+from excavkin.errors import InputError
 
 TABLE_SUFFIXES = (".csv", ".parquet")
 
@@ -103,13 +104,16 @@ def command(
     mech = excavkin.load(model_path(model))
     values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels, grid)
     tolerances = dict(parse_assignment(t, "--tol") for t in tols)
-    clearance: object = 0.0
-    for text in clearances:
-        if "=" in text:
-            point, value = parse_assignment(text, "--clearance")
-            clearance = {**(clearance if isinstance(clearance, dict) else {}), point: value}
-        else:
-            clearance = text
+    if len(tolerances) < len(tols):
+        twice = sorted(
+            {
+                n
+                for n in (parse_assignment(t, "--tol")[0] for t in tols)
+                if [parse_assignment(u, "--tol")[0] for u in tols].count(n) > 1
+            }
+        )
+        raise InputError(f"--tol is given more than once for {', '.join(twice)}")
+    clearance = _clearances(mech, clearances)
     bands = tolerance_bands(
         mech,
         values,
@@ -151,6 +155,28 @@ def command(
         fig.tight_layout()
         write_atomic(figure, lambda tmp: fig.savefig(tmp, dpi=110, format=Path(figure).suffix[1:]))
         click.echo(f"wrote {figure}")
+
+
+def _clearances(mech: Any, texts: tuple[str, ...]) -> Any:
+    """``--clearance VALUE`` for every joint and ``--clearance JOINT=VALUE`` for one, the
+    joint's own winning over the one for all; each at most once."""
+    from excavkin.structure.design import joint_offsets
+
+    every = [t for t in texts if "=" not in t]
+    if len(every) > 1:
+        raise InputError("--clearance for every joint is given more than once")
+    own: dict[str, str] = {}
+    for text in texts:
+        if "=" in text:
+            point, value = parse_assignment(text, "--clearance")
+            if point in own:
+                raise InputError(f"--clearance is given more than once for joint {point}")
+            own[point] = value
+    if not own:
+        return every[0] if every else 0.0
+    joints = sorted({name.partition("@")[0] for name in joint_offsets(mech.model)})
+    default = every[0] if every else 0.0
+    return {**dict.fromkeys(joints, default), **own}
 
 
 def _abscissa(mech: Any, values: Mapping[str, Any]) -> tuple[Any, str]:
