@@ -168,7 +168,6 @@ def _solve_wide(
     rounding: every step's cancelling difference and output move by :data:`NUDGE` units of the
     wide rounding, with a sign per sample drawn from that seed."""
     assert WIDE is not None
-    sub = plan
     k = pick.size
     q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
     moves = None
@@ -196,7 +195,7 @@ def _solve_wide(
     )
     derived = Derived.empty(plan, k, dtype=WIDE)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        run_steps(sub, c, 2)
+        run_steps(plan, c, 2)
         derived.fill(plan, x, v, a, slice(None))
     return _Wide(Arrays(x, v, a, trans, derived), status, failed)
 

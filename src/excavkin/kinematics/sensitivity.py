@@ -76,7 +76,7 @@ def solve_tangents(
     for s in range(0, n, CHUNK):
         part = slice(s, min(s + CHUNK, n))
         here = tuple(arr[..., part] for arr in solved)
-        out.solve(take(dual_plan, part), q_dual[part], qd[:, part], qdd[:, part], part, here)
+        out.solve(take(dual_plan, part), q_dual[:, part], qd[:, part], qdd[:, part], part, here)
     return out.results(result, names)
 
 
@@ -90,7 +90,7 @@ def _run_steps(plan: SolvePlan, c: Chunk, values: tuple[F, ...]) -> None:
             run_steps(dataclasses.replace(plan, steps=(st,)), c, 2)
 
 
-def _inputs(plan: SolvePlan, q: F, held: list[Any], m: int) -> _Rows:
+def _inputs(plan: SolvePlan, q: F, held: list[Any], m: int) -> Dual:
     """The inputs as duals: a driver held at its sketch value carries that value's tangent
     (where the sketch value does not vary, and for every swept driver, the tangent is 0)."""
     n = q.shape[1]
@@ -99,17 +99,7 @@ def _inputs(plan: SolvePlan, q: F, held: list[Any], m: int) -> _Rows:
         if isinstance(h, Dual):
             at_sketch = q[i] == np.broadcast_to(h.val, (n,))
             tan[:, i] = np.where(at_sketch, np.broadcast_to(h.tan, (m, n)), 0.0)
-    return _Rows(Dual(q, tan))
-
-
-class _Rows:
-    """A dual (n_inputs, n) sliced by samples."""
-
-    def __init__(self, d: Dual) -> None:
-        self.d = d
-
-    def __getitem__(self, part: slice) -> Dual:
-        return self.d[:, part]
+    return Dual(q, tan)
 
 
 class _Tangents:

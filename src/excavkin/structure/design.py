@@ -64,20 +64,6 @@ KIND_OF = {
 }
 
 
-#: what each parameter suffix must be for a design to exist: a ``[lengths]`` entry and a mass
-#: positive, an inertia not negative, a coordinate (and any other) finite
-_VALUE_RULES = {
-    "length": "length",
-    "mass": "mass",
-    "inertia": "inertia",
-    "x": "coordinate",
-    "y": "coordinate",
-    "Fx": "coordinate",
-    "Fy": "coordinate",
-    "torque": "coordinate",
-}
-
-
 def parameters(model: Model) -> dict[str, float]:
     """Every dimension of the model by name, at its nominal SI value; the file's design
     variables first (each sets every entry that refers to it)."""
@@ -222,15 +208,16 @@ class _Geometry:
         for name, value in values.items():
             # a value no design can have: not finite, a length or mass not positive, a
             # negative inertia (the plain model refuses these too)
-            kind = _VALUE_RULES.get(name.rsplit(".", 1)[-1] if "." in name else "length")
-            if kind is not None and not hasattr(value, "tan"):
-                with np.errstate(invalid="ignore"):
-                    fine = np.isfinite(value)
-                    if kind == "inertia":
-                        fine = fine & (value >= 0)
-                    elif kind == "mass" or (kind == "length" and "-" in name):
-                        fine = fine & (value > 0)
-                self.bad = self.bad | ~fine
+            if hasattr(value, "tan"):  # a dual number: differentiating, not checking
+                continue
+            kind = parameter_kind(name)
+            with np.errstate(invalid="ignore"):
+                fine = np.isfinite(value)
+                if kind == "inertia":
+                    fine = fine & (value >= 0)
+                elif kind == "mass" or ("." not in name and "-" in name):  # a [lengths] entry
+                    fine = fine & (value > 0)
+            self.bad = self.bad | ~fine
         for name, value in values.items():  # pin offsets (clearances) in a body's frame
             if "@" in name and frames:
                 pin, _, rest = name.partition("@")
