@@ -237,6 +237,7 @@ class Mechanism:
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
+        compiled: bool | None = None,
         loads: None = None,
         params: Mapping[str, Any] | None = None,
         sensitivities: Sequence[str] | None = None,
@@ -256,6 +257,7 @@ class Mechanism:
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
+        compiled: bool | None = None,
         loads: Iterable[Load] | Literal["model"],
         params: Mapping[str, Any] | None = None,
         sensitivities: Sequence[str] | None = None,
@@ -274,6 +276,7 @@ class Mechanism:
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
+        compiled: bool | None = None,
         loads: Iterable[Load] | Literal["model"] | None = None,
         params: Mapping[str, Any] | None = None,
         sensitivities: Sequence[str] | None = None,
@@ -306,6 +309,11 @@ class Mechanism:
             At a change point between neighbouring samples (a dyad folding flat): keep each
             dyad on its sketch side, or continue the motion onto the other side (the samples
             taken in order, as a path). ``result.change_points`` lists them either way.
+        compiled : bool, optional
+            Run a closed-form plan as one compiled loop (needs numba: ``pip install
+            'excavkin[fast]'``; results equal the NumPy path's to round-off) or in NumPy.
+            Default: compiled when numba is installed and the batch has at least 131 072
+            samples.
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only).
@@ -395,6 +403,7 @@ class Mechanism:
             continuation=continuation,
             unbuildable=unbuildable,
             designs=batch,
+            compiled=compiled,
             **({} if chunk is None else {"chunk": int(chunk)}),
         )
         if given:

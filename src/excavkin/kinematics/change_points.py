@@ -202,13 +202,14 @@ def find_change_points(
     v: F | None = None,
     q: F | None = None,
     qd: F | None = None,
-    trans: F | None = None,
+    flattest: F | None = None,
 ) -> list[ChangePoint]:
     """Every dyad's change points between neighbouring samples, in plan order (bends too when
     the velocities and inputs are given).
 
-    With the transmission angles ``trans`` (n_transmissions, n), a dyad whose triangle never
-    comes nearer flat than sin γ = :data:`NEVER_FLAT` is passed over: its triangle's height
+    With ``flattest``, the least sin γ of each transmission over the samples (shape
+    (n_transmissions,)), a dyad whose triangle never comes nearer flat than sin γ =
+    :data:`NEVER_FLAT` is passed over: its triangle's height
     and base then stay above about a sixth of its shorter side, so a fold between two samples
     would need P to move more than half a link in one step — no sweep that can be read.
     """
@@ -216,11 +217,8 @@ def find_change_points(
     names = plan.points
     for st in plan.steps:
         if isinstance(st, Dyad):
-            if trans is not None:
-                with np.errstate(invalid="ignore"):
-                    flattest = np.nanmin(np.abs(np.sin(trans[st.index])), initial=1.0)
-                if flattest >= NEVER_FLAT:
-                    continue
+            if flattest is not None and flattest[st.index] >= NEVER_FLAT:
+                continue
             for i, j, shape in _changes(x, v, q, qd, st):
                 partners = (names[st.a], names[st.b])
                 out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))

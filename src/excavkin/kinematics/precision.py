@@ -66,15 +66,17 @@ class Arrays:
     derived: Derived
 
 
-def nearness(plan: SolvePlan, trans: F, newton_near: F | None) -> tuple[F, np.ndarray]:
-    """How near each sample is to a dead position (0 at one, 1 far from any), and the plan
-    step nearest it."""
+def nearness(plan: SolvePlan, trans: F, newton_near: F | None = None) -> tuple[F, np.ndarray, F]:
+    """How near each sample is to a dead position (0 at one, 1 far from any), the plan step
+    nearest it, and the flattest each transmission comes over the samples (min sin γ)."""
     n = trans.shape[-1]
     near = np.ones(n)
     step = np.full(n, -1, dtype=np.int16)
+    flattest = np.ones(trans.shape[0])
     steps_of = {st.index: k for k, st in enumerate(plan.steps) if isinstance(st, Dyad | SliderStep)}
     for i in range(trans.shape[0]):
         s = np.abs(np.sin(trans[i]))
+        flattest[i] = np.nanmin(s, initial=1.0)
         closer = s < near
         near = np.where(closer, s, near)
         step[closer] = steps_of[i]
@@ -83,7 +85,7 @@ def nearness(plan: SolvePlan, trans: F, newton_near: F | None) -> tuple[F, np.nd
         closer = newton_near < near
         near = np.where(closer, newton_near, near)
         step[closer] = group
-    return near, step
+    return near, step, flattest
 
 
 def check(
@@ -94,20 +96,21 @@ def check(
     out: Arrays,
     status: np.ndarray,
     failed: np.ndarray,
-    newton_near: F | None,
+    nearest: tuple[F, np.ndarray],
     tol: tuple[float, float],
     plan_at: Callable[[NDArray[np.intp]], SolvePlan] | None = None,
 ) -> F:
     """Check (and where needed improve) the samples near a dead position, in place.
 
     Returns the estimated error of each row relative to its quantities' scales: NaN where the
-    sample was far from any dead position (not checked) or did not solve. ``plan_at`` gives
+    sample was far from any dead position (not checked) or did not solve. ``nearest`` is each
+    sample's nearness and nearest step (from :func:`nearness`). ``plan_at`` gives
     the plan of a subset of samples (a family of designs'); default: the plan's own constants
     taken at them.
     """
     n = status.size
     error = np.full(n, np.nan)
-    near, step = nearness(plan, out.trans, newton_near)
+    near, step = nearest
     pick = np.flatnonzero((status == Code.OK) & (near < NEAR))
     if not pick.size:
         return error

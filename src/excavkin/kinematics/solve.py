@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from excavkin.errors import AssemblyError, InputError
+from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import kernels, precision
 from excavkin.kinematics.change_points import ChangePoint, find_change_points, smooth_signs
 from excavkin.kinematics.kernels import Chunk, Code, F
@@ -79,6 +80,7 @@ def solve_kinematics(
     continuation: str = "side",
     unbuildable: np.ndarray | None = None,
     designs: DesignBatch | None = None,
+    compiled: bool | None = None,
 ) -> KinematicResult:
     """Positions, velocities and accelerations of every point for every sample.
 
@@ -109,6 +111,9 @@ def solve_kinematics(
     designs : DesignBatch, optional
         A family of designs of ``plan`` (a closed-form one), one per sample: each chunk's
         constants are made as the chunk is solved.
+    compiled : bool, optional
+        Run a closed-form plan as one compiled loop (:mod:`excavkin.kinematics.compiled`, needs
+        numba) or in NumPy. Default: compiled when numba is installed and the batch is large.
 
     Returns
     -------
@@ -130,28 +135,35 @@ def solve_kinematics(
         q[:, unbuildable] = np.nan
     derived = Derived.empty(plan, n)
     report = _Reporter(progress, n)
-    newton_near = np.ones(n) if plan.has_newton else None
-    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
+    fast = compiled_plan.use(plan, n, compiled)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if plan.has_newton:
+            newton_near = np.ones(n)
+            full = Chunk(
+                x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near
+            )
             _solve_newton(plan, assembly, full)
             derived.fill(plan, x, v, a, slice(None))
             _flag_not_finite(x, v, a, trans, derived, slice(None), status)
+            near, near_step, flattest = precision.nearness(plan, trans, newton_near)
             report(n)
         else:
-            _solve_chunks(plan, full, derived, chunk, workers, report, designs)
+            full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular)
+            near, near_step = np.empty(n), np.empty(n, dtype=np.int16)
+            flattest = _solve_chunks(
+                plan, full, derived, (near, near_step), chunk, workers, report, designs, fast
+            )
     if continuation == "smooth":
         return _smooth(plan, assembly, q_given, qd, qdd, tol, x, v)
     arrays = precision.Arrays(x, v, a, trans, derived)
-    error = _check_precision(plan, (q, qd, qdd), arrays, status, failed, newton_near, tol, designs)
+    error = _check_precision(
+        plan, (q, qd, qdd), arrays, status, failed, (near, near_step), tol, designs
+    )
     result = KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
-    return dataclasses.replace(
-        result,
-        change_points=tuple(find_change_points(plan, x, v=v, q=q_given, qd=qd, trans=trans)),
-        error_estimate=error,
-    )
+    found = find_change_points(plan, x, v=v, q=q_given, qd=qd, flattest=flattest)
+    return dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
 
 
 def _check_precision(
@@ -160,7 +172,7 @@ def _check_precision(
     arrays: precision.Arrays,
     status: np.ndarray,
     failed: np.ndarray,
-    newton_near: F | None,
+    nearest: tuple[F, np.ndarray],
     tol: Tolerances,
     designs: DesignBatch | None,
 ) -> F:
@@ -170,9 +182,7 @@ def _check_precision(
     limits = (tol.close, tol.singular)
     plan_at = None if designs is None else (lambda index: designs.at(index)[0])
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        error = precision.check(
-            plan, q, qd, qdd, arrays, status, failed, newton_near, limits, plan_at
-        )
+        error = precision.check(plan, q, qd, qdd, arrays, status, failed, nearest, limits, plan_at)
     checked = np.flatnonzero(np.isfinite(error))
     if checked.size:
         d = arrays.derived
@@ -190,15 +200,21 @@ def _solve_chunks(
     plan: SolvePlan,
     full: Chunk,
     derived: Derived,
+    nearest: tuple[F, np.ndarray],
     chunk: int,
     workers: int | None,
     report: _Reporter,
     designs: DesignBatch | None = None,
-) -> None:
+    fast: bool = False,
+) -> F:
     """The closed-form plan over chunks of samples, on a thread per core: each chunk runs the
-    steps and then its derived quantities while it is in cache (and, for a family of designs,
-    makes its own constants first)."""
+    steps and then its derived quantities and nearness to dead positions while it is in cache
+    (and, for a family of designs, makes its own constants first); ``fast``: as the plan's
+    compiled loop. Fills ``nearest`` (each sample's nearness and nearest step, as
+    :func:`~excavkin.kinematics.precision.nearness`); returns each transmission's flattest."""
     n = full.status.size
+    flattest: list[F] = []
+    kernel = compiled_plan.compile_plan(plan) if fast else None
 
     def one(s: int) -> None:
         e = min(s + chunk, n)
@@ -226,10 +242,17 @@ def _solve_chunks(
             full.close_tol,
             full.singular_tol,
         )
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            run_steps(here, c, 2)
-            derived.fill(plan, c.x, c.v, c.a, part)
-            _flag_not_finite(c.x, c.v, c.a, c.trans, derived, part, c.status)
+        near, near_step = nearest[0][part], nearest[1][part]
+        if kernel is not None:
+            body, element = derived.body[:, :, part], derived.element[:, :, part]
+            flat = compiled_plan.run(kernel, here, c, body, element, near, near_step)
+        else:
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                run_steps(here, c, 2)
+                derived.fill(plan, c.x, c.v, c.a, part)
+                _flag_not_finite(c.x, c.v, c.a, c.trans, derived, part, c.status)
+                near[:], near_step[:], flat = precision.nearness(plan, c.trans)
+        flattest.append(flat)  # appends are atomic: no lock
         report(e - s)
 
     starts = range(0, n, chunk)
@@ -240,6 +263,9 @@ def _solve_chunks(
     else:
         for s in starts:
             one(s)
+    if not flattest:
+        return np.ones(len(plan.transmissions))
+    return np.asarray(np.min(flattest, axis=0, initial=1.0), dtype=np.float64)
 
 
 def _smooth(

@@ -1,0 +1,151 @@
+"""The compiled plan (one machine-code loop per plan structure) against the NumPy kernels, the
+reference: every column, status, failed step, error estimate and change point, for every
+closed-form example, families of designs, failing and near-dead samples, and a smooth
+continuation."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import excavkin
+from excavkin.errors import InputError
+from excavkin.kinematics import compiled
+from tests.models import parallelogram
+from tests.property.test_designs import random_designs
+
+CLOSED_FORM = ["fourbar", "slider_crank", "excavator", "rope_shovel", "pasika_module", "arm_vector"]
+
+
+def assert_same(a: excavkin.KinematicResult, b: excavkin.KinematicResult) -> None:
+    """Equal to 1e-15 of each column's scale (the two paths differ only where a libm function
+    and NumPy's own round differently), statuses and failed steps alike."""
+    fa, fb = a.to_frame(), b.to_frame()
+    assert list(fa.columns) == list(fb.columns)
+    assert (fa["status"] == fb["status"]).all()
+    np.testing.assert_array_equal(a.status.code, b.status.code)
+    np.testing.assert_array_equal(a.status.step, b.status.step)
+    for col in fa.columns:
+        if col == "status":
+            continue
+        x, y = fa[col].to_numpy(), fb[col].to_numpy()
+        np.testing.assert_array_equal(np.isnan(x), np.isnan(y), err_msg=col)
+        np.testing.assert_array_equal(x[np.isinf(x)], y[np.isinf(x)], err_msg=col)
+        finite = np.isfinite(x)
+        scale = max(np.max(np.abs(x[finite]), initial=0.0), 1e-300)
+        assert np.max(np.abs(x - y)[finite], initial=0.0) <= 1e-15 * scale, col
+    np.testing.assert_array_equal(np.isnan(a.error_estimate), np.isnan(b.error_estimate))
+    assert a.change_points == b.change_points
+
+
+def sweep(mech: excavkin.Mechanism, n: int, reach: float) -> dict[str, np.ndarray]:
+    """Every driver swept about its sketch value, far enough (``reach``) that some samples
+    cannot close."""
+    out = {}
+    for k, v in mech.sketch_values().items():
+        if mech.input_kind(k) == "angle":
+            out[k] = v + np.linspace(-reach, reach, n)
+        else:
+            out[k] = v * (1 + np.linspace(-reach, reach, n) / 4)
+    return out
+
+
+@pytest.mark.parametrize("name", CLOSED_FORM)
+def test_each_example_compiled_equals_numpy(name: str) -> None:
+    mech = excavkin.load(excavkin.example_path(name))
+    values = sweep(mech, 4001, 1.5)
+    rates = {k: 0.7 for k in values}
+    accels = {k: -0.3 for k in values}
+    # the drivers' middle sample NaN, and one above: inputs that are no numbers
+    for v in values.values():
+        v[2000] = np.nan
+    args = dict(rates=rates, accels=accels, chunk=997)
+    fast = mech.solve(values, compiled=True, **args)
+    ref = mech.solve(values, compiled=False, **args)
+    assert_same(fast, ref)
+    assert fast.status.ok.sum() > 100  # the comparison is not of failures alone
+
+
+@pytest.mark.parametrize("name", ["fourbar", "excavator", "rope_shovel"])
+def test_families_of_designs_compiled_equal_numpy(name: str) -> None:
+    mech = excavkin.load(excavkin.example_path(name))
+    values, params = random_designs(mech, np.random.default_rng(7), 3000)
+    # one design that builds no mechanism: a length that is not positive
+    key = next(k for k in params if "-" in k or k.endswith(".x"))
+    params[key][5] = -1.0 if "-" in key else np.nan
+    args = dict(rates={k: 0.1 for k in values}, params=params, chunk=512)
+    assert_same(
+        mech.solve(values, compiled=True, **args), mech.solve(values, compiled=False, **args)
+    )
+
+
+def test_near_dead_samples_are_checked_alike() -> None:
+    """The parallelogram swept through its change point: the precision check re-solves the
+    same samples, and the change points found (and passed over) are the same."""
+    mech = excavkin.Mechanism(parallelogram())
+    th = np.pi / 2 - np.linspace(0.0, np.pi, 20001)  # crank from upright to flat, through 0
+    fast = mech.solve({"crank": th}, compiled=True, chunk=1000)
+    ref = mech.solve({"crank": th}, compiled=False, chunk=1000)
+    assert_same(fast, ref)
+    assert np.isfinite(ref.error_estimate).sum() > 10  # some samples were near dead
+    assert ref.change_points  # and the fold was found
+    smooth = mech.solve({"crank": th}, compiled=True, continuation="smooth")
+    assert_same(smooth, mech.solve({"crank": th}, compiled=False, continuation="smooth"))
+
+
+def test_overflowing_rates_are_not_finite_alike() -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    th = np.linspace(0.0, 2 * np.pi, 300)
+    w = np.where(np.arange(300) % 7 == 0, 1e300, 3.0)
+    fast = mech.solve({"crank": th}, rates={"crank": w}, compiled=True)
+    ref = mech.solve({"crank": th}, rates={"crank": w}, compiled=False)
+    assert_same(fast, ref)
+    assert (ref.status.labels() != "ok").sum() >= 43
+
+
+def test_negative_driven_lengths_alike() -> None:
+    mech = excavkin.load(excavkin.example_path("excavator"))
+    values = sweep(mech, 500, 1.0)
+    name = next(k for k in values if mech.input_kind(k) == "length")
+    values[name][::50] = -values[name][::50]
+    assert_same(mech.solve(values, compiled=True), mech.solve(values, compiled=False))
+
+
+def test_kernel_source_depends_on_structure_only() -> None:
+    """Two designs of one model share one kernel; the constants table holds their dimensions."""
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    other = excavkin.load(excavkin.example_path("fourbar"))
+    assert compiled.source(mech.plan) == compiled.source(other.plan)
+    values = compiled.constants(mech.plan)
+    table, stride = compiled.table(values, 10)
+    assert stride == 0 and table.shape == (len(values), 1)
+    values[0] = np.arange(10.0)
+    table, stride = compiled.table(values, 10)
+    assert stride == 1 and table.shape == (len(values), 10)
+    np.testing.assert_array_equal(table[0], np.arange(10.0))
+
+
+def test_automatic_choice_and_refusals(monkeypatch: pytest.MonkeyPatch) -> None:
+    fb = excavkin.load(excavkin.example_path("fourbar"))
+    assert not compiled.use(fb.plan, 1000, None)  # small: NumPy
+    compiled.compile_plan(fb.plan)
+    assert compiled.use(fb.plan, compiled.THRESHOLD, None)  # large, and compiled already
+    monkeypatch.setenv("EXCAVKIN_COMPILED", "0")
+    assert not compiled.use(fb.plan, compiled.THRESHOLD, None)
+    newton = excavkin.Mechanism(fb.model, method="newton")
+    assert not compiled.supports(newton.plan)
+    with pytest.raises(InputError, match="Newton group"):
+        newton.solve({"crank": np.zeros(3)}, compiled=True)
+
+
+def test_a_cache_folder_that_cannot_be_written_compiles_in_memory(
+    tmp_path, monkeypatch: pytest.MonkeyPatch
+) -> None:  # type: ignore[no-untyped-def]
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    monkeypatch.setenv("EXCAVKIN_CACHE_DIR", str(blocker / "kernels"))
+    monkeypatch.setattr(compiled, "_kernels", {})
+    mech = excavkin.load(excavkin.example_path("pasika_module"))
+    values = sweep(mech, 50, 0.5)
+    assert_same(mech.solve(values, compiled=True), mech.solve(values, compiled=False))
+    assert not compiled.is_compiled(mech.plan) or compiled._kernels
