@@ -208,7 +208,7 @@ def source(plan: SolvePlan) -> str:
         else:
             raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled")
     g.derived(plan)
-    g.store(len(plan.points))
+    g.store(plan)
     return g.text()
 
 
@@ -251,6 +251,8 @@ class _Source:
         #: (transmission index, plan step) of each dyad and slider
         self.finite: list[tuple[int, int]] = []
         self.n_checks = 0
+        #: the derived values as stored (read back by the exact finiteness check)
+        self.stored: list[str] = []
 
     def emit(self, *lines: str) -> None:
         self.lines += lines
@@ -346,6 +348,7 @@ class _Source:
             f"r2x = X{p} - X{b}", f"r2y = Y{p} - Y{b}",
             "det = r1x * r2y - r1y * r2x",
             f"T{st.index} = math.atan2(abs(det), r1x * r2x + r1y * r2y)",
+            f"S{st.index} = abs(det) / abs(d1 * d2)",
             "if not (abs(det) > singular_tol * abs(d1 * d2)):",
         )  # fmt: skip
         self.flag("True", Code.SINGULAR, k, "    ")
@@ -391,6 +394,7 @@ class _Source:
             f"r1x = X{p} - X{a}", f"r1y = Y{p} - Y{a}",
             "dot = ux * r1x + uy * r1y",
             f"T{st.index} = math.atan2(abs(dot), abs(ux * r1y - uy * r1x))",
+            f"S{st.index} = abs(dot) / (lu * abs(d))",
             "det = -dot",
             "if not (abs(det) > singular_tol * lu * abs(d)):",
         )  # fmt: skip
@@ -416,10 +420,11 @@ class _Source:
         self.finite.append((st.index, k))
 
     def check(self, *names: str) -> None:
-        """Add ``v − v`` of each value to the finiteness check: 0 if finite, else NaN. The
-        terms go round several sums, so that no long chain of additions waits on itself."""
+        """Add each value to the finiteness check's sums (several, so that no long chain of
+        additions waits on itself): a sum that is not finite sends the sample to the exact
+        check of every value it stored (a sum of finite values may overflow)."""
         for name in names:
-            self.emit(f"chk{self.n_checks % _CHAINS} += {name} - {name}")
+            self.emit(f"chk{self.n_checks % _CHAINS} += {name}")
             self.n_checks += 1
 
     def derived(self, plan: SolvePlan) -> None:
@@ -431,11 +436,13 @@ class _Source:
             self._segment(p0, p1, False)
             self.emit(f"body[0, {j}, i] = ang", f"body[1, {j}, i] = om", f"body[2, {j}, i] = eps")
             self.check("ang", "om", "eps")
+            self.stored += [f"body[{k}, {j}, i]" for k in range(3)]
         for j, e in enumerate(plan.elements):
             self._segment(e.p, e.q, True)
             for k, name in enumerate(("ln", "rt", "ac", "ang", "om", "eps")):
                 self.emit(f"element[{k}, {j}, i] = {name}")
             self.check("ln", "rt", "ac", "ang", "om", "eps")
+            self.stored += [f"element[{k}, {j}, i]" for k in range(6)]
 
     def _segment(self, p: int, q: int, lengths: bool) -> None:
         self.emit(
@@ -457,30 +464,34 @@ class _Source:
             "ac = (rx * ax + ry * ay + vx * vx + vy * vy - rt * rt) / ln",
         )  # fmt: skip
 
-    def store(self, n_points: int) -> None:
-        """Write the points and transmission angles out; a value not finite on a row still ok
-        is NOT_FINITE (``v − v`` is 0 for a finite v and NaN otherwise)."""
-        for p in range(n_points):
+    def store(self, plan: SolvePlan) -> None:
+        """Write the points and transmission angles out, and each sample's nearness to a dead
+        position; a value not finite on a row still ok is NOT_FINITE."""
+        stored = list(self.stored)
+        for p in range(len(plan.points)):
             for arr, (X, Y) in (("x", ("X", "Y")), ("v", ("VX", "VY")), ("a", ("AX", "AY"))):
                 self.emit(f"{arr}[{p}, 0, i] = {X}{p}", f"{arr}[{p}, 1, i] = {Y}{p}")
                 self.check(f"{X}{p}", f"{Y}{p}")
+                stored += [f"{arr}[{p}, 0, i]", f"{arr}[{p}, 1, i]"]
         self.emit("nr = 1.0", "ns = -1")
         for index, k in sorted(self.finite):
-            t = f"T{index}"
+            # sin γ: |det| over the product of the sides (NaN is never near)
+            t, sg = f"T{index}", f"S{index}"
             self.emit(
                 f"trans[{index}, i] = {t}",
-                # nearness to a dead position as precision.nearness has it (NaN is never near)
-                f"sg = abs(math.sin({t}))",
-                "if sg < nr:", "    nr = sg", f"    ns = {k}",
-                f"if sg < flat[{index}]:", f"    flat[{index}] = sg",
+                f"if {sg} < nr:", f"    nr = {sg}", f"    ns = {k}",
+                f"if {sg} < flat[{index}]:", f"    flat[{index}] = {sg}",
             )  # fmt: skip
             self.check(t)
+            stored.append(f"trans[{index}, i]")
+        every = " and ".join(f"math.isfinite({v})" for v in stored)
         self.emit(
             f"chk = {' + '.join(f'chk{m}' for m in range(_CHAINS))}",
             "near[i] = nr",
             "near_step[i] = ns",
-            "if not (chk == 0.0) and st == 0:",
-            f"    st = {int(Code.NOT_FINITE)}",
+            "if st == 0 and not math.isfinite(chk):",
+            f"    if not ({every}):",
+            f"        st = {int(Code.NOT_FINITE)}",
             "status[i] = st",
             "failed[i] = fk",
         )
