@@ -2,6 +2,10 @@
 
 Only the file and command-line boundaries (``excavkin.io``, ``excavkin.cli``, ``excavkin.outputs``)
 import this module. Kernels receive plain floats in SI units: m, rad, s, kg, N, N·m, Pa.
+
+pint is imported and the registry built on first use (together about half a second), not when
+this module is imported: a command that reads no quantity, such as ``excavkin --help``, does not
+pay for them. ``from excavkin.units import ureg`` builds it.
 """
 
 from __future__ import annotations
@@ -9,13 +13,30 @@ from __future__ import annotations
 import math
 import re
 from functools import cache
-from typing import Any
-
-import pint
+from typing import TYPE_CHECKING, Any
 
 from excavkin.errors import UnitError
 
-ureg: pint.UnitRegistry[Any] = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
+if TYPE_CHECKING:
+    import pint
+
+    #: the registry, :func:`registry` (built when first imported from this module)
+    ureg: pint.UnitRegistry[Any]
+
+
+@cache
+def registry() -> pint.UnitRegistry[Any]:
+    """The one unit registry, built on the first call."""
+    import pint
+
+    return pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
+
+
+def __getattr__(name: str) -> Any:
+    if name == "ureg":
+        return registry()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 #: Each kind of quantity: its SI unit (what kernels use) and a human name.
 KINDS: dict[str, str] = {
@@ -41,6 +62,7 @@ KINDS: dict[str, str] = {
 
 @cache
 def _si_unit(kind: str) -> Any:
+    ureg = registry()
     return ureg.Unit(KINDS[kind]) if KINDS[kind] else ureg.dimensionless
 
 
@@ -67,6 +89,9 @@ def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str 
     """
     if kind not in KINDS:
         raise ValueError(f"unknown quantity kind {kind!r}")
+    import pint
+
+    ureg = registry()
     target = _si_unit(kind)
     if isinstance(value, bool):
         raise UnitError(f"{where}expected {_article(kind)} {kind}, got a boolean {value!r}")
@@ -163,7 +188,7 @@ def check_unit(unit: str, kind: str, *, where: str = "") -> str:
         raise UnitError(f'{where}a unit must be a string such as "mm", got {unit!r}')
     check_grammar(unit, unit_only=True, where=where)
     try:
-        u = ureg.Unit(unit)
+        u = registry().Unit(unit)
     except Exception:
         raise UnitError(f"{where}unknown unit {unit!r}") from None
     if u.dimensionality != _si_unit(kind).dimensionality:
@@ -173,7 +198,7 @@ def check_unit(unit: str, kind: str, *, where: str = "") -> str:
 
 def from_si(value: Any, kind: str, unit: str) -> Any:
     """Convert an SI float or array to ``unit`` for display."""
-    factor = ureg.Quantity(1.0, _si_unit(kind)).to(unit).magnitude
+    factor = registry().Quantity(1.0, _si_unit(kind)).to(unit).magnitude
     return value * factor
 
 
@@ -210,7 +235,7 @@ def is_unit_text(text: str) -> bool:
         return True
     try:
         check_grammar(text, unit_only=True)
-        ureg.Unit(text)
+        registry().Unit(text)
     except Exception:
         return False
     return True

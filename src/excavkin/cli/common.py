@@ -2,23 +2,27 @@
 
 Every subcommand module of :mod:`excavkin.cli` exposes a ``click.Command`` named ``command``;
 :mod:`excavkin.cli` finds them itself. Errors are one clear paragraph on stderr and a non-zero
-exit, never a traceback: wrap a command's body in :func:`handle_errors`.
+exit, never a traceback: wrap a command's body in :func:`handle_errors`. NumPy is imported only
+inside the functions that need it: a wing's command group imports this module, and listing the
+groups (``excavkin --help``) must stay fast.
 """
 
 from __future__ import annotations
 
 import functools
-import importlib
+import math
 import os
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
-import numpy as np
 
 from excavkin.errors import ExcavkinError, UnitError, did_you_mean
+
+if TYPE_CHECKING:
+    import numpy as np
 
 T = TypeVar("T", bound=Callable[..., Any])
 
@@ -69,7 +73,7 @@ def si_value(text: str, kind: str, what: str, *, hint: bool = True) -> float:
             value = to_si(text, kind, where=f"{what}: ")
         except UnitError as exc:
             raise UnitError(exc.problem) from None
-    if not np.isfinite(value):
+    if not math.isfinite(value):
         raise ExcavkinError(f"{what}: {text!r} is not a finite number")
     if hint:
         _hint_bare([text], (value, value), kind, what)
@@ -131,6 +135,8 @@ def parse_sweep(text: str, kind: str, what: str) -> np.ndarray:
         raise ExcavkinError(f"{what}: the sample count must be at least 1, got {n}")
     check_samples(n, what)
     _hint_bare(parts[:2], (start, stop), kind, what)
+    import numpy as np
+
     return np.linspace(start, stop, n)
 
 
@@ -161,17 +167,17 @@ def _hint_bare(texts: list[str], values: tuple[float, float], kind: str, what: s
     """Warn when bare (SI) numbers look like degrees or millimetres."""
     bare = all(_is_number(t) for t in texts)
     big = max(abs(v) for v in values)
-    if bare and kind == "angle" and big > 4 * np.pi:
+    if bare and kind == "angle" and big > 4 * math.pi:
         click.echo(
             f"excavkin: warning: {what}: bare numbers are radians; "
-            f"{big:g} rad is {big / (2 * np.pi):.1f} turns — write e.g. 360deg for "
+            f"{big:g} rad is {big / (2 * math.pi):.1f} turns — write e.g. 360deg for "
             "degrees",
             err=True,
         )
     elif bare and kind == "angular_velocity" and big > 20.0:
         click.echo(
             f"excavkin: warning: {what}: bare numbers are rad/s; {big:g} rad/s is "
-            f"{big * 60 / (2 * np.pi):.0f} rpm — write e.g. {big:g}rpm if you meant rpm",
+            f"{big * 60 / (2 * math.pi):.0f} rpm — write e.g. {big:g}rpm if you meant rpm",
             err=True,
         )
     elif bare and kind == "length" and big > 100.0:
@@ -200,79 +206,3 @@ units_row_option = click.option(
 RATE_KIND = {"angle": "angular_velocity", "length": "velocity"}
 ACCEL_KIND = {"angle": "angular_acceleration", "length": "acceleration"}
 JERK_KIND = {"angle": "angular_jerk", "length": "jerk"}
-
-
-class LazyGroup(click.Group):
-    """A click group whose subcommands are imported only when run or listed.
-
-    ``commands`` maps a subcommand's name to ``"module:attribute"``, a ``click.Command``;
-    ``entry_point_group`` adds the commands other packages register under that entry-point
-    group (a wing of excavkin, or a package of the user's), in the same ``module:attribute``
-    form. Loading lazily keeps ``--help`` fast and lets the core name no wing.
-    """
-
-    def __init__(
-        self,
-        *args: Any,
-        lazy: Mapping[str, str] | None = None,
-        entry_point_group: str | None = None,
-        **kwargs: Any,
-    ) -> None:
-        super().__init__(*args, **kwargs)
-        self.lazy = dict(lazy or {})
-        self.entry_point_group = entry_point_group
-
-    def _targets(self) -> dict[str, str]:
-        targets = dict(self.lazy)
-        if self.entry_point_group:
-            from importlib.metadata import entry_points
-
-            for ep in entry_points(group=self.entry_point_group):
-                targets.setdefault(ep.name, ep.value)
-        return targets
-
-    def list_commands(self, ctx: click.Context) -> list[str]:
-        return sorted({*self._targets(), *self.commands})
-
-    def resolve_command(
-        self, ctx: click.Context, args: list[str]
-    ) -> tuple[str | None, click.Command | None, list[str]]:
-        name = args[0] if args else ""
-        if name and not name.startswith("-") and self.get_command(ctx, name) is None:
-            known = self.list_commands(ctx)
-            hint = did_you_mean(name, known)
-            raise click.UsageError(f"no command {name!r}{hint} (commands: {', '.join(known)})", ctx)
-        return super().resolve_command(ctx, args)
-
-    def main(  # type: ignore[override]
-        self, args: Any = None, prog_name: str | None = None, **extra: Any
-    ) -> Any:
-        """Run, with every error — click's usage errors too — in excavkin's one style."""
-        if extra.get("standalone_mode") is False:
-            return super().main(args, prog_name, **extra)
-        extra["standalone_mode"] = False
-        try:
-            code = super().main(args, prog_name, **extra)
-        except click.UsageError as exc:
-            where = exc.ctx.command_path if exc.ctx is not None else "excavkin"
-            click.echo(f"excavkin: error: {exc.format_message()} (see '{where} --help')", err=True)
-            sys.exit(exc.exit_code)
-        except click.ClickException as exc:
-            click.echo(f"excavkin: error: {exc.format_message()}", err=True)
-            sys.exit(exc.exit_code)
-        except click.Abort:
-            click.echo("excavkin: error: aborted; no output was written", err=True)
-            sys.exit(130)
-        sys.exit(code if isinstance(code, int) else 0)
-
-    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
-        if cmd_name in self.commands:
-            return self.commands[cmd_name]
-        target = self._targets().get(cmd_name)
-        if target is None:
-            return None
-        module, _, attribute = target.partition(":")
-        command = getattr(importlib.import_module(module), attribute or "command")
-        if not isinstance(command, click.Command):
-            raise TypeError(f"{target} is not a click command")
-        return command

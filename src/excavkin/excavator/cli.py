@@ -1,9 +1,14 @@
-"""``excavkin excavator MACHINE.toml ranges|forces|ik``: an excavator front's spec sheet."""
+"""``excavkin excavator MACHINE.toml ranges|forces|ik``: an excavator front's spec sheet.
+
+The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
+the machine, pint) are imported inside the commands.
+"""
 
 from __future__ import annotations
 
+import math
+
 import click
-import numpy as np
 
 from excavkin.cli.common import handle_errors, model_path, si_value
 
@@ -181,7 +186,7 @@ def forces(
             f"{r.point[0] * 1e3:6.0f} {r.point[1] * 1e3:6.0f}  {r.lengths[0] * 1e3:6.0f} "
             f"{r.lengths[1] * 1e3:6.0f} {r.lengths[2] * 1e3:6.0f}  {lim}"
         )
-        moment, radius = (r.moment, r.radius) if isinstance(r, RatedForce) else (np.nan, np.nan)
+        moment, radius = (r.moment, r.radius) if isinstance(r, RatedForce) else (math.nan, math.nan)
         rows.append(
             {
                 "kind": kind,
@@ -252,6 +257,8 @@ def forces(
 @handle_errors
 def ik(machine: str, x: str, y: str, angle: str) -> None:
     """Cylinder lengths that put the tooth tip at (X, Y) with the given bucket angle."""
+    import numpy as np
+
     from excavkin.excavator.machine import BRANCHES, forward, inverse
 
     m = _machine(machine)
