@@ -44,6 +44,13 @@ CORE_COMMANDS = {
         "Solve MODEL.toml over time with drivers moved by motion laws; write one row per time.",
     ),
     "solve": _core("solve", "Solve MODEL.toml over driver sweeps and write one row per sample."),
+    "study": _core(
+        "study",
+        "Evaluate a design study: designs sampled in the box of STUDY.toml's parameter bounds "
+        "(Sobol', Halton, Latin hypercube or a grid), each solved at every pose of its pose set "
+        "in one batch, its metrics reduced over the poses and its constraints checked; write one "
+        "row per design to a Parquet table.",
+    ),
     "tolerance": _core(
         "tolerance",
         "Bands of MODEL's columns over a sweep when its dimensions are made within --tol and its "

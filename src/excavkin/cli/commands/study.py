@@ -1,0 +1,70 @@
+"""``excavkin study``: a design of experiments over a model's design parameters, one row per
+design (parameters, metrics over a pose set, feasibility), streamed and resumable."""
+
+from __future__ import annotations
+
+import click
+
+from excavkin.cli.common import handle_errors
+
+
+@click.command("study")
+@click.argument("spec", metavar="STUDY.toml", type=click.Path(dir_okay=False))
+@click.option(
+    "-o",
+    "--out",
+    default=None,
+    metavar="FILE.parquet",
+    help="The table, one row per design (default: STUDY.parquet beside the study file).",
+)
+@click.option("--force", is_flag=True, help="Replace the table if it exists.")
+@click.option(
+    "--restart",
+    is_flag=True,
+    help="Start anew instead of resuming the finished designs of an interrupted run.",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="dask|tcp://HOST:PORT",
+    help="Run the chunks of designs on a local Dask cluster ('dask') or an existing Dask "
+    "scheduler (its address); the table is the same as a local run's.",
+)
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
+@handle_errors
+def command(
+    spec: str, out: str | None, force: bool, restart: bool, scheduler: str | None, quiet: bool
+) -> None:
+    """Evaluate a design study: designs sampled in the box of STUDY.toml's parameter bounds
+    (Sobol', Halton, Latin hypercube or a grid), each solved at every pose of its pose set in
+    one batch, its metrics reduced over the poses and its constraints checked; write one row
+    per design to a Parquet table.
+    """
+    from pathlib import Path
+
+    from excavkin.cli.progress import progress
+    from excavkin.studies.study import run_study
+    from excavkin.studies.study_file import load_study
+
+    study = load_study(spec)
+    target = Path(out) if out else Path(spec).with_suffix(".parquet")
+    total = study.designs
+    click.echo(
+        f"{total:,} designs × {study.poses.count:,} poses of {study.model.stem} "
+        f"({study.method}, seed {study.seed})",
+        err=True,
+    )
+    with progress("designs", total, quiet=quiet) as advance:
+        seen = [0]
+
+        def report(done: int, _total: int) -> None:
+            advance(done - seen[0])
+            seen[0] = done
+
+        run_study(
+            study, target, force=force, resume=not restart, progress=report, scheduler=scheduler
+        )
+    import pyarrow.parquet as pq
+
+    feasible = pq.read_table(target, columns=["feasible"]).column(0).to_numpy()
+    click.echo(f"wrote {total:,} designs ({int(feasible.sum()):,} feasible) to {target}")

@@ -1,0 +1,88 @@
+"""Designs spread over a box of parameter bounds: quasi-random (Sobol, Halton), Latin
+hypercube, or a full grid."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+
+from excavkin.errors import InputError
+
+F = NDArray[np.float64]
+
+METHODS = ("sobol", "halton", "lhs", "grid")
+
+
+def sample_designs(
+    bounds: Mapping[str, tuple[float, float]],
+    n: int,
+    method: str = "sobol",
+    seed: int = 0,
+    part: tuple[int, int] | None = None,
+) -> dict[str, F]:
+    """``n`` designs in the box ``bounds`` (name → (low, high), SI), or the designs
+    ``part = (start, stop)`` of them (made without the others where the method allows).
+
+    Parameters
+    ----------
+    bounds : mapping of str to (float, float)
+    n : int
+        Designs; for ``"grid"``, the levels of each parameter (``n ** len(bounds)`` designs,
+        the first parameter varying slowest).
+    method : {"sobol", "halton", "lhs", "grid"}
+        Scrambled Sobol' and Halton sequences and Latin hypercubes come from
+        :mod:`scipy.stats.qmc`, seeded: the same arguments give the same designs. A Sobol'
+        count that is a power of two keeps the sequence's balance.
+    seed : int
+    part : (int, int), optional
+
+    Returns
+    -------
+    dict of str to ndarray
+        Each parameter's values, shape (designs,).
+    """
+    names = list(bounds)
+    if not names:
+        raise InputError("a design space needs at least one parameter with bounds")
+    if n < 1:
+        raise InputError(f"the number of designs must be at least 1, got {n}")
+    lo = np.array([bounds[k][0] for k in names], dtype=np.float64)
+    hi = np.array([bounds[k][1] for k in names], dtype=np.float64)
+    bad = [k for k, a, b in zip(names, lo, hi, strict=True) if not (np.isfinite(a) and a < b)]
+    if bad:
+        raise InputError(f"parameter {bad[0]!r}: its bounds must be finite with low < high")
+    d = len(names)
+    total = n**d if method == "grid" else n
+    start, stop = part if part is not None else (0, total)
+    if not 0 <= start <= stop <= total:
+        raise InputError(f"designs {start}:{stop} are not within the {total} designs")
+    if method == "grid":
+        index = np.unravel_index(np.arange(start, stop), (n,) * d)
+        return {
+            k: a + (b - a) * (i / max(n - 1, 1)) if n > 1 else np.full(stop - start, (a + b) / 2)
+            for k, a, b, i in zip(names, lo, hi, index, strict=True)
+        }
+    from scipy.stats import qmc
+
+    if method == "sobol":
+        engine: qmc.QMCEngine = qmc.Sobol(d, scramble=True, seed=seed)
+    elif method == "halton":
+        engine = qmc.Halton(d, scramble=True, seed=seed)
+    elif method == "lhs":
+        engine = qmc.LatinHypercube(d, seed=seed)
+    else:
+        raise InputError(f"unknown sampling method {method!r} (known: {', '.join(METHODS)})")
+    import warnings
+
+    with warnings.catch_warnings():  # Sobol' balance: said in the docstring
+        warnings.simplefilter("ignore", UserWarning)
+        if method == "lhs":  # a Latin hypercube is one permutation of all its designs
+            unit = engine.random(n)[start:stop]
+        else:  # a sequence: skip to the part
+            if start:
+                engine.fast_forward(start)
+            unit = engine.random(stop - start)
+    values = qmc.scale(unit, lo, hi)
+    return {k: np.ascontiguousarray(values[:, j]) for j, k in enumerate(names)}

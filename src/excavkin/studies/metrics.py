@@ -1,0 +1,181 @@
+"""Metrics of a family of designs over a pose set: each design solved at every pose in one
+batch over the geometry axis, a column reduced over the poses (min, max, …), and constraints
+on the metrics."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from excavkin.errors import InputError
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from excavkin.mechanism import Mechanism
+
+F = NDArray[np.float64]
+
+Reduce = Literal["min", "max", "absmax", "mean", "argmin", "argmax"]
+REDUCTIONS: tuple[str, ...] = ("min", "max", "absmax", "mean", "argmin", "argmax")
+
+
+@dataclass(frozen=True, slots=True)
+class Metric:
+    """One number per design: ``column`` reduced over the pose set.
+
+    ``argmin``/``argmax`` give the index of the pose where the column is least or greatest.
+    """
+
+    name: str
+    column: str
+    reduce: Reduce
+
+
+@dataclass(frozen=True, slots=True)
+class Constraint:
+    """Bounds on a metric, SI (either may be None)."""
+
+    metric: str
+    low: float | None = None
+    high: float | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Poses:
+    """The pose set every design is solved at: driver values (arrays of one length, or
+    scalars held), rates and accelerations, SI."""
+
+    values: Mapping[str, Any]
+    rates: Mapping[str, Any]
+    accels: Mapping[str, Any]
+
+    @property
+    def count(self) -> int:
+        sizes = {np.size(v) for v in self.values.values() if np.ndim(v)}
+        if len(sizes) > 1:
+            raise InputError(f"the poses' sweeps have different lengths: {sorted(sizes)}")
+        return sizes.pop() if sizes else 1
+
+
+def needs_forces(mech: Mechanism, metrics: Sequence[Metric]) -> bool:
+    """Whether a metric reads a force column (the designs then get their kinetostatics); an
+    unknown column is an error naming it."""
+    from excavkin.errors import unknown_name
+
+    kin = {c.name for c in mech.solve({}).columns}
+    forces = {c.name for c in mech.solve({}, loads=[]).columns} - kin
+    for m in metrics:
+        if m.column not in kin and m.column not in forces:
+            raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(kin | forces))
+        if m.reduce not in REDUCTIONS:
+            raise InputError(
+                f"metric {m.name!r}: reduce must be one of {', '.join(REDUCTIONS)}, "
+                f"not {m.reduce!r}"
+            )
+    return any(m.column in forces for m in metrics)
+
+
+def evaluate(
+    mech: Mechanism,
+    designs: Mapping[str, F],
+    poses: Poses,
+    metrics: Sequence[Metric],
+    constraints: Sequence[Constraint] = (),
+    loads: Any = None,
+) -> pd.DataFrame:
+    """Every design at every pose, as one solve of designs × poses samples; one row per design.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    designs : mapping of str to ndarray, shape (d,)
+        Parameter values (SI) per design.
+    poses : Poses
+    metrics : sequence of Metric
+    constraints : sequence of Constraint
+    loads : optional
+        Loads for the kinetostatics (``"model"``: the model's own), needed by force metrics.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``design.<parameter>`` columns, one column per metric, ``poses_failed`` (poses that did
+        not solve, or are statically singular), ``feasible`` (every pose solved and every
+        constraint met) and ``status`` ("ok", or why not). A metric is over the poses that
+        solved; NaN if none did.
+    """
+    import pandas as pd
+
+    d = len(next(iter(designs.values())))
+    p = poses.count
+    params = {k: np.repeat(np.asarray(v, dtype=np.float64), p) for k, v in designs.items()}
+    values = {k: _tile(v, p, d) for k, v in poses.values.items()}
+    rates = {k: _tile(v, p, d) for k, v in poses.rates.items()}
+    accels = {k: _tile(v, p, d) for k, v in poses.accels.items()}
+    n = d * p
+    res: Any = mech.solve(values, rates, accels, params=params, loads=loads)
+    ok = res.status.solved if loads is None else res.kinematics.status.solved & ~res.singular
+    columns = {c.name for c in res.columns}
+    ok = np.broadcast_to(ok, (n,)).reshape(d, p)
+    out: dict[str, Any] = {f"design.{k}": np.asarray(v) for k, v in designs.items()}
+    for m in metrics:
+        if m.column not in columns:
+            from excavkin.errors import unknown_name
+
+            raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(columns))
+        col = _column(res, m.column).reshape(d, p)
+        out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
+    failed = (~ok).sum(axis=1)
+    out["poses_failed"] = failed
+    met = failed == 0
+    why = np.where(failed > 0, np.char.add(failed.astype(str), f" of {p} poses do not solve"), "")
+    for c in constraints:
+        value = out[c.metric]
+        inside = np.ones(d, dtype=bool)
+        if c.low is not None:
+            inside &= value >= c.low
+        if c.high is not None:
+            inside &= value <= c.high
+        hit = met & ~inside
+        why = np.where(hit, f"constraint on {c.metric} not met", why)
+        met &= inside
+    out["feasible"] = met
+    out["status"] = np.where(why == "", "ok", why)
+    return pd.DataFrame(out)
+
+
+def _tile(v: Any, p: int, d: int) -> Any:
+    """A pose set's values repeated for every design (design-major order)."""
+    a = np.asarray(v, dtype=np.float64)
+    return np.tile(a, d) if a.ndim else float(a)
+
+
+def _column(res: Any, name: str) -> F:
+    kin = res if not hasattr(res, "kinematics") else res.kinematics
+    if name in {c.name for c in kin.columns}:
+        return np.asarray(kin.column(name), dtype=np.float64)
+    return np.asarray(res.column(name), dtype=np.float64)
+
+
+def _reduce(a: F, how: str) -> F:
+    """Reduce over the poses (axis 1), ignoring poses that did not solve (NaN)."""
+    empty = np.asarray(np.isnan(a).all(axis=1))
+    filled = np.where(empty[:, None], 0.0, a)
+    if how == "min":
+        r = np.nanmin(filled, axis=1)
+    elif how == "max":
+        r = np.nanmax(filled, axis=1)
+    elif how == "absmax":
+        r = np.nanmax(np.abs(filled), axis=1)
+    elif how == "mean":
+        r = np.nanmean(filled, axis=1)
+    elif how == "argmin":
+        r = np.nanargmin(np.where(np.isnan(filled), np.inf, filled), axis=1).astype(np.float64)
+    else:
+        r = np.nanargmax(np.where(np.isnan(filled), -np.inf, filled), axis=1).astype(np.float64)
+    return np.where(empty, np.nan, r)

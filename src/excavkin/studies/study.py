@@ -1,0 +1,292 @@
+"""A design study: a model, a box of design parameters sampled by a design of experiments, a
+pose set, metrics and constraints — evaluated chunk by chunk of designs, each chunk one batch
+solve, and written as a Parquet table with one row per design.
+
+A study is streamed: each finished chunk is kept as a part file in a folder beside the output
+(``.NAME.parts/``), so that an interrupted study resumes where it stopped (finished chunks are
+skipped), and the table is assembled and moved into place only when every chunk is done. The
+chunks may run here or on a Dask cluster; either way each is the same batch solve, so the
+results are identical.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import shutil
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from excavkin.errors import InputError
+from excavkin.studies.design_space import METHODS, sample_designs
+from excavkin.studies.metrics import Constraint, Metric, Poses, evaluate, needs_forces
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from excavkin.mechanism import Mechanism
+
+#: samples (designs × poses) solved at once: a chunk's arrays stay within a few hundred MB
+CHUNK_SAMPLES = 1 << 18
+
+
+@dataclass(frozen=True)
+class Study:
+    """What a study evaluates (all values SI).
+
+    Attributes
+    ----------
+    model : Path
+        The model file.
+    bounds : dict of str to (float, float)
+        Design parameters (names of ``Mechanism.parameters``) and their bounds.
+    poses : Poses
+    metrics : tuple of Metric
+    constraints : tuple of Constraint
+    method : {"sobol", "halton", "lhs", "grid"}
+    samples : int
+        Designs (for a grid: levels per parameter).
+    seed : int
+    loads : "model" or None
+        Solve the kinetostatics under the model's loads (needed by force metrics).
+    """
+
+    model: Path
+    bounds: dict[str, tuple[float, float]]
+    poses: Poses
+    metrics: tuple[Metric, ...]
+    constraints: tuple[Constraint, ...] = ()
+    method: str = "sobol"
+    samples: int = 1024
+    seed: int = 0
+    loads: str | None = None
+
+    @property
+    def designs(self) -> int:
+        return self.samples ** len(self.bounds) if self.method == "grid" else self.samples
+
+    def fingerprint(self) -> str:
+        """A hash of everything that decides the results (the model file's text included), so
+        that parts of another study are never mixed in."""
+        text = json.dumps(
+            {
+                "model": self.model.read_text(encoding="utf-8"),
+                "bounds": self.bounds,
+                "poses": [
+                    {k: np.asarray(v).tolist() for k, v in part.items()}
+                    for part in (self.poses.values, self.poses.rates, self.poses.accels)
+                ],
+                "metrics": [(m.name, m.column, m.reduce) for m in self.metrics],
+                "constraints": [(c.metric, c.low, c.high) for c in self.constraints],
+                "sampling": (self.method, self.samples, self.seed),
+                "loads": self.loads,
+            },
+            sort_keys=True,
+        )
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def chunks(study: Study, chunk_samples: int = CHUNK_SAMPLES) -> list[tuple[int, int]]:
+    """The designs' index ranges, each solved as one batch."""
+    per = max(1, chunk_samples // study.poses.count)
+    n = study.designs
+    return [(s, min(s + per, n)) for s in range(0, n, per)]
+
+
+def evaluate_chunk(study: Study, start: int, stop: int) -> pd.DataFrame:
+    """The designs ``start:stop`` of the study: its rows, with their ``design`` index. A pure
+    function of its arguments, so that it can run anywhere (a Dask worker)."""
+    from excavkin import load
+
+    mech = load(study.model)
+    part = sample_designs(study.bounds, study.samples, study.method, study.seed, (start, stop))
+    frame = evaluate(mech, part, study.poses, study.metrics, study.constraints, study.loads)
+    frame.insert(0, "design", np.arange(start, stop))
+    return frame
+
+
+def run_study(
+    study: Study,
+    out: str | Path,
+    *,
+    force: bool = False,
+    resume: bool = True,
+    progress: Callable[[int, int], None] | None = None,
+    scheduler: str | None = None,
+    chunk_samples: int = CHUNK_SAMPLES,
+) -> Path:
+    """Evaluate the study and write its table (Parquet) to ``out``.
+
+    Parameters
+    ----------
+    study : Study
+    out : path
+        The ``.parquet`` table, one row per design.
+    force : bool
+        Replace ``out`` if it exists.
+    resume : bool
+        Keep the finished chunks of an interrupted run of the same study (else start anew).
+    progress : callable, optional
+        ``progress(designs_done, designs)`` after each chunk.
+    scheduler : str, optional
+        ``None`` to run here; ``"dask"`` for a local Dask cluster; ``"tcp://host:port"`` for an
+        existing Dask scheduler.
+    chunk_samples : int
+        Designs × poses solved at once.
+
+    Returns
+    -------
+    Path
+    """
+    from excavkin.io.files import check_target
+
+    target = check_target(out, force=force, suffixes=(".parquet",))
+    mech = _check(study)
+    parts = target.parent / f".{target.name}.parts"
+    fingerprint = study.fingerprint()
+    stamp = parts / "study.json"
+    if parts.exists() and (not resume or _stamp(stamp) != fingerprint):
+        shutil.rmtree(parts)
+    parts.mkdir(exist_ok=True)
+    stamp.write_text(json.dumps({"fingerprint": fingerprint}), encoding="utf-8")
+    todo = [(s, e) for s, e in chunks(study, chunk_samples) if not _part(parts, s).exists()]
+    done = study.designs - sum(e - s for s, e in todo)
+    if progress is not None:
+        progress(done, study.designs)
+    for (s, e), frame in _run(study, todo, scheduler):
+        _write_part(frame, _part(parts, s))
+        done += e - s
+        if progress is not None:
+            progress(done, study.designs)
+    _assemble(parts, target, study, mech)
+    shutil.rmtree(parts)
+    return target
+
+
+def _check(study: Study) -> Mechanism:
+    """Refuse, before any solve, unknown parameters, columns and metric names."""
+    from excavkin import load
+    from excavkin.errors import unknown_name
+
+    mech = load(study.model)
+    for name in study.bounds:
+        if name not in mech.parameters:
+            raise unknown_name("parameter", name, list(mech.parameters))
+    forces = needs_forces(mech, study.metrics)
+    if forces and study.loads is None:
+        raise InputError(
+            'a metric reads a force column: give the study loads = "model" (the model\'s '
+            "own loads and gravity)"
+        )
+    names = {m.name for m in study.metrics}
+    for c in study.constraints:
+        if c.metric not in names:
+            raise unknown_name("metric (in a constraint)", c.metric, sorted(names))
+    if study.method not in METHODS:
+        raise InputError(f"unknown sampling method {study.method!r} (known: {', '.join(METHODS)})")
+    return mech
+
+
+def _run(
+    study: Study, todo: list[tuple[int, int]], scheduler: str | None
+) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
+    if scheduler is None:
+        for s, e in todo:
+            yield (s, e), evaluate_chunk(study, s, e)
+        return
+    try:
+        from distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise InputError(
+            "a Dask scheduler needs dask.distributed: pip install 'excavkin[cluster]'"
+        ) from None
+    cluster = None
+    if scheduler == "dask":  # a worker process per core, quiet, no dashboard
+        import logging
+
+        cluster = LocalCluster(
+            processes=True, threads_per_worker=1, dashboard_address=None,
+            silence_logs=logging.ERROR,
+        )  # fmt: skip
+    try:
+        with Client(cluster if cluster is not None else scheduler) as client:
+            futures = {
+                client.submit(evaluate_chunk, study, s, e, pure=False): (s, e) for s, e in todo
+            }
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+    finally:
+        if cluster is not None:
+            cluster.close()
+
+
+def _part(parts: Path, start: int) -> Path:
+    return parts / f"part-{start:012d}.parquet"
+
+
+def _stamp(path: Path) -> str | None:
+    try:
+        return str(json.loads(path.read_text(encoding="utf-8"))["fingerprint"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+
+
+def _write_part(frame: pd.DataFrame, path: Path) -> None:
+    """A chunk's rows, written whole or not at all."""
+    from excavkin.io.files import write_atomic
+
+    write_atomic(path, lambda tmp: frame.to_parquet(tmp, index=False))
+
+
+def _assemble(parts: Path, target: Path, study: Study, mech: Mechanism) -> None:
+    """The parts in design order, as one table with units in its metadata, moved into place
+    whole; one part in memory at a time."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from excavkin.io.files import write_atomic
+    from excavkin.kinematics.columns import si_unit
+
+    files = sorted(parts.glob("part-*.parquet"))
+    schema = pq.read_schema(files[0])
+    kinds = _kinds(study, mech)
+    meta = {
+        b"excavkin.units": json.dumps({k: si_unit(v) for k, v in kinds.items()}).encode(),
+        b"excavkin.kinds": json.dumps(kinds).encode(),
+        b"excavkin.model": mech.name.encode(),
+        b"excavkin.study": study.fingerprint().encode(),
+    }
+    schema = schema.with_metadata({**(schema.metadata or {}), **meta})
+
+    def write(tmp: Path) -> None:
+        with pq.ParquetWriter(tmp, schema) as writer:
+            for f in files:
+                writer.write_table(pa.Table.from_batches(pq.read_table(f).to_batches(), schema))
+
+    write_atomic(target, write)
+
+
+def _kinds(study: Study, mech: Mechanism) -> dict[str, str]:
+    """Each column's physical kind: parameters', and each metric's from its column."""
+    from excavkin.structure.design import parameter_kind
+
+    kinds = {f"design.{k}": parameter_kind(k, mech.model) for k in study.bounds}
+    probe = mech.solve({}, loads="model") if study.loads else mech.solve({})
+    of = {c.name: c.kind for c in probe.columns}
+    for m in study.metrics:
+        kinds[m.name] = "dimensionless" if m.reduce in ("argmin", "argmax") else of[m.column]
+    return kinds
+
+
+def metric_kinds(mech: Mechanism, metrics: Mapping[str, tuple[str, str]]) -> dict[str, str]:
+    """The kind of each metric (name → (column, reduce)), for reading its constraints' units."""
+    probe = mech.solve({}, loads=[])
+    of = {c.name: c.kind for c in probe.columns}
+    return {
+        name: "dimensionless" if how in ("argmin", "argmax") else of.get(column, "dimensionless")
+        for name, (column, how) in metrics.items()
+    }

@@ -1,0 +1,246 @@
+"""Read a study file (TOML): the model, the design space, the poses, metrics and constraints.
+
+::
+
+    [study]
+    model = "fourbar"            # a model file (relative to this file) or a built-in example
+    method = "sobol"             # sobol | halton | lhs | grid
+    samples = 1024               # designs (grid: levels of each parameter)
+    seed = 0
+    loads = "model"              # optional: forces under the model's loads and gravity
+
+    [units]                      # optional, as in a model file: units of bare numbers
+    length = "mm"
+
+    [parameters]                 # design parameters (see `excavkin check`) and their bounds
+    "A-B" = [110, 130]
+    "O4.x" = ["90 mm", "110 mm"]
+
+    [poses]                      # the drivers at every pose: START:STOP:N, or one value
+    crank = "0 deg:360 deg:73"
+    [poses.rates]
+    crank = "10 rad/s"
+
+    [metrics]                    # a column reduced over the poses
+    gamma_min = { column = "B.transmission", reduce = "min" }
+
+    [constraints]                # bounds of metrics, in the metric's kind
+    gamma_min = { min = "40 deg" }
+
+Errors name the file, the table and the entry; nothing in the file is evaluated.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from excavkin.errors import ExcavkinError, ModelError
+from excavkin.io.toml_model import TomlReader, read_text_file, read_toml
+from excavkin.studies.design_space import METHODS
+from excavkin.studies.metrics import REDUCTIONS, Constraint, Metric, Poses
+from excavkin.studies.study import Study, metric_kinds
+
+#: rate and acceleration kinds of each driver kind
+_RATE = {"angle": "angular_velocity", "length": "velocity"}
+_ACCEL = {"angle": "angular_acceleration", "length": "acceleration"}
+#: the most designs or poses a study file may ask for
+MAX_DESIGNS = 10**10
+MAX_POSES = 10**7
+
+
+def load_study(path: str | Path) -> Study:
+    """Read and check a study file.
+
+    Raises
+    ------
+    ModelError, UnitError
+        Naming the file, the table and the entry.
+    """
+    import excavkin
+
+    source = str(path)
+    r = TomlReader(read_toml(read_text_file(path), source), source)
+    r.keys(
+        r.data,
+        {"study", "units", "parameters", "poses", "metrics", "constraints"},
+        "the file",
+    )
+    head = r.table("study", required=True)
+    r.keys(head, {"model", "method", "samples", "seed", "loads"}, "study")
+    model = _model(r, head, Path(path).parent)
+    try:
+        mech = excavkin.load(model)
+    except ExcavkinError as exc:
+        raise r.err(f"the model cannot be read: {exc}", "study", "model") from None
+    method = head.get("method", "sobol")
+    if method not in METHODS:
+        raise r.err(f"must be one of {', '.join(METHODS)}, not {method!r}", "study", "method")
+    samples = _whole(r, head.get("samples", 1024), "samples", 1, MAX_DESIGNS)
+    seed = _whole(r, head.get("seed", 0), "seed", 0, 2**63 - 1)
+    loads = head.get("loads")
+    if loads not in (None, "model"):
+        raise r.err('must be "model" (the model\'s own loads and gravity)', "study", "loads")
+    bounds = _bounds(r, mech)
+    poses = _poses(r, mech)
+    metrics = _metrics(r, mech)
+    kinds = metric_kinds(mech, {m.name: (m.column, m.reduce) for m in metrics})
+    constraints = _constraints(r, kinds)
+    study = Study(
+        model=model,
+        bounds=bounds,
+        poses=poses,
+        metrics=tuple(metrics),
+        constraints=tuple(constraints),
+        method=method,
+        samples=samples,
+        seed=seed,
+        loads=loads,
+    )
+    if study.designs > MAX_DESIGNS:
+        raise r.err(f"{study.designs:,} designs is more than {MAX_DESIGNS:,}", "study", "samples")
+    return study
+
+
+def _model(r: TomlReader, head: dict[str, Any], folder: Path) -> Path:
+    import excavkin
+
+    text = head.get("model")
+    if not isinstance(text, str) or not text:
+        raise r.err("the study needs its model: a file or a built-in example's name", "study")
+    given = folder / text
+    if given.exists():
+        return given
+    if text in excavkin.examples("model"):
+        return excavkin.example_path(text)
+    raise r.err(
+        f"{text!r}: no such file beside the study, nor a built-in example", "study", "model"
+    )
+
+
+def _whole(r: TomlReader, value: Any, entry: str, low: int, high: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise r.err(f"must be a whole number from {low} to {high:,}, got {value!r}", "study", entry)
+    return value
+
+
+def _bounds(r: TomlReader, mech: Any) -> dict[str, tuple[float, float]]:
+    from excavkin.errors import unknown_name
+    from excavkin.structure.design import parameter_kind
+
+    out = {}
+    for name, given in r.table("parameters", required=True).items():
+        if name not in mech.parameters:
+            problem = str(unknown_name("parameter", name, list(mech.parameters)))
+            raise r.err(problem, "parameters", name)
+        if not isinstance(given, list) or len(given) != 2:
+            raise r.err("bounds must be [low, high]", "parameters", name)
+        kind = parameter_kind(name, mech.model)
+        lo, hi = (r.qty(v, kind, "parameters", name) for v in given)
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+            raise r.err(f"bounds must be finite with low < high, got [{lo:g}, {hi:g}]",
+                        "parameters", name)  # fmt: skip
+        out[name] = (lo, hi)
+    return out
+
+
+def _poses(r: TomlReader, mech: Any) -> Poses:
+    table = dict(r.table("poses"))
+    rates_t = table.pop("rates", {})
+    accels_t = table.pop("accels", {})
+    values = {}
+    for name, spec in table.items():
+        kind = _driver_kind(r, mech, name, "poses")
+        values[name] = _sweep(r, spec, kind, "poses", name)
+    rates = {}
+    for name, spec in _sub(r, rates_t, "poses.rates").items():
+        kind = _RATE[_driver_kind(r, mech, name, "poses.rates")]
+        rates[name] = r.qty(spec, kind, "poses.rates", name)
+    accels = {}
+    for name, spec in _sub(r, accels_t, "poses.accels").items():
+        kind = _ACCEL[_driver_kind(r, mech, name, "poses.accels")]
+        accels[name] = r.qty(spec, kind, "poses.accels", name)
+    poses = Poses(values, rates, accels)
+    try:
+        poses.count  # noqa: B018 - checks the sweeps' lengths
+    except ExcavkinError as exc:
+        raise r.err(str(exc), "poses") from None
+    return poses
+
+
+def _sub(r: TomlReader, value: Any, table: str) -> dict[str, Any]:
+    if not isinstance(value, dict):
+        raise r.err("must be a table of driver = value", table)
+    return value
+
+
+def _driver_kind(r: TomlReader, mech: Any, name: str, table: str) -> str:
+    from excavkin.errors import unknown_name
+
+    if name not in mech.plan.inputs:
+        raise r.err(str(unknown_name("driver", name, list(mech.plan.inputs))), table, name)
+    return str(mech.input_kind(name))
+
+
+def _sweep(r: TomlReader, spec: Any, kind: str, table: str, entry: str) -> Any:
+    """``"START:STOP:N"`` → N evenly spaced values; a single value → that value."""
+    if isinstance(spec, str) and spec.count(":") == 2:
+        a, b, count = spec.split(":")
+        try:
+            n = int(count)
+        except ValueError:
+            raise r.err(f"the sample count {count!r} is not a whole number", table, entry) from None
+        if not 1 <= n <= MAX_POSES:
+            raise r.err(f"the sample count must be from 1 to {MAX_POSES:,}", table, entry)
+        return np.linspace(
+            r.qty(a.strip(), kind, table, entry), r.qty(b.strip(), kind, table, entry), n
+        )
+    return r.qty(spec, kind, table, entry)
+
+
+def _metrics(r: TomlReader, mech: Any) -> list[Metric]:
+    out = []
+    for name, spec in r.table("metrics", required=True).items():
+        r.name(name, "metrics")
+        if not isinstance(spec, dict):
+            raise r.err('must be a table such as { column = "B.transmission", reduce = "min" }',
+                        "metrics", name)  # fmt: skip
+        r.keys(spec, {"column", "reduce"}, "metrics", name)
+        column, how = spec.get("column"), spec.get("reduce")
+        if not isinstance(column, str):
+            raise r.err("needs the column it reduces", "metrics", name)
+        if how not in REDUCTIONS:
+            raise r.err(f"reduce must be one of {', '.join(REDUCTIONS)}, not {how!r}",
+                        "metrics", name)  # fmt: skip
+        out.append(Metric(name, column, how))
+    from excavkin.studies.metrics import needs_forces
+
+    try:
+        needs_forces(mech, out)
+    except ExcavkinError as exc:
+        raise r.err(str(exc), "metrics") from None
+    return out
+
+
+def _constraints(r: TomlReader, kinds: dict[str, str]) -> list[Constraint]:
+    from excavkin.errors import unknown_name
+
+    out = []
+    for name, spec in r.table("constraints").items():
+        if name not in kinds:
+            raise r.err(str(unknown_name("metric", name, list(kinds))), "constraints", name)
+        if not isinstance(spec, dict) or not spec:
+            raise r.err('must be a table such as { min = "40 deg" }', "constraints", name)
+        r.keys(spec, {"min", "max"}, "constraints", name)
+        kind = kinds[name]
+        low = r.qty(spec["min"], kind, "constraints", name) if "min" in spec else None
+        high = r.qty(spec["max"], kind, "constraints", name) if "max" in spec else None
+        if low is not None and high is not None and not low <= high:
+            raise r.err("min must not exceed max", "constraints", name)
+        out.append(Constraint(name, low, high))
+    return out
+
+
+__all__ = ["ModelError", "load_study"]
