@@ -20,20 +20,23 @@ if TYPE_CHECKING:
 
 F = NDArray[np.float64]
 
-Reduce = Literal["min", "max", "absmax", "mean", "argmin", "argmax"]
-REDUCTIONS: tuple[str, ...] = ("min", "max", "absmax", "mean", "argmin", "argmax")
+Reduce = Literal["min", "max", "absmax", "mean", "sumsq", "argmin", "argmax"]
+REDUCTIONS: tuple[str, ...] = ("min", "max", "absmax", "mean", "sumsq", "argmin", "argmax")
 
 
 @dataclass(frozen=True, slots=True)
 class Metric:
     """One number per design: ``column`` reduced over the pose set.
 
-    ``argmin``/``argmax`` give the index of the pose where the column is least or greatest.
+    ``argmin``/``argmax`` give the index of the pose where the column is least or greatest;
+    ``sumsq`` the sum over the poses of the squared differences from ``target`` (one value per
+    pose, SI).
     """
 
     name: str
     column: str
     reduce: Reduce
+    target: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -128,7 +131,11 @@ def evaluate(
             from excavkin.errors import unknown_name
 
             raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(columns))
-        col = _column(res, m.column).reshape(d, p)
+        col = column_of(res, m.column).reshape(d, p)
+        if m.reduce == "sumsq":
+            if m.target is None or len(m.target) != p:
+                raise InputError(f"metric {m.name!r}: sumsq needs one target value per pose")
+            col = col - np.asarray(m.target, dtype=np.float64)
         out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
     failed = (~ok).sum(axis=1)
     out["poses_failed"] = failed
@@ -155,7 +162,8 @@ def _tile(v: Any, p: int, d: int) -> Any:
     return np.tile(a, d) if a.ndim else float(a)
 
 
-def _column(res: Any, name: str) -> F:
+def column_of(res: Any, name: str) -> F:
+    """A kinematic or force column of a result by name."""
     kin = res if not hasattr(res, "kinematics") else res.kinematics
     if name in {c.name for c in kin.columns}:
         return np.asarray(kin.column(name), dtype=np.float64)
@@ -174,6 +182,8 @@ def _reduce(a: F, how: str) -> F:
         r = np.nanmax(np.abs(filled), axis=1)
     elif how == "mean":
         r = np.nanmean(filled, axis=1)
+    elif how == "sumsq":
+        r = np.nansum(filled * filled, axis=1)
     elif how == "argmin":
         r = np.nanargmin(np.where(np.isnan(filled), np.inf, filled), axis=1).astype(np.float64)
     else:

@@ -1,0 +1,462 @@
+"""The best design in a box of parameter bounds, under constraints on metrics over a pose set.
+
+Two ways, both on the engine's batch axes:
+
+- **Local** (``"slsqp"``): scipy's SLSQP with exact
+  gradients — every column's sensitivity to every parameter at every pose comes from the
+  differentiated plan in the same solve as its values. A sum of squares with no constraints
+  (a target to follow: a function generator, a path) goes to least squares on its residuals
+  and their exact Jacobian. A metric that is a least or greatest
+  value over the poses is not smooth; it is written in epigraph form instead: maximising
+  ``min_k c_k`` becomes maximising ``t`` with ``c_k ≥ t`` at every pose k, and a constraint
+  ``min_k c_k ≥ b`` becomes ``c_k ≥ b`` at every pose. Both are exact reformulations.
+- **Global** (``"differential-evolution"``): scipy's differential evolution with
+  ``vectorized=True``, its whole population solved as one batch over the geometry axis; a
+  design that breaks a constraint or does not solve at every pose is penalised. The best design
+  is then polished by the local method.
+
+Parameters are scaled to [0, 1] within their bounds, so that millimetres and kilograms weigh
+alike.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from excavkin.errors import InputError
+from excavkin.studies.metrics import Constraint, Metric, Poses, column_of, evaluate
+
+if TYPE_CHECKING:
+    from excavkin.mechanism import Mechanism
+
+F = NDArray[np.float64]
+
+Method = Literal["slsqp", "differential-evolution"]
+METHODS: tuple[str, ...] = ("slsqp", "differential-evolution")
+
+
+@dataclass(frozen=True)
+class Optimum:
+    """What an optimisation found.
+
+    Attributes
+    ----------
+    params : dict of str to float
+        The best design's parameters, SI.
+    value : float
+        Its objective.
+    metrics : dict of str to float
+        Its metrics (the objective's and the constraints').
+    active : tuple of str
+        Constraints at their bound (within 1e-6 of the bound's scale) at the optimum.
+    feasible : bool
+        Every pose solves and every constraint holds (to 1e-9 of its scale).
+    success : bool
+        The optimiser's own verdict.
+    message : str
+    history : tuple of float
+        The best objective after each iteration (for a convergence plot).
+    evaluations : int
+        Designs solved.
+    """
+
+    params: dict[str, float]
+    value: float
+    metrics: dict[str, float]
+    active: tuple[str, ...]
+    feasible: bool
+    success: bool
+    message: str
+    history: tuple[float, ...] = field(default=())
+    evaluations: int = 0
+
+
+def optimize(
+    mech: Mechanism,
+    bounds: Mapping[str, tuple[float, float]],
+    poses: Poses,
+    objective: Metric,
+    sense: Literal["min", "max"] = "max",
+    *,
+    metrics: Sequence[Metric] = (),
+    constraints: Sequence[Constraint] = (),
+    method: Method = "slsqp",
+    x0: Mapping[str, float] | None = None,
+    loads: Any = None,
+    seed: int = 0,
+    maxiter: int = 200,
+    popsize: int = 32,
+    tol: float = 1e-12,
+) -> Optimum:
+    """Minimise or maximise ``objective`` over designs within ``bounds``.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    bounds : mapping of str to (float, float)
+        Design parameters (names of ``mech.parameters``) and their bounds, SI.
+    poses : Poses
+        Every design is solved at these poses.
+    objective : Metric
+        Its reduce is ``min``, ``max``, ``absmax``, ``mean`` or ``sumsq`` (with a target).
+    sense : {"min", "max"}
+    metrics : sequence of Metric
+        Metrics the constraints refer to (besides the objective).
+    constraints : sequence of Constraint
+        For a local method, a constraint on a ``min`` metric needs a lower bound and one on a
+        ``max`` or ``absmax`` metric an upper bound (those are exact per-pose constraints).
+    method : {"slsqp", "differential-evolution"}
+    x0 : mapping, optional
+        Start of a local method (default: the model's own values, clipped to the bounds).
+    loads : optional
+        Loads for the kinetostatics (``"model"``), needed by force columns.
+    seed : int
+        Differential evolution's seed.
+    maxiter, popsize, tol
+        The optimisers' iteration limit, population size per parameter (differential
+        evolution) and tolerance.
+
+    Returns
+    -------
+    Optimum
+    """
+    problem = _Problem(mech, bounds, poses, objective, sense, metrics, constraints, loads)
+    if method == "differential-evolution":
+        return problem.differential_evolution(seed, maxiter, popsize, tol)
+    if method != "slsqp":
+        raise InputError(f"unknown method {method!r} (known: {', '.join(METHODS)})")
+    start = problem.start(x0)
+    return problem.local(start, method, maxiter, tol)
+
+
+class _Problem:
+    """The optimisation in scaled variables u ∈ [0, 1]ⁿ (and an epigraph variable t)."""
+
+    def __init__(
+        self,
+        mech: Mechanism,
+        bounds: Mapping[str, tuple[float, float]],
+        poses: Poses,
+        objective: Metric,
+        sense: str,
+        metrics: Sequence[Metric],
+        constraints: Sequence[Constraint],
+        loads: Any,
+    ) -> None:
+        from excavkin.errors import unknown_name
+
+        for name in bounds:
+            if name not in mech.parameters:
+                raise unknown_name("parameter", name, list(mech.parameters))
+        if sense not in ("min", "max"):
+            raise InputError(f"sense must be 'min' or 'max', not {sense!r}")
+        by_name = {m.name: m for m in (objective, *metrics)}
+        for c in constraints:
+            if c.metric not in by_name:
+                raise unknown_name("metric (in a constraint)", c.metric, sorted(by_name))
+        self.mech = mech
+        self.names = list(bounds)
+        self.lo = np.array([bounds[k][0] for k in self.names], dtype=np.float64)
+        self.hi = np.array([bounds[k][1] for k in self.names], dtype=np.float64)
+        if not (
+            np.isfinite(self.lo).all() and np.isfinite(self.hi).all() and (self.lo < self.hi).all()
+        ):
+            raise InputError("every parameter's bounds must be finite with low < high")
+        self.poses = poses
+        self.objective = objective
+        self.sign = 1.0 if sense == "min" else -1.0
+        self.metrics = list(by_name.values())
+        self.by_name = by_name
+        self.constraints = list(constraints)
+        self.loads = loads
+        self.history: list[float] = []
+        self.evaluations = 0
+        self._memo: dict[bytes, tuple[dict[str, F], dict[str, F], bool]] = {}
+        # an epigraph variable when the objective is a least or greatest value over poses
+        self.epigraph = objective.reduce in ("min", "max", "absmax")
+
+    # ---- designs
+    def params_of(self, u: F) -> dict[str, float]:
+        x = self.lo + np.clip(u, 0.0, 1.0) * (self.hi - self.lo)
+        return {k: float(v) for k, v in zip(self.names, x, strict=True)}
+
+    def start(self, x0: Mapping[str, float] | None) -> F:
+        given = dict(self.mech.parameters)
+        if x0 is not None:
+            given.update(x0)
+        x = np.array([given[k] for k in self.names], dtype=np.float64)
+        return np.asarray(np.clip((x - self.lo) / (self.hi - self.lo), 0.0, 1.0))
+
+    def columns_at(self, u: F) -> tuple[dict[str, F], dict[str, F], bool]:
+        """Each metric's column at every pose, its gradient in u (poses × parameters), and
+        whether every pose solved — one solve with sensitivities, kept for the next call at
+        the same u."""
+        key = u.tobytes()
+        if key in self._memo:
+            return self._memo[key]
+        params = self.params_of(u)
+        res: Any = self.mech.solve(
+            self.poses.values, self.poses.rates, self.poses.accels,
+            params=params, sensitivities=self.names, loads=self.loads,
+        )  # fmt: skip
+        self.evaluations += 1
+        kin = res if self.loads is None else res.kinematics
+        ok = kin.status.solved if self.loads is None else kin.status.solved & ~res.singular
+        values, grads = {}, {}
+        span = self.hi - self.lo
+        for m in self.metrics:
+            col = column_of(res, m.column)
+            values[m.column] = col
+            grads[m.column] = np.stack(
+                [
+                    np.asarray(res.sensitivity(m.column, k)) * s
+                    for k, s in zip(self.names, span, strict=True)
+                ],
+                axis=-1,
+            ).reshape(col.size, len(self.names))
+        out = (values, grads, bool(np.all(ok)))
+        if len(self._memo) > 8:
+            self._memo.clear()
+        self._memo[key] = out
+        return out
+
+    def smooth(self, m: Metric, u: F) -> tuple[float, F]:
+        """A smooth metric (mean, sumsq) and its gradient in u."""
+        values, grads, _ = self.columns_at(u)
+        c, g = values[m.column], grads[m.column]
+        if m.reduce == "mean":
+            return float(c.mean()), g.mean(axis=0)
+        if m.reduce == "sumsq":
+            r = c - _target(m, c.size)
+            return float(r @ r), 2.0 * r @ g
+        raise InputError(f"metric {m.name!r} ({m.reduce}) is not smooth")
+
+    def metric_values(self, params: Mapping[str, float]) -> tuple[dict[str, float], bool]:
+        table = evaluate(
+            self.mech, {k: np.array([v]) for k, v in params.items()}, self.poses,
+            self.metrics, (), self.loads,
+        )  # fmt: skip
+        return {m.name: float(table[m.name][0]) for m in self.metrics}, bool(
+            table["poses_failed"][0] == 0
+        )
+
+    # ---- local
+    def local(self, u0: F, method: str, maxiter: int, tol: float) -> Optimum:
+        from scipy.optimize import Bounds, minimize
+
+        n = len(self.names)
+        obj = self.objective
+        if obj.reduce == "sumsq" and not self.constraints and self.sign > 0:
+            return self._least_squares(u0, maxiter)
+        if self.epigraph:
+            values, _, _ = self.columns_at(u0)
+            c0 = values[obj.column]
+            c0 = np.abs(c0) if obj.reduce == "absmax" else c0
+            t0 = float(np.min(c0) if obj.reduce == "min" else np.max(c0))
+            self.scale = max(abs(t0), 1e-300)
+            z0 = np.append(u0, t0 / self.scale)
+        else:
+            self.scale = 1.0
+            z0 = u0
+        constraints = self._local_constraints(n)
+
+        def fun(z: F) -> tuple[float, F]:
+            if self.epigraph:
+                grad = np.zeros(z.size)
+                grad[-1] = self.sign
+                return self.sign * float(z[-1]), grad
+            value, grad = self.smooth(obj, z[:n])
+            return self.sign * value / self.scale, self.sign * grad / self.scale
+
+        def record(z: F, *_: Any) -> None:
+            value = self.sign * fun(z)[0] * self.scale
+            if np.isfinite(value):
+                self.history.append(value)
+
+        lo = np.zeros(z0.size)
+        hi = np.ones(z0.size)
+        if self.epigraph:
+            lo[-1], hi[-1] = -np.inf, np.inf
+        cons = [
+            {"type": "ineq", "fun": (lambda z, f=f: f(z)[0]), "jac": (lambda z, f=f: f(z)[1])}
+            for f in constraints
+        ]
+        res = minimize(
+            fun, z0, jac=True, method="SLSQP", bounds=Bounds(lo, hi), constraints=cons,
+            options={"maxiter": maxiter, "ftol": tol}, callback=record,
+        )  # fmt: skip
+        return self._optimum(res.x[:n], bool(res.success), str(res.message))
+
+    def _least_squares(self, u0: F, maxiter: int) -> Optimum:
+        """A sum of squares with no constraints: scipy's least_squares on the residuals and
+        their exact Jacobian (quadratic convergence to the round-off of the residuals)."""
+        from scipy.optimize import least_squares
+
+        m = self.objective
+
+        def residuals(u: F) -> F:
+            values, _, _ = self.columns_at(u)
+            r = values[m.column] - _target(m, values[m.column].size)
+            if np.isfinite(r).all():
+                self.history.append(float(r @ r))
+            return np.nan_to_num(r, nan=1e3)
+
+        def jacobian(u: F) -> F:
+            return np.nan_to_num(self.columns_at(u)[1][m.column])
+
+        res = least_squares(
+            residuals, u0, jac=jacobian, bounds=(0.0, 1.0), method="trf",
+            xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=10 * maxiter,
+        )  # fmt: skip
+        return self._optimum(res.x, bool(res.success), str(res.message))
+
+    def _local_constraints(self, n: int) -> list[Any]:
+        """Each constraint (and the epigraph) as functions z → (g(z) ≥ 0 values, jacobian)."""
+        out = []
+        obj = self.objective
+        if self.epigraph:
+            out.append(self._per_pose(obj, n, epigraph=True))
+        for c in self.constraints:
+            m = self.by_name[c.metric]
+            if m.reduce in ("mean", "sumsq"):
+                for bound, sign in ((c.low, 1.0), (c.high, -1.0)):
+                    if bound is not None:
+                        out.append(self._smooth_bound(m, bound, sign, n))
+                continue
+            if (
+                (m.reduce == "min" and c.high is not None)
+                or (m.reduce in ("max", "absmax") and c.low is not None)
+                or m.reduce in ("argmin", "argmax")
+            ):
+                raise InputError(
+                    f"constraint on {c.metric!r}: a local method needs a lower bound on a min "
+                    "metric and an upper bound on a max one; use differential-evolution"
+                )
+            out.append(self._per_pose(m, n, bound=c.low if m.reduce == "min" else c.high))
+        return out
+
+    def _per_pose(
+        self, m: Metric, n: int, epigraph: bool = False, bound: float | None = None
+    ) -> Any:
+        """``c_k − t ≥ 0`` (min), ``t − c_k ≥ 0`` (max), ``t ∓ c_k ≥ 0`` (absmax) at every pose,
+        t the epigraph variable or the bound."""
+
+        def g(z: F) -> tuple[F, F]:
+            values, grads, _ = self.columns_at(z[:n])
+            c, dc = values[m.column], grads[m.column]
+            t = z[-1] * self.scale if epigraph else float(bound)  # type: ignore[arg-type]
+            jac_t = np.full((c.size, 1), self.scale)
+            if m.reduce == "min":
+                val, jac = c - t, np.hstack([dc, -jac_t]) if epigraph else dc
+            elif m.reduce == "max":
+                val, jac = t - c, np.hstack([-dc, jac_t]) if epigraph else -dc
+            else:
+                val = np.concatenate([t - c, t + c])
+                jac = np.vstack([-dc, dc])
+                if epigraph:
+                    jac = np.hstack([jac, np.vstack([jac_t, jac_t])])
+            if not epigraph and self.epigraph:
+                jac = np.hstack([jac, np.zeros((jac.shape[0], 1))])
+            return np.nan_to_num(val, nan=-1e30), np.nan_to_num(jac)
+
+        return g
+
+    def _smooth_bound(self, m: Metric, bound: float, sign: float, n: int) -> Any:
+        def g(z: F) -> tuple[F, F]:
+            value, grad = self.smooth(m, z[:n])
+            jac = sign * grad
+            if self.epigraph:
+                jac = np.append(jac, 0.0)
+            return np.array([sign * (value - bound)]), jac[None, :]
+
+        return g
+
+    # ---- global
+    def differential_evolution(self, seed: int, maxiter: int, popsize: int, tol: float) -> Optimum:
+        from scipy.optimize import differential_evolution
+
+        n = len(self.names)
+
+        def population(u: F) -> F:
+            """The objective of every design of a population (u: n × S), one batch solve."""
+            u = np.atleast_2d(u.T if u.ndim == 2 else u[None, :]).reshape(-1, n)
+            designs = {
+                k: self.lo[j] + u[:, j] * (self.hi[j] - self.lo[j])
+                for j, k in enumerate(self.names)
+            }
+            table = evaluate(self.mech, designs, self.poses, self.metrics, (), self.loads)
+            self.evaluations += len(u)
+            f = self.sign * table[self.objective.name].to_numpy(dtype=np.float64)
+            penalty = np.where(table["poses_failed"].to_numpy() > 0, 1.0, 0.0)
+            for c in self.constraints:
+                v = table[c.metric].to_numpy(dtype=np.float64)
+                scale = max(abs(c.low or 0.0), abs(c.high or 0.0), 1e-12)
+                if c.low is not None:
+                    penalty += np.maximum(c.low - v, 0.0) / scale
+                if c.high is not None:
+                    penalty += np.maximum(v - c.high, 0.0) / scale
+            big = 1e3 * max(float(np.nanmax(np.abs(f), initial=0.0)), 1.0)
+            return np.where(np.isfinite(f), f, big) + big * np.nan_to_num(penalty, nan=1.0)
+
+        def record(xk: F, convergence: float = 0.0) -> None:
+            self.history.append(self.sign * float(population(np.asarray(xk))[0]))
+
+        res = differential_evolution(
+            population, [(0.0, 1.0)] * n, vectorized=True, updating="deferred", seed=seed,
+            maxiter=maxiter, popsize=popsize, tol=tol, polish=False, callback=record,
+        )  # fmt: skip
+        best = np.asarray(res.x)
+        # polish locally where the constraints allow it
+        try:
+            polished = self.local(best, "slsqp", maxiter, tol)
+        except InputError:
+            return self._optimum(best, bool(res.success), str(res.message))
+        if polished.feasible and self.sign * polished.value <= self.sign * self.value_of(best):
+            return polished
+        return self._optimum(best, bool(res.success), str(res.message))
+
+    def value_of(self, u: F) -> float:
+        values, _ = self.metric_values(self.params_of(u))
+        return values[self.objective.name]
+
+    # ---- the answer
+    def _optimum(self, u: F, success: bool, message: str) -> Optimum:
+        params = self.params_of(u)
+        values, solved = self.metric_values(params)
+        active, feasible = [], solved
+        for c in self.constraints:
+            v = values[c.metric]
+            scale = max(abs(v), abs(c.low or 0.0), abs(c.high or 0.0), 1e-300)
+            for bound, below in ((c.low, True), (c.high, False)):
+                if bound is None:
+                    continue
+                gap = (v - bound) if below else (bound - v)
+                if gap < -1e-9 * scale:
+                    feasible = False
+                if abs(gap) <= 1e-6 * scale:
+                    active.append(c.metric)
+        return Optimum(
+            params=params,
+            value=values[self.objective.name],
+            metrics=values,
+            active=tuple(dict.fromkeys(active)),
+            feasible=feasible,
+            success=success,
+            message=message,
+            history=tuple(self.history),
+            evaluations=self.evaluations,
+        )
+
+
+def _target(m: Metric, n: int) -> F:
+    if m.target is None:
+        raise InputError(f"metric {m.name!r}: sumsq needs a target value per pose")
+    t = np.asarray(m.target, dtype=np.float64)
+    if t.size != n:
+        raise InputError(f"metric {m.name!r}: {t.size} targets for {n} poses")
+    return t
