@@ -238,3 +238,45 @@ def test_a_force_metric_needs_the_loads(tmp_path: Path) -> None:
     assert isinstance(study, Study) and study.loads is None
     with pytest.raises(InputError, match="force column"):
         run_study(study, tmp_path / "x.parquet")
+
+
+OPTIMIZE = """
+[optimize]
+objective = "gamma_min"
+sense = "max"
+"""
+
+
+def test_the_optimize_command_prints_and_writes_the_optimum(tmp_path: Path) -> None:
+    spec = write_study(tmp_path, STUDY + OPTIMIZE)
+    table, figure = tmp_path / "best.csv", tmp_path / "conv.png"
+    result = CliRunner().invoke(
+        main, ["optimize", str(spec), "-o", str(table), "--plot", str(figure)]
+    )
+    assert result.exit_code == 0, result.output
+    assert "maximum of gamma_min" in result.output and "feasible" in result.output
+    best = pd.read_csv(table)
+    # the optimum is no worse than the best of the study's own 64 designs
+    study = load_study(spec)
+    designs = pd.read_parquet(run_study(study, tmp_path / "s.parquet"))
+    assert best["gamma_min"][0] >= designs["gamma_min"].max() - 1e-12
+    assert figure.stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        ('sense = "max"', r"\[optimize\] 'objective'.*no metric"),
+        ('objective = "gamma"', r"\[optimize\] 'objective'.*gamma_min"),
+        ('objective = "gamma_min"\nsense = "up"', r"\[optimize\] 'sense'"),
+        ('objective = "gamma_min"\nmethod = "newton"', r"\[optimize\] 'method'"),
+        ('objective = "gamma_min"\nmaxiter = 0', r"\[optimize\] 'maxiter'"),
+    ],
+)
+def test_optimize_table_errors_name_the_entry(tmp_path: Path, body: str, message: str) -> None:
+    import re
+
+    spec = write_study(tmp_path, STUDY + "\n[optimize]\n" + body + "\n")
+    result = CliRunner().invoke(main, ["optimize", str(spec)])
+    assert result.exit_code != 0 and "Traceback" not in result.output
+    assert str(spec) in result.output and re.search(message, result.output), result.output

@@ -33,6 +33,13 @@ CORE_COMMANDS = {
         "Analyse a built-in model (the four-bar, a full crank turn at 300 rpm) and write its "
         "table (CSV) and its self-contained HTML report into OUT_DIR.",
     ),
+    "optimize": _core(
+        "optimize",
+        "Find the design in STUDY.toml's parameter box that minimises or maximises its "
+        "[optimize] objective (a metric) under its constraints: SLSQP with exact sensitivities, "
+        "or differential evolution over whole populations solved as one batch; print the "
+        "optimum and the constraints that bind.",
+    ),
     "report": _core(
         "report",
         "Write a self-contained HTML report of MODEL (a .toml file or the name of a built-in "

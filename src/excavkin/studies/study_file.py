@@ -65,7 +65,7 @@ def load_study(path: str | Path) -> Study:
     r = TomlReader(read_toml(read_text_file(path), source), source)
     r.keys(
         r.data,
-        {"study", "units", "parameters", "poses", "metrics", "constraints"},
+        {"study", "units", "parameters", "poses", "metrics", "constraints", "optimize"},
         "the file",
     )
     head = r.table("study", required=True)
@@ -120,9 +120,9 @@ def _model(r: TomlReader, head: dict[str, Any], folder: Path) -> Path:
     )
 
 
-def _whole(r: TomlReader, value: Any, entry: str, low: int, high: int) -> int:
+def _whole(r: TomlReader, value: Any, entry: str, low: int, high: int, table: str = "study") -> int:
     if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise r.err(f"must be a whole number from {low} to {high:,}, got {value!r}", "study", entry)
+        raise r.err(f"must be a whole number from {low} to {high:,}, got {value!r}", table, entry)
     return value
 
 
@@ -207,14 +207,19 @@ def _metrics(r: TomlReader, mech: Any) -> list[Metric]:
         if not isinstance(spec, dict):
             raise r.err('must be a table such as { column = "B.transmission", reduce = "min" }',
                         "metrics", name)  # fmt: skip
-        r.keys(spec, {"column", "reduce"}, "metrics", name)
+        r.keys(spec, {"column", "reduce", "target"}, "metrics", name)
         column, how = spec.get("column"), spec.get("reduce")
         if not isinstance(column, str):
             raise r.err("needs the column it reduces", "metrics", name)
         if how not in REDUCTIONS:
             raise r.err(f"reduce must be one of {', '.join(REDUCTIONS)}, not {how!r}",
                         "metrics", name)  # fmt: skip
-        out.append(Metric(name, column, how))
+        target = None
+        if how == "sumsq":
+            target = _target(r, spec.get("target"), mech, column, name)
+        elif "target" in spec:
+            raise r.err("a target belongs to a sumsq metric", "metrics", name)
+        out.append(Metric(name, column, how, target))
     from excavkin.studies.metrics import needs_forces
 
     try:
@@ -222,6 +227,48 @@ def _metrics(r: TomlReader, mech: Any) -> list[Metric]:
     except ExcavkinError as exc:
         raise r.err(str(exc), "metrics") from None
     return out
+
+
+def _target(r: TomlReader, given: Any, mech: Any, column: str, name: str) -> tuple[float, ...]:
+    """A sumsq metric's target: one value per pose, in the column's kind."""
+    if not isinstance(given, list) or not given:
+        raise r.err("sumsq needs target = [one value per pose]", "metrics", name)
+    kinds = {c.name: c.kind for c in mech.solve({}, loads=[]).columns}
+    kind = kinds.get(column, "dimensionless")
+    return tuple(r.qty(v, kind, "metrics", name) for v in given)
+
+
+def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
+    """A study file with an ``[optimize]`` table: the study, and the optimisation's settings
+    (``objective``: a metric's name; ``sense``: "min" or "max"; ``method``: "slsqp" or
+    "differential-evolution"; ``maxiter``; ``popsize``)."""
+    from excavkin.studies.optimize import METHODS as OPTIMIZERS
+
+    study = load_study(path)
+    source = str(path)
+    r = TomlReader(read_toml(read_text_file(path), source), source)
+    spec = r.table("optimize", required=True)
+    r.keys(spec, {"objective", "sense", "method", "maxiter", "popsize"}, "optimize")
+    names = [m.name for m in study.metrics]
+    objective = spec.get("objective")
+    if objective not in names:
+        from excavkin.errors import unknown_name
+
+        raise r.err(str(unknown_name("metric", str(objective), names)), "optimize", "objective")
+    sense = spec.get("sense", "max")
+    if sense not in ("min", "max"):
+        raise r.err(f"sense must be 'min' or 'max', not {sense!r}", "optimize", "sense")
+    method = spec.get("method", "slsqp")
+    if method not in OPTIMIZERS:
+        raise r.err(f"must be one of {', '.join(OPTIMIZERS)}, not {method!r}", "optimize", "method")
+    settings = {
+        "objective": objective,
+        "sense": sense,
+        "method": method,
+        "maxiter": _whole(r, spec.get("maxiter", 200), "maxiter", 1, 100_000, "optimize"),
+        "popsize": _whole(r, spec.get("popsize", 32), "popsize", 4, 10_000, "optimize"),
+    }
+    return study, settings
 
 
 def _constraints(r: TomlReader, kinds: dict[str, str]) -> list[Constraint]:
