@@ -74,8 +74,9 @@ def command(spec: str, plot: str | None, out: str | None, force: bool) -> None:
 
         from excavkin.outputs.tables import write_table
 
-        row = {**{f"design.{k}": [v] for k, v in best.params.items()},
-               **{k: [v] for k, v in best.metrics.items()}, "feasible": [best.feasible]}  # fmt: skip
+        row: dict[str, list[object]] = {f"design.{k}": [v] for k, v in best.params.items()}
+        row.update({k: [v] for k, v in best.metrics.items()})
+        row["feasible"] = [best.feasible]
         write_table(pd.DataFrame(row), out, force=force)
         click.echo(f"wrote the optimum to {out}")
     if plot is not None:
