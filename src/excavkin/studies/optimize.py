@@ -54,6 +54,8 @@ class Optimum:
         Its metrics (the objective's and the constraints').
     active : tuple of str
         Constraints at their bound (within 1e-6 of the bound's scale) at the optimum.
+    at_bounds : dict of str to str
+        Parameters at a bound of their box (within 1e-9 of its width): "low" or "high".
     feasible : bool
         Every pose solves and every constraint holds (to 1e-9 of its scale).
     success : bool
@@ -69,6 +71,7 @@ class Optimum:
     value: float
     metrics: dict[str, float]
     active: tuple[str, ...]
+    at_bounds: dict[str, str]
     feasible: bool
     success: bool
     message: str
@@ -456,6 +459,11 @@ class _Problem:
             value=values[self.objective.name],
             metrics=values,
             active=tuple(dict.fromkeys(active)),
+            at_bounds={
+                k: "low" if v <= 1e-9 else "high"
+                for k, v in zip(self.names, np.clip(u, 0.0, 1.0), strict=True)
+                if v <= 1e-9 or v >= 1.0 - 1e-9
+            },
             feasible=feasible,
             success=success,
             message=message,

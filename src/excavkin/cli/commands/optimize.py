@@ -67,6 +67,8 @@ def command(spec: str, plot: str | None, out: str | None, force: bool) -> None:
     for name, value in best.metrics.items():
         click.echo(f"  {name:<24} {value:.10g}")
     click.echo(f"  active constraints: {', '.join(best.active) or 'none'}")
+    bounds = ", ".join(f"{k} ({side})" for k, side in best.at_bounds.items())
+    click.echo(f"  at the box's bounds: {bounds or 'none'}")
     if not best.success:
         click.echo(f"excavkin: warning: the optimiser says: {best.message}", err=True)
     if out is not None:
