@@ -133,13 +133,11 @@ def solve_kinematics(
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        if plan.has_newton:
-            _solve_newton(plan, assembly, full)
-            derived.fill(plan, x, v, a, slice(None))
-            _flag_not_finite(x, v, a, trans, derived, slice(None), status)
-            report(n)
-        else:
-            _solve_chunks(plan, full, derived, chunk, workers, report, designs)
+        if plan.has_newton:  # positions first, by continuation; then the rates by chunks
+            chunk = newton_chunk(plan, chunk)
+            _solve_newton(plan, assembly, full, chunk, workers)
+        checked = assembly if plan.has_newton else None
+        _solve_chunks(plan, full, derived, chunk, workers, report, designs, checked)
     if continuation == "smooth":
         return _smooth(plan, assembly, q_given, qd, qdd, tol, x, v)
     arrays = precision.Arrays(x, v, a, trans, derived)
@@ -194,10 +192,12 @@ def _solve_chunks(
     workers: int | None,
     report: _Reporter,
     designs: DesignBatch | None = None,
+    assembly: Assembly | None = None,
 ) -> None:
-    """The closed-form plan over chunks of samples, on a thread per core: each chunk runs the
-    steps and then its derived quantities while it is in cache (and, for a family of designs,
-    makes its own constants first)."""
+    """The plan over chunks of samples, on a thread per core: each chunk runs the steps and
+    then its derived quantities while it is in cache (and, for a family of designs, makes its
+    own constants first). Newton groups' positions are already found (:func:`_solve_newton`):
+    here they get their rates, and their branch is checked against ``assembly``'s."""
     n = full.status.size
 
     def one(s: int) -> None:
@@ -227,11 +227,19 @@ def _solve_chunks(
             full.singular_tol,
         )
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            run_steps(here, c, 2)
+            signs = run_steps(here, c, 2, newton=False)
+            if assembly is not None:
+                _check_branches(here, assembly, c, signs)
             derived.fill(plan, c.x, c.v, c.a, part)
             _flag_not_finite(c.x, c.v, c.a, c.trans, derived, part, c.status)
         report(e - s)
 
+    _over_chunks(n, chunk, workers, one)
+
+
+def _over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], None]) -> None:
+    """``one(start)`` for every chunk of ``n`` samples, on a thread per core (NumPy releases
+    the GIL in its loops, and chunks write disjoint slices)."""
     starts = range(0, n, chunk)
     threads = min(workers or os.cpu_count() or 1, len(starts))
     if threads > 1:
@@ -240,6 +248,22 @@ def _solve_chunks(
     else:
         for s in starts:
             one(s)
+
+
+def newton_chunk(plan: SolvePlan, chunk: int) -> int:
+    """Samples per pass of a plan with Newton groups: its Jacobians (m², m twice a group's
+    points) stay in cache as the closed form's few arrays do at ``chunk``."""
+    m = max(2 * len(st.points) for st in plan.steps if isinstance(st, NewtonGroup))
+    return max(256, min(chunk, chunk * 8 // (m * m)))
+
+
+def _check_branches(plan: SolvePlan, assembly: Assembly, c: Chunk, signs: list[F]) -> None:
+    """A Newton group whose determinant changed sign from the sketch's, or whose driven body
+    points the opposite way (θ + π), has changed its assembly branch."""
+    groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
+    for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
+        flipped = (sign != ref) | ~rotary_branch_ok(c, st)
+        kernels.flag(c, flipped & np.isfinite(c.x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
 
 
 def _smooth(
@@ -339,8 +363,10 @@ class _Reporter:
             self.progress(self.done, self.total)
 
 
-def _solve_newton(plan: SolvePlan, assembly: Assembly, full: Chunk) -> None:
-    """Positions by continuation along the sweep's own order, then the rates.
+def _solve_newton(
+    plan: SolvePlan, assembly: Assembly, full: Chunk, chunk: int, workers: int | None
+) -> None:
+    """Positions by continuation along the sweep's own order (their rates come after).
 
     The sample nearest the sketch is reached from the sketch; every other sample then follows
     the sweep from there, through the samples between, in stages small enough for Newton.
@@ -349,9 +375,9 @@ def _solve_newton(plan: SolvePlan, assembly: Assembly, full: Chunk) -> None:
     a position that does not close) try the straight way from the sketch, the shorter way
     round and then the longer.
     """
-    q, x, status = full.q, full.x, full.status
+    q, status = full.q, full.status
     steps = _step_sizes(plan)
-    _continue_along_sweep(plan, assembly, full, steps)
+    _continue_along_sweep(plan, assembly, full, steps, chunk, workers)
     for long_way in (False, True):
         reached = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
         retry = np.flatnonzero(~reached)
@@ -359,11 +385,6 @@ def _solve_newton(plan: SolvePlan, assembly: Assembly, full: Chunk) -> None:
             break
         _continue_from_sketch(plan, assembly, full, steps, retry, long_way)
     full.q = q
-    signs = run_steps(plan, full, 2, newton=False)
-    groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
-    for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
-        flipped = (sign != ref) | ~rotary_branch_ok(full, st)
-        kernels.flag(full, flipped & np.isfinite(x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
 
 
 def _step_sizes(plan: SolvePlan) -> F:
@@ -400,40 +421,112 @@ def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
     )
 
 
-def _continue_along_sweep(plan: SolvePlan, assembly: Assembly, full: Chunk, steps: F) -> None:
+#: most rungs of a sweep's ladder: a longer sweep spaces them more widely
+MAX_RUNGS = 4000
+
+
+def _continue_along_sweep(
+    plan: SolvePlan,
+    assembly: Assembly,
+    full: Chunk,
+    steps: F,
+    chunk: int,
+    workers: int | None,
+) -> None:
+    """Every sample by continuation along the sweep from the sample nearest the sketch.
+
+    A ladder of the sweep's own samples, one stage apart along its path (the inputs' moves
+    added up in stages, both ways from that sample), is solved rung by rung, each from the one
+    before. Every sample then starts from the last rung between it and the sketch's sample —
+    at most a stage behind it on the sweep — and is solved in one pass, all samples at once
+    by chunks: the sequential part of the continuation is as long as the sweep is in stages,
+    not in samples.
+    """
     q = full.q
-    n = q.shape[1]
+    valid = np.flatnonzero(np.isfinite(q).all(axis=0))
+    if not valid.size:
+        return
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    far = np.abs(_wrapped(q - q0, plan)) / steps
-    k0 = int(np.argmin(np.where(np.isfinite(q).all(axis=0), far.max(axis=0), np.inf)))
-    # the sketch → sample k0, for that one sample, then every sample starts there
-    mini = _positions_only(full, np.array([k0]), q0.copy())
+    far = np.abs(_wrapped(q[:, valid] - q0, plan)) / steps
+    k0 = int(np.argmin(far.max(axis=0)))  # among the valid samples
+    # the sketch → that sample, then its ladder's rungs either way along the sweep
+    mini = _positions_only(full, valid[[k0]], q0.copy())
     mini.x[:] = assembly.positions[:, :, None]
     mini.status[:] = 0
-    leg = _wrapped(q[:, k0 : k0 + 1] - q0, plan)
+    leg = _wrapped(q[:, valid[[k0]]] - q0, plan)
     first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)
-    first_plan = take(plan, np.array([k0]))
+    first_plan = take(plan, valid[[k0]])
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
         run_steps(first_plan, mini, 0)
-    full.x[:] = mini.x
-    # then along the sweep: at stage s, sample i stands s/S of its way from k0 along the sweep
-    jump = np.abs(_wrapped(np.diff(q, axis=1), plan)) / steps
-    jump = np.where(np.isfinite(jump), jump, 0.0).max(axis=0)
-    walked = np.concatenate([[0.0], np.cumsum(jump)])
-    stages = int(min(max(np.ceil(np.max(np.abs(walked - walked[k0]))), 1), 4000))
+    walked = np.concatenate(
+        [[0.0], np.cumsum(np.abs(_wrapped(np.diff(q[:, valid], axis=1), plan) / steps).max(axis=0))]
+    )
+    ahead, behind, start = _ladder(walked, k0)
+    rungs = [valid[k0], *valid[ahead], *valid[behind]]
+    at = np.empty((*full.x.shape[:2], len(rungs)))  # each rung's solved positions
+    at[:, :, 0] = mini.x[:, :, 0]
+    _climb(plan, full, rungs, len(ahead), at)
+    # every sample from its rung, by chunks
+    idx = np.full(q.shape[1], 0)  # samples not valid start anywhere: they fail by their input
+    idx[valid] = start
+
+    def one(s: int) -> None:
+        part = slice(s, min(s + chunk, q.shape[1]))
+        c = _positions_only(full, part, q[:, part])
+        c.x[:] = at[:, :, idx[part]]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            run_steps(take(plan, part), c, 0)
+
+    _over_chunks(q.shape[1], chunk, workers, one)
+
+
+def _ladder(walked: F, k0: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rungs of a sweep, as indices into it: those after ``k0`` (in order away from it), those
+    before (likewise), and for each sample the rung it starts from (0 for ``k0`` itself, then
+    1… for the rungs after, then on for those before).
+
+    ``walked`` is the sweep's path length in stages at each sample. A rung is the last sample
+    within a stage of the previous rung (or the next sample, if the sweep itself jumps further),
+    so a sample lies at most a stage, beyond any jump of the sweep's own, past its rung.
+    """
+    n = walked.size
+    span = max(walked[-1] - walked[k0], walked[k0] - walked[0])
+    h = max(1.0, span / MAX_RUNGS)
+    up = walked[k0] + h * np.arange(1, int(np.ceil((walked[-1] - walked[k0]) / h)) + 1)
+    ahead = np.unique(np.clip(np.searchsorted(walked, up, side="right") - 1, k0, n - 1))
+    ahead = ahead[ahead > k0]
+    down = walked[k0] - h * np.arange(1, int(np.ceil((walked[k0] - walked[0]) / h)) + 1)
+    behind = np.unique(np.clip(np.searchsorted(walked, down, side="left"), 0, k0))[::-1]
+    behind = behind[behind < k0]
     idx = np.arange(n)
-    after = idx >= k0
-    c = _positions_only(full, slice(None), q)
-    for s in range(1, stages + 1):
-        target = walked[k0] + (walked[idx] - walked[k0]) * (s / stages)
-        ahead = np.searchsorted(walked, target, side="right") - 1
-        behind = np.searchsorted(walked, target, side="left")
-        at = np.where(after, np.clip(ahead, k0, idx), np.clip(behind, idx, k0))
-        if s == stages:  # its own value at last, whatever the rounding of ``target``
-            at = idx
-        c.q = q[:, at]  # the sweep's own values: its path, its turns
-        run_steps(plan, c, 0)
+    start = np.zeros(n, dtype=np.intp)
+    after = idx > k0
+    start[after] = np.searchsorted(ahead, idx[after], side="right")  # 0 → k0 itself
+    before = idx < k0
+    # ``behind`` descends: the rung for i is the last one (farthest from k0) at or after i
+    up_order = behind[::-1]
+    pos = np.searchsorted(up_order, idx[before], side="left")  # first rung ≥ i, ascending
+    nb = behind.size
+    start[before] = np.where(pos < nb, 1 + ahead.size + (nb - 1 - pos), 0)
+    return ahead, behind, start
+
+
+def _climb(plan: SolvePlan, full: Chunk, rungs: list[int], n_ahead: int, at: F) -> None:
+    """Solve the ladder's rungs (``rungs``: the sketch's sample, those ahead, those behind),
+    each from the one before it, both ways at once: ``at[:, :, i]`` is rung i's solution,
+    filled in from ``at[:, :, 0]``."""
+    ahead = list(range(1, 1 + n_ahead))
+    behind = list(range(1 + n_ahead, len(rungs)))
+    for r in range(max(len(ahead), len(behind))):
+        here = [side[r] for side in (ahead, behind) if r < len(side)]
+        prev = [side[r - 1] if r else 0 for side in (ahead, behind) if r < len(side)]
+        samples = np.array([rungs[i] for i in here])
+        c = _positions_only(full, samples, full.q[:, samples])
+        c.x[:] = at[:, :, prev]
+        c.status[:] = 0
+        run_steps(take(plan, samples), c, 0)
+        at[:, :, here] = c.x
 
 
 def _continue_from_sketch(
