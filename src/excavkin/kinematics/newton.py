@@ -205,7 +205,7 @@ def tangents(c: Chunk, g: NewtonGroup, values: tuple[F, F, F]) -> None:
         cons.append(con)
     _, jac, _, _ = _system(plain, replace(g, constraints=tuple(cons)))
     assert jac is not None
-    lu = Factors(jac)
+    lu = Factors(jac, overwrite=True)
     sing = ~(np.abs(lu.ratio) >= c.singular_tol**2)
     m = c.x.tan.shape[0]  # type: ignore[attr-defined]
     for level, arr in enumerate((c.x, c.v, c.a)):
@@ -255,11 +255,21 @@ def _system(
     return res, jac, r1, r2
 
 
+#: once every sample's last Newton step is below this fraction of the size, later steps reuse
+#: the last factorisation (chord steps), as long as each shrinks by :data:`CHORD_RATE` or more
+CHORD_FROM = 1e-4
+CHORD_RATE = 0.1
+
+
 def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: int = 50) -> None:
     """Newton iterations from the current ``c.x`` of the group's points.
 
     Converged (and singular) samples leave the iteration: each pass works on the samples still
     moving, so a batch costs what its slowest samples need, not every sample that many passes.
+    Close to the solution, where a step's error is far below the step itself, the Jacobian
+    factored last serves again (a chord step: a residual and a solve, no factorisation); a
+    chord step that does not shrink fast is not taken, and the next pass factors afresh. The
+    root and the test of convergence are Newton's own.
     """
     pts = list(g.points)
     n = c.x.shape[-1]
@@ -268,16 +278,31 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
     # converged at 1e-14 of the size in double precision, proportionally finer in a wider one
     small = 1e-14 * scale * float(np.finfo(c.x.dtype).eps / np.finfo(np.float64).eps)
     group = g
+    lu: Factors | None = None
+    last = np.full(n, np.inf)  # each live sample's last step
     for _ in range(max_iter):
-        res, jac, _, _ = _system(sub, group)
-        assert jac is not None
-        lu = Factors(jac)
+        chord = lu is not None and bool(np.all(last <= CHORD_FROM * scale))
+        if chord:
+            res = _system(sub, group, jacobian=False)[0]
+        else:
+            res, jac, _, _ = _system(sub, group)
+            assert jac is not None
+            lu = Factors(jac, overwrite=True)
+        assert lu is not None
         sing = ~(np.abs(lu.ratio) >= 1e-13)
         step = lu.solve(res)  # J·step = Φ: the move is −step
         step[:, sing] = 0.0
+        size = np.max(np.abs(step), axis=0)
+        if chord:
+            slow = ~(size <= CHORD_RATE * last)
+            if slow.any():
+                step[:, slow] = 0.0
+                size[slow] = np.inf  # still moving
+                lu = None
         for j, p in enumerate(pts):
             sub.x[p] -= step[2 * j : 2 * j + 2]
-        moving = ~(np.max(np.abs(step), axis=0) <= small) & ~sing
+        moving = ~(size <= small) & ~sing
+        last = size
         if moving.all():
             continue
         if sub is not c:  # the samples leaving, back into the chunk
@@ -287,8 +312,11 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
         if not moving.any():
             break
         live = live[moving]
-        sub = _positions_at(c if sub is c else sub, live if sub is c else moving)
+        sub = _positions_at(sub, moving)
         group = take_step(g, live)  # type: ignore[assignment]
+        last = last[moving]
+        if lu is not None:
+            lu = lu.at(moving)
     else:
         if sub is not c:
             for p in pts:
@@ -326,7 +354,7 @@ def newton_rates(c: Chunk, g: NewtonGroup, k: int) -> F:
         c.a[p] = 0.0
     _, jac, r1, _ = _system(c, g, rates=1)
     assert jac is not None and r1 is not None
-    lu = Factors(jac)
+    lu = Factors(jac, overwrite=True)
     sing = ~(np.abs(lu.ratio) >= c.singular_tol**2)
     flag(c, sing, Code.SINGULAR, k)
     vel = lu.solve(r1)

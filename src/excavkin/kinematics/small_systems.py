@@ -43,20 +43,27 @@ class Factors:
 
     __slots__ = ("_lu", "_pivots", "_recip", "_scale", "ratio")
 
-    def __init__(self, a: F) -> None:
+    def __init__(self, a: F, *, overwrite: bool = False) -> None:
+        """Factor ``a``; with ``overwrite`` its memory holds the factors (``a`` is then lost,
+        and no second array of its size is made)."""
         m, m2, n = a.shape
         if m != m2:
             raise ValueError(f"square matrices expected, got {m}×{m2}")
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             norm = np.sqrt(np.einsum("ijn,ijn->in", a, a))
             self._scale = 1.0 / np.where(norm > 0.0, norm, 1.0)
-            lu = a * self._scale[:, None, :]
+            if overwrite and a.flags.c_contiguous:
+                lu = a
+                lu *= self._scale[:, None, :]
+            else:
+                lu = a * self._scale[:, None, :]
             ratio = np.ones(n, dtype=lu.dtype)
             self._pivots: list[NDArray[np.intp]] = []
+            rows = _Rows(lu)
             for k in range(m - 1):
                 pick = _largest(lu[k:, k])
                 self._pivots.append(pick)
-                _exchange(lu[k:, k:], pick)
+                rows.exchange(k, pick, k)
                 np.negative(ratio, out=ratio, where=pick != 0)
                 ratio *= lu[k, k]
                 lu[k + 1 :, k] /= lu[k, k]  # the multipliers, kept below the diagonal
@@ -65,6 +72,16 @@ class Factors:
             self._recip = 1.0 / np.diagonal(lu).T  # (m, n): the pivots' reciprocals
         self._lu = lu
         self.ratio: F = ratio
+
+    def at(self, keep: NDArray[np.bool_]) -> Factors:
+        """The factors of the samples where ``keep``."""
+        out = Factors.__new__(Factors)
+        out._lu = self._lu[..., keep]
+        out._pivots = [p[keep] for p in self._pivots]
+        out._recip = self._recip[:, keep]
+        out._scale = self._scale[:, keep]
+        out.ratio = self.ratio[keep]
+        return out
 
     def solve(self, b: F) -> F:
         """Solve ``a·x = b`` for each sample.
@@ -84,8 +101,9 @@ class Factors:
         mid = (None,) * (b.ndim - 2)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             x = b * self._scale[(slice(None), *mid)]
+            rows = _Rows(x.reshape(m, -1, x.shape[-1]))
             for k, pick in enumerate(self._pivots):
-                _exchange(x[k:], pick)
+                rows.exchange(k, pick, 0)
                 x[k + 1 :] -= lu[(slice(k + 1, None), k, *mid)] * x[k]
             for k in range(m - 1, -1, -1):
                 x[k] *= self._recip[(k, *mid)]
@@ -97,25 +115,33 @@ class Factors:
 def _largest(col: F) -> NDArray[np.intp]:
     """Per sample, the row of ``col`` (shape (r, n)) with the largest magnitude; the first of
     equals. A running comparison row by row: ``argmax`` along a strided axis is far slower."""
-    best = np.abs(col[0])
+    mag = np.abs(col)
+    best = mag[0].copy()
     pick = np.zeros(col.shape[1], dtype=np.intp)
     for r in range(1, col.shape[0]):
-        mag = np.abs(col[r])
-        more = mag > best
-        pick[more] = r
-        np.maximum(best, mag, out=best)
+        more = mag[r] > best
+        np.copyto(pick, r, where=more)
+        np.maximum(best, mag[r], out=best)
     # a NaN row wins nothing here; the NaN still reaches the pivot product through elimination
     return pick
 
 
-def _exchange(rows: F, pick: NDArray[np.intp]) -> None:
-    """Exchange row 0 of ``rows`` (shape (r, ..., n)) with row ``pick`` of each sample."""
-    top = None
-    for r in range(1, rows.shape[0]):
-        hit = pick == r
-        if not hit.any():
-            continue
-        if top is None:
-            top = rows[0].copy()
-        rows[0] = np.where(hit, rows[r], rows[0])
-        rows[r] = np.where(hit, top, rows[r])
+class _Rows:
+    """Row exchanges, per sample, in a contiguous array of shape (m, w, n): one gather and
+    one scatter of flat indices per exchange, whichever rows each sample exchanges."""
+
+    __slots__ = ("_arr", "_flat", "_grid")
+
+    def __init__(self, arr: F) -> None:
+        m, w, n = arr.shape
+        self._arr = arr
+        self._flat = arr.reshape(-1)  # a view: ``arr`` is contiguous
+        self._grid = np.arange(w)[:, None] * n + np.arange(n)  # (column, sample) offsets
+
+    def exchange(self, k: int, pick: NDArray[np.intp], first: int) -> None:
+        """Exchange row k with row k + ``pick`` of each sample, in columns ``first`` on."""
+        m, w, n = self._arr.shape
+        where = self._grid[first:] + (k + pick) * (w * n)
+        other = np.take(self._flat, where)
+        np.put(self._flat, where, self._arr[k, first:])
+        self._arr[k, first:] = other
