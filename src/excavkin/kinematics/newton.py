@@ -259,6 +259,9 @@ def _system(
 #: the last factorisation (chord steps), as long as each shrinks by :data:`CHORD_RATE` or more
 CHORD_FROM = 1e-4
 CHORD_RATE = 0.1
+#: the samples still moving are copied out (the others leave the iteration) once they are
+#: fewer than this fraction of those iterated; until then the converged ones are held still
+SHRINK = 0.75
 
 
 def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: int = 50) -> None:
@@ -273,15 +276,16 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
     """
     pts = list(g.points)
     n = c.x.shape[-1]
-    live = np.arange(n)
+    live = np.arange(n)  # the samples in ``sub``, as indices of ``c``
     sub = c
     # converged at 1e-14 of the size in double precision, proportionally finer in a wider one
     small = 1e-14 * scale * float(np.finfo(c.x.dtype).eps / np.finfo(np.float64).eps)
     group = g
     lu: Factors | None = None
-    last = np.full(n, np.inf)  # each live sample's last step
+    last = np.full(n, np.inf)  # each sample's last step
+    moving = np.ones(n, dtype=bool)  # the samples of ``sub`` still iterated
     for _ in range(max_iter):
-        chord = lu is not None and bool(np.all(last <= CHORD_FROM * scale))
+        chord = lu is not None and bool(np.all(last[moving] <= CHORD_FROM * scale))
         if chord:
             res = _system(sub, group, jacobian=False)[0]
         else:
@@ -291,36 +295,37 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
         assert lu is not None
         sing = ~(np.abs(lu.ratio) >= 1e-13)
         step = lu.solve(res)  # J·step = Φ: the move is −step
-        step[:, sing] = 0.0
+        hold = sing | ~moving
+        step[:, hold] = 0.0
         size = np.max(np.abs(step), axis=0)
         if chord:
-            slow = ~(size <= CHORD_RATE * last)
+            slow = ~(size <= CHORD_RATE * last) & ~hold
             if slow.any():
                 step[:, slow] = 0.0
                 size[slow] = np.inf  # still moving
                 lu = None
         for j, p in enumerate(pts):
             sub.x[p] -= step[2 * j : 2 * j + 2]
-        moving = ~(size <= small) & ~sing
+        moving &= ~(size <= small) & ~sing
         last = size
-        if moving.all():
-            continue
-        if sub is not c:  # the samples leaving, back into the chunk
-            done = ~moving
-            for p in pts:
-                c.x[p][:, live[done]] = sub.x[p][:, done]
-        if not moving.any():
+        count = np.count_nonzero(moving)
+        if count == 0:
             break
-        live = live[moving]
-        sub = _positions_at(sub, moving)
-        group = take_step(g, live)  # type: ignore[assignment]
-        last = last[moving]
-        if lu is not None:
-            lu = lu.at(moving)
-    else:
-        if sub is not c:
-            for p in pts:
-                c.x[p][:, live] = sub.x[p]
+        if count < SHRINK * moving.size:
+            if sub is not c:  # the samples leaving, back into the chunk
+                done = ~moving
+                for p in pts:
+                    c.x[p][:, live[done]] = sub.x[p][:, done]
+            live = live[moving]
+            sub = _positions_at(sub, moving)
+            group = take_step(g, live)  # type: ignore[assignment]
+            last = last[moving]
+            if lu is not None:
+                lu = lu.at(moving)
+            moving = np.ones(live.size, dtype=bool)
+    if sub is not c:
+        for p in pts:
+            c.x[p][:, live] = sub.x[p]
     res, _, _, _ = _system(c, g, jacobian=False)
     bad = ~(np.max(np.abs(res), axis=0) <= 1e-10 * scale * scale)
     flag(c, bad, Code.NO_CONVERGENCE, k)

@@ -383,7 +383,7 @@ def _solve_newton(
         retry = np.flatnonzero(~reached)
         if not retry.size or (long_way and "angle" not in plan.input_kinds):
             break
-        _continue_from_sketch(plan, assembly, full, steps, retry, long_way)
+        _continue_from_sketch(plan, assembly, full, steps, retry, long_way, chunk, workers)
     full.q = q
 
 
@@ -536,9 +536,11 @@ def _continue_from_sketch(
     steps: F,
     samples: np.ndarray,
     long_way: bool,
+    chunk: int,
+    workers: int | None,
 ) -> None:
     """Samples the sweep could not reach: straight from the sketch, the shorter way round (or
-    the longer, past what the shorter way could not pass)."""
+    the longer, past what the shorter way could not pass), by chunks of them."""
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
     target = full.q[:, samples]
     delta = _wrapped(target - q0, plan)
@@ -547,19 +549,26 @@ def _continue_from_sketch(
             if kind == "angle":
                 delta[i] -= 2 * np.pi * np.sign(delta[i])
     stages = int(min(max(np.ceil(np.nanmax(np.abs(delta) / steps)), 1), 400))
-    c = _positions_only(full, samples, q0.copy())
-    c.x[:] = assembly.positions[:, :, None]
-    c.status[:] = 0
-    c.failed[:] = -1
-    plan = take(plan, samples)
-    for k in range(1, stages + 1):
-        c.q = q0 + delta * (k / stages)
-        run_steps(plan, c, 0)
-    c.q = target
-    run_steps(plan, c, 0)
-    full.x[:, :, samples] = c.x
-    full.status[samples] = c.status
-    full.failed[samples] = c.failed
+
+    def one(s: int) -> None:
+        part = slice(s, min(s + chunk, samples.size))
+        these = samples[part]
+        c = _positions_only(full, these, q0.copy())
+        c.x[:] = assembly.positions[:, :, None]
+        c.status[:] = 0
+        c.failed[:] = -1
+        here = take(plan, these)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            for k in range(1, stages + 1):
+                c.q = q0 + delta[:, part] * (k / stages)
+                run_steps(here, c, 0)
+            c.q = target[:, part]
+            run_steps(here, c, 0)
+        full.x[:, :, these] = c.x
+        full.status[these] = c.status
+        full.failed[these] = c.failed
+
+    _over_chunks(samples.size, chunk, workers, one)
 
 
 def assemble(plan: SolvePlan) -> Assembly:
