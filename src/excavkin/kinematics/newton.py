@@ -340,7 +340,12 @@ def _positions_at(c: Chunk, idx: NDArray[Any]) -> Chunk:
     n = c.x.shape[-1]
 
     def take(arr: F) -> F:
-        return arr[..., idx] if arr.shape[-1] == n else arr
+        if arr.shape[-1] != n:
+            return arr
+        # ``take`` and ``compress`` keep the batch axis last in memory (a fancy index would not)
+        if idx.dtype == bool:
+            return np.compress(idx, arr, axis=-1)
+        return np.take(arr, idx, axis=-1)
 
     x = take(c.x)
     # velocities and accelerations are not read by a position pass: x stands in for them

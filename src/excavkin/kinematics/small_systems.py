@@ -55,9 +55,11 @@ class Factors:
             if overwrite and a.flags.c_contiguous:
                 lu = a
                 lu *= self._scale[:, None, :]
-            else:
-                lu = a * self._scale[:, None, :]
+            else:  # row-major whatever ``a``'s layout: rows are exchanged by flat offsets
+                lu = np.multiply(a, self._scale[:, None, :], order="C")
             ratio = np.ones(n, dtype=lu.dtype)
+            # a zero pivot: singular, whatever NaN its divisions leave behind it
+            dead = np.zeros(n, dtype=bool)
             self._pivots: list[NDArray[np.intp]] = []
             rows = _Rows(lu)
             for k in range(m - 1):
@@ -66,9 +68,11 @@ class Factors:
                 rows.exchange(k, pick, k)
                 np.negative(ratio, out=ratio, where=pick != 0)
                 ratio *= lu[k, k]
+                dead |= lu[k, k] == 0.0
                 lu[k + 1 :, k] /= lu[k, k]  # the multipliers, kept below the diagonal
                 lu[k + 1 :, k + 1 :] -= lu[k + 1 :, k, None, :] * lu[k, None, k + 1 :, :]
             ratio *= lu[m - 1, m - 1]
+            ratio[dead] = 0.0
             self._recip = 1.0 / np.diagonal(lu).T  # (m, n): the pivots' reciprocals
         self._lu = lu
         self.ratio: F = ratio
@@ -76,10 +80,11 @@ class Factors:
     def at(self, keep: NDArray[np.bool_]) -> Factors:
         """The factors of the samples where ``keep``."""
         out = Factors.__new__(Factors)
-        out._lu = self._lu[..., keep]
+        # ``compress`` keeps the batch axis last in memory (a fancy index would not)
+        out._lu = np.compress(keep, self._lu, axis=-1)
         out._pivots = [p[keep] for p in self._pivots]
-        out._recip = self._recip[:, keep]
-        out._scale = self._scale[:, keep]
+        out._recip = np.compress(keep, self._recip, axis=-1)
+        out._scale = np.compress(keep, self._scale, axis=-1)
         out.ratio = self.ratio[keep]
         return out
 
@@ -97,10 +102,12 @@ class Factors:
         """
         lu = self._lu
         m = lu.shape[0]
+        if not b.shape[-1]:
+            return np.zeros(b.shape, dtype=np.result_type(b, lu))
         # a right-hand side's extra axes sit between the row and the sample axes
         mid = (None,) * (b.ndim - 2)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            x = b * self._scale[(slice(None), *mid)]
+            x = np.multiply(b, self._scale[(slice(None), *mid)], order="C")
             rows = _Rows(x.reshape(m, -1, x.shape[-1]))
             for k, pick in enumerate(self._pivots):
                 rows.exchange(k, pick, 0)
@@ -134,8 +141,10 @@ class _Rows:
 
     def __init__(self, arr: F) -> None:
         m, w, n = arr.shape
+        if not arr.flags.c_contiguous:
+            raise ValueError("row exchanges need a row-major array")
         self._arr = arr
-        self._flat = arr.reshape(-1)  # a view: ``arr`` is contiguous
+        self._flat = arr.reshape(-1)  # a view, since ``arr`` is row-major
         self._grid = np.arange(w)[:, None] * n + np.arange(n)  # (column, sample) offsets
 
     def exchange(self, k: int, pick: NDArray[np.intp], first: int) -> None:

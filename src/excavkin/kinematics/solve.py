@@ -407,18 +407,26 @@ def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
     """A chunk of ``full``'s samples (copies when ``samples`` picks some) for position passes."""
     zero = np.zeros_like(q)
     return Chunk(
-        full.x[:, :, samples],
-        full.v[:, :, samples],
-        full.a[:, :, samples],
+        _at(full.x, samples),
+        _at(full.v, samples),
+        _at(full.a, samples),
         q,
         zero,
         zero,
-        full.trans[:, samples],
+        _at(full.trans, samples),
         full.status[samples],
         full.failed[samples],
         full.close_tol,
         full.singular_tol,
     )
+
+
+def _at(arr: F, samples: np.ndarray | slice) -> F:
+    """``arr``'s samples (the last axis): a view for a slice, else a copy that keeps the batch
+    axis last in memory, as the kernels want it (a fancy index would put it first)."""
+    if isinstance(samples, slice):
+        return arr[..., samples]
+    return np.take(arr, samples, axis=-1)
 
 
 #: most rungs of a sweep's ladder: a longer sweep spaces them more widely
@@ -522,7 +530,7 @@ def _climb(plan: SolvePlan, full: Chunk, rungs: list[int], n_ahead: int, at: F) 
         here = [side[r] for side in (ahead, behind) if r < len(side)]
         prev = [side[r - 1] if r else 0 for side in (ahead, behind) if r < len(side)]
         samples = np.array([rungs[i] for i in here])
-        c = _positions_only(full, samples, full.q[:, samples])
+        c = _positions_only(full, samples, _at(full.q, samples))
         c.x[:] = at[:, :, prev]
         c.status[:] = 0
         run_steps(take(plan, samples), c, 0)
@@ -542,7 +550,7 @@ def _continue_from_sketch(
     """Samples the sweep could not reach: straight from the sketch, the shorter way round (or
     the longer, past what the shorter way could not pass), by chunks of them."""
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    target = full.q[:, samples]
+    target = _at(full.q, samples)
     delta = _wrapped(target - q0, plan)
     if long_way:
         for i, kind in enumerate(plan.input_kinds):
