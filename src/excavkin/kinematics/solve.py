@@ -225,6 +225,7 @@ def _solve_chunks(
             full.failed[part],
             full.close_tol,
             full.singular_tol,
+            None if full.near is None else full.near[part],  # Newton groups' nearness
         )
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             signs = run_steps(here, c, 2, newton=False)
