@@ -432,6 +432,8 @@ def _at(arr: F, samples: np.ndarray | slice) -> F:
 
 #: most rungs of a sweep's ladder: a longer sweep spaces them more widely
 MAX_RUNGS = 4000
+#: each finer ladder divides the spacing of the one before by this
+FINER = 8
 
 
 def _continue_along_sweep(
@@ -446,10 +448,13 @@ def _continue_along_sweep(
 
     A ladder of the sweep's own samples, one stage apart along its path (the inputs' moves
     added up in stages, both ways from that sample), is solved rung by rung, each from the one
-    before. Every sample then starts from the last rung between it and the sketch's sample —
-    at most a stage behind it on the sweep — and is solved in one pass, all samples at once
-    by chunks: the sequential part of the continuation is as long as the sweep is in stages,
-    not in samples.
+    before: the sequential part of the continuation is as long as the sweep is in stages, not
+    in samples. Finer ladders (an eighth of a stage, then a sixty-fourth, while they hold few
+    samples) are then solved all at once, each sample from the nearest solved one behind it on
+    the sweep (towards the sketch's sample); then every sample, by chunks, from the nearest
+    solved one behind it or from itself. A sample so starts at most a stage (beyond any jump
+    of the sweep's own) from where it is solved, and mostly far nearer: Newton needs fewer
+    passes.
     """
     q = full.q
     valid = np.flatnonzero(np.isfinite(q).all(axis=0))
@@ -471,14 +476,28 @@ def _continue_along_sweep(
     walked = np.concatenate(
         [[0.0], np.cumsum(np.abs(_wrapped(np.diff(q[:, valid], axis=1), plan) / steps).max(axis=0))]
     )
-    ahead, behind, start = _ladder(walked, k0)
-    rungs = [valid[k0], *valid[ahead], *valid[behind]]
-    at = np.empty((*full.x.shape[:2], len(rungs)))  # each rung's solved positions
+    span = max(walked[-1] - walked[k0], walked[k0] - walked[0])
+    h = max(1.0, span / MAX_RUNGS)
+    ahead, behind = _rungs(walked, k0, h)
+    rungs = np.concatenate([[k0], ahead, behind])
+    at = np.empty((*full.x.shape[:2], rungs.size))  # each rung's solved positions
     at[:, :, 0] = mini.x[:, :, 0]
-    _climb(plan, full, rungs, len(ahead), at)
-    # every sample from its rung, by chunks
-    idx = np.full(q.shape[1], 0)  # samples not valid start anywhere: they fail by their input
-    idx[valid] = start
+    _climb(plan, full, valid[rungs], ahead.size, at)
+    order = np.argsort(rungs)
+    solved, at = rungs[order], at[:, :, order]  # sorted along the sweep
+    # finer ladders, each all at once from the solved samples behind it
+    while True:
+        h /= FINER
+        new = np.setdiff1d(np.concatenate(_rungs(walked, k0, h)), solved)
+        if not new.size or new.size > valid.size // FINER:
+            break
+        x = _from_solved(plan, full, valid[new], at[:, :, _behind(solved, new, k0)], chunk, workers)
+        solved = np.concatenate([solved, new])
+        order = np.argsort(solved)
+        solved, at = solved[order], np.concatenate([at, x], axis=2)[:, :, order]
+    # every sample from the nearest solved one behind it (or itself), by chunks, in place
+    idx = np.zeros(q.shape[1], dtype=np.intp)  # a sample not valid fails by its own input
+    idx[valid] = _behind(solved, np.arange(valid.size), k0)
 
     def one(s: int) -> None:
         part = slice(s, min(s + chunk, q.shape[1]))
@@ -490,38 +509,56 @@ def _continue_along_sweep(
     _over_chunks(q.shape[1], chunk, workers, one)
 
 
-def _ladder(walked: F, k0: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Rungs of a sweep, as indices into it: those after ``k0`` (in order away from it), those
-    before (likewise), and for each sample the rung it starts from (0 for ``k0`` itself, then
-    1… for the rungs after, then on for those before).
+def _rungs(walked: F, k0: int, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """Rungs a spacing ``h`` apart along a sweep, as indices into it: those after ``k0`` and
+    those before, each in order away from it (``k0`` itself is not listed).
 
     ``walked`` is the sweep's path length in stages at each sample. A rung is the last sample
-    within a stage of the previous rung (or the next sample, if the sweep itself jumps further),
-    so a sample lies at most a stage, beyond any jump of the sweep's own, past its rung.
+    within ``h`` of the previous rung (or the next sample, if the sweep itself jumps further),
+    so a sample lies at most ``h``, beyond any jump of the sweep's own, past the last rung
+    before it.
     """
     n = walked.size
-    span = max(walked[-1] - walked[k0], walked[k0] - walked[0])
-    h = max(1.0, span / MAX_RUNGS)
     up = walked[k0] + h * np.arange(1, int(np.ceil((walked[-1] - walked[k0]) / h)) + 1)
     ahead = np.unique(np.clip(np.searchsorted(walked, up, side="right") - 1, k0, n - 1))
-    ahead = ahead[ahead > k0]
     down = walked[k0] - h * np.arange(1, int(np.ceil((walked[k0] - walked[0]) / h)) + 1)
     behind = np.unique(np.clip(np.searchsorted(walked, down, side="left"), 0, k0))[::-1]
-    behind = behind[behind < k0]
-    idx = np.arange(n)
-    start = np.zeros(n, dtype=np.intp)
-    after = idx > k0
-    start[after] = np.searchsorted(ahead, idx[after], side="right")  # 0 → k0 itself
-    before = idx < k0
-    # ``behind`` descends: the rung for i is the last one (farthest from k0) at or after i
-    up_order = behind[::-1]
-    pos = np.searchsorted(up_order, idx[before], side="left")  # first rung ≥ i, ascending
-    nb = behind.size
-    start[before] = np.where(pos < nb, 1 + ahead.size + (nb - 1 - pos), 0)
-    return ahead, behind, start
+    return ahead[ahead > k0], behind[behind < k0]
 
 
-def _climb(plan: SolvePlan, full: Chunk, rungs: list[int], n_ahead: int, at: F) -> None:
+def _behind(solved: np.ndarray, idx: np.ndarray, k0: int) -> np.ndarray:
+    """For each sample of ``idx``, the position in ``solved`` (sorted, holding ``k0``) of the
+    nearest solved sample between it and ``k0`` (itself, if solved)."""
+    up = np.searchsorted(solved, idx, side="right") - 1  # the last solved ≤ i
+    down = np.searchsorted(solved, idx, side="left")  # the first solved ≥ i
+    return np.where(idx >= k0, up, down)
+
+
+def _from_solved(
+    plan: SolvePlan,
+    full: Chunk,
+    samples: np.ndarray,
+    start: F,
+    chunk: int,
+    workers: int | None,
+) -> F:
+    """The positions of ``samples``, each solved from its column of ``start`` (the solution
+    of a sample behind it), by chunks; the samples' statuses are left as they are."""
+    out = np.empty_like(start)
+
+    def one(s: int) -> None:
+        part = slice(s, min(s + chunk, samples.size))
+        c = _positions_only(full, samples[part], _at(full.q, samples[part]))
+        c.x[:] = start[:, :, part]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            run_steps(take(plan, samples[part]), c, 0)
+        out[:, :, part] = c.x
+
+    _over_chunks(samples.size, chunk, workers, one)
+    return out
+
+
+def _climb(plan: SolvePlan, full: Chunk, rungs: np.ndarray, n_ahead: int, at: F) -> None:
     """Solve the ladder's rungs (``rungs``: the sketch's sample, those ahead, those behind),
     each from the one before it, both ways at once: ``at[:, :, i]`` is rung i's solution,
     filled in from ``at[:, :, 0]``."""
@@ -530,7 +567,7 @@ def _climb(plan: SolvePlan, full: Chunk, rungs: list[int], n_ahead: int, at: F) 
     for r in range(max(len(ahead), len(behind))):
         here = [side[r] for side in (ahead, behind) if r < len(side)]
         prev = [side[r - 1] if r else 0 for side in (ahead, behind) if r < len(side)]
-        samples = np.array([rungs[i] for i in here])
+        samples = rungs[here]
         c = _positions_only(full, samples, _at(full.q, samples))
         c.x[:] = at[:, :, prev]
         c.status[:] = 0
