@@ -473,9 +473,7 @@ def _continue_along_sweep(
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
         run_steps(first_plan, mini, 0)
-    walked = np.concatenate(
-        [[0.0], np.cumsum(np.abs(_wrapped(np.diff(q[:, valid], axis=1), plan) / steps).max(axis=0))]
-    )
+    walked = np.concatenate([[0.0], np.cumsum(_moves(np.diff(q[:, valid], axis=1), plan, steps))])
     span = max(walked[-1] - walked[k0], walked[k0] - walked[0])
     h = max(1.0, span / MAX_RUNGS)
     ahead, behind = _rungs(walked, k0, h)
@@ -485,11 +483,12 @@ def _continue_along_sweep(
     _climb(plan, full, valid[rungs], ahead.size, at)
     order = np.argsort(rungs)
     solved, at = rungs[order], at[:, :, order]  # sorted along the sweep
-    # finer ladders, each all at once from the solved samples behind it
-    while True:
+    # finer ladders, each all at once from the solved samples behind it, while they are few
+    while (walked[-1] - walked[0]) * FINER / h <= valid.size / FINER:
         h /= FINER
-        new = np.setdiff1d(np.concatenate(_rungs(walked, k0, h)), solved)
-        if not new.size or new.size > valid.size // FINER:
+        found = np.sort(np.concatenate(_rungs(walked, k0, h)))
+        new = found[~_among(found, solved)]
+        if not new.size:
             break
         x = _from_solved(plan, full, valid[new], at[:, :, _behind(solved, new, k0)], chunk, workers)
         solved = np.concatenate([solved, new])
@@ -520,10 +519,31 @@ def _rungs(walked: F, k0: int, h: float) -> tuple[np.ndarray, np.ndarray]:
     """
     n = walked.size
     up = walked[k0] + h * np.arange(1, int(np.ceil((walked[-1] - walked[k0]) / h)) + 1)
-    ahead = np.unique(np.clip(np.searchsorted(walked, up, side="right") - 1, k0, n - 1))
+    ahead = _distinct(np.clip(np.searchsorted(walked, up, side="right") - 1, k0, n - 1))
     down = walked[k0] - h * np.arange(1, int(np.ceil((walked[k0] - walked[0]) / h)) + 1)
-    behind = np.unique(np.clip(np.searchsorted(walked, down, side="left"), 0, k0))[::-1]
+    behind = _distinct(np.clip(np.searchsorted(walked, down, side="left"), 0, k0))
     return ahead[ahead > k0], behind[behind < k0]
+
+
+def _distinct(ordered: np.ndarray) -> np.ndarray:
+    """The distinct values of an ordered array, in its order (``np.unique`` sorts again)."""
+    keep = np.ones(ordered.size, dtype=bool)
+    keep[1:] = ordered[1:] != ordered[:-1]
+    return ordered[keep]
+
+
+def _among(values: np.ndarray, ordered: np.ndarray) -> np.ndarray:
+    """Which of ``values`` are in ``ordered`` (ascending, not empty)."""
+    at = np.minimum(np.searchsorted(ordered, values), ordered.size - 1)
+    return ordered[at] == values  # type: ignore[no-any-return]
+
+
+def _moves(delta: F, plan: SolvePlan, steps: F) -> F:
+    """Each step of a sweep in stages: its largest input move over that input's stage size,
+    angles the shorter way round (q and q ± 2π are one pose)."""
+    turns = np.array([kind == "angle" for kind in plan.input_kinds])[:, None]
+    whole = np.where(turns, 2 * np.pi * np.round(delta / (2 * np.pi)), 0.0)
+    return np.abs((delta - whole) / steps).max(axis=0)  # type: ignore[no-any-return]
 
 
 def _behind(solved: np.ndarray, idx: np.ndarray, k0: int) -> np.ndarray:
