@@ -39,6 +39,18 @@ class Factors:
     ----------
     ratio : ndarray, shape (n,)
         det(a) / ∏ ‖row of a‖, signed: its sign is the determinant's, its magnitude in [0, 1].
+
+    Examples
+    --------
+    Two samples: a rotation (orthogonal rows, ratio 1) and a singular matrix (ratio 0).
+
+    >>> import numpy as np
+    >>> a = np.stack([[[0.0, -1.0], [1.0, 0.0]], [[1.0, 2.0], [2.0, 4.0]]], axis=-1)
+    >>> lu = Factors(a)
+    >>> lu.ratio
+    array([1., 0.])
+    >>> lu.solve(np.array([[1.0, 1.0], [2.0, 1.0]]))[:, 0]
+    array([ 2., -1.])
     """
 
     __slots__ = ("_lu", "_pivots", "_recip", "_scale", "ratio")

@@ -134,7 +134,7 @@ def solve_kinematics(
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if plan.has_newton:  # positions first, by continuation; then the rates by chunks
-            chunk = newton_chunk(plan, chunk)
+            chunk = _newton_chunk(plan, chunk)
             _solve_newton(plan, assembly, full, chunk, workers)
         checked = assembly if plan.has_newton else None
         _solve_chunks(plan, full, derived, chunk, workers, report, designs, checked)
@@ -251,7 +251,7 @@ def _over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], N
             one(s)
 
 
-def newton_chunk(plan: SolvePlan, chunk: int) -> int:
+def _newton_chunk(plan: SolvePlan, chunk: int) -> int:
     """Samples per pass of a plan with Newton groups: its Jacobians (m², m twice a group's
     points) stay in cache as the closed form's few arrays do at ``chunk``."""
     m = max(2 * len(st.points) for st in plan.steps if isinstance(st, NewtonGroup))
