@@ -9,6 +9,11 @@ same Jacobian with the differentiated constraints (DESIGN.md §4)::
 
 where ``Φ̇|ẋ_group=0`` is the time derivative of Φ with the group's own velocities set to zero
 (the contribution of known points and driver rates), and likewise for Φ̈.
+
+Arrays keep the batch axis last, as the rest of the solve does: the residual is (m, n), the
+Jacobian (m, m, n), and every linear solve goes through
+:class:`~excavkin.kinematics.small_systems.Factors` (one factorisation gives the solution and
+the distance from singular; the rates solve both orders with it).
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.kinematics.kernels import Chunk, Code, F, dist, flag
+from excavkin.kinematics.small_systems import Factors
 from excavkin.structure.design import take_step
 from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, NewtonGroup
 
@@ -32,16 +38,23 @@ def _cross(ax: F, ay: F, bx: F, by: F) -> F:
 
 
 def _equations(
-    c: Chunk, g: NewtonGroup, x: F, v: F | None, a: F | None
+    c: Chunk, g: NewtonGroup, x: F, v: F | None, a: F | None, want: frozenset[int] = frozenset()
 ) -> Iterator[tuple[F, Grad, F | None, F | None]]:
-    """Yield, per equation: residual, gradient per point, Φ̇ and Φ̈ (when v, a given)."""
+    """Yield, per equation: residual, gradient per point of ``want`` (the others are not
+    computed), Φ̇ and Φ̈ (when v, a given)."""
     zero = np.zeros(x.shape[-1], dtype=x.dtype)
     for con in g.constraints:
         if isinstance(con, CDist):
             d, dd, ddd = dist(c, con.dist)
             rx, ry = x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1]
             f = rx * rx + ry * ry - d * d
-            grad: Grad = [(con.p, 2 * rx, 2 * ry), (con.q, -2 * rx, -2 * ry)]
+            grad: Grad = []
+            if want:
+                tx, ty = 2 * rx, 2 * ry
+                if con.p in want:
+                    grad.append((con.p, tx, ty))
+                if con.q in want:
+                    grad.append((con.q, -tx, -ty))
             f1 = f2 = None
             if v is not None:
                 wx, wy = v[con.p, 0] - v[con.q, 0], v[con.p, 1] - v[con.q, 1]
@@ -62,7 +75,7 @@ def _equations(
             for comp, gr in ((0, gx), (1, gy)):
                 yield (
                     _frame(x, con, comp),
-                    gr,
+                    [e for e in gr if e[0] in want],
                     None if v is None else _frame(v, con, comp),
                     None if a is None else _frame(a, con, comp),
                 )
@@ -71,7 +84,13 @@ def _equations(
             uy = x[con.l2, 1] - x[con.l1, 1]
             gx_, gy_ = x[con.p, 0] - x[con.l1, 0], x[con.p, 1] - x[con.l1, 1]
             f = _cross(ux, uy, gx_, gy_)
-            grad = [(con.p, -uy, ux), (con.l2, gy_, -gx_), (con.l1, uy - gy_, gx_ - ux)]
+            grad = []
+            if con.p in want:
+                grad.append((con.p, -uy, ux))
+            if con.l2 in want:
+                grad.append((con.l2, gy_, -gx_))
+            if con.l1 in want:
+                grad.append((con.l1, uy - gy_, gx_ - ux))
             f1 = f2 = None
             if v is not None:
                 udx, udy = v[con.l2, 0] - v[con.l1, 0], v[con.l2, 1] - v[con.l1, 1]
@@ -87,7 +106,7 @@ def _equations(
                     )
             yield f, grad, f1, f2
         else:
-            yield _angle(c, con, x, v, a)
+            yield _angle(c, con, x, v, a, want)
 
 
 def _frame(arr: F, con: CFrame, comp: int) -> F:
@@ -102,7 +121,7 @@ def _frame(arr: F, con: CFrame, comp: int) -> F:
 
 
 def _angle(
-    c: Chunk, con: CAngle, x: F, v: F | None, a: F | None
+    c: Chunk, con: CAngle, x: F, v: F | None, a: F | None, want: frozenset[int]
 ) -> tuple[F, Grad, F | None, F | None]:
     q, qd, qdd = c.q[con.input], c.qd[con.input], c.qdd[con.input]
     cs, sn = np.cos(q), np.sin(q)
@@ -115,10 +134,17 @@ def _angle(
     ex, ey = cs * vx - sn * vy, sn * vx + cs * vy
     dpx, dpy = x[con.p, 0] - x[con.pivot, 0], x[con.p, 1] - x[con.pivot, 1]
     f = _cross(ex, ey, dpx, dpy)
-    grad: Grad = [(con.p, -ey, ex), (con.pivot, ey, -ex)]
-    if con.ref is not None:
+    grad: Grad = []
+    if con.p in want:
+        grad.append((con.p, -ey, ex))
+    if con.pivot in want:
+        grad.append((con.pivot, ey, -ex))
+    if con.ref is not None and (con.ref[0] in want or con.ref[1] in want):
         gvx, gvy = cs * dpy - sn * dpx, -sn * dpy - cs * dpx
-        grad += [(con.ref[1], gvx, gvy), (con.ref[0], -gvx, -gvy)]
+        if con.ref[1] in want:
+            grad.append((con.ref[1], gvx, gvy))
+        if con.ref[0] in want:
+            grad.append((con.ref[0], -gvx, -gvy))
     f1 = f2 = None
     if v is not None:
         if con.ref is None:
@@ -177,84 +203,65 @@ def tangents(c: Chunk, g: NewtonGroup, values: tuple[F, F, F]) -> None:
         elif isinstance(con, CFrame):
             con = replace(con, s=val(con.s), t=val(con.t))
         cons.append(con)
-    _, jac, _, _ = _system(plain, replace(g, constraints=tuple(cons)), 0)
-    sign, ratio = _hadamard(jac)
-    sing = (sign == 0) | (ratio < np.log(c.singular_tol**2))
-    if sing.any():
-        jac = jac.copy()
-        jac[sing] = np.eye(jac.shape[1])
+    _, jac, _, _ = _system(plain, replace(g, constraints=tuple(cons)))
+    assert jac is not None
+    lu = Factors(jac, overwrite=True)
+    sing = ~(np.abs(lu.ratio) >= c.singular_tol**2)
+    m = c.x.tan.shape[0]  # type: ignore[attr-defined]
     for level, arr in enumerate((c.x, c.v, c.a)):
         rows = [
             eq[0] if level == 0 else eq[level + 1]
             for eq in _equations(c, g, c.x, c.v if level else None, c.a if level == 2 else None)
         ]
-        m = arr.tan.shape[0]  # type: ignore[attr-defined]
         n = c.x.shape[-1]
-        rhs = np.zeros((n, len(rows), m))
+        rhs = np.zeros((len(rows), m, n))
         for r, f in enumerate(rows):
             tan = getattr(f, "tan", None)
             if tan is not None and np.ndim(tan):
-                rhs[:, r, :] = np.broadcast_to(tan, (m, n)).T
-        step = -np.linalg.solve(jac, rhs)  # (n, 2·points, m)
-        step[sing] = np.nan
+                rhs[r] = np.broadcast_to(tan, (m, n))
+        step = -lu.solve(rhs)  # (2·points, m, n)
+        step[..., sing] = np.nan
         for j, p in enumerate(pts):
-            arr.tan[:, p, 0] = step[:, 2 * j, :].T  # type: ignore[attr-defined]
-            arr.tan[:, p, 1] = step[:, 2 * j + 1, :].T  # type: ignore[attr-defined]
+            arr.tan[:, p, 0] = step[2 * j]  # type: ignore[attr-defined]
+            arr.tan[:, p, 1] = step[2 * j + 1]  # type: ignore[attr-defined]
 
 
-def _system(c: Chunk, g: NewtonGroup, order: int) -> tuple[F, F, F | None, F | None]:
+def _system(
+    c: Chunk, g: NewtonGroup, *, jacobian: bool = True, rates: int = 0
+) -> tuple[F, F | None, F | None, F | None]:
+    """Residual (m, n), Jacobian (m, m, n) when ``jacobian``, and with ``rates`` ≥ 1 the
+    right-hand side of the velocities (Φ̇ with the group's own rates zeroed), with 2 also that
+    of the accelerations; m is twice the group's point count, batch axis last."""
     n = c.x.shape[-1]
     col = {p: 2 * k for k, p in enumerate(g.points)}
     m = 2 * len(g.points)
     dt = c.x.dtype
-    jac = np.zeros((n, m, m), dtype=dt)
-    res = np.empty((n, m), dtype=dt)
-    r1 = np.empty((n, m), dtype=dt) if order else None
-    r2 = np.empty((n, m), dtype=dt) if order else None
-    for row, (f, grad, f1, f2) in enumerate(
-        _equations(c, g, c.x, c.v if order else None, c.a if order else None)
-    ):
-        res[:, row] = f
-        for p, gx, gy in grad:
-            if p in col:
-                jac[:, row, col[p]] += gx
-                jac[:, row, col[p] + 1] += gy
-        if r1 is not None and r2 is not None:
-            r1[:, row] = f1  # type: ignore[assignment]
-            r2[:, row] = f2  # type: ignore[assignment]
+    jac = np.zeros((m, m, n), dtype=dt) if jacobian else None
+    res = np.empty((m, n), dtype=dt)
+    r1 = np.empty((m, n), dtype=dt) if rates else None
+    r2 = np.empty((m, n), dtype=dt) if rates == 2 else None
+    want = frozenset(col) if jacobian else frozenset()
+    eqs = _equations(c, g, c.x, c.v if rates else None, c.a if rates == 2 else None, want)
+    for row, (f, grad, f1, f2) in enumerate(eqs):
+        res[row] = f
+        if jac is not None:
+            for p, gx, gy in grad:
+                jac[row, col[p]] += gx
+                jac[row, col[p] + 1] += gy
+        if r1 is not None:
+            r1[row] = f1  # type: ignore[assignment]
+        if r2 is not None:
+            r2[row] = f2  # type: ignore[assignment]
     return res, jac, r1, r2
 
 
-def _hadamard(jac: F) -> tuple[F, F]:
-    """Sign of the determinant, and the log of |det| over the product of the rows' norms
-    (0 for orthogonal rows, −∞ at a singular matrix): a scale-free distance from singular."""
-    sign, logdet = np.linalg.slogdet(jac)
-    rows = np.linalg.norm(jac, axis=2)
-    bound = np.sum(np.log(np.where(rows > 0, rows, 1.0)), axis=1)
-    return sign, np.where(sign == 0, -np.inf, logdet - bound)
-
-
-def _safe_solve(jac: F, rhs: F, tol: float) -> tuple[F, NDArray[np.bool_]]:
-    """Solve per sample; singular samples get NaN and a True in the mask.
-
-    An extended-precision system (the precision check's) is solved in double precision and
-    refined with residuals in its own precision, since LAPACK has no long double.
-    """
-    wide = jac.dtype != np.float64
-    j64 = jac.astype(np.float64) if wide else jac
-    sign, ratio = _hadamard(j64)
-    sing = (sign == 0) | (ratio < np.log(tol))
-    if sing.any():
-        j64 = j64.copy()
-        j64[sing] = np.eye(j64.shape[1])
-    out = np.linalg.solve(j64, rhs.astype(np.float64)[..., None])[..., 0]
-    if wide:
-        out = out.astype(jac.dtype)
-        for _ in range(3):  # mixed-precision iterative refinement
-            resid = rhs - np.einsum("nij,nj->ni", jac, out)
-            out += np.linalg.solve(j64, resid.astype(np.float64)[..., None])[..., 0]
-    out[sing] = np.nan
-    return np.asarray(out), np.asarray(sing, dtype=bool)
+#: once every sample's last Newton step is below this fraction of the size, later steps reuse
+#: the last factorisation (chord steps), as long as each shrinks by :data:`CHORD_RATE` or more
+CHORD_FROM = 1e-4
+CHORD_RATE = 0.1
+#: the samples still moving are copied out (the others leave the iteration) once they are
+#: fewer than this fraction of those iterated; until then the converged ones are held still
+SHRINK = 0.75
 
 
 def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: int = 50) -> None:
@@ -262,83 +269,118 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
 
     Converged (and singular) samples leave the iteration: each pass works on the samples still
     moving, so a batch costs what its slowest samples need, not every sample that many passes.
+    Close to the solution, where a step's error is far below the step itself, the Jacobian
+    factored last serves again (a chord step: a residual and a solve, no factorisation); a
+    chord step that does not shrink fast is not taken, and the next pass factors afresh. The
+    root and the test of convergence are Newton's own.
     """
     pts = list(g.points)
     n = c.x.shape[-1]
-    live = np.arange(n)
+    live = np.arange(n)  # the samples in ``sub``, as indices of ``c``
     sub = c
     # converged at 1e-14 of the size in double precision, proportionally finer in a wider one
     small = 1e-14 * scale * float(np.finfo(c.x.dtype).eps / np.finfo(np.float64).eps)
     group = g
+    lu: Factors | None = None
+    last = np.full(n, np.inf)  # each sample's last step
+    moving = np.ones(n, dtype=bool)  # the samples of ``sub`` still iterated
     for _ in range(max_iter):
-        res, jac, _, _ = _system(sub, group, 0)
-        step, sing = _safe_solve(jac, -res, 1e-13)
-        step[sing] = 0.0
+        chord = lu is not None and bool(np.all(last[moving] <= CHORD_FROM * scale))
+        if chord:
+            res = _system(sub, group, jacobian=False)[0]
+        else:
+            res, jac, _, _ = _system(sub, group)
+            assert jac is not None
+            lu = Factors(jac, overwrite=True)
+        assert lu is not None
+        sing = ~(np.abs(lu.ratio) >= 1e-13)
+        step = lu.solve(res)  # J·step = Φ: the move is −step
+        hold = sing | ~moving
+        step[:, hold] = 0.0
+        size = np.max(np.abs(step), axis=0)
+        if chord:
+            slow = ~(size <= CHORD_RATE * last) & ~hold
+            if slow.any():
+                step[:, slow] = 0.0
+                size[slow] = np.inf  # still moving
+                lu = None
         for j, p in enumerate(pts):
-            sub.x[p, 0] += step[:, 2 * j]
-            sub.x[p, 1] += step[:, 2 * j + 1]
-        if sub is not c:
-            c.x[pts, :, live[:, None]] = np.moveaxis(sub.x[pts], -1, 0)
-        moving = ~(np.max(np.abs(step), axis=1) <= small) & ~sing
-        if not moving.any():
+            sub.x[p] -= step[2 * j : 2 * j + 2]
+        moving &= ~(size <= small) & ~sing
+        last = size
+        count = np.count_nonzero(moving)
+        if count == 0:
             break
-        if not moving.all():
+        if count < SHRINK * moving.size:
+            if sub is not c:  # the samples leaving, back into the chunk
+                done = ~moving
+                for p in pts:
+                    c.x[p][:, live[done]] = sub.x[p][:, done]
             live = live[moving]
-            sub = _samples(c, live)
+            sub = _positions_at(sub, moving)
             group = take_step(g, live)  # type: ignore[assignment]
-    res, _, _, _ = _system(c, g, 0)
-    bad = ~(np.max(np.abs(res), axis=1) <= 1e-10 * scale * scale) | ~np.isfinite(res).all(axis=1)
+            last = last[moving]
+            if lu is not None:
+                lu = lu.at(moving)
+            moving = np.ones(live.size, dtype=bool)
+    if sub is not c:
+        for p in pts:
+            c.x[p][:, live] = sub.x[p]
+    res, _, _, _ = _system(c, g, jacobian=False)
+    bad = ~(np.max(np.abs(res), axis=0) <= 1e-10 * scale * scale)
     flag(c, bad, Code.NO_CONVERGENCE, k)
     for p in pts:
-        c.x[p, :, bad] = np.nan
+        c.x[p][:, bad] = np.nan
 
 
-def _samples(c: Chunk, idx: np.ndarray) -> Chunk:
-    """A copy of the chunk's arrays at samples ``idx`` (an input held for all samples, one
-    column wide, stays as it is)."""
+def _positions_at(c: Chunk, idx: NDArray[Any]) -> Chunk:
+    """A copy of the chunk's positions and inputs at samples ``idx`` (indices or a mask), for
+    the Newton iteration, which reads nothing else (an input held for all samples, one column
+    wide, stays as it is)."""
     n = c.x.shape[-1]
 
     def take(arr: F) -> F:
-        return arr[..., idx] if arr.shape[-1] == n else arr
+        if arr.shape[-1] != n:
+            return arr
+        # ``take`` and ``compress`` keep the batch axis last in memory (a fancy index would not)
+        if idx.dtype == bool:
+            return np.compress(idx, arr, axis=-1)
+        return np.take(arr, idx, axis=-1)
 
+    x = take(c.x)
+    # velocities and accelerations are not read by a position pass: x stands in for them
     return Chunk(
-        take(c.x),
-        take(c.v),
-        take(c.a),
-        take(c.q),
-        take(c.qd),
-        take(c.qdd),
-        take(c.trans),
-        c.status[idx],
-        c.failed[idx],
-        c.close_tol,
-        c.singular_tol,
-    )
+        x, x, x, take(c.q), take(c.qd), take(c.qdd), c.trans, c.status, c.failed,
+        c.close_tol, c.singular_tol,
+    )  # fmt: skip
 
 
 def newton_rates(c: Chunk, g: NewtonGroup, k: int) -> F:
-    """Velocities and accelerations of the group's points; returns the Jacobian's log-det sign."""
+    """Velocities and accelerations of the group's points, by one factorisation of the
+    Jacobian; returns the sign of its determinant."""
     pts = list(g.points)
     for p in pts:
         c.v[p] = 0.0
         c.a[p] = 0.0
-    _, jac, r1, _ = _system(c, g, 1)
-    assert r1 is not None
-    vel, sing = _safe_solve(jac, -r1, c.singular_tol**2)
+    _, jac, r1, _ = _system(c, g, rates=1)
+    assert jac is not None and r1 is not None
+    lu = Factors(jac, overwrite=True)
+    sing = ~(np.abs(lu.ratio) >= c.singular_tol**2)
     flag(c, sing, Code.SINGULAR, k)
+    vel = lu.solve(r1)
+    vel[:, sing] = np.nan
     for j, p in enumerate(pts):
-        c.v[p, 0] = vel[:, 2 * j]
-        c.v[p, 1] = vel[:, 2 * j + 1]
-    _, _, _, r2 = _system(c, g, 1)
+        c.v[p] = -vel[2 * j : 2 * j + 2]
+    _, _, _, r2 = _system(c, g, jacobian=False, rates=2)
     assert r2 is not None
-    acc, _ = _safe_solve(jac, -r2, c.singular_tol**2)
+    acc = lu.solve(r2)
+    acc[:, sing] = np.nan
     for j, p in enumerate(pts):
-        c.a[p, 0] = acc[:, 2 * j]
-        c.a[p, 1] = acc[:, 2 * j + 1]
-    sign, ratio = _hadamard(jac.astype(np.float64))
+        c.a[p] = -acc[2 * j : 2 * j + 2]
+    ratio = lu.ratio.astype(np.float64)
     if c.near is not None:
-        np.minimum(c.near, np.exp(ratio), out=c.near)
-    return np.asarray(sign, dtype=np.float64)
+        np.minimum(c.near, np.abs(ratio), out=c.near)
+    return np.sign(ratio)  # type: ignore[no-any-return]
 
 
 def rotary_branch_ok(c: Chunk, g: NewtonGroup) -> NDArray[np.bool_]:

@@ -136,23 +136,18 @@ def solve_kinematics(
     derived = Derived.empty(plan, n)
     report = _Reporter(progress, n)
     fast = compiled_plan.use(plan, n, compiled)
+    newton_near = np.ones(n) if plan.has_newton else None
+    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        if plan.has_newton:
-            newton_near = np.ones(n)
-            full = Chunk(
-                x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near
-            )
-            _solve_newton(plan, assembly, full)
-            derived.fill(plan, x, v, a, slice(None))
-            _flag_not_finite(x, v, a, trans, derived, slice(None), status)
-            near, near_step, flattest = precision.nearness(plan, trans, newton_near)
-            report(n)
-        else:
-            full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular)
-            near, near_step = np.empty(n), np.empty(n, dtype=np.int16)
-            flattest = _solve_chunks(
-                plan, full, derived, (near, near_step), chunk, workers, report, designs, fast
-            )
+        if plan.has_newton:  # positions first, by continuation; then the rates by chunks
+            chunk = _newton_chunk(plan, chunk)
+            _solve_newton(plan, assembly, full, chunk, workers)
+        checked = assembly if plan.has_newton else None
+        near, near_step = np.empty(n), np.empty(n, dtype=np.int16)
+        flattest = _solve_chunks(
+            plan, full, derived, (near, near_step), chunk, workers, report, designs, checked,
+            fast,
+        )  # fmt: skip
     if continuation == "smooth":
         return _smooth(plan, assembly, q_given, qd, qdd, tol, x, v)
     arrays = precision.Arrays(x, v, a, trans, derived)
@@ -205,12 +200,15 @@ def _solve_chunks(
     workers: int | None,
     report: _Reporter,
     designs: DesignBatch | None = None,
+    assembly: Assembly | None = None,
     fast: bool = False,
 ) -> F:
-    """The closed-form plan over chunks of samples, on a thread per core: each chunk runs the
-    steps and then its derived quantities and nearness to dead positions while it is in cache
-    (and, for a family of designs, makes its own constants first); ``fast``: as the plan's
-    compiled loop. Fills ``nearest`` (each sample's nearness and nearest step, as
+    """The plan over chunks of samples, on a thread per core: each chunk runs the steps and
+    then its derived quantities and nearness to dead positions while it is in cache (and, for
+    a family of designs, makes its own constants first). Newton groups' positions are already
+    found (:func:`_solve_newton`): here they get their rates, and their branch is checked
+    against ``assembly``'s. ``fast``: a closed-form plan as its compiled loop. Fills
+    ``nearest`` (each sample's nearness and nearest step, as
     :func:`~excavkin.kinematics.precision.nearness`); returns each transmission's flattest."""
     n = full.status.size
     flattest: list[F] = []
@@ -241,6 +239,7 @@ def _solve_chunks(
             full.failed[part],
             full.close_tol,
             full.singular_tol,
+            None if full.near is None else full.near[part],  # Newton groups' nearness
         )
         near, near_step = nearest[0][part], nearest[1][part]
         if kernel is not None:
@@ -248,13 +247,24 @@ def _solve_chunks(
             flat = compiled_plan.run(kernel, here, c, body, element, near, near_step)
         else:
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-                run_steps(here, c, 2)
+                signs = run_steps(here, c, 2, newton=False)
+                if assembly is not None:
+                    _check_branches(here, assembly, c, signs)
                 derived.fill(plan, c.x, c.v, c.a, part)
                 _flag_not_finite(c.x, c.v, c.a, c.trans, derived, part, c.status)
-                near[:], near_step[:], flat = precision.nearness(plan, c.trans)
+                near[:], near_step[:], flat = precision.nearness(plan, c.trans, c.near)
         flattest.append(flat)  # appends are atomic: no lock
         report(e - s)
 
+    _over_chunks(n, chunk, workers, one)
+    if not flattest:
+        return np.ones(len(plan.transmissions))
+    return np.asarray(np.min(flattest, axis=0, initial=1.0), dtype=np.float64)
+
+
+def _over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], None]) -> None:
+    """``one(start)`` for every chunk of ``n`` samples, on a thread per core (NumPy releases
+    the GIL in its loops, and chunks write disjoint slices)."""
     starts = range(0, n, chunk)
     threads = min(workers or os.cpu_count() or 1, len(starts))
     if threads > 1:
@@ -263,9 +273,22 @@ def _solve_chunks(
     else:
         for s in starts:
             one(s)
-    if not flattest:
-        return np.ones(len(plan.transmissions))
-    return np.asarray(np.min(flattest, axis=0, initial=1.0), dtype=np.float64)
+
+
+def _newton_chunk(plan: SolvePlan, chunk: int) -> int:
+    """Samples per pass of a plan with Newton groups: its Jacobians (m², m twice a group's
+    points) stay in cache as the closed form's few arrays do at ``chunk``."""
+    m = max(2 * len(st.points) for st in plan.steps if isinstance(st, NewtonGroup))
+    return max(256, min(chunk, chunk * 8 // (m * m)))
+
+
+def _check_branches(plan: SolvePlan, assembly: Assembly, c: Chunk, signs: list[F]) -> None:
+    """A Newton group whose determinant changed sign from the sketch's, or whose driven body
+    points the opposite way (θ + π), has changed its assembly branch."""
+    groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
+    for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
+        flipped = (sign != ref) | ~rotary_branch_ok(c, st)
+        kernels.flag(c, flipped & np.isfinite(c.x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
 
 
 def _smooth(
@@ -365,8 +388,10 @@ class _Reporter:
             self.progress(self.done, self.total)
 
 
-def _solve_newton(plan: SolvePlan, assembly: Assembly, full: Chunk) -> None:
-    """Positions by continuation along the sweep's own order, then the rates.
+def _solve_newton(
+    plan: SolvePlan, assembly: Assembly, full: Chunk, chunk: int, workers: int | None
+) -> None:
+    """Positions by continuation along the sweep's own order (their rates come after).
 
     The sample nearest the sketch is reached from the sketch; every other sample then follows
     the sweep from there, through the samples between, in stages small enough for Newton.
@@ -375,21 +400,16 @@ def _solve_newton(plan: SolvePlan, assembly: Assembly, full: Chunk) -> None:
     a position that does not close) try the straight way from the sketch, the shorter way
     round and then the longer.
     """
-    q, x, status = full.q, full.x, full.status
+    q, status = full.q, full.status
     steps = _step_sizes(plan)
-    _continue_along_sweep(plan, assembly, full, steps)
+    _continue_along_sweep(plan, assembly, full, steps, chunk, workers)
     for long_way in (False, True):
         reached = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
         retry = np.flatnonzero(~reached)
         if not retry.size or (long_way and "angle" not in plan.input_kinds):
             break
-        _continue_from_sketch(plan, assembly, full, steps, retry, long_way)
+        _continue_from_sketch(plan, assembly, full, steps, retry, long_way, chunk, workers)
     full.q = q
-    signs = run_steps(plan, full, 2, newton=False)
-    groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
-    for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
-        flipped = (sign != ref) | ~rotary_branch_ok(full, st)
-        kernels.flag(full, flipped & np.isfinite(x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
 
 
 def _step_sizes(plan: SolvePlan) -> F:
@@ -412,13 +432,13 @@ def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
     """A chunk of ``full``'s samples (copies when ``samples`` picks some) for position passes."""
     zero = np.zeros_like(q)
     return Chunk(
-        full.x[:, :, samples],
-        full.v[:, :, samples],
-        full.a[:, :, samples],
+        _at(full.x, samples),
+        _at(full.v, samples),
+        _at(full.a, samples),
         q,
         zero,
         zero,
-        full.trans[:, samples],
+        _at(full.trans, samples),
         full.status[samples],
         full.failed[samples],
         full.close_tol,
@@ -426,40 +446,177 @@ def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
     )
 
 
-def _continue_along_sweep(plan: SolvePlan, assembly: Assembly, full: Chunk, steps: F) -> None:
+def _at(arr: F, samples: np.ndarray | slice) -> F:
+    """``arr``'s samples (the last axis): a view for a slice, else a copy that keeps the batch
+    axis last in memory, as the kernels want it (a fancy index would put it first)."""
+    if isinstance(samples, slice):
+        return arr[..., samples]
+    return np.take(arr, samples, axis=-1)
+
+
+#: most rungs of a sweep's ladder: a longer sweep spaces them more widely
+MAX_RUNGS = 4000
+#: each finer ladder divides the spacing of the one before by this
+FINER = 8
+
+
+def _continue_along_sweep(
+    plan: SolvePlan,
+    assembly: Assembly,
+    full: Chunk,
+    steps: F,
+    chunk: int,
+    workers: int | None,
+) -> None:
+    """Every sample by continuation along the sweep from the sample nearest the sketch.
+
+    A ladder of the sweep's own samples, one stage apart along its path (the inputs' moves
+    added up in stages, both ways from that sample), is solved rung by rung, each from the one
+    before: the sequential part of the continuation is as long as the sweep is in stages, not
+    in samples. Finer ladders (an eighth of a stage, then a sixty-fourth, while they hold few
+    samples) are then solved all at once, each sample from the nearest solved one behind it on
+    the sweep (towards the sketch's sample); then every sample, by chunks, from the nearest
+    solved one behind it or from itself. A sample so starts at most a stage (beyond any jump
+    of the sweep's own) from where it is solved, and mostly far nearer: Newton needs fewer
+    passes.
+    """
     q = full.q
-    n = q.shape[1]
+    valid = np.flatnonzero(np.isfinite(q).all(axis=0))
+    if not valid.size:
+        return
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    far = np.abs(_wrapped(q - q0, plan)) / steps
-    k0 = int(np.argmin(np.where(np.isfinite(q).all(axis=0), far.max(axis=0), np.inf)))
-    # the sketch → sample k0, for that one sample, then every sample starts there
-    mini = _positions_only(full, np.array([k0]), q0.copy())
+    far = np.abs(_wrapped(q[:, valid] - q0, plan)) / steps
+    k0 = int(np.argmin(far.max(axis=0)))  # among the valid samples
+    # the sketch → that sample, then its ladder's rungs either way along the sweep
+    mini = _positions_only(full, valid[[k0]], q0.copy())
     mini.x[:] = assembly.positions[:, :, None]
     mini.status[:] = 0
-    leg = _wrapped(q[:, k0 : k0 + 1] - q0, plan)
+    leg = _wrapped(q[:, valid[[k0]]] - q0, plan)
     first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)
-    first_plan = take(plan, np.array([k0]))
+    first_plan = take(plan, valid[[k0]])
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
         run_steps(first_plan, mini, 0)
-    full.x[:] = mini.x
-    # then along the sweep: at stage s, sample i stands s/S of its way from k0 along the sweep
-    jump = np.abs(_wrapped(np.diff(q, axis=1), plan)) / steps
-    jump = np.where(np.isfinite(jump), jump, 0.0).max(axis=0)
-    walked = np.concatenate([[0.0], np.cumsum(jump)])
-    stages = int(min(max(np.ceil(np.max(np.abs(walked - walked[k0]))), 1), 4000))
-    idx = np.arange(n)
-    after = idx >= k0
-    c = _positions_only(full, slice(None), q)
-    for s in range(1, stages + 1):
-        target = walked[k0] + (walked[idx] - walked[k0]) * (s / stages)
-        ahead = np.searchsorted(walked, target, side="right") - 1
-        behind = np.searchsorted(walked, target, side="left")
-        at = np.where(after, np.clip(ahead, k0, idx), np.clip(behind, idx, k0))
-        if s == stages:  # its own value at last, whatever the rounding of ``target``
-            at = idx
-        c.q = q[:, at]  # the sweep's own values: its path, its turns
-        run_steps(plan, c, 0)
+    walked = np.concatenate([[0.0], np.cumsum(_moves(np.diff(q[:, valid], axis=1), plan, steps))])
+    span = max(walked[-1] - walked[k0], walked[k0] - walked[0])
+    h = max(1.0, span / MAX_RUNGS)
+    ahead, behind = _rungs(walked, k0, h)
+    rungs = np.concatenate([[k0], ahead, behind])
+    at = np.empty((*full.x.shape[:2], rungs.size))  # each rung's solved positions
+    at[:, :, 0] = mini.x[:, :, 0]
+    _climb(plan, full, valid[rungs], ahead.size, at)
+    order = np.argsort(rungs)
+    solved, at = rungs[order], at[:, :, order]  # sorted along the sweep
+    # finer ladders, each all at once from the solved samples behind it, while they are few
+    while (walked[-1] - walked[0]) * FINER / h <= valid.size / FINER:
+        h /= FINER
+        found = np.sort(np.concatenate(_rungs(walked, k0, h)))
+        new = found[~_among(found, solved)]
+        if not new.size:
+            break
+        x = _from_solved(plan, full, valid[new], at[:, :, _behind(solved, new, k0)], chunk, workers)
+        solved = np.concatenate([solved, new])
+        order = np.argsort(solved)
+        solved, at = solved[order], np.concatenate([at, x], axis=2)[:, :, order]
+    # every sample from the nearest solved one behind it (or itself), by chunks, in place
+    idx = np.zeros(q.shape[1], dtype=np.intp)  # a sample not valid fails by its own input
+    idx[valid] = _behind(solved, np.arange(valid.size), k0)
+
+    def one(s: int) -> None:
+        part = slice(s, min(s + chunk, q.shape[1]))
+        c = _positions_only(full, part, q[:, part])
+        c.x[:] = at[:, :, idx[part]]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            run_steps(take(plan, part), c, 0)
+
+    _over_chunks(q.shape[1], chunk, workers, one)
+
+
+def _rungs(walked: F, k0: int, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """Rungs a spacing ``h`` apart along a sweep, as indices into it: those after ``k0`` and
+    those before, each in order away from it (``k0`` itself is not listed).
+
+    ``walked`` is the sweep's path length in stages at each sample. A rung is the last sample
+    within ``h`` of the previous rung (or the next sample, if the sweep itself jumps further),
+    so a sample lies at most ``h``, beyond any jump of the sweep's own, past the last rung
+    before it.
+    """
+    n = walked.size
+    up = walked[k0] + h * np.arange(1, int(np.ceil((walked[-1] - walked[k0]) / h)) + 1)
+    ahead = _distinct(np.clip(np.searchsorted(walked, up, side="right") - 1, k0, n - 1))
+    down = walked[k0] - h * np.arange(1, int(np.ceil((walked[k0] - walked[0]) / h)) + 1)
+    behind = _distinct(np.clip(np.searchsorted(walked, down, side="left"), 0, k0))
+    return ahead[ahead > k0], behind[behind < k0]
+
+
+def _distinct(ordered: np.ndarray) -> np.ndarray:
+    """The distinct values of an ordered array, in its order (``np.unique`` sorts again)."""
+    keep = np.ones(ordered.size, dtype=bool)
+    keep[1:] = ordered[1:] != ordered[:-1]
+    return ordered[keep]
+
+
+def _among(values: np.ndarray, ordered: np.ndarray) -> np.ndarray:
+    """Which of ``values`` are in ``ordered`` (ascending, not empty)."""
+    at = np.minimum(np.searchsorted(ordered, values), ordered.size - 1)
+    return ordered[at] == values  # type: ignore[no-any-return]
+
+
+def _moves(delta: F, plan: SolvePlan, steps: F) -> F:
+    """Each step of a sweep in stages: its largest input move over that input's stage size,
+    angles the shorter way round (q and q ± 2π are one pose)."""
+    turns = np.array([kind == "angle" for kind in plan.input_kinds])[:, None]
+    whole = np.where(turns, 2 * np.pi * np.round(delta / (2 * np.pi)), 0.0)
+    return np.abs((delta - whole) / steps).max(axis=0)  # type: ignore[no-any-return]
+
+
+def _behind(solved: np.ndarray, idx: np.ndarray, k0: int) -> np.ndarray:
+    """For each sample of ``idx``, the position in ``solved`` (sorted, holding ``k0``) of the
+    nearest solved sample between it and ``k0`` (itself, if solved)."""
+    up = np.searchsorted(solved, idx, side="right") - 1  # the last solved ≤ i
+    down = np.searchsorted(solved, idx, side="left")  # the first solved ≥ i
+    return np.where(idx >= k0, up, down)
+
+
+def _from_solved(
+    plan: SolvePlan,
+    full: Chunk,
+    samples: np.ndarray,
+    start: F,
+    chunk: int,
+    workers: int | None,
+) -> F:
+    """The positions of ``samples``, each solved from its column of ``start`` (the solution
+    of a sample behind it), by chunks; the samples' statuses are left as they are."""
+    out = np.empty_like(start)
+
+    def one(s: int) -> None:
+        part = slice(s, min(s + chunk, samples.size))
+        c = _positions_only(full, samples[part], _at(full.q, samples[part]))
+        c.x[:] = start[:, :, part]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            run_steps(take(plan, samples[part]), c, 0)
+        out[:, :, part] = c.x
+
+    _over_chunks(samples.size, chunk, workers, one)
+    return out
+
+
+def _climb(plan: SolvePlan, full: Chunk, rungs: np.ndarray, n_ahead: int, at: F) -> None:
+    """Solve the ladder's rungs (``rungs``: the sketch's sample, those ahead, those behind),
+    each from the one before it, both ways at once: ``at[:, :, i]`` is rung i's solution,
+    filled in from ``at[:, :, 0]``."""
+    ahead = list(range(1, 1 + n_ahead))
+    behind = list(range(1 + n_ahead, len(rungs)))
+    for r in range(max(len(ahead), len(behind))):
+        here = [side[r] for side in (ahead, behind) if r < len(side)]
+        prev = [side[r - 1] if r else 0 for side in (ahead, behind) if r < len(side)]
+        samples = rungs[here]
+        c = _positions_only(full, samples, _at(full.q, samples))
+        c.x[:] = at[:, :, prev]
+        c.status[:] = 0
+        run_steps(take(plan, samples), c, 0)
+        at[:, :, here] = c.x
 
 
 def _continue_from_sketch(
@@ -469,30 +626,39 @@ def _continue_from_sketch(
     steps: F,
     samples: np.ndarray,
     long_way: bool,
+    chunk: int,
+    workers: int | None,
 ) -> None:
     """Samples the sweep could not reach: straight from the sketch, the shorter way round (or
-    the longer, past what the shorter way could not pass)."""
+    the longer, past what the shorter way could not pass), by chunks of them."""
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    target = full.q[:, samples]
+    target = _at(full.q, samples)
     delta = _wrapped(target - q0, plan)
     if long_way:
         for i, kind in enumerate(plan.input_kinds):
             if kind == "angle":
                 delta[i] -= 2 * np.pi * np.sign(delta[i])
     stages = int(min(max(np.ceil(np.nanmax(np.abs(delta) / steps)), 1), 400))
-    c = _positions_only(full, samples, q0.copy())
-    c.x[:] = assembly.positions[:, :, None]
-    c.status[:] = 0
-    c.failed[:] = -1
-    plan = take(plan, samples)
-    for k in range(1, stages + 1):
-        c.q = q0 + delta * (k / stages)
-        run_steps(plan, c, 0)
-    c.q = target
-    run_steps(plan, c, 0)
-    full.x[:, :, samples] = c.x
-    full.status[samples] = c.status
-    full.failed[samples] = c.failed
+
+    def one(s: int) -> None:
+        part = slice(s, min(s + chunk, samples.size))
+        these = samples[part]
+        c = _positions_only(full, these, q0.copy())
+        c.x[:] = assembly.positions[:, :, None]
+        c.status[:] = 0
+        c.failed[:] = -1
+        here = take(plan, these)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            for k in range(1, stages + 1):
+                c.q = q0 + delta[:, part] * (k / stages)
+                run_steps(here, c, 0)
+            c.q = target[:, part]
+            run_steps(here, c, 0)
+        full.x[:, :, these] = c.x
+        full.status[these] = c.status
+        full.failed[these] = c.failed
+
+    _over_chunks(samples.size, chunk, workers, one)
 
 
 def assemble(plan: SolvePlan) -> Assembly:
