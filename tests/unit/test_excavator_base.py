@@ -3,9 +3,14 @@ support polygon and its tipping lines."""
 
 from __future__ import annotations
 
-import numpy as np
-import pytest
+from pathlib import Path
 
+import numpy as np
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+
+from excavkin.cli import main
 from excavkin.errors import ModelError, UnitError
 from excavkin.excavator.base import convex_hull
 from excavkin.excavator.machine_file import loads_machine
@@ -151,3 +156,54 @@ def test_convex_hull_drops_inner_and_collinear_points() -> None:
 def test_lift_hook_point() -> None:
     m = loads_machine(_text('\n[lift]\npoint = "L"\n'), "m.toml")
     assert m.lift_point == "L"
+
+
+# ------------------------------------------------------------------ the command line
+def test_cli_lift(tmp_path: Path) -> None:
+    out, png = tmp_path / "lift.csv", tmp_path / "lift.png"
+    args = ["excavator", "lift", str(MACHINE), "-o", str(out), "--plot", str(png)]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    assert "ISO 10567" in r.output and "radius 6.0 m" in r.output and "*" in r.output
+    assert png.is_file()
+    table = pd.read_csv(out)
+    assert set(table["over"]) == {"front", "side"} and set(table["limit"]) == {
+        "hydraulic",
+        "tipping",
+    }
+    # each row's rating is the lesser of its two parts
+    np.testing.assert_allclose(
+        table["rated_load"],
+        np.minimum(0.75 * table["tipping_load"], 0.87 * table["hydraulic_load"]),
+        rtol=1e-12,
+    )
+    again = CliRunner().invoke(main, args)
+    assert again.exit_code == 2 and "--force" in again.output and "ISO 10567" not in again.output
+    r = CliRunner().invoke(main, ["excavator", "lift", str(MACHINE), "--step", "0m"])
+    assert r.exit_code == 2 and "--step" in r.output
+
+
+def test_cli_stability(tmp_path: Path) -> None:
+    out = tmp_path / "s.csv"
+    args = ["excavator", "stability", str(MACHINE), "--samples", "5", "-o", str(out)]
+    r = CliRunner().invoke(main, [*args, "--map", str(tmp_path / "m"), "--swing", "side"])
+    assert r.exit_code == 0, r.output
+    assert "tipping lines" in r.output and "front 1825" in r.output and "least tipping" in r.output
+    for name in ("tipping-front", "tipping-side", "limits-arm", "limits-bucket"):
+        assert (tmp_path / f"m-{name}.png").is_file()
+    table = pd.read_csv(out)
+    assert list(table["cylinder"]) == ["arm", "bucket"] * 2
+    lesser = np.minimum(
+        np.minimum(table["hydraulic_force"], table["tipping_force"]), table["slipping_force"]
+    )
+    np.testing.assert_allclose(table["force"], lesser, rtol=1e-9)
+
+
+def test_cli_without_base_is_one_clear_error(tmp_path: Path) -> None:
+    bare = tmp_path / "bare.toml"
+    bare.write_text(_drop(_text(), "base"), encoding="utf-8")
+    for cmd in (["stability", str(bare), "--samples", "3"], ["lift", str(bare)]):
+        r = CliRunner().invoke(main, ["excavator", *cmd])
+        assert r.exit_code == 2, r.output
+        assert r.output.startswith(f"excavkin: error: {bare} [base]: the machine has no base")
+        assert len(r.output.strip().splitlines()) == 1
