@@ -110,6 +110,7 @@ def test_missing_part_and_units() -> None:
         ('\n[lift]\npoint = "A"\n', r"\[lift\] 'point'.*not a point of the stick"),
         ("\n[lift]\nhook = 1\n", r"\[lift\].*unknown key hook"),
         ("\n[base.blade]\nposition = 2600\n", r"\[base\.blade\].*'width' is missing"),
+        ("\n[base.blade]\nposition = 4e6\nwidth = 1\n", r"\[base\.blade\] 'position'.*at most"),
         ("\n[base.outriggers]\npoints = []\n", r"\[base\.outriggers\] 'points'"),
         ("\n[base.outriggers]\npoints = [[1, 2, 3]]\n", r"\[base\.outriggers\] 'points'"),
     ],

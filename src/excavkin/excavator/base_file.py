@@ -73,7 +73,7 @@ def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> Base
             "shoe_width",
         )
     centre = _coordinate(
-        r, r.field_qty(under_t, "track_centre", "length", table, swing_axis), table
+        r, r.field_qty(under_t, "track_centre", "length", table, swing_axis), table, "track_centre"
     )
     friction = within(
         r,
@@ -89,7 +89,9 @@ def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> Base
         bt = r.subtable(t, "blade", "base.blade")
         r.keys(bt, {"position", "width"}, "base.blade")
         blade = (
-            _coordinate(r, r.field_qty(bt, "position", "length", "base.blade"), "base.blade"),
+            _coordinate(
+                r, r.field_qty(bt, "position", "length", "base.blade"), "base.blade", "position"
+            ),
             within(
                 r,
                 r.field_qty(bt, "width", "length", "base.blade"),
@@ -142,7 +144,7 @@ def read_lift_point(r: MachineReader, data: dict[str, Any]) -> str | None:
     return r.text(t, "point", "lift") if "point" in t else None
 
 
-def _coordinate(r: MachineReader, value: float, table: str, key: str = "track_centre") -> float:
+def _coordinate(r: MachineReader, value: float, table: str, key: str) -> float:
     return within(r, value, table, key, -_MAX_X, _MAX_X, "m", open_low=False)
 
 

@@ -26,7 +26,7 @@ Everything is vectorised over poses (and the few tipping lines); the front's wei
 comes from the engine's positions (:attr:`Machine.mass_points`).
 
 Tool forces (ISO 6015) are then capped by these limits as well (:func:`capped_tool_forces`,
-:func:`base_rated_force`), with the limit that binds named, as ISO 6015 §3.16–3.19 and §4.5
+:func:`base_rated_force`), with the limit that binds named, as ISO 6015 §3.17–3.19 and §4.5
 name them: the hydraulic limit (a cylinder), the tipping limit, the slipping limit.
 """
 
