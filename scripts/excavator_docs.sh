@@ -5,3 +5,5 @@ cd "$(dirname "$0")/.."
 m=examples/excavator_machine.toml
 excavkin excavator ranges "$m" --plot docs/img/excavator-working-range.png --force
 excavkin excavator forces "$m" --samples 41 --map docs/img/excavator-force --force
+excavkin excavator stability "$m" --samples 31 --map docs/img/excavator-stability --force
+excavkin excavator lift "$m" --plot docs/img/excavator-lift-chart.png --force

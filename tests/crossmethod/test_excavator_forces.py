@@ -99,6 +99,21 @@ def test_handbook_levers_against_general_kinetostatics(machine: Machine, working
             )
 
 
+def _cylinder_weights(machine: Machine) -> list[PointForce]:
+    """Half of each cylinder's weight on each end pin that moves (the machine file's reading
+    of a cylinder's mass), on a body holding the pin."""
+    bodies = [b for b in machine.mechanism.model.bodies if not b.ground]
+    out = []
+    for cyl, ends in zip(machine.cylinders, machine.pins.cyl_ends, strict=True):
+        for pin in ends:
+            body = next((b.name for b in bodies if pin in b.points), None)
+            if body is not None:
+                w = (0.0, -0.5 * cyl.mass * machine.gravity)
+                out.append(PointForce(f"{cyl.driver}@{pin}", body, pin, w))
+    assert sum(c.mass for c in machine.cylinders) > 0.0  # the example's cylinders weigh
+    return out
+
+
 def test_holding_forces_with_gravity_match_kinetostatics(machine: Machine) -> None:
     L = _poses(machine, 8, 23)
     tf = tool_forces(machine, L, "bucket", at="tip", gravity=True)
@@ -111,6 +126,7 @@ def test_holding_forces_with_gravity_match_kinetostatics(machine: Machine) -> No
         loads=[
             PointForce("soil", machine.front.bucket, machine.front.tip, soil),
             Gravity(machine.gravity),
+            *_cylinder_weights(machine),
         ],
     )
     for h in range(3):

@@ -218,3 +218,61 @@ def test_design_command_line_values(tmp_path_factory, param, start, stop, tol) -
     ):
         check_writes_or_refuses(args, out)
         out.unlink(missing_ok=True)
+
+
+def _base_lines(text: str) -> list[int]:
+    """Indices of the lines of the [base…] and [lift] tables and of the cylinders' masses."""
+    out, inside = [], False
+    for k, line in enumerate(text.splitlines()):
+        if line.startswith("["):
+            inside = line.startswith(("[base", "[lift"))
+        if inside or line.startswith("mass = "):
+            out.append(k)
+    return out
+
+
+#: the example machine with a lowered blade, outriggers and a lifting hook, all fuzzed
+BASE_MACHINE = (
+    MACHINE
+    + "\n[base.blade]\nposition = 2600\nwidth = 2500\n"
+    + "\n[base.outriggers]\npoints = [[-1825, 2200], [-1825, -2200]]\n"
+    + '\n[lift]\npoint = "L"\n'
+)
+
+
+def mutate_base(text: str, data: st.DataObject) -> str:
+    """Like :func:`mutate`, on a line of the base-machine and lift tables."""
+    lines = text.splitlines()
+    k = data.draw(st.sampled_from(_base_lines(text)), label="line")
+    action = data.draw(st.sampled_from(["value", "delete", "junk", "duplicate"]), label="action")
+    line = lines[k]
+    if action == "value" and "=" in line:
+        lines[k] = f"{line.split('=', 1)[0]}= {data.draw(VALUES, label='value')}"
+    elif action == "delete":
+        del lines[k]
+    elif action == "duplicate":
+        lines.insert(k, line)
+    else:
+        lines.insert(k, data.draw(st.sampled_from(["[", "x =", "[base.x]", "[lift]", "\x00"])))
+    return "\n".join(lines) + "\n"
+
+
+@FUZZ
+@given(data=st.data())
+def test_mutated_base_tables(tmp_path_factory, data) -> None:
+    folder = tmp_path_factory.mktemp("base")
+    (folder / "excavator.toml").write_text(EXCAVATOR)
+    path = folder / "machine.toml"
+    path.write_text(mutate_base(BASE_MACHINE, data))
+    check_outcome(["excavator", "ik", str(path), "--x", "7m", "--y", "-1.5m"], str(path))
+
+
+@settings(FUZZ, max_examples=12)
+@given(data=st.data())
+def test_mutated_base_tables_through_the_lift_table(tmp_path_factory, data) -> None:
+    """The same files all the way through a lift table: a table, or one clear error."""
+    folder = tmp_path_factory.mktemp("lift")
+    (folder / "excavator.toml").write_text(EXCAVATOR)
+    path = folder / "machine.toml"
+    path.write_text(mutate_base(BASE_MACHINE, data))
+    check_outcome(["excavator", "lift", str(path), "--step", "3m"], str(path))

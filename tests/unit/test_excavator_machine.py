@@ -59,13 +59,31 @@ def test_example_machine_reads_in_si() -> None:
             r"dig must be 'extend' or 'retract'",
         ),
         ("[gravity]", "[gravity]\nh = 1", r"\[gravity\].*unknown key h"),
-        ('lip = "W"', 'lip = "T"', r"\[front\] 'lip'.*tooth tip and the lip coincide"),
+        ('lip = "W"', 'lip = "W"\nfloor = "N"', r"\[front\] 'floor'.*'N' is not a point"),
     ],
 )
 def test_errors_name_table_and_entry(old: str, new: str, pattern: str) -> None:
     with pytest.raises(ModelError, match=pattern) as info:
         loads_machine(_text(**{old: new}), "m.toml")
     assert str(info.value).startswith("m.toml")
+
+
+def test_bucket_without_teeth() -> None:
+    """A tip that is the lip (ISO 6015 needs only the lip): the machine reads, its tool
+    forces at the tip are those at the lip, and the vertical-wall depth needs a floor point."""
+    m = loads_machine(_text(**{'tip = "T"': 'tip = "W"'}), "m.toml")
+    assert m.front.tip == m.front.lip == "W" and not m.has_cutting_direction
+    assert m.tip_radius == m.lip_radius
+    with pytest.raises(ModelError, match=r"m.toml \[front\] 'floor'.*cutting direction"):
+        _ = m.wall_bucket_angle
+    omitted = loads_machine(re.sub(r'\ntip = "T".*\n', "\n", _text()), "m.toml")
+    assert omitted.front.tip == "W"
+    # floor → lip along pin → lip: the wall angle hangs the bucket straight down
+    floor = loads_machine(_text(**{'tip = "T"': 'tip = "W"\nfloor = "Q"'}), "m.toml")
+    assert floor.has_cutting_direction
+    assert floor.wall_bucket_angle == pytest.approx(-np.pi / 2, abs=1e-15)
+    with pytest.raises(ModelError, match=r"\[front\] 'floor'.*coincides with the lip"):
+        loads_machine(_text(**{'tip = "T"': 'tip = "W"\nfloor = "W"'}), "m.toml")
 
 
 def test_bare_numbers_need_units() -> None:

@@ -1,4 +1,4 @@
-"""``excavkin excavator MACHINE.toml ranges|forces|ik``: an excavator front's spec sheet.
+"""``excavkin excavator ranges|forces|ik|stability|lift MACHINE.toml``: an excavator's spec sheet.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
 the machine, pint) are imported inside the commands.
@@ -29,9 +29,20 @@ def _save_png(fig, path: str, force: bool) -> None:  # type: ignore[no-untyped-d
 
 #: kinds of the excavator tables' columns (SI, plain names, like every excavkin table)
 TABLE_KINDS = {
-    **dict.fromkeys(("value", "x", "y", "boom", "arm", "bucket", "radius"), "length"),
+    **dict.fromkeys(("value", "x", "y", "boom", "arm", "bucket", "radius", "height"), "length"),
     "bucket_angle": "angle",
-    **dict.fromkeys(("force", "own_limit"), "force"),
+    **dict.fromkeys(
+        (
+            "force",
+            "own_limit",
+            "hydraulic_force",
+            "tipping_force",
+            "slipping_force",
+            "cylinders_only",
+        ),
+        "force",
+    ),
+    **dict.fromkeys(("rated_load", "tipping_load", "hydraulic_load"), "mass"),
     "moment": "torque",
 }
 
@@ -53,7 +64,7 @@ def _mm(v: float) -> str:
 
 @click.group("excavator", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Working ranges, tool forces and inverse kinematics of an excavator MACHINE file."""
+    """Working ranges, tool forces, stability, lift capacity and IK of an excavator MACHINE."""
 
 
 @command.command("ranges")
@@ -301,3 +312,313 @@ def ik(machine: str, x: str, y: str, angle: str) -> None:
         )
     else:
         click.echo("no valid solution: the pose is out of the working range")
+
+
+def _swing_option(text: str) -> float | str:
+    """``front``, ``side`` or an angle such as ``30deg``."""
+    if text in ("front", "side"):
+        return text
+    return si_value(text, "angle", "--swing")
+
+
+@command.command("stability")
+@click.argument("machine", type=click.Path(dir_okay=False))
+@click.option(
+    "--samples", default=31, show_default=True, help="Grid points per stroke of the sweep."
+)
+@click.option(
+    "--swing",
+    default="front",
+    show_default=True,
+    help="Where the front points: front (along the tracks), side, or an angle such as 30deg.",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    help="The capped rated forces as a table (.csv or .parquet).",
+)
+@click.option(
+    "--map",
+    "map_prefix",
+    type=click.Path(dir_okay=False),
+    help="Write PREFIX-tipping-front.png, PREFIX-tipping-side.png (tipping load at the bucket "
+    "pin) and PREFIX-limits-arm.png, PREFIX-limits-bucket.png (which limit binds).",
+)
+@click.option("--force", is_flag=True, help="Replace output files that exist.")
+@handle_errors
+def stability(
+    machine: str,
+    samples: int,
+    swing: str,
+    output: str | None,
+    map_prefix: str | None,
+    force: bool,
+) -> None:
+    """Print tipping lines, the rated tool forces capped by tipping and slipping (ISO 6015
+    §4.5), and the stability over a sweep of the strokes."""
+    import numpy as np
+
+    from excavkin.excavator.ranges import sweep
+    from excavkin.excavator.stability import (
+        base_rated_force,
+        capped_tool_forces,
+        need_base,
+    )
+    from excavkin.excavator.stability import (
+        stability as stability_of,
+    )
+    from excavkin.outputs.tables import check_target, write_table
+
+    if samples < 2:
+        raise click.BadParameter("at least 2", param_hint="--samples")
+    sw = _swing_option(swing)
+    maps = ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
+    if output:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    if map_prefix:
+        for name in maps:
+            check_target(f"{map_prefix}-{name}.png", force=force, suffixes=(".png",))
+    m = _machine(machine)
+    base = need_base(m)
+    g = m.gravity
+    total = m.front_mass + base.mass
+    click.echo(f"{m.name} — stability (forces kN, lengths mm)")
+    click.echo(
+        f"masses kg: front {m.front_mass:.0f} (bodies and cylinders), upper structure "
+        f"{base.upper.mass:.0f}, counterweight {base.counterweight.mass:.0f}, undercarriage "
+        f"{base.undercarriage.mass:.0f}; whole machine {total:.0f}; ground friction "
+        f"{base.friction:.2f}"
+    )
+    lines = base.tipping_lines(m.swing_axis)
+    click.echo(
+        "tipping lines (distance from the swing axis): "
+        + ", ".join(f"{ln.name} {ln.offset * 1e3:.0f}" for ln in lines)
+    )
+    where = sw if isinstance(sw, str) else f"swung {math.degrees(sw):.1f}°"
+    click.echo(f"Rated tool forces over the {where}" if isinstance(sw, str) else f"Rated, {where}")
+    click.echo(
+        "(capped by the cylinders, tipping and slipping: ISO 6015 §3.17–3.19, §4.5; the front's "
+        "weight counts for tipping and slipping only)"
+    )
+    click.echo(
+        f"{'standard':<10} {'cylinder':<8} {'force':>7} {'cyl.':>7} {'tipping':>8} "
+        f"{'(line)':<12} {'slip':>7}  {'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
+    )
+    rows = []
+    for at, std in (("lip", "ISO 6015"), ("tip", "SAE J1179")):
+        for working in ("arm", "bucket"):
+            r = base_rated_force(m, working, at=at, swing=sw)  # type: ignore[arg-type]
+            rf = r.rated
+            click.echo(
+                f"{std:<10} {working:<8} {rf.force / 1e3:7.1f} {r.hydraulic / 1e3:7.1f} "
+                f"{r.tipping / 1e3:8.1f} {'(' + r.tipping_line + ')':<12} "
+                f"{r.slipping / 1e3:7.1f}  {rf.lengths[0] * 1e3:6.0f} {rf.lengths[1] * 1e3:6.0f} "
+                f"{rf.lengths[2] * 1e3:6.0f}  {rf.limiting}"
+            )
+            rows.append(
+                {
+                    "standard": std,
+                    "cylinder": working,
+                    "force": rf.force,
+                    "hydraulic_force": r.hydraulic,
+                    "tipping_force": r.tipping,
+                    "tipping_line": r.tipping_line,
+                    "slipping_force": r.slipping,
+                    "cylinders_only": r.cylinders_only.force,
+                    "x": rf.point[0],
+                    "y": rf.point[1],
+                    "boom": rf.lengths[0],
+                    "arm": rf.lengths[1],
+                    "bucket": rf.lengths[2],
+                    "limited_by": rf.limiting,
+                }
+            )
+    click.echo("cyl.: the cylinders' limit at that pose; slip: where the machine slides")
+    pose = sweep(m, samples)
+    ok = pose.ok & pose.within_stroke
+    L = pose.lengths[ok]
+    # the bucket pin moves with the boom and the arm alone: a finer grid of those two
+    dense = 4 * samples - 3
+    pin_pose = sweep(m, (dense, dense, 5))
+    pin_ok = pin_pose.ok & pin_pose.within_stroke
+    pin = pin_pose.result.point(m.pins.bucket_pin)[0][pin_ok]
+    click.echo(
+        f"Over the working range ({samples}³ stroke sweep; {dense}² × 5 for the bucket pin; the "
+        "front's weight at each pose)"
+    )
+    tipping = {}
+    for over in ("front", "side"):
+        st = stability_of(m, pin_pose.lengths[pin_ok], m.pins.bucket_pin, swing=over)
+        tipping[over] = st.tipping_load
+        k = int(np.argmin(st.tipping_load))
+        j = int(np.argmin(st.margin))
+        click.echo(
+            f"  over the {over}: least tipping load of a load hung at the bucket pin "
+            f"{st.tipping_load[k] / 1e3:.1f} kN ({st.tipping_load[k] / g:.0f} kg) at x "
+            f"{pin[k, 0] * 1e3:.0f}, y {pin[k, 1] * 1e3:.0f}; unloaded, the centre of mass "
+            f"stays {st.margin[j] * 1e3:.0f} or more inside the support"
+        )
+    capped = {}
+    for working in ("arm", "bucket"):
+        c = capped_tool_forces(m, L, working, at="lip", gravity=True, swing=sw)  # type: ignore[arg-type]
+        capped[working] = c
+        kinds = np.array([s.split(" ")[0] for s in c.limiting.astype(str)])
+        share = ", ".join(
+            f"{k} {100 * np.mean(kinds == k):.0f} %" for k in dict.fromkeys(sorted(kinds)) if k
+        )
+        k = int(np.nanargmax(c.force))
+        click.echo(
+            f"  {working}-cylinder tool force (lip, with gravity): largest {c.force[k] / 1e3:.1f}"
+            f" ({c.limiting[k]}); limited by {share}"
+        )
+    if output:
+        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+    if map_prefix:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from excavkin.excavator.stability_plots import plot_limit_map, plot_value_map
+
+        for over in ("front", "side"):
+            fig = plot_value_map(
+                m,
+                pin,
+                tipping[over] / g / 1e3,
+                label="tipping load (t)",
+                title=f"tipping load of a load at the bucket pin, over the {over}",
+                log=True,
+            ).figure
+            _save_png(fig, f"{map_prefix}-tipping-{over}.png", force)
+        for working, c in capped.items():
+            lip = c.hydraulic.pose.lip
+            fig = plot_limit_map(
+                m,
+                lip,
+                c.force,
+                c.limiting,
+                title=f"{working}-cylinder tool force (ISO 6015, lip): the binding limit",
+            ).figure
+            _save_png(fig, f"{map_prefix}-limits-{working}.png", force)
+
+
+def _kg(value: float, star: bool) -> str:
+    if not math.isfinite(value):
+        return ""
+    return f"{value:,.0f}".replace(",", " ") + ("*" if star else " ")
+
+
+@command.command("lift")
+@click.argument("machine", type=click.Path(dir_okay=False))
+@click.option(
+    "--step", default="1.5m", show_default=True, help="Grid step of load radius and height."
+)
+@click.option(
+    "--pressure",
+    type=click.Choice(["working", "relief"]),
+    default="working",
+    show_default=True,
+    help="The lifting (boom) cylinder's pressure for the hydraulic capacity.",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    help="The table, one row per height, radius and side (.csv or .parquet).",
+)
+@click.option("--plot", "plot", type=click.Path(dir_okay=False), help="Lift-chart PNG.")
+@click.option("--force", is_flag=True, help="Replace output files that exist.")
+@handle_errors
+def lift(
+    machine: str, step: str, pressure: str, output: str | None, plot: str | None, force: bool
+) -> None:
+    """Print the rated lift capacity (ISO 10567, kg) over load radius × height, over the front
+    and over the side."""
+    import numpy as np
+
+    from excavkin.excavator.lift import lift_table
+    from excavkin.outputs.tables import check_target, write_table
+
+    dr = si_value(step, "length", "--step")
+    if not 0.1 <= dr <= 10.0:
+        raise click.BadParameter("between 0.1 m and 10 m", param_hint="--step")
+    if output:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    if plot:
+        check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
+    m = _machine(machine)
+    t = lift_table(m, step=dr, pressure=pressure)  # type: ignore[arg-type]
+    g = m.gravity
+    click.echo(
+        f"{m.name} — rated lift capacity (ISO 10567), kg; load point {t.point}"
+        f"{' (bucket pin)' if t.point == m.pins.bucket_pin else ''}, bucket curled"
+    )
+    click.echo(
+        "the lesser of 75 % of the tipping load and 87 % of the hydraulic capacity (boom "
+        f"cylinders at {pressure} pressure, arm and bucket within their relief); "
+        "* hydraulic"
+    )
+    click.echo(
+        f"{'':>7}"
+        + "".join(f" | {f'radius {r:.1f} m':^17}" for r in t.radii)
+        + f" | {'at max reach':^26}"
+    )
+    click.echo(
+        f"{'height':>7}"
+        + f" | {'front':>8} {'side':>8}" * len(t.radii)
+        + f" | {'radius':>8} {'front':>8} {'side':>8}"
+    )
+    front, side = t.rated("front") / g, t.rated("side") / g
+    sf, ss = t.hydraulic_limited("front"), t.hydraulic_limited("side")
+    rows = []
+
+    def record(h: float, r: float, k: int, cap: object, i: int, L: np.ndarray) -> None:
+        for over in ("front", "side"):
+            rows.append(
+                {
+                    "height": h,
+                    "radius": r,
+                    "at_max_reach": k < 0,
+                    "over": over,
+                    "rated_load": cap.rated[over][i] / g,  # type: ignore[attr-defined]
+                    "limit": "hydraulic"
+                    if cap.hydraulic_limited[over][i]  # type: ignore[attr-defined]
+                    else "tipping",
+                    "tipping_load": cap.tipping[over][i] / g,  # type: ignore[attr-defined]
+                    "tipping_line": cap.tipping_line[over][i],  # type: ignore[attr-defined]
+                    "hydraulic_load": cap.hydraulic.load[i] / g,  # type: ignore[attr-defined]
+                    "hydraulic_limit": cap.hydraulic.limiting[i],  # type: ignore[attr-defined]
+                    "boom": L[0],
+                    "arm": L[1],
+                    "bucket": L[2],
+                }
+            )
+
+    R = len(t.radii)
+    for i, h in enumerate(t.heights):
+        cells = ""
+        for j, r in enumerate(t.radii):
+            if t.reachable[i, j]:
+                cells += f" | {_kg(front[i, j], sf[i, j]):>8} {_kg(side[i, j], ss[i, j]):>8}"
+                record(float(h), float(r), j, t.capacity, i * R + j, t.lengths[i, j])
+            else:
+                cells += f" | {'':>17}"
+        a = t.at_max_reach
+        if np.isfinite(t.max_reach[i]):
+            cells += (
+                f" | {t.max_reach[i]:>6.2f} m"
+                f" {_kg(a.rated['front'][i] / g, a.hydraulic_limited['front'][i]):>8}"
+                f" {_kg(a.rated['side'][i] / g, a.hydraulic_limited['side'][i]):>8}"
+            )
+            record(float(h), float(t.max_reach[i]), -1, a, i, t.max_reach_lengths[i])
+        click.echo(f"{h:6.1f}m{cells}")
+    if output:
+        frame = _si_table(rows, m.name)
+        click.echo(f"wrote {write_table(frame, output, force=force)}")
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from excavkin.excavator.stability_plots import plot_lift_chart
+
+        _save_png(plot_lift_chart(m, t).figure, plot, force)

@@ -15,14 +15,17 @@ when w digs, u = ±J_w/|J_w|, so P = −F·u and::
 
 Each **holding** cylinder h must then carry f_h = F·(u·J_h) + G_h, which its port relief bounds
 to −p_relief·A_annulus ≤ f_h ≤ p_relief·A_bore; where it would not, F is capped there and that
-cylinder is named as the limit (ISO 6015 "hydraulic limit"). Tipping and slipping of the base
-machine are not modelled. With ``gravity=False`` every G term is zero (the front weightless).
+cylinder is named as the limit (ISO 6015 "hydraulic limit"). The tipping and slipping limits of
+the base machine cap these forces in :mod:`excavkin.excavator.stability`. With
+``gravity=False`` every G term is zero (the front weightless); the masses are the model's bodies
+and the cylinders' (``Cylinder.mass``, half at each end pin).
 
 The ISO 6015 tool point is the bucket lip (cutting edge); SAE J1179 uses the tooth tip.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -44,6 +47,9 @@ from excavkin.kinematics.summary import batch_repr
 
 Working = Literal["arm", "bucket"]
 At = Literal["lip", "tip"]
+#: further limits of a tool force (the base machine's): ``limits(tf)`` → a list of
+#: (name per sample, cap per sample (N)), both shape (n,)
+Limits = Callable[["ToolForces"], Sequence[tuple[NDArray[np.str_], NDArray[np.float64]]]]
 
 
 @dataclass(frozen=True, slots=True)
@@ -88,22 +94,12 @@ class ToolForces:
     pose: FrontPose
 
 
-def _gravity_terms(machine: Machine, tr_pos: F, tr_d: F) -> F:
-    """G_c = g·Σ m_b ∂y_Sb/∂L_c, shape (n, 3)."""
-    plan = machine.mechanism.plan
-    out = np.zeros((tr_pos.shape[0], 3))
-    for j, body in enumerate(machine.mechanism.model.bodies):
-        if body.ground or body.mass is None or not body.mass:
-            continue
-        com = plan.shapes[body.name].com
-        p0, p1 = plan.body_base[j]
-        if p0 < 0:
-            continue
-        s, t = com if com is not None else (0.0, 0.0)
-        dw = tr_d[:, p1] - tr_d[:, p0]  # (n, 2, 3)
-        dy = tr_d[:, p0, 1] + s * dw[:, 1] + t * dw[:, 0]  # y of p0 + s·w + t·perp(w)
-        out += machine.gravity * body.mass * dy
-    return out
+def gravity_terms(machine: Machine, tr_d: F) -> F:
+    """G_c = g·Σ m_k ∂y_k/∂L_c over the front's mass points (bodies and cylinders), shape
+    (n, 3), from the transfer functions ``tr_d`` (shape (n, n_points, 2, 3))."""
+    mp = machine.mass_points
+    dy = mp.locate(tr_d)[:, :, 1, :]  # (n, k, 3)
+    return np.asarray(machine.gravity * np.einsum("k,nkc->nc", mp.mass, dy))
 
 
 def tool_forces(
@@ -140,7 +136,7 @@ def tool_forces(
     tr = transfer(machine, L)
     point = machine.front.lip if at == "lip" else machine.front.tip
     _, J = tr.point(machine, point)  # (n, 2, 3)
-    G = _gravity_terms(machine, tr.positions, tr.d) if gravity else np.zeros((len(L), 3))
+    G = gravity_terms(machine, tr.d) if gravity else np.zeros((len(L), 3))
     w = ROLES.index(working)
     cyl = machine.cylinders[w]
     sgn = 1.0 if cyl.dig == "extend" else -1.0
@@ -304,7 +300,13 @@ class RatedForce:
     limiting: str
 
 
-def rated_force(machine: Machine, working: Working = "bucket", *, at: At = "lip") -> RatedForce:
+def rated_force(
+    machine: Machine,
+    working: Working = "bucket",
+    *,
+    at: At = "lip",
+    limits: Limits | None = None,
+) -> RatedForce:
     """The rated arm- or bucket-cylinder tool force (ISO 6015 §5.2, SAE J1179 §3.3).
 
     The bucket is turned to where the bucket cylinder and its linkage give their largest
@@ -321,6 +323,11 @@ def rated_force(machine: Machine, working: Working = "bucket", *, at: At = "lip"
     working : {"arm", "bucket"}
     at : {"lip", "tip"}
         The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
+    limits : callable, optional
+        Further caps of the force beyond the cylinders' (the base machine's tipping and
+        slipping, :func:`excavkin.excavator.stability.base_rated_force`): the free strokes are
+        then put where the force capped by them too is largest, and a cap reached there is
+        named.
 
     Returns
     -------
@@ -334,6 +341,9 @@ def rated_force(machine: Machine, working: Working = "bucket", *, at: At = "lip"
         def evaluate(L: F) -> tuple[F, F]:
             tf = tool_forces(machine, L.reshape(-1, 3), role, at=at, gravity=False)
             f = tf.force if capped else tf.uncapped
+            if capped and limits is not None:
+                for _, cap in limits(tf):
+                    f = np.minimum(f, cap)
             o = np.where(np.isfinite(f) & tf.pose.ok & tf.pose.within_stroke, f, -np.inf)
             return o.reshape(L.shape[:2]), L
 
@@ -349,26 +359,34 @@ def rated_force(machine: Machine, working: Working = "bucket", *, at: At = "lip"
     free = (0,) if working == "arm" else (0, 1)
     _, pose = maximize_strokes(objective(working, True), machine, free, base=pose[0])
     tf = tool_forces(machine, pose, working, at=at, gravity=False)
-    # the search ends where caps cross: name every holding cylinder at its relief
-    limits = [str(tf.limiting[0])] if tf.limiting[0] == working else []
+    force = float(tf.force[0])
+    extra = [(str(names[0]), float(cap[0])) for names, cap in limits(tf)] if limits else []
+    for _, cap in extra:
+        force = min(force, cap)
+    # the search ends where caps cross: name every holding cylinder at its relief, and every
+    # further cap reached
+    named = [str(tf.limiting[0])] if tf.limiting[0] == working else []
     for h, cyl in enumerate(machine.cylinders):
         if ROLES[h] == working:
             continue
         lo, hi = cyl.force_limits(machine.circuits[cyl.circuit].relief)
         f_h = float(tf.cylinder_force[0, h])
         if np.isclose(f_h, hi, rtol=1e-6) or np.isclose(f_h, lo, rtol=1e-6):
-            limits.append(ROLES[h])
+            named.append(ROLES[h])
+    if force < float(tf.force[0]) * (1.0 - 1e-6):  # a further cap binds: no cylinder does
+        named = []
+    named += [name for name, cap in extra if np.isclose(cap, force, rtol=1e-6)]
     res = tf.pose.result
     tool = res.point(point)[0][0]
     radius = float(np.hypot(*(tool - res.point(pivot)[0][0])))
     return RatedForce(
         working,
         at,
-        float(tf.force[0]),
+        force,
         float(tf.uncapped[0]),
         float(tf.uncapped[0]) * radius,
         radius,
         pose[0],
         tool,
-        "+".join(limits) or str(tf.limiting[0]),
+        "+".join(named) or str(tf.limiting[0]),
     )

@@ -44,9 +44,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from excavkin.errors import InputError, ModelError
+from excavkin.excavator.base import BaseMachine
 from excavkin.kinematics import KinematicResult
 from excavkin.kinematics.summary import batch_repr
 from excavkin.mechanism import Mechanism
+from excavkin.model.entities import Load
 from excavkin.structure.plan import Dyad
 
 F = NDArray[np.float64]
@@ -94,6 +96,9 @@ class Cylinder:
         Identical cylinders in parallel (two boom cylinders on most crawler excavators).
     dig : {"extend", "retract"}
         Which motion digs (crowds the stick, curls the bucket) — extension on a backhoe.
+    mass : float
+        Mass of all ``count`` cylinders with their oil (kg), lumped half at each end pin
+        (its centre of mass at mid-length); 0 where the model's bodies already carry it.
     """
 
     role: str
@@ -105,6 +110,7 @@ class Cylinder:
     circuit: str
     count: int = 1
     dig: Literal["extend", "retract"] = "extend"
+    mass: float = 0.0
 
     @property
     def extended(self) -> float:
@@ -128,7 +134,12 @@ class Cylinder:
 
 @dataclass(frozen=True, slots=True)
 class Front:
-    """Names, in the general model, of the front's bodies and tool points."""
+    """Names, in the general model, of the front's bodies and tool points.
+
+    ``tip`` may be ``lip`` (a bucket without teeth). ``floor``, optional, is a point of the
+    bucket's floor behind the lip: floor → lip gives a toothless bucket's cutting direction
+    for the vertical-wall digging depth.
+    """
 
     boom: str
     stick: str
@@ -137,6 +148,7 @@ class Front:
     h_link: str
     tip: str
     lip: str
+    floor: str | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -173,6 +185,12 @@ class Machine:
         Length of the level-bottom cut for that working-range figure (m; 2.44 m = 8 ft).
     gravity : float
         g (m/s²), acting along −y on the bodies' masses.
+    base : BaseMachine, optional
+        Upper structure, counterweight, undercarriage and ground support, for tipping,
+        slipping and lift capacity (:mod:`excavkin.excavator.stability`).
+    lift_point : str, optional
+        The load point of lift capacity (ISO 10567): a point of the stick, the bucket or a
+        bucket link, such as a lifting hook; default the bucket pin.
     name, source : str
         For messages.
 
@@ -193,6 +211,8 @@ class Machine:
         swing_axis: float = 0.0,
         level_bottom: float = 2.44,
         gravity: float = 9.80665,
+        base: BaseMachine | None = None,
+        lift_point: str | None = None,
         name: str = "",
         source: str | None = None,
     ) -> None:
@@ -203,6 +223,8 @@ class Machine:
         self.swing_axis = float(swing_axis)
         self.level_bottom = float(level_bottom)
         self.gravity = float(gravity)
+        self.base = base
+        self._mass_points: MassPoints | None = None
         self.name = name or mechanism.name
         self.source = source
         missing = [r for r in ROLES if r not in cylinders]
@@ -234,15 +256,34 @@ class Machine:
         pos = mechanism.assembly.positions
         self._ground_xy = {n: pos[plan.points.index(n)] for n in mechanism.model.ground.points}
         q, t, w = (pos[plan.points.index(n)] for n in (self.pins.bucket_pin, front.tip, front.lip))
-        if np.hypot(*(t - w)) < 1e-6:
-            raise self._err(
-                "the tooth tip and the lip coincide: the teeth's direction (lip → tip) sets the "
-                "bucket's attitude for the vertical-wall digging depth",
-                "front",
-                "lip",
-            )
-        self._teeth_offset = float(wrap_angle(direction_angle(t - q) - direction_angle(t - w)))
+        # the cutting direction for the vertical-wall depth: the teeth (lip → tip), or for a
+        # bucket without teeth its floor (floor → lip); None where neither is known
+        self._teeth_offset: float | None = None
+        if np.hypot(*(t - w)) >= 1e-6:
+            self._teeth_offset = float(wrap_angle(direction_angle(t - q) - direction_angle(t - w)))
+        elif front.floor is not None:
+            f = pos[plan.points.index(front.floor)]
+            if np.hypot(*(w - f)) < 1e-6:
+                raise self._err("the floor point coincides with the lip", "front", "floor")
+            self._teeth_offset = float(wrap_angle(direction_angle(t - q) - direction_angle(w - f)))
+        self.lift_point = self.pins.bucket_pin if lift_point is None else lift_point
+        self._check_lift_point()
+        for c in self.cylinders:
+            if not (math.isfinite(c.mass) and c.mass >= 0.0):
+                raise self._err("mass must be zero or positive", f"cylinders.{c.role}", "mass")
         self._check_strokes()
+
+    def _check_lift_point(self) -> None:
+        f = self.front
+        carriers = (f.stick, f.bucket, f.side_link, f.h_link)
+        bodies = {b.name: b.points for b in self.mechanism.model.bodies}
+        if not any(self.lift_point in bodies[b] for b in carriers):
+            raise self._err(
+                f"the lift point {self.lift_point!r} is not a point of the stick, the bucket or "
+                "a bucket link",
+                "lift",
+                "point",
+            )
 
     def _check_strokes(self) -> None:
         """Refuse strokes that never assemble the front (a typo in a retracted length would
@@ -306,8 +347,8 @@ class Machine:
         for key in ("boom", "stick", "bucket", "side_link", "h_link"):
             if getattr(f, key) not in names:
                 raise self._err(f"no body {getattr(f, key)!r} in the model", "front", key)
-        for key in ("tip", "lip"):
-            if getattr(f, key) not in names[f.bucket]:
+        for key in ("tip", "lip", "floor"):
+            if getattr(f, key) is not None and getattr(f, key) not in names[f.bucket]:
                 raise self._err(
                     f"{getattr(f, key)!r} is not a point of the bucket {f.bucket!r}", "front", key
                 )
@@ -378,10 +419,59 @@ class Machine:
         return self._r_lip
 
     @property
+    def has_cutting_direction(self) -> bool:
+        """Whether the teeth (tip ≠ lip) or a floor point give the bucket's cutting direction."""
+        return self._teeth_offset is not None
+
+    @property
     def wall_bucket_angle(self) -> float:
         """Bucket angle (direction of pin → tip, rad) at which the teeth (lip → tip) point
-        straight down, so that the bucket shaves a vertical wall."""
+        straight down, so that the bucket shaves a vertical wall; for a bucket without teeth,
+        its floor (floor → lip).
+
+        Raises
+        ------
+        ModelError
+            A bucket without teeth and without a ``floor`` point.
+        """
+        if self._teeth_offset is None:
+            raise self._err(
+                "the tooth tip is the lip and no floor point is named: the cutting direction of "
+                "the vertical-wall digging depth is unknown",
+                "front",
+                "floor",
+            )
         return float(wrap_angle(np.asarray(-0.5 * np.pi + self._teeth_offset)))
+
+    @property
+    def mass_points(self) -> MassPoints:
+        """The front's masses as points: each body's centre of mass (the engine's own, from
+        :class:`~excavkin.kinetostatics.inertia.MassProperties`) and each cylinder's mass,
+        half at either end pin."""
+        if self._mass_points is None:
+            self._mass_points = _mass_points(self)
+        return self._mass_points
+
+    def weight_loads(self) -> list[Load]:
+        """The front's weight as loads of the general kinetostatics: the model's bodies
+        (:class:`~excavkin.kinetostatics.Gravity`) and half of each cylinder's mass at each end
+        pin that moves (a :class:`~excavkin.kinetostatics.PointForce` on a body holding it)."""
+        from excavkin.kinetostatics import Gravity, PointForce
+
+        loads: list[Load] = [Gravity(self.gravity)]
+        moving = [b for b in self.mechanism.model.bodies if not b.ground]
+        for cyl, ends in zip(self.cylinders, self.pins.cyl_ends, strict=True):
+            for pin in ends:
+                body = next((b.name for b in moving if pin in b.points), None)
+                if cyl.mass > 0.0 and body is not None:
+                    w = (0.0, -0.5 * cyl.mass * self.gravity)
+                    loads.append(PointForce(f"{cyl.driver}@{pin}", body, pin, w))
+        return loads
+
+    @property
+    def front_mass(self) -> float:
+        """Mass of the front: the model's moving bodies and the cylinders (kg)."""
+        return float(self.mass_points.mass.sum())
 
     def circuit(self, role: str) -> Circuit:
         """The circuit of the cylinder ``role``."""
@@ -440,6 +530,79 @@ class Machine:
             "<th>driver</th><th>count</th><th>bore/rod mm</th><th>pin to pin mm</th>"
             f"<th>working / relief MPa</th></tr></thead><tbody>{rows}</tbody></table></div>"
         )
+
+
+@dataclass(frozen=True, slots=True)
+class MassPoints:
+    """The front's masses as points, each a fixed linear combination of the model's points.
+
+    Attributes
+    ----------
+    names : tuple of str
+        A body's name, or ``"<cylinder driver>@<pin>"`` for half a cylinder's mass.
+    mass : ndarray, shape (k,)
+        kg.
+    coef : ndarray, shape (k, 2, n_points, 2)
+        ``position[k, a] = Σ coef[k, a, p, b]·point[p, b]``.
+    """
+
+    names: tuple[str, ...]
+    mass: F
+    coef: F
+
+    def locate(self, points: F) -> F:
+        """Positions (or their derivatives) of the mass points from those of the model's points.
+
+        Parameters
+        ----------
+        points : ndarray, shape (n, n_points, 2) or (n, n_points, 2, m)
+
+        Returns
+        -------
+        ndarray, shape (n, k, 2) or (n, k, 2, m)
+        """
+        return np.asarray(np.einsum("kapb,npb...->nka...", self.coef, points))
+
+
+def _mass_points(machine: Machine) -> MassPoints:
+    from excavkin.kinetostatics.inertia import MassProperties
+
+    plan = machine.mechanism.plan
+    props = MassProperties.from_plan(plan)
+    n_pts = len(plan.points)
+    names: list[str] = []
+    masses: list[float] = []
+    rows: list[F] = []
+    for j, body in enumerate(plan.model.bodies):
+        if props.mass[j] <= 0.0:
+            continue
+        p0, p1 = (int(i) for i in props.base[j])
+        s, t = (float(v) for v in props.com[j])
+        c = np.zeros((2, n_pts, 2))
+        # S = P0 + s·(P1 − P0) + t·perp(P1 − P0), perp(w) = (−w_y, w_x)
+        c[0, p0, 0] += 1.0 - s
+        c[0, p1, 0] += s
+        c[0, p0, 1] += t
+        c[0, p1, 1] -= t
+        c[1, p0, 1] += 1.0 - s
+        c[1, p1, 1] += s
+        c[1, p1, 0] += t
+        c[1, p0, 0] -= t
+        names.append(body.name)
+        masses.append(float(props.mass[j]))
+        rows.append(c)
+    for cyl, ends in zip(machine.cylinders, machine.pins.cyl_ends, strict=True):
+        if cyl.mass <= 0.0:
+            continue
+        for pin in ends:
+            c = np.zeros((2, n_pts, 2))
+            i = plan.points.index(pin)
+            c[0, i, 0] = c[1, i, 1] = 1.0
+            names.append(f"{cyl.driver}@{pin}")
+            masses.append(0.5 * cyl.mass)
+            rows.append(c)
+    coef = np.stack(rows) if rows else np.zeros((0, 2, n_pts, 2))
+    return MassPoints(tuple(names), np.array(masses, dtype=np.float64), coef)
 
 
 def as_lengths(lengths: ArrayLike) -> F:

@@ -20,7 +20,10 @@ relative to the machine file) or inline (a ``[model]`` table holding the model's
     [gravity]
     g = "9.80665 m/s^2"
 
-Masses, inertias and centres of mass are the model's (``[bodies]``).
+Masses, inertias and centres of mass of the front are the model's (``[bodies]``), plus each
+cylinder's optional ``mass``. The optional ``[base]`` (upper structure, counterweight,
+undercarriage, ground support) and ``[lift]`` tables are read by
+:mod:`excavkin.excavator.base_file`.
 """
 
 from __future__ import annotations
@@ -28,17 +31,18 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from excavkin.errors import ModelError, UnitError
+from excavkin.errors import ModelError
+from excavkin.excavator.base_file import read_base, read_lift_point
+from excavkin.excavator.file_reader import MachineReader as _Reader
+from excavkin.excavator.file_reader import within as _within
 from excavkin.excavator.machine import ROLES, Circuit, Cylinder, Front, Machine
 from excavkin.io.toml_model import (
-    TomlReader,
     build_model,
     load_model,
     read_text_file,
     read_toml,
 )
 from excavkin.mechanism import Mechanism
-from excavkin.units import to_si
 
 SCHEMA_VERSION = 1
 _TOP = {
@@ -51,6 +55,8 @@ _TOP = {
     "cylinders",
     "circuits",
     "gravity",
+    "base",
+    "lift",
 }
 _FRONT = {
     "boom",
@@ -60,43 +66,12 @@ _FRONT = {
     "h_link",
     "tip",
     "lip",
+    "floor",
     "ground_line",
     "swing_axis",
     "level_bottom",
 }
-_CYL = {"driver", "retracted", "stroke", "bore", "rod", "circuit", "count", "dig"}
-
-
-class _Reader(TomlReader):
-    """The model reader's units and errors, plus the machine file's field lookups."""
-
-    def subtable(self, data: dict[str, Any], key: str, where: str) -> dict[str, Any]:
-        t = data.get(key)
-        if not isinstance(t, dict):
-            raise self.err("is missing or not a table", where)
-        return t
-
-    def field_qty(
-        self, t: dict[str, Any], key: str, kind: str, table: str, default: float | None = None
-    ) -> float:
-        if key not in t:
-            if default is None:
-                raise self.err(f"{key!r} is missing", table)
-            return default
-        try:
-            return to_si(t[key], kind, self.units.get(kind))
-        except UnitError as exc:
-            raise UnitError(exc.problem, table=table, entry=key, source=self.source) from None
-
-    def text(self, t: dict[str, Any], key: str, table: str, default: str | None = None) -> str:
-        v = t.get(key, default)
-        if not isinstance(v, str):
-            raise self.err(
-                f"{key!r} must be a string" if key in t else f"{key!r} is missing",
-                table,
-                key if key in t else None,
-            )
-        return v
+_CYL = {"driver", "retracted", "stroke", "bore", "rod", "circuit", "count", "dig", "mass"}
 
 
 def loads_machine(text: str, source: str | None = None) -> Machine:
@@ -144,19 +119,22 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
 
     front_t = r.subtable(data, "front", "front")
     r.keys(front_t, _FRONT, "front")
-    front = Front(
-        *(
-            r.text(front_t, k, "front", d)
-            for k, d in (
-                ("boom", "boom"),
-                ("stick", "stick"),
-                ("bucket", "bucket"),
-                ("side_link", "side_link"),
-                ("h_link", "h_link"),
-                ("tip", None),
-                ("lip", None),
-            )
+    lip = r.text(front_t, "lip", "front")
+    names = {
+        k: r.text(front_t, k, "front", d)
+        for k, d in (
+            ("boom", "boom"),
+            ("stick", "stick"),
+            ("bucket", "bucket"),
+            ("side_link", "side_link"),
+            ("h_link", "h_link"),
+            ("tip", lip),  # a bucket without teeth: the tip is the lip
         )
+    }
+    front = Front(
+        **names,
+        lip=lip,
+        floor=r.text(front_t, "floor", "front") if "floor" in front_t else None,
     )
 
     circ_t = r.subtable(data, "circuits", "circuits")
@@ -218,6 +196,16 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
             circuit=r.text(spec, "circuit", table, role),
             count=count,
             dig=dig,
+            mass=_within(
+                r,
+                r.field_qty(spec, "mass", "mass", table, 0.0),
+                table,
+                "mass",
+                0.0,
+                1e6,
+                "kg",
+                open_low=False,
+            ),
         )
     grav = data.get("gravity", {})
     if not isinstance(grav, dict):
@@ -235,6 +223,16 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
     name = data.get("name", Path(source).stem if source else mech.name)
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], "name")
+    swing_axis = _within(
+        r,
+        r.field_qty(front_t, "swing_axis", "length", "front", 0.0),
+        "front",
+        "swing_axis",
+        -1e3,
+        1e3,
+        "m",
+        open_low=False,
+    )
     return Machine(
         mech,
         front,
@@ -250,16 +248,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
             "m",
             open_low=False,
         ),
-        swing_axis=_within(
-            r,
-            r.field_qty(front_t, "swing_axis", "length", "front", 0.0),
-            "front",
-            "swing_axis",
-            -1e3,
-            1e3,
-            "m",
-            open_low=False,
-        ),
+        swing_axis=swing_axis,
         level_bottom=_within(
             r,
             r.field_qty(front_t, "level_bottom", "length", "front", 2.44),
@@ -270,6 +259,8 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
             "m",
         ),
         gravity=g,
+        base=read_base(r, data, swing_axis),
+        lift_point=read_lift_point(r, data),
         name=str(name),
         source=source,
     )
@@ -277,30 +268,6 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
 
 #: the most cylinders acting together in one role
 MAX_COUNT = 16
-
-
-def _within(
-    r: _Reader,
-    value: float,
-    table: str,
-    key: str,
-    low: float,
-    high: float,
-    unit: str,
-    *,
-    open_low: bool = True,
-) -> float:
-    """``value`` if ``low < value ≤ high`` (``low ≤`` with ``open_low=False``), else an error
-    naming the file, the table and the entry."""
-    ok = (value > low if open_low else value >= low) and value <= high
-    if not ok:
-        side = "more than" if open_low else "at least"
-        raise r.err(
-            f"{key} = {value:.6g} {unit} must be {side} {low:g} and at most {high:g} {unit}",
-            table,
-            key,
-        )
-    return value
 
 
 def _model(r: _Reader, spec: Any, source: str | None) -> Mechanism:

@@ -121,7 +121,10 @@ def plot_working_range(
     ]
     legend = []
     right = xmax + 0.4
+    known = {f.key for f in ranges.figures}
     for n, (key, tag, kind) in enumerate(marks):
+        if key not in known:  # AF of a bucket without teeth or floor point
+            continue
         f = ranges.figure(key)
         tx, ty = float(f.tip[0]), float(f.tip[1])
         ax.plot(tx, ty, "o", color="tab:red", ms=4, zorder=5)

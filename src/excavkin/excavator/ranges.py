@@ -13,7 +13,9 @@ figure                       code  bucket orientation / constraint
 max digging reach                  any (farthest tip from the swing axis, any height)
 max reach at ground line           any, tip on the ground line
 max digging depth            AC    any (lowest tip); also its radius (AE)
-max vertical wall depth      AF    teeth vertical (lip → tip straight down), deepest tip
+max vertical wall depth      AF    teeth vertical (lip → tip straight down), deepest tip;
+                                   without teeth the floor (floor → lip); left out when
+                                   the machine names neither
 max cutting height                 any (highest tip)
 max dumping height                 bucket hanging (tip straight below the bucket pin)
 min dumping height                 boom fully raised, stick fully crowded, bucket hanging
@@ -466,16 +468,17 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
             deep.orientation,
         )
     )
-    wall = machine.wall_bucket_angle
-    _, L = maximize_strokes(_bucket_held(machine, wall, -1.0), machine, (0, 1))
-    add(
-        "max_vertical_wall_depth",
-        "AF",
-        "Maximum vertical wall digging depth",
-        L[0],
-        lambda t: g0 - t[1],
-        f"teeth (lip → tip) vertical: pin → tip at {np.degrees(wall):.1f}°",
-    )
+    if machine.has_cutting_direction:  # a bucket without teeth needs its floor point
+        wall = machine.wall_bucket_angle
+        _, L = maximize_strokes(_bucket_held(machine, wall, -1.0), machine, (0, 1))
+        add(
+            "max_vertical_wall_depth",
+            "AF",
+            "Maximum vertical wall digging depth",
+            L[0],
+            lambda t: g0 - t[1],
+            f"teeth (lip → tip) vertical: pin → tip at {np.degrees(wall):.1f}°",
+        )
     _, L = maximize_strokes(_free_objective(machine, lambda p: p.tip[:, 1]), machine, all3)
     add(
         "max_cutting_height",
