@@ -54,7 +54,8 @@ def main() -> None:
     ax.set_xlabel("coupler A-B [mm]")
     ax.set_ylabel("rocker O4-B [mm]")
     ax.set_title(
-        "4 096 crank-rocker designs (Sobol'), each over a full turn\n(projected: the ground O4.x varies from 90 to 115 mm too)",
+        "4 096 crank-rocker designs (Sobol'), each over a full turn\n"
+        "(projected: the ground O4.x varies from 90 to 115 mm too)",
         fontsize=10,
     )
     ax.legend(fontsize=8, loc="upper right")
