@@ -18,9 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from excavkin.errors import AssemblyError, InputError
+from excavkin.errors import AssemblyError
 from excavkin.kinematics import kernels, precision
-from excavkin.kinematics.change_points import ChangePoint, find_change_points, smooth_signs
+from excavkin.kinematics.change_points import ChangePoint, Tail, find_change_points
 from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.newton import rotary_branch_ok
 from excavkin.kinematics.result import Derived, KinematicResult, Status
@@ -65,7 +65,35 @@ class Assembly:
     newton_signs: tuple[float, ...]
 
 
-def solve_kinematics(
+#: A block: 65 536 consecutive samples, aligned at sample 0 (block k holds samples k·BLOCK to
+#: (k + 1)·BLOCK − 1). What a sample's result depends on beyond its own inputs is defined over
+#: its block — the precision check's scales, which dyads are searched for change points, where a
+#: Newton group's continuation starts (the block before's last reached sample) — so that a sweep
+#: solved whole and one solved part by part give the same numbers to the bit.
+BLOCK = 65536
+
+
+@dataclass(frozen=True, slots=True)
+class Carry:
+    """What one part of a sweep hands the next, so that the parts solve as the whole would.
+
+    Attributes
+    ----------
+    start : int
+        The next part's first sample (a multiple of :data:`BLOCK`).
+    tail : Tail, optional
+        The last samples before it, for the change points between the two.
+    reached : (ndarray, ndarray), optional
+        The positions (n_points, 2) and inputs (n_inputs,) of the last sample a Newton group
+        reached: the next block's continuation starts there.
+    """
+
+    start: int = 0
+    tail: Tail | None = None
+    reached: tuple[F, F] | None = None
+
+
+def solve_part(
     plan: SolvePlan,
     assembly: Assembly,
     q: F,
@@ -76,15 +104,17 @@ def solve_kinematics(
     chunk: int = 32768,
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
-    continuation: str = "side",
     unbuildable: np.ndarray | None = None,
     designs: DesignBatch | None = None,
-) -> KinematicResult:
-    """Positions, velocities and accelerations of every point for every sample.
+    carry: Carry | None = None,
+) -> tuple[KinematicResult, Carry]:
+    """Positions, velocities and accelerations of every point for consecutive samples of a
+    sweep, each dyad on its sketch side.
 
     Parameters
     ----------
     plan : SolvePlan
+        The plan (with a family of designs' constants taken at these samples, if any).
     assembly : Assembly
         From :func:`assemble`.
     q, qd, qdd : ndarray, shape (n_inputs, n)
@@ -96,24 +126,25 @@ def solve_kinematics(
         Threads solving chunks side by side (NumPy releases the GIL in its loops, and chunks
         write disjoint slices). Default: the machine's cores.
     progress : callable, optional
-        ``progress(done, total)``, called after each chunk with the samples finished so far;
+        ``progress(done, n)``, called after each chunk with the samples finished so far;
         calls are serialised (never two at once, ``done`` increasing), though they may come
         from worker threads.
-    continuation : {"side", "smooth"}
-        At a change point between neighbouring samples (a dyad folding flat), keep each dyad on
-        its sketch side (``"side"``) or continue the motion onto the other side (``"smooth"``:
-        the samples are then taken in order, as a path). Either way the result lists the change
-        points it found.
     unbuildable : ndarray of bool, shape (n,), optional
         Samples whose design (a plan with per-sample dimensions) builds no mechanism.
     designs : DesignBatch, optional
         A family of designs of ``plan`` (a closed-form one), one per sample: each chunk's
         constants are made as the chunk is solved.
+    carry : Carry, optional
+        What the part before handed on (none: these samples start the sweep).
 
     Returns
     -------
     KinematicResult
+        Its change points are numbered in the whole sweep.
+    Carry
+        For the part after.
     """
+    carry = carry or Carry()
     n_in, n = q.shape
     n_pts = len(plan.points)
     x = np.empty((n_pts, 2, n))
@@ -132,25 +163,92 @@ def solve_kinematics(
     report = _Reporter(progress, n)
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
+    blocks = _blocks(carry.start, n)
+    reached = carry.reached
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if plan.has_newton:
-            _solve_newton(plan, assembly, full)
-            derived.fill(plan, x, v, a, slice(None))
-            _flag_not_finite(x, v, a, trans, derived, slice(None), status)
-            report(n)
+            for b in blocks:
+                part = _view(full, b)
+                reached = _solve_newton(take(plan, b), assembly, part, reached)
+                derived.fill(plan, part.x, part.v, part.a, b)
+                _flag_not_finite(part.x, part.v, part.a, part.trans, derived, b, part.status)
+                report(b.stop - b.start)
         else:
             _solve_chunks(plan, full, derived, chunk, workers, report, designs)
-    if continuation == "smooth":
-        return _smooth(plan, assembly, q_given, qd, qdd, tol, x, v)
-    arrays = precision.Arrays(x, v, a, trans, derived)
-    error = _check_precision(plan, (q, qd, qdd), arrays, status, failed, newton_near, tol, designs)
+    error, found, tail = _check_blocks(
+        plan, (q_given, q, qd, qdd), precision.Arrays(x, v, a, trans, derived), status, failed,
+        newton_near, tol, designs, carry, blocks,
+    )  # fmt: skip
     result = KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
-    return dataclasses.replace(
-        result,
-        change_points=tuple(find_change_points(plan, x, v=v, q=q_given, qd=qd, trans=trans)),
-        error_estimate=error,
+    result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
+    return result, Carry(carry.start + n, tail, reached)
+
+
+def _check_blocks(
+    plan: SolvePlan,
+    inputs: tuple[F, F, F, F],
+    out: precision.Arrays,
+    status: np.ndarray,
+    failed: np.ndarray,
+    newton_near: F | None,
+    tol: Tolerances,
+    designs: DesignBatch | None,
+    carry: Carry,
+    blocks: list[slice],
+) -> tuple[F, list[ChangePoint], Tail | None]:
+    """Block by block, the precision check (its scales are the block's) and the change
+    points (searched in the dyads that come near flat in the block, and between it and the
+    block before): the error estimates, the change points in plan order and the last tail.
+    ``inputs``: the inputs as given, and as solved (q, qd, qdd)."""
+    q_given, q, qd, qdd = inputs
+    x, v, a, trans, derived = out.x, out.v, out.a, out.trans, out.derived
+    error = np.full(q.shape[1], np.nan)
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    for b in blocks:
+        near = None if newton_near is None else newton_near[b]
+        arrays = precision.Arrays(
+            x[..., b], v[..., b], a[..., b], trans[:, b],
+            Derived(derived.body[..., b], derived.element[..., b]),
+        )  # fmt: skip
+        error[b] = _check_precision(
+            take(plan, b), (q[:, b], qd[:, b], qdd[:, b]), arrays, status[b], failed[b], near,
+            tol, designs, b.start,
+        )  # fmt: skip
+        here = (x[..., b], v[..., b], q_given[:, b], qd[:, b], trans[:, b])
+        found += find_change_points(
+            plan, here[0], v=here[1], q=here[2], qd=here[3], trans=here[4],
+            offset=carry.start + b.start, tail=tail,
+        )  # fmt: skip
+        tail = Tail.of(*here, before=tail)
+    order = {plan.points[st.point]: k for k, st in enumerate(plan.steps) if isinstance(st, Dyad)}
+    found.sort(key=lambda cp: order[cp.point])  # plan order, each dyad's in sample order
+    return error, found, tail
+
+
+def _blocks(start: int, n: int) -> list[slice]:
+    """The samples 0 … n − 1 of a part starting at sample ``start``, cut where blocks begin."""
+    cuts = [0, *range(-start % BLOCK or BLOCK, n, BLOCK), n]
+    return [slice(s, e) for s, e in zip(cuts[:-1], cuts[1:], strict=True) if e > s]
+
+
+def _view(full: Chunk, part: slice) -> Chunk:
+    """A chunk of views of ``full``'s samples ``part``."""
+    return Chunk(
+        full.x[:, :, part],
+        full.v[:, :, part],
+        full.a[:, :, part],
+        full.q[:, part],
+        full.qd[:, part],
+        full.qdd[:, part],
+        full.trans[:, part],
+        full.status[part],
+        full.failed[part],
+        full.close_tol,
+        full.singular_tol,
+        None if full.near is None else full.near[part],
     )
 
 
@@ -163,12 +261,14 @@ def _check_precision(
     newton_near: F | None,
     tol: Tolerances,
     designs: DesignBatch | None,
+    offset: int = 0,
 ) -> F:
     """The precision check near dead positions (:mod:`excavkin.kinematics.precision`), and
-    the finiteness check again on the samples it may have given extended values."""
+    the finiteness check again on the samples it may have given extended values; ``offset``
+    is the first sample's place in ``designs``."""
     q, qd, qdd = inputs
     limits = (tol.close, tol.singular)
-    plan_at = None if designs is None else (lambda index: designs.at(index)[0])
+    plan_at = None if designs is None else (lambda index: designs.at(index + offset)[0])
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         error = precision.check(
             plan, q, qd, qdd, arrays, status, failed, newton_near, limits, plan_at
@@ -242,50 +342,6 @@ def _solve_chunks(
             one(s)
 
 
-def _smooth(
-    plan: SolvePlan,
-    assembly: Assembly,
-    q: F,
-    qd: F,
-    qdd: F,
-    tol: Tolerances,
-    x: F,
-    v: F,
-) -> KinematicResult:
-    """Solve again with each dyad's side flipped after its change points, dyad by dyad in
-    plan order (a flip moves what is built on the dyad, and so its later change points)."""
-    if plan.has_newton:
-        raise InputError(
-            'continuation="smooth" follows dyads through their change points; this plan has '
-            "a Newton group, which keeps its own branch"
-        )
-    found: list[ChangePoint] = []
-    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    far = np.abs(_wrapped(q - q0, plan)) / _step_sizes(plan)
-    anchor = int(np.argmin(np.where(np.isfinite(far).all(axis=0), far.max(axis=0), np.inf)))
-    for k, st in enumerate(plan.steps):
-        if not isinstance(st, Dyad):
-            continue
-        signs = smooth_signs(x, st, anchor, v, q, qd)
-        if signs is None:
-            continue
-        steps = list(plan.steps)
-        steps[k] = dataclasses.replace(st, sign=signs)  # type: ignore[arg-type]
-        plan = dataclasses.replace(plan, steps=tuple(steps))
-        found += [
-            dataclasses.replace(cp, continued="smooth")
-            for cp in find_change_points(dataclasses.replace(plan, steps=(st,)), x, v=v, q=q, qd=qd)
-        ]
-        # the whole batch as one chunk: per-sample signs are indexed by sample
-        again = solve_kinematics(plan, assembly, q, qd, qdd, tol=tol, chunk=q.shape[1], workers=1)
-        x = np.moveaxis(again.positions, 0, -1)
-        v = np.moveaxis(again.velocities, 0, -1)
-    result = solve_kinematics(
-        plan, assembly, q, qd, qdd, tol=tol, chunk=max(q.shape[1], 1), workers=1
-    )
-    return dataclasses.replace(result, change_points=tuple(found))
-
-
 def _flag_not_finite(
     x: F, v: F, a: F, trans: F, derived: Derived, s: slice, status: np.ndarray
 ) -> None:
@@ -339,22 +395,27 @@ class _Reporter:
             self.progress(self.done, self.total)
 
 
-def _solve_newton(plan: SolvePlan, assembly: Assembly, full: Chunk) -> None:
-    """Positions by continuation along the sweep's own order, then the rates.
+def _solve_newton(
+    plan: SolvePlan, assembly: Assembly, full: Chunk, reached: tuple[F, F] | None = None
+) -> tuple[F, F] | None:
+    """Positions by continuation along the sweep's own order, then the rates; returns the
+    last sample reached (positions and inputs), where the next block starts.
 
-    The sample nearest the sketch is reached from the sketch; every other sample then follows
-    the sweep from there, through the samples between, in stages small enough for Newton.
-    A sweep is a path the user asked for, so this keeps each sample on the branch the sweep
-    itself is on — through a full turn, too. Samples the sweep cannot reach (the path passes
-    a position that does not close) try the straight way from the sketch, the shorter way
-    round and then the longer.
+    The sample nearest the start — the sketch, or the last sample the block before reached —
+    is reached from it; every other sample then follows the sweep from there, through the
+    samples between, in stages small enough for Newton. A sweep is a path the user asked for,
+    so this keeps each sample on the branch the sweep itself is on — through a full turn, too.
+    Samples the sweep cannot reach (the path passes a position that does not close) try the
+    straight way from the sketch, the shorter way round and then the longer.
     """
     q, x, status = full.q, full.x, full.status
     steps = _step_sizes(plan)
-    _continue_along_sweep(plan, assembly, full, steps)
+    if reached is None:
+        reached = (assembly.positions, np.asarray(plan.input_sketch, dtype=np.float64))
+    _continue_along_sweep(plan, reached, full, steps)
     for long_way in (False, True):
-        reached = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
-        retry = np.flatnonzero(~reached)
+        done = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
+        retry = np.flatnonzero(~done)
         if not retry.size or (long_way and "angle" not in plan.input_kinds):
             break
         _continue_from_sketch(plan, assembly, full, steps, retry, long_way)
@@ -364,6 +425,10 @@ def _solve_newton(plan: SolvePlan, assembly: Assembly, full: Chunk) -> None:
     for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
         flipped = (sign != ref) | ~rotary_branch_ok(full, st)
         kernels.flag(full, flipped & np.isfinite(x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
+    ok = np.flatnonzero(status == Code.OK)
+    if not ok.size:
+        return reached
+    return x[:, :, ok[-1]].copy(), q[:, ok[-1]].copy()
 
 
 def _step_sizes(plan: SolvePlan) -> F:
@@ -400,15 +465,21 @@ def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
     )
 
 
-def _continue_along_sweep(plan: SolvePlan, assembly: Assembly, full: Chunk, steps: F) -> None:
+def _continue_along_sweep(plan: SolvePlan, start: tuple[F, F], full: Chunk, steps: F) -> None:
+    """Every sample from ``start`` (positions (n_points, 2), inputs (n_inputs,)): to the
+    sample nearest it, then along the sweep."""
     q = full.q
     n = q.shape[1]
-    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
+    q0 = start[1].reshape(-1, 1)
+    given = np.isfinite(q).all(axis=0)
+    if not given.any():  # no sample to reach (every input refused): no positions either
+        full.x[:] = np.nan
+        return
     far = np.abs(_wrapped(q - q0, plan)) / steps
-    k0 = int(np.argmin(np.where(np.isfinite(q).all(axis=0), far.max(axis=0), np.inf)))
-    # the sketch → sample k0, for that one sample, then every sample starts there
+    k0 = int(np.argmin(np.where(given, far.max(axis=0), np.inf)))
+    # the start → sample k0, for that one sample, then every sample starts there
     mini = _positions_only(full, np.array([k0]), q0.copy())
-    mini.x[:] = assembly.positions[:, :, None]
+    mini.x[:] = start[0][:, :, None]
     mini.status[:] = 0
     leg = _wrapped(q[:, k0 : k0 + 1] - q0, plan)
     first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)
