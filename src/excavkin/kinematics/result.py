@@ -99,14 +99,36 @@ class Status:
 
     def labels(self) -> np.ndarray:
         """A short label per sample (``"ok"`` or the reason and place), shape (n,)."""
-        out = np.full(self.code.shape, "ok", dtype=object)
+        codes, labels = self.label_codes()
+        return np.asarray(np.array(labels, dtype=object)[codes])
+
+    def label_codes(self) -> tuple[np.ndarray, list[str]]:
+        """The labels as codes into the distinct labels (sorted), without a text per sample:
+        ``labels()[i] == distinct[codes[i]]``.
+
+        Returns
+        -------
+        codes : ndarray of int16, shape (n,)
+        distinct : list of str
+        """
         bad = np.flatnonzero(self.code != 0)
-        if bad.size:
-            keys = self.code[bad].astype(np.int32) * 100000 + self.step[bad].astype(np.int32)
-            uniq, first = np.unique(keys, return_index=True)
-            text = {int(k): self.message(int(bad[f])) for k, f in zip(uniq, first, strict=True)}
-            out[bad] = [text[int(k)] for k in keys]
-        return out
+        if not bad.size:
+            return np.zeros(self.code.size, dtype=np.int16), ["ok"] if self.code.size else []
+        keys = self.code[bad].astype(np.int32) * 100000 + self.step[bad].astype(np.int32)
+        _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+        texts = [self.message(int(bad[f])) for f in first]
+        distinct = sorted({*texts, *(["ok"] if bad.size < self.code.size else [])})
+        index = {text: k for k, text in enumerate(distinct)}
+        codes = np.full(self.code.size, index.get("ok", 0), dtype=np.int16)
+        codes[bad] = np.array([index[t] for t in texts], dtype=np.int16)[inverse.reshape(-1)]
+        return codes, distinct
+
+    def categorical(self) -> pd.Categorical[str]:
+        """The labels as a ``pandas.Categorical`` (one code per sample, not a text)."""
+        import pandas as pd
+
+        codes, distinct = self.label_codes()
+        return pd.Categorical.from_codes(codes, categories=pd.Index(distinct, dtype=str))
 
     def __repr__(self) -> str:
         counts = ", ".join(f"{lab} {k}" for lab, k in summary.status_counts(self.labels()))
@@ -385,7 +407,7 @@ class KinematicResult:
 
         cols = self._columns()
         data: dict[str, Any] = {c.name: arr for c, arr in cols}
-        data["status"] = pd.Categorical(self.status.labels())
+        data["status"] = self.status.categorical()
         # the columns are views of the solver's arrays: no copy
         frame = pd.DataFrame(data, copy=False)
         frame.attrs.update(table_attrs(self.plan.model.name, [c for c, _ in cols]))

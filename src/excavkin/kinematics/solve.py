@@ -10,10 +10,12 @@ Newton, so that every sample stays on the sketch's assembly branch.
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import os
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,10 +149,12 @@ def solve_part(
     carry = carry or Carry()
     n_in, n = q.shape
     n_pts = len(plan.points)
-    x = np.empty((n_pts, 2, n))
-    v = np.empty((n_pts, 2, n))
-    a = np.empty((n_pts, 2, n))
-    trans = np.empty((len(plan.transmissions), n))
+    with _small_pages():
+        x = np.empty((n_pts, 2, n))
+        v = np.empty((n_pts, 2, n))
+        a = np.empty((n_pts, 2, n))
+        trans = np.empty((len(plan.transmissions), n))
+        derived = Derived.empty(plan, n)
     status = np.zeros(n, dtype=np.int8)
     failed = np.full(n, -1, dtype=np.int16)
     q_given = q
@@ -159,7 +163,6 @@ def solve_part(
         status[unbuildable & (status == Code.OK)] = Code.BAD_DESIGN
         q = q.copy()
         q[:, unbuildable] = np.nan
-    derived = Derived.empty(plan, n)
     report = _Reporter(progress, n)
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
@@ -226,6 +229,23 @@ def _check_blocks(
     order = {plan.points[st.point]: k for k, st in enumerate(plan.steps) if isinstance(st, Dyad)}
     found.sort(key=lambda cp: order[cp.point])  # plan order, each dyad's in sample order
     return error, found, tail
+
+
+@contextmanager
+def _small_pages() -> Iterator[None]:
+    """Arrays made here get ordinary pages. NumPy advises the kernel to back a large array
+    with huge pages; each is then found (compacted, zeroed) when first touched, and on a
+    sweep of 10⁷ samples the threads writing a fresh result stall on it (3–5× slower). The
+    setting is NumPy's, process-wide: it is put back as it was at once."""
+    try:
+        advise = importlib.import_module("numpy._core.multiarray")._set_madvise_hugepage
+    except (ImportError, AttributeError):  # NumPy 1.x
+        advise = importlib.import_module("numpy.core.multiarray")._set_madvise_hugepage
+    previous = advise(False)
+    try:
+        yield
+    finally:
+        advise(previous)
 
 
 def _blocks(start: int, n: int) -> list[slice]:

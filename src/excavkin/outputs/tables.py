@@ -290,15 +290,20 @@ def _csv_line(cells: list[str]) -> str:
 def _csv_text(array: Any) -> Any:
     """A column's CSV text. Floats: the shortest text that reads back to the same double
     (Arrow's: "0.1", "1.5e-7", "1e+21"), a whole number with ".0" ("3.0", not the "3" that
-    readers take for an integer), NaN a null (an empty field), ``inf`` and ``-inf``."""
+    readers take for an integer), NaN a null (an empty field), ``inf`` and ``-inf``. A column
+    of one value throughout (a ground point's) is formatted once."""
     import numpy as np
     import pyarrow as pa
     import pyarrow.compute as pc
 
     if not pa.types.is_floating(array.type):
         return array
-    text = pc.cast(array, pa.string())
     values = array.to_numpy(zero_copy_only=False)
+    if array.null_count == 0 and len(values) > 1:
+        bits = values.view(np.int64)
+        if (bits == bits[0]).all():
+            return pa.repeat(_csv_text(array.slice(0, 1))[0], len(values))
+    text = pc.cast(array, pa.string())
     with np.errstate(invalid="ignore"):
         whole = np.isfinite(values) & (values == np.trunc(values))
     if not whole.any():
@@ -311,24 +316,39 @@ def _csv_text(array: Any) -> Any:
 
 
 def _write_csv_rows(sink: Any, arrays: list[Any], names: list[str]) -> None:
-    """Rows of a CSV file (no header): unquoted when no text cell needs quotes, else every
-    text cell quoted. The columns' text is made on a thread per core (Arrow's formatting
-    releases the GIL)."""
+    """Rows of a CSV file (no header). The columns' text is made on a thread per core
+    (Arrow's formatting releases the GIL) and written by Arrow; the rare row with a text cell
+    that needs quotes (a comma in a status) is written by Python's csv module, quoted as
+    pandas would."""
+    import csv
+    import io
     import os
     from concurrent.futures import ThreadPoolExecutor
 
+    import numpy as np
     import pyarrow as pa
     import pyarrow.compute as pc
     import pyarrow.csv as pcsv
 
     with ThreadPoolExecutor(min(os.cpu_count() or 1, 8)) as pool:
         texts = list(pool.map(_csv_text, arrays))
-    plain = True
+    table = pa.Table.from_arrays(texts, names=names)
+    quoted = np.zeros(table.num_rows, dtype=bool)
     for col, given in zip(texts, arrays, strict=True):
         if pa.types.is_string(given.type) and len(col):
-            plain = plain and not any(
-                pc.any(pc.match_substring(col, ch)).as_py() for ch in _SPECIAL
-            )
-    table = pa.Table.from_arrays(texts, names=names)
-    options = pcsv.WriteOptions(include_header=False, quoting_style="none" if plain else "needed")
-    pcsv.write_csv(table, sink, options)
+            for ch in _SPECIAL:
+                quoted |= pc.fill_null(pc.match_substring(col, ch), False).to_numpy(
+                    zero_copy_only=False
+                )
+    plain = pcsv.WriteOptions(include_header=False, quoting_style="none")
+    # runs of rows alike: [start, stop) with or without quotes
+    cuts = [0, *(np.flatnonzero(np.diff(quoted)) + 1).tolist(), table.num_rows]
+    for start, stop in zip(cuts[:-1], cuts[1:], strict=True):
+        run = table.slice(start, stop - start)
+        if not quoted[start]:
+            pcsv.write_csv(run, sink, plain)
+            continue
+        out = io.StringIO()
+        cells = [pc.cast(c, pa.string()).to_pylist() for c in run.columns]
+        csv.writer(out, lineterminator="\n").writerows(zip(*cells, strict=True))
+        sink.write(out.getvalue().encode("utf-8"))
