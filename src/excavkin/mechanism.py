@@ -116,7 +116,7 @@ def _loads_of_designs(loads: Iterable[Load], params: Mapping[str, Any], n: int) 
 
 
 #: what a part of :meth:`Mechanism.solve_stream` may hold by default, bytes of its result
-PART_BYTES = 256 * 2**20
+PART_BYTES = 64 * 2**20
 
 
 @dataclass(frozen=True, slots=True)

@@ -83,6 +83,18 @@ def test_csv_text_as_pandas_wrote_it(tmp_path: Path) -> None:
     ]
 
 
+def test_a_table_without_rows(tmp_path: Path) -> None:
+    """A table of no rows (a run without shocks): its header, and its columns in Parquet."""
+    frame = pd.DataFrame({"t": np.array([], dtype=float), "what": np.array([], dtype=object)})
+    write_table(frame, tmp_path / "e.csv")
+    assert (tmp_path / "e.csv").read_text() == "t,what\n"
+    write_table(frame, tmp_path / "e.parquet")
+    assert list(pd.read_parquet(tmp_path / "e.parquet").columns) == ["t", "what"]
+    with pytest.raises(excavkin.errors.ExcavkinError, match="no table"):
+        write_tables([], tmp_path / "none.parquet")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["e.csv", "e.parquet"]
+
+
 def _stream(size: int, **kwargs) -> tuple[excavkin.KinematicResult, list]:  # type: ignore[type-arg, no-untyped-def]
     mech = excavkin.load(FOURBAR)
     q = np.linspace(0.0, 12.0, BLOCK + 4321)

@@ -15,9 +15,10 @@ scaled by the ratio of the two precisions and a margin of :data:`MARGIN`. A samp
 estimate still exceeds :data:`TOLERANCE` is marked ``IMPRECISE`` ("rates lose precision near a
 dead position"), so that no row marked ``ok`` is off by more than that.
 
-The scale of a quantity is its largest magnitude over the sweep's solved samples, per kind:
-lengths (positions and element lengths), velocities, accelerations, angles, angular velocities
-and angular accelerations.
+The scale of a quantity is its largest magnitude over the solved samples checked together —
+a block of :data:`~excavkin.kinematics.solve.BLOCK` samples of the sweep, so that a sweep
+solved part by part is judged as the whole is — per kind: lengths (positions and element
+lengths), velocities, accelerations, angles, angular velocities and angular accelerations.
 """
 
 from __future__ import annotations
