@@ -362,6 +362,11 @@ class Mechanism:
     ) -> KinematicResult | ForceResult:
         """Positions, velocities and accelerations for a batch of driver inputs.
 
+        What a sample's values depend on beyond its own inputs — the precision check's
+        scales, the change points between neighbouring samples, a Newton group's continuation
+        — is defined over blocks of 65 536 samples (``docs/streaming.md``), so that
+        :meth:`solve_stream` gives the same numbers part by part.
+
         Parameters
         ----------
         values : mapping of str to array_like, shape (n,) or scalar

@@ -59,6 +59,38 @@ def test_the_streamed_file_is_the_whole_results_table(tmp_path: Path, suffix: st
 
 
 @pytest.mark.usefixtures("small_parts")
+def test_the_smooth_continuation_streamed_from_a_table_of_inputs(tmp_path: Path) -> None:
+    """--continuation smooth goes over the inputs several times (here a table read in
+    batches, from its start each time): the file is the whole smooth result's table, and the
+    change points are warned of in its order."""
+    model = tmp_path / "p.toml"  # a parallelogram: a change point every half turn
+    model.write_text(
+        Path(FOURBAR)
+        .read_text()
+        .replace("A  = [0, 40]", "A  = [0, 100]")
+        .replace("B  = [110, 90]", "B  = [100, 100]")
+        .replace('"A-B"  = 120', '"A-B"  = 100')
+        .replace('"O4-B" = 90', '"O4-B" = 100')
+    )
+    mech = excavkin.load(model)
+    n = BLOCK + 5000
+    q = np.linspace(-0.3, 4 * np.pi, n)
+    source = tmp_path / "in.parquet"
+    pd.DataFrame({"crank": q}).to_parquet(source)
+    out = tmp_path / "s.csv"
+    r = _run("solve", str(model), "--inputs", str(source), "--continuation", "smooth", "-q",
+             "--keep-going", "-o", str(out))  # fmt: skip
+    assert r.exit_code == 0, r.output  # type: ignore[attr-defined]
+    whole = mech.solve({"crank": q}, continuation="smooth")
+    assert len(whole.change_points) >= 3
+    warned = [line for line in r.output.splitlines() if "change point" in line]  # type: ignore[attr-defined]
+    assert warned == [f"excavkin: warning: {cp.describe()}" for cp in whole.change_points]
+    want = tmp_path / "w.csv"
+    write_table(whole.to_frame(), want)
+    assert out.read_bytes() == want.read_bytes()
+
+
+@pytest.mark.usefixtures("small_parts")
 def test_failing_samples_are_told_as_the_whole_result_tells_them(tmp_path: Path) -> None:
     """A non-Grashof four-bar fails in many parts: without --keep-going nothing is written,
     with the whole result's summary; with it, the same words as a warning and the file."""
