@@ -10,18 +10,21 @@ True
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from excavkin.errors import InputError, SolveFailure, did_you_mean
-from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble, solve_kinematics
+from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble
+from excavkin.kinematics.sweep import Part, solve_parts
 from excavkin.model.entities import Model
 from excavkin.model.validate import validate
 from excavkin.structure.builder import compile_plan
 from excavkin.structure.plan import SolvePlan
+from excavkin.sweeps import Lazy, part_of
 
 if TYPE_CHECKING:
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
@@ -112,6 +115,81 @@ def _loads_of_designs(loads: Iterable[Load], params: Mapping[str, Any], n: int) 
     return out
 
 
+#: what a part of :meth:`Mechanism.solve_stream` may hold by default, bytes of its result
+PART_BYTES = 64 * 2**20
+
+
+@dataclass(frozen=True, slots=True)
+class SolvedPart:
+    """Consecutive samples of a sweep, solved (:meth:`Mechanism.solve_stream`).
+
+    Attributes
+    ----------
+    start : int
+        The first sample's number in the sweep: row ``i`` of ``result`` is sample
+        ``start + i``.
+    result : KinematicResult or ForceResult
+        The part's result. Its change points are numbered in the whole sweep (one whose two
+        samples lie in two parts is the later part's).
+    total : int
+        The number of samples in the whole sweep.
+    """
+
+    start: int
+    result: KinematicResult | ForceResult
+    total: int
+
+    @property
+    def stop(self) -> int:
+        """One past the part's last sample."""
+        return self.start + len(self.result)
+
+
+@dataclass(frozen=True, slots=True)
+class _Batch:
+    """A solve's inputs, checked and in SI, made into the solver's arrays part by part."""
+
+    mech: Mechanism
+    n: int
+    values: dict[str, Any]
+    rates: dict[str, Any]
+    accels: dict[str, Any]
+    time: Any
+    params: dict[str, Any]
+    continuation: str
+
+    def part(self, start: int, stop: int) -> Part:
+        """Samples ``start`` … ``stop − 1``: their inputs in plan order and their plan."""
+        from excavkin.structure.design import DesignBatch, design_plan
+
+        plan = self.mech.plan
+        k = stop - start
+        n_in = len(plan.inputs)
+        q = np.empty((n_in, k))
+        qd = np.empty((n_in, k))
+        qdd = np.empty((n_in, k))
+        given = {name: part_of(v, start, stop) for name, v in self.params.items()}
+        held: Any = np.asarray(plan.input_sketch)[:, None]
+        here, unbuildable, batch = plan, None, None
+        if given and (plan.has_newton or self.continuation == "smooth"):
+            # these take a part's designs at once: its constants made for every sample
+            designs = design_plan(plan, given, k)
+            here, held, unbuildable = designs.plan, designs.input_sketch, designs.unbuildable
+        elif given:
+            batch = DesignBatch(plan, {name: np.broadcast_to(v, (k,)) for name, v in given.items()})
+            if any(name not in self.values for name in plan.inputs):
+                held = batch.held(k)
+        for i, name in enumerate(plan.inputs):
+            val = self.values.get(name)
+            swept = val is not None and val.ndim == 1
+            q[i] = held[i] if val is None else part_of(val, start, stop)
+            rate = self.rates.get(name)
+            qd[i] = (1.0 if swept else 0.0) if rate is None else part_of(rate, start, stop)
+            accel = self.accels.get(name)
+            qdd[i] = 0.0 if accel is None else part_of(accel, start, stop)
+        return Part(start, q, qd, qdd, here, unbuildable, batch)
+
+
 class Mechanism:
     """A planar mechanism ready to solve.
 
@@ -185,17 +263,21 @@ class Mechanism:
         None, kind). Each is also a parameter, setting every entry that refers to it."""
         return {v.name: (v.value, v.bounds, v.kind) for v in self.model.design}
 
-    def _params_in_si(self, params: Mapping[str, Any] | None) -> dict[str, np.ndarray]:
-        """Parameter values in SI, each a scalar or a 1-D array."""
+    def _params_in_si(self, params: Mapping[str, Any] | None, lazy: bool = False) -> dict[str, Any]:
+        """Parameter values in SI, each a scalar or a 1-D array (or, ``lazy``, a column made
+        on demand)."""
         from excavkin.structure.design import joint_offsets, parameter_kind, parameters
 
-        out: dict[str, np.ndarray] = {}
+        out: dict[str, Any] = {}
         known = {**parameters(self.model), **joint_offsets(self.model)}
         for name, value in (params or {}).items():
             if name not in known:
                 from excavkin.errors import unknown_name
 
                 raise unknown_name("parameter", name, list(known))
+            if lazy and isinstance(value, Lazy):
+                out[name] = value
+                continue
             given = as_si(value, parameter_kind(name, self.model), f"parameter {name!r}")
             kind = np.asarray(given).dtype.kind
             if kind not in "fiu" or isinstance(given, bool):
@@ -283,6 +365,11 @@ class Mechanism:
     ) -> KinematicResult | ForceResult:
         """Positions, velocities and accelerations for a batch of driver inputs.
 
+        What a sample's values depend on beyond its own inputs — the precision check's
+        scales, the change points between neighbouring samples, a Newton group's continuation
+        — is defined over blocks of 65 536 samples (``docs/streaming.md``), so that
+        :meth:`solve_stream` gives the same numbers part by part.
+
         Parameters
         ----------
         values : mapping of str to array_like, shape (n,) or scalar
@@ -335,79 +422,133 @@ class Mechanism:
             With ``loads``: forces plus the kinematics (``.kinematics``); its ``to_frame()``
             has the kinematic columns followed by the force columns.
         """
-        self._check_names([*(values or {}), *(rates or {}), *(accels or {})])
-        values = self._in_si(values, 0)
-        rates = self._in_si(rates, 1)
-        accels = self._in_si(accels, 2)
-        if time is not None:
-            time = as_si(time, "time", "time")
-        arrays = {k: np.asarray(v, dtype=np.float64) for k, v in values.items()}
-        for k, v in arrays.items():
-            if v.ndim > 1:
-                raise InputError(
-                    f"driver {k!r}: values must be a scalar or a 1-D array, got shape {v.shape}"
-                )
-        sizes = {k: v.size for k, v in arrays.items() if v.ndim == 1}
-        for src in (rates, accels):
-            for k, given in src.items():
-                a = np.asarray(given, dtype=np.float64)
-                if a.ndim > 1:
-                    raise InputError(
-                        f"driver {k!r}: rates and accelerations must be scalars or "
-                        f"1-D arrays, got shape {a.shape}"
-                    )
-                if a.ndim == 1:
-                    sizes[k + " (rate/accel)"] = a.size
-        if time is not None:
-            sizes["time"] = np.asarray(time).size
-        given = self._params_in_si(params)
-        sizes.update({f"parameter {k}": v.size for k, v in given.items() if v.ndim == 1})
-        distinct = set(sizes.values())
-        if len(distinct) > 1:
-            listing = ", ".join(f"{k}: {v}" for k, v in sizes.items())
-            raise InputError(f"input arrays have different lengths ({listing})")
-        n = distinct.pop() if distinct else 1
-        n_in = len(self.plan.inputs)
-        q = np.empty((n_in, n))
-        qd = np.empty((n_in, n))
-        qdd = np.empty((n_in, n))
-        plan, held, unbuildable = self.plan, np.asarray(self.plan.input_sketch)[:, None], None
-        batch = None
-        if given and (self.plan.has_newton or continuation == "smooth"):
-            # these take the whole batch at once: its constants made for every sample
-            from excavkin.structure.design import design_plan
-
-            designs = design_plan(self.plan, given, n)
-            plan, held, unbuildable = designs.plan, designs.input_sketch, designs.unbuildable
-        elif given:
-            from excavkin.structure.design import DesignBatch
-
-            batch = DesignBatch(self.plan, {k: np.broadcast_to(v, (n,)) for k, v in given.items()})
-            if any(name not in arrays for name in self.plan.inputs):
-                held = batch.held(n)
-        for i, name in enumerate(self.plan.inputs):
-            val = arrays.get(name)
-            swept = val is not None and val.ndim == 1
-            q[i] = held[i] if val is None else val
-            qd[i] = rates.get(name, 1.0 if swept else 0.0)
-            qdd[i] = accels.get(name, 0.0)
-        result = solve_kinematics(
-            plan,
-            self.assembly,
-            q,
-            qd,
-            qdd,
-            tol=tol or Tolerances(),
-            workers=workers,
-            progress=progress,
-            continuation=continuation,
-            unbuildable=unbuildable,
-            designs=batch,
-            compiled=compiled,
-            **({} if chunk is None else {"chunk": int(chunk)}),
+        batch = self._batch(values, rates, accels, time, params, continuation, lazy=False)
+        whole = batch.part(0, batch.n)
+        result = next(
+            iter(
+                solve_parts(
+                    self.plan,
+                    self.assembly,
+                    lambda: [whole],
+                    total=batch.n,
+                    tol=tol or Tolerances(),
+                    workers=workers,
+                    progress=progress,
+                    continuation=continuation,
+                    compiled=compiled,
+                    **({} if chunk is None else {"chunk": int(chunk)}),
+                )  # fmt: skip
+            )
         )
+        result = self._finish(result, batch, 0, batch.n, sensitivities)
+        if strict and not result.status.all_ok:
+            raise SolveFailure(result.summary(), result)
+        if loads is None:
+            return result
+        return self.forces(result, None if isinstance(loads, str) and loads == "model" else loads)
+
+    def solve_stream(
+        self,
+        values: Mapping[str, Any] | None = None,
+        rates: Mapping[str, Any] | None = None,
+        accels: Mapping[str, Any] | None = None,
+        *,
+        time: Any = None,
+        tol: Tolerances | None = None,
+        workers: int | None = None,
+        progress: Callable[[int, int], None] | None = None,
+        chunk: int | None = None,
+        continuation: Literal["side", "smooth"] = "side",
+        compiled: bool | None = None,
+        loads: Iterable[Load] | Literal["model"] | None = None,
+        params: Mapping[str, Any] | None = None,
+        sensitivities: Sequence[str] | None = None,
+        size: int | None = None,
+    ) -> Iterator[SolvedPart]:
+        """:meth:`solve`, part by part: consecutive samples at a time, so that memory is
+        bounded by a part whatever the sample count.
+
+        The parts put together are the result :meth:`solve` gives for the whole sweep, to the
+        bit, status and change points included (``docs/streaming.md``). The inputs are taken
+        part by part too: arrays (a ``numpy.memmap`` is read as needed) or columns made on
+        demand, such as :class:`excavkin.sweeps.Linspace` and :func:`excavkin.sweeps.grid`.
+
+        Parameters
+        ----------
+        values, rates, accels, time, tol, workers, chunk, continuation, compiled, loads, params,
+        sensitivities
+            As for :meth:`solve`; every array may also be an :class:`excavkin.sweeps.Lazy`
+            column.
+        progress : callable, optional
+            ``progress(done, total)`` over the whole sweep, after each solved chunk.
+        size : int, optional
+            Samples per part at most (default: as many as keep a part's result near
+            :data:`PART_BYTES`). A part never spans two blocks of
+            :data:`~excavkin.kinematics.solve.BLOCK` samples unless it holds whole ones.
+
+        Yields
+        ------
+        SolvedPart
+            Each part's first sample and result, in order. ``continuation="smooth"`` goes over
+            the inputs several times before the first part comes (``docs/streaming.md``).
+
+        Examples
+        --------
+        >>> import excavkin
+        >>> from excavkin.sweeps import Linspace
+        >>> mech = excavkin.load(excavkin.example_path("fourbar"))
+        >>> parts = mech.solve_stream({"crank": Linspace(0.0, 6.283, 150_000)}, size=65536)
+        >>> [(p.start, len(p.result)) for p in parts]
+        [(0, 65536), (65536, 65536), (131072, 18928)]
+        """
+        from excavkin.kinematics.solve import BLOCK
+
+        batch = self._batch(values, rates, accels, time, params, continuation, lazy=True)
+        if isinstance(sensitivities, str):
+            sensitivities = [sensitivities]
+        if size is None:
+            per = 8 * self._columns(loads is not None) * (1 + len(sensitivities or ()))
+            size = max(PART_BYTES // per, 1)
+            size = size // BLOCK * BLOCK if size >= BLOCK else max(size // 4096 * 4096, 4096)
+        if size < 1:
+            raise InputError(f"size: a part holds at least one sample, got {size}")
+        span = -(-size // BLOCK) * BLOCK  # the kinematics: whole blocks at a time
+        n = batch.n
+
+        def parts() -> Iterator[Part]:
+            for s in range(0, n, span):
+                yield batch.part(s, min(s + span, n))
+
+        kinematics = solve_parts(
+            self.plan, self.assembly, parts, total=n, tol=tol or Tolerances(), workers=workers,
+            progress=progress, continuation=continuation, compiled=compiled,
+            **({} if chunk is None else {"chunk": int(chunk)}),
+        )  # fmt: skip
+        given = None if loads is None or loads == "model" else list(loads)  # type: ignore[arg-type]
+        for s, whole in zip(range(0, n, span), kinematics, strict=True):
+            for first in range(0, len(whole), size):
+                last = min(first + size, len(whole))
+                result = self._finish(
+                    whole.rows(first, last, s), batch, s + first, s + last, sensitivities
+                )
+                out: KinematicResult | ForceResult = result
+                if loads is not None:
+                    out = self.forces(result, given)
+                yield SolvedPart(s + first, out, n)
+
+    def _finish(
+        self,
+        result: KinematicResult,
+        batch: _Batch,
+        start: int,
+        stop: int,
+        sensitivities: Sequence[str] | None,
+    ) -> KinematicResult:
+        """A kinematic result of samples ``start`` … ``stop − 1`` with its design parameters,
+        sensitivities and time."""
+        given = {k: part_of(v, start, stop) for k, v in batch.params.items()}
         if given:
-            result = dataclasses.replace(result, parameters={k: v for k, v in given.items()})
+            result = dataclasses.replace(result, parameters=given)
         if isinstance(sensitivities, str):  # one name, not its letters
             sensitivities = [sensitivities]
         if sensitivities:
@@ -415,13 +556,69 @@ class Mechanism:
 
             tangents = solve_tangents(result, list(sensitivities), given)
             result = dataclasses.replace(result, tangents=tangents)
+        if batch.time is not None:
+            t = np.asarray(part_of(batch.time, start, stop), dtype=np.float64)
+            result = result.with_time(np.broadcast_to(t, (stop - start,)).reshape(stop - start))
+        return result
+
+    def _columns(self, forces: bool) -> int:
+        """About how many columns a result's table has (forces roughly double them)."""
+        plan = self.plan
+        kin = 6 * len(plan.points) + 3 * len(plan.bodies) + 3 * len(plan.inputs)
+        kin += 6 * len(plan.elements) + len(plan.transmissions) + 1
+        return 2 * kin if forces else kin
+
+    def _batch(
+        self,
+        values: Mapping[str, Any] | None,
+        rates: Mapping[str, Any] | None,
+        accels: Mapping[str, Any] | None,
+        time: Any,
+        params: Mapping[str, Any] | None,
+        continuation: str,
+        lazy: bool,
+    ) -> _Batch:
+        """The inputs checked and in SI, to be made part by part (``lazy``: columns made on
+        demand stay so; otherwise every input is an array)."""
+        self._check_names([*(values or {}), *(rates or {}), *(accels or {})])
+
+        def column(value: Any, what: str) -> Any:
+            if lazy and isinstance(value, Lazy):
+                return value
+            arr = np.asarray(value, dtype=np.float64)
+            if arr.ndim > 1:
+                raise InputError(f"{what}, got shape {arr.shape}")
+            return arr
+
+        arrays = {
+            k: column(v, f"driver {k!r}: values must be a scalar or a 1-D array")
+            for k, v in self._in_si(values, 0).items()
+        }
+        orders = [
+            {
+                k: column(v, f"driver {k!r}: rates and accelerations must be scalars or 1-D arrays")
+                for k, v in self._in_si(src, order).items()
+            }
+            for order, src in ((1, rates), (2, accels))
+        ]
+        sizes = {k: len(v) for k, v in arrays.items() if v.ndim == 1}
+        for src in orders:
+            sizes.update({k + " (rate/accel)": len(v) for k, v in src.items() if v.ndim == 1})
         if time is not None:
-            result = result.with_time(np.asarray(time, dtype=np.float64).reshape(n))
-        if strict and not result.status.all_ok:
-            raise SolveFailure(result.summary(), result)
-        if loads is None:
-            return result
-        return self.forces(result, None if isinstance(loads, str) and loads == "model" else loads)
+            time = as_si(time, "time", "time")
+            time = time if lazy and isinstance(time, Lazy) else np.asarray(time)
+            sizes["time"] = time.size
+        given = {
+            k: v if lazy and isinstance(v, Lazy) else np.asarray(v)
+            for k, v in self._params_in_si(params, lazy).items()
+        }
+        sizes.update({f"parameter {k}": len(v) for k, v in given.items() if v.ndim == 1})
+        distinct = set(sizes.values())
+        if len(distinct) > 1:
+            listing = ", ".join(f"{k}: {v}" for k, v in sizes.items())
+            raise InputError(f"input arrays have different lengths ({listing})")
+        n = distinct.pop() if distinct else 1
+        return _Batch(self, n, arrays, orders[0], orders[1], time, given, continuation)
 
     @property
     def loads(self) -> tuple[Load, ...]:

@@ -201,19 +201,30 @@ def test_the_command_line_sweeps_a_parameter_and_adds_its_derivatives(tmp_path) 
         assert r.exit_code == 2 and words in r.output, r.output
 
 
-def test_derivative_columns_count_in_the_memory_check(tmp_path) -> None:  # type: ignore[no-untyped-def]
-    """Each --sensitivity adds a derivative of every column: a sweep that fits without them is
-    refused with them, before anything is allocated."""
+def test_derivative_columns_count_in_the_disk_check(tmp_path, monkeypatch) -> None:  # type: ignore[no-untyped-def]
+    """Each --sensitivity adds a derivative of every column: a table that fits on the disk
+    without them is refused with them, before anything is solved (memory is bounded by a
+    part of the stream; the disk is not)."""
+    import shutil
+    from collections import namedtuple
+
     from click.testing import CliRunner
 
     from excavkin.cli import main
+    from excavkin.cli.commands.solve import _columns_per_sample, check_disk
 
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda path: usage(2**40, 0, 20 * 2**30))
     names = ["A-B", "O4-B", "O4.x", "O4.y", "A.x", "A.y", "B.x", "B.y", "O2.x", "O2.y"]
-    args = ["solve", "fourbar", "-q", "--sweep", "crank=0:1:5000000", "-o", str(tmp_path / "o.csv")]
+    out = tmp_path / "o.csv"
+    args = ["solve", "fourbar", "-q", "--sweep", "crank=0:1:5000000", "-o", str(out)]
+    columns = _columns_per_sample(excavkin.load(excavkin.example_path("fourbar")), False)
+    check_disk(out, 5_000_000, columns)  # fits without them
     for name in names:
         args += ["--sensitivity", name]
     r = CliRunner().invoke(main, args)
-    assert r.exit_code == 2 and "GiB" in r.output and "5,000,000 samples" in r.output, r.output
+    assert r.exit_code == 2 and "GiB on disk" in r.output, r.output
+    assert "5,000,000 samples" in r.output and not out.exists()
 
 
 def test_values_no_design_can_have_are_a_status_or_an_error() -> None:

@@ -167,6 +167,7 @@ def test_running_out_of_memory_is_a_message(
         raise MemoryError
 
     monkeypatch.setattr(excavkin.Mechanism, "solve", too_big)
+    monkeypatch.setattr(excavkin.Mechanism, "solve_stream", too_big)
     out = tmp_path / "x.csv"
     r = CliRunner().invoke(main, ["solve", FOURBAR, "--sweep", "crank=0:1:5", "-o", str(out)])
     assert r.exit_code == 2 and "not enough memory" in r.output and "split the sweep" in r.output

@@ -22,7 +22,7 @@ import click
 from excavkin.errors import ExcavkinError, UnitError, did_you_mean
 
 if TYPE_CHECKING:
-    import numpy as np
+    pass
 
 T = TypeVar("T", bound=Callable[..., Any])
 
@@ -118,8 +118,9 @@ def parse_assignment(text: str, option: str) -> tuple[str, str]:
     return name.strip(), value.strip()
 
 
-def parse_sweep(text: str, kind: str, what: str) -> np.ndarray:
-    """``START:STOP:N`` (each end may carry a unit) → N evenly spaced SI values."""
+def parse_sweep(text: str, kind: str, what: str, lazy: bool = False) -> Any:
+    """``START:STOP:N`` (each end may carry a unit) → N evenly spaced SI values: an array,
+    or (``lazy``) an :class:`excavkin.sweeps.Linspace` that makes them part by part."""
     parts = text.split(":")
     if len(parts) != 3:
         raise ExcavkinError(f"{what}: a sweep is START:STOP:N, got {text!r}")
@@ -133,12 +134,24 @@ def parse_sweep(text: str, kind: str, what: str) -> np.ndarray:
         ) from None
     if n < 1:
         raise ExcavkinError(f"{what}: the sample count must be at least 1, got {n}")
-    check_samples(n, what)
+    if lazy and n > MAX_SAMPLES:
+        raise ExcavkinError(
+            f"{what}: {n:,} samples are more than any disk holds; split the sweep into smaller runs"
+        )
+    if not lazy:
+        check_samples(n, what)
     _hint_bare(parts[:2], (start, stop), kind, what)
+    if lazy:
+        from excavkin.sweeps import Linspace
+
+        return Linspace(start, stop, n)
     import numpy as np
 
     return np.linspace(start, stop, n)
 
+
+#: the most samples a sweep may have (each numbered exactly by a double, 2⁵³)
+MAX_SAMPLES = 2**53
 
 #: bytes a sample costs at the least in a solve: its inputs, a few points, its table row
 MIN_BYTES_PER_SAMPLE = 400

@@ -202,43 +202,88 @@ def find_change_points(
     v: F | None = None,
     q: F | None = None,
     qd: F | None = None,
-    flattest: F | None = None,
+    trans: F | None = None,
+    *,
+    offset: int = 0,
+    tail: Tail | None = None,
 ) -> list[ChangePoint]:
     """Every dyad's change points between neighbouring samples, in plan order (bends too when
     the velocities and inputs are given).
 
-    With ``flattest``, the least sin γ of each transmission over the samples (shape
-    (n_transmissions,)), a dyad whose triangle never comes nearer flat than sin γ =
-    :data:`NEVER_FLAT` is passed over: its triangle's height
+    With the transmission angles ``trans`` (n_transmissions, n), a dyad whose triangle never
+    comes nearer flat than sin γ = :data:`NEVER_FLAT` is passed over: its triangle's height
     and base then stay above about a sixth of its shorter side, so a fold between two samples
     would need P to move more than half a link in one step — no sweep that can be read.
+
+    The samples are numbered from ``offset``. With the ``tail`` of the samples just before
+    them (:meth:`Tail.of`), the change points between the two stretches are found too, so
+    that a sweep searched stretch by stretch finds what a search of the whole would (pairs
+    are neighbours across at most :data:`MAX_GAP` unsolved samples; ``trans`` then covers the
+    tail as well).
     """
     out = []
     names = plan.points
     for st in plan.steps:
         if isinstance(st, Dyad):
-            if flattest is not None and flattest[st.index] >= NEVER_FLAT:
-                continue
-            for i, j, shape in _changes(x, v, q, qd, st):
+            if trans is not None:
+                sines = [trans[st.index]] + ([] if tail is None else [tail.trans[st.index]])
+                with np.errstate(invalid="ignore"):
+                    flattest = min(np.nanmin(np.abs(np.sin(s)), initial=1.0) for s in sines)
+                if flattest >= NEVER_FLAT:
+                    continue
+            found = [] if tail is None else _across(tail, x, v, q, qd, st, offset)
+            found += [(i + offset, j + offset, shape) for i, j, shape in _changes(x, v, q, qd, st)]
+            for i, j, shape in found:
                 partners = (names[st.a], names[st.b])
                 out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))
     return out
 
 
-def smooth_signs(
-    x: F, st: Dyad, anchor: int, v: F | None = None, q: F | None = None, qd: F | None = None
-) -> F | None:
-    """Per-sample branch signs that continue the motion through the dyad's change points, or
-    None when it has none. The sample ``anchor`` (the one nearest the sketch) keeps the
-    sketch's side; every change point between a sample and the anchor flips it once more."""
-    found = np.array([(i, j) for i, j, _ in _changes(x, v, q, qd, st)], dtype=np.int64).T
-    if not found.size:
-        return None
-    n = x.shape[-1]
-    up = np.zeros(n, dtype=np.int64)
-    down = np.zeros(n, dtype=np.int64)
-    ahead = found[0] >= anchor
-    up[found[1][ahead]] = 1  # crossing it moving away from the anchor, forwards
-    down[found[0][~ahead]] = 1  # … and backwards
-    flips = np.cumsum(up) + np.cumsum(down[::-1])[::-1]
-    return np.asarray(st.sign * (-1.0) ** flips, dtype=np.float64)
+@dataclass(frozen=True, slots=True)
+class Tail:
+    """The last samples of a stretch of a sweep, as many as a change point can reach back
+    across (:data:`MAX_GAP` unsolved samples and one solved): x, v (n_points, 2, k), q, qd
+    (n_inputs, k) and the transmission angles (n_transmissions, k), copied."""
+
+    x: F
+    v: F
+    q: F
+    qd: F
+    trans: F
+
+    @classmethod
+    def of(cls, x: F, v: F, q: F, qd: F, trans: F, before: Tail | None = None) -> Tail:
+        """The tail of a stretch (``before``: the tail of the stretch before it, for a stretch
+        shorter than a tail)."""
+        k = MAX_GAP + 1
+        if before is not None and x.shape[-1] < k:
+            x, v, q, qd, trans = (
+                np.concatenate([old, new], axis=-1)
+                for old, new in zip(
+                    (before.x, before.v, before.q, before.qd, before.trans),
+                    (x, v, q, qd, trans),
+                    strict=True,
+                )
+            )
+        return cls(*(arr[..., -k:].copy() for arr in (x, v, q, qd, trans)))
+
+
+def _across(
+    tail: Tail, x: F, v: F | None, q: F | None, qd: F | None, st: Dyad, offset: int
+) -> list[tuple[int, int, str]]:
+    """The dyad's change points between a tail and the samples after it (numbered from
+    ``offset``)."""
+    k = tail.x.shape[-1]
+    head = MAX_GAP + 1
+
+    def joined(before: F, after: F | None) -> F | None:
+        return None if after is None else np.concatenate([before, after[..., :head]], axis=-1)
+
+    found = _changes(
+        joined(tail.x, x),  # type: ignore[arg-type]
+        joined(tail.v, v),
+        joined(tail.q, q),
+        joined(tail.qd, qd),
+        st,
+    )
+    return [(i - k + offset, j - k + offset, shape) for i, j, shape in found if i < k <= j]

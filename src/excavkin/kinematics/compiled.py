@@ -115,20 +115,17 @@ def table(values: list[Any], n: int) -> tuple[F, int]:
 
 def run(
     kernel: Kernel, plan: SolvePlan, c: Chunk, body: F, element: F, near: F, near_step: np.ndarray
-) -> F:
+) -> None:
     """Solve the chunk ``c`` with the ``kernel`` of ``plan``'s structure, at full order, and
     fill its derived quantities (``body`` and ``element``: the chunk's slices of
     :class:`~excavkin.kinematics.result.Derived`) and each
     sample's nearness to a dead position and nearest step (``near``, ``near_step``, as
-    :func:`~excavkin.kinematics.precision.nearness`). Returns each transmission's least
-    sin γ over the chunk."""
+    :func:`~excavkin.kinematics.precision.nearness`)."""
     k, stride = table(constants(plan), c.status.size)
-    flat = np.ones(len(plan.transmissions))
     kernel(
         c.q, c.qd, c.qdd, k, stride, c.x, c.v, c.a, c.trans, body, element,
-        c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, flat,
+        c.status, c.failed, c.close_tol, c.singular_tol, near, near_step,
     )  # fmt: skip
-    return flat
 
 
 def compile_plan(plan: SolvePlan) -> Kernel:
@@ -223,13 +220,13 @@ import numba
 A1, A2, A3 = numba.float64[:], numba.float64[:, :], numba.float64[:, :, :]
 SIGNATURE = numba.void(
     A2, A2, A2, A2, numba.int64, A3, A3, A3, A2, A3, A3, numba.int8[:], numba.int16[:],
-    numba.float64, numba.float64, A1, numba.int16[:], A1,
+    numba.float64, numba.float64, A1, numba.int16[:],
 )
 
 
 @numba.njit(SIGNATURE, nogil=True, cache=True, error_model="numpy")
 def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, close_tol,
-           singular_tol, near, near_step, flat):
+           singular_tol, near, near_step):
     nan = math.nan
     for i in range(status.shape[0]):
         j = i * ks
@@ -480,7 +477,6 @@ class _Source:
             self.emit(
                 f"trans[{index}, i] = {t}",
                 f"if {sg} < nr:", f"    nr = {sg}", f"    ns = {k}",
-                f"if {sg} < flat[{index}]:", f"    flat[{index}] = {sg}",
             )  # fmt: skip
             self.check(t)
             stored.append(f"trans[{index}, i]")

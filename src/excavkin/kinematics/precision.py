@@ -15,9 +15,10 @@ scaled by the ratio of the two precisions and a margin of :data:`MARGIN`. A samp
 estimate still exceeds :data:`TOLERANCE` is marked ``IMPRECISE`` ("rates lose precision near a
 dead position"), so that no row marked ``ok`` is off by more than that.
 
-The scale of a quantity is its largest magnitude over the sweep's solved samples, per kind:
-lengths (positions and element lengths), velocities, accelerations, angles, angular velocities
-and angular accelerations.
+The scale of a quantity is its largest magnitude over the solved samples checked together —
+a block of :data:`~excavkin.kinematics.solve.BLOCK` samples of the sweep, so that a sweep
+solved part by part is judged as the whole is — per kind: lengths (positions and element
+lengths), velocities, accelerations, angles, angular velocities and angular accelerations.
 """
 
 from __future__ import annotations
@@ -66,17 +67,15 @@ class Arrays:
     derived: Derived
 
 
-def nearness(plan: SolvePlan, trans: F, newton_near: F | None = None) -> tuple[F, np.ndarray, F]:
-    """How near each sample is to a dead position (0 at one, 1 far from any), the plan step
-    nearest it, and the flattest each transmission comes over the samples (min sin γ)."""
+def nearness(plan: SolvePlan, trans: F, newton_near: F | None = None) -> tuple[F, np.ndarray]:
+    """How near each sample is to a dead position (0 at one, 1 far from any), and the plan
+    step nearest it."""
     n = trans.shape[-1]
     near = np.ones(n)
     step = np.full(n, -1, dtype=np.int16)
-    flattest = np.ones(trans.shape[0])
     steps_of = {st.index: k for k, st in enumerate(plan.steps) if isinstance(st, Dyad | SliderStep)}
     for i in range(trans.shape[0]):
         s = np.abs(np.sin(trans[i]))
-        flattest[i] = np.nanmin(s, initial=1.0)
         closer = s < near
         near = np.where(closer, s, near)
         step[closer] = steps_of[i]
@@ -85,7 +84,7 @@ def nearness(plan: SolvePlan, trans: F, newton_near: F | None = None) -> tuple[F
         closer = newton_near < near
         near = np.where(closer, newton_near, near)
         step[closer] = group
-    return near, step, flattest
+    return near, step
 
 
 def check(

@@ -99,14 +99,36 @@ class Status:
 
     def labels(self) -> np.ndarray:
         """A short label per sample (``"ok"`` or the reason and place), shape (n,)."""
-        out = np.full(self.code.shape, "ok", dtype=object)
+        codes, labels = self.label_codes()
+        return np.asarray(np.array(labels, dtype=object)[codes])
+
+    def label_codes(self) -> tuple[np.ndarray, list[str]]:
+        """The labels as codes into the distinct labels (sorted), without a text per sample:
+        ``labels()[i] == distinct[codes[i]]``.
+
+        Returns
+        -------
+        codes : ndarray of int16, shape (n,)
+        distinct : list of str
+        """
         bad = np.flatnonzero(self.code != 0)
-        if bad.size:
-            keys = self.code[bad].astype(np.int32) * 100000 + self.step[bad].astype(np.int32)
-            uniq, first = np.unique(keys, return_index=True)
-            text = {int(k): self.message(int(bad[f])) for k, f in zip(uniq, first, strict=True)}
-            out[bad] = [text[int(k)] for k in keys]
-        return out
+        if not bad.size:
+            return np.zeros(self.code.size, dtype=np.int16), ["ok"] if self.code.size else []
+        keys = self.code[bad].astype(np.int32) * 100000 + self.step[bad].astype(np.int32)
+        _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+        texts = [self.message(int(bad[f])) for f in first]
+        distinct = sorted({*texts, *(["ok"] if bad.size < self.code.size else [])})
+        index = {text: k for k, text in enumerate(distinct)}
+        codes = np.full(self.code.size, index.get("ok", 0), dtype=np.int16)
+        codes[bad] = np.array([index[t] for t in texts], dtype=np.int16)[inverse.reshape(-1)]
+        return codes, distinct
+
+    def categorical(self) -> pd.Categorical[str]:
+        """The labels as a ``pandas.Categorical`` (one code per sample, not a text)."""
+        import pandas as pd
+
+        codes, distinct = self.label_codes()
+        return pd.Categorical.from_codes(codes, categories=pd.Index(distinct, dtype=str))
 
     def __repr__(self) -> str:
         counts = ", ".join(f"{lab} {k}" for lab, k in summary.status_counts(self.labels()))
@@ -127,18 +149,15 @@ class Status:
             ``describe(i)`` names sample ``i`` by its inputs (``"crank = 132°"``).
         """
         bad = np.flatnonzero(self.code != 0)
-        if not bad.size:
-            return "all samples solved"
         labels = self.labels()
-        parts = []
+        groups = []
         for lab in dict.fromkeys(labels[bad]):
             idx = bad[labels[bad] == lab]
-            shown = ", ".join(
+            shown = [
                 f"{int(i)} ({describe(int(i))})" if describe else str(int(i)) for i in idx[:limit]
-            )
-            more = f" and {idx.size - limit} more" if idx.size > limit else ""
-            parts.append(f"{lab}: sample{'s' if idx.size > 1 else ''} {shown}{more}")
-        return f"{bad.size} of {self.code.size} samples failed — " + "; ".join(parts)
+            ]
+            groups.append((str(lab), int(idx.size), shown))
+        return summary.failures(int(self.code.size), groups, limit)
 
 
 @dataclass(frozen=True, slots=True, repr=False)
@@ -255,18 +274,10 @@ class KinematicResult:
 
     def describe_sample(self, i: int) -> str:
         """Sample ``i`` by its inputs that vary: ``"crank = 132°"``, ``"boom_cyl = 2.315 m"``."""
-        parts = []
-        for k, (name, kind) in enumerate(zip(self.plan.inputs, self.plan.input_kinds, strict=True)):
-            q = self.inputs[:, k]
-            if q.size > 1 and np.nanmax(q) == np.nanmin(q):
-                continue  # held: it does not tell samples apart
-            v = float(q[i])
-            parts.append(
-                f"{name} = {np.degrees(v):.4g}°" if kind == "angle" else f"{name} = {v:.6g} m"
-            )
-        if self.time is not None:
-            parts.insert(0, f"t = {float(self.time[i]):.6g} s")
-        return ", ".join(parts) or f"sample {i}"
+        q = self.inputs
+        held = (len(self) > 1) & (np.fmax.reduce(q, axis=0) == np.fmin.reduce(q, axis=0))
+        t = None if self.time is None else float(self.time[i])
+        return describe_inputs(self.plan, q[i], held, t, i)
 
     def summary(self, limit: int = 10) -> str:
         """The failing samples grouped by reason, each named by its inputs."""
@@ -396,17 +407,84 @@ class KinematicResult:
 
         cols = self._columns()
         data: dict[str, Any] = {c.name: arr for c, arr in cols}
-        data["status"] = pd.Categorical(self.status.labels())
+        data["status"] = self.status.categorical()
         # the columns are views of the solver's arrays: no copy
         frame = pd.DataFrame(data, copy=False)
         frame.attrs.update(table_attrs(self.plan.model.name, [c for c, _ in cols]))
         return frame
+
+    def rows(self, start: int, stop: int, origin: int = 0) -> KinematicResult:
+        """Samples ``start`` … ``stop − 1`` as a result of their own (views, no copies).
+
+        Parameters
+        ----------
+        start, stop : int
+        origin : int
+            The number of this result's first sample in the numbering of its change points
+            (a part of a streamed sweep numbers them in the whole sweep): the change points
+            kept are those whose later sample is among the rows.
+        """
+        import dataclasses
+
+        s = slice(start, stop)
+
+        def cut(value: Any) -> Any:
+            return value if value is None or np.ndim(value) == 0 else value[s]
+
+        low, high = origin + start, origin + stop
+        return dataclasses.replace(
+            self,
+            **{name: getattr(self, name)[s] for name in _ROW_ARRAYS},
+            status=Status(self.status.code[s], self.status.step[s], self.status.plan),
+            time=cut(self.time),
+            change_points=tuple(c for c in self.change_points if low <= c.after < high),
+            error_estimate=cut(self.error_estimate),
+            parameters=None
+            if self.parameters is None
+            else {k: cut(v) for k, v in self.parameters.items()},
+            tangents=None
+            if self.tangents is None
+            else {k: t.rows(start, stop, origin) for k, t in self.tangents.items()},
+        )
 
     def with_time(self, t: F) -> KinematicResult:
         """The same result with a time column, shape (n,)."""
         import dataclasses
 
         return dataclasses.replace(self, time=np.asarray(t, dtype=np.float64))
+
+
+def describe_inputs(plan: SolvePlan, q: F, held: np.ndarray, t: float | None, i: int) -> str:
+    """A sample by its inputs ``q`` (n_inputs,) that vary over the sweep (``held`` marks the
+    others) and its time: ``"t = 0.5 s, crank = 132°"``, or ``"sample i"``."""
+    parts = [] if t is None else [f"t = {t:.6g} s"]
+    for k, (name, kind) in enumerate(zip(plan.inputs, plan.input_kinds, strict=True)):
+        if held[k]:
+            continue  # held: it does not tell samples apart
+        v = float(q[k])
+        parts.append(f"{name} = {np.degrees(v):.4g}°" if kind == "angle" else f"{name} = {v:.6g} m")
+    return ", ".join(parts) or f"sample {i}"
+
+
+#: a result's arrays with one row per sample
+_ROW_ARRAYS = (
+    "positions",
+    "velocities",
+    "accelerations",
+    "body_angle",
+    "body_omega",
+    "body_epsilon",
+    "inputs",
+    "input_rates",
+    "input_accels",
+    "element_length",
+    "element_rate",
+    "element_accel",
+    "element_angle",
+    "element_omega",
+    "element_epsilon",
+    "transmission",
+)
 
 
 @dataclass(frozen=True, slots=True)

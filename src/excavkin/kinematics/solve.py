@@ -10,18 +10,20 @@ Newton, so that every sample stays on the sketch's assembly branch.
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import os
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
 
-from excavkin.errors import AssemblyError, InputError
+from excavkin.errors import AssemblyError
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import kernels, precision
-from excavkin.kinematics.change_points import ChangePoint, find_change_points, smooth_signs
+from excavkin.kinematics.change_points import ChangePoint, Tail, find_change_points
 from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.newton import rotary_branch_ok
 from excavkin.kinematics.result import Derived, KinematicResult, Status
@@ -66,7 +68,35 @@ class Assembly:
     newton_signs: tuple[float, ...]
 
 
-def solve_kinematics(
+#: A block: 65 536 consecutive samples, aligned at sample 0 (block k holds samples k·BLOCK to
+#: (k + 1)·BLOCK − 1). What a sample's result depends on beyond its own inputs is defined over
+#: its block — the precision check's scales, which dyads are searched for change points, where a
+#: Newton group's continuation starts (the block before's last reached sample) — so that a sweep
+#: solved whole and one solved part by part give the same numbers to the bit.
+BLOCK = 65536
+
+
+@dataclass(frozen=True, slots=True)
+class Carry:
+    """What one part of a sweep hands the next, so that the parts solve as the whole would.
+
+    Attributes
+    ----------
+    start : int
+        The next part's first sample (a multiple of :data:`BLOCK`).
+    tail : Tail, optional
+        The last samples before it, for the change points between the two.
+    reached : (ndarray, ndarray), optional
+        The positions (n_points, 2) and inputs (n_inputs,) of the last sample a Newton group
+        reached: the next block's continuation starts there.
+    """
+
+    start: int = 0
+    tail: Tail | None = None
+    reached: tuple[F, F] | None = None
+
+
+def solve_part(
     plan: SolvePlan,
     assembly: Assembly,
     q: F,
@@ -77,16 +107,18 @@ def solve_kinematics(
     chunk: int = 32768,
     workers: int | None = None,
     progress: Callable[[int, int], None] | None = None,
-    continuation: str = "side",
     unbuildable: np.ndarray | None = None,
     designs: DesignBatch | None = None,
+    carry: Carry | None = None,
     compiled: bool | None = None,
-) -> KinematicResult:
-    """Positions, velocities and accelerations of every point for every sample.
+) -> tuple[KinematicResult, Carry]:
+    """Positions, velocities and accelerations of every point for consecutive samples of a
+    sweep, each dyad on its sketch side.
 
     Parameters
     ----------
     plan : SolvePlan
+        The plan (with a family of designs' constants taken at these samples, if any).
     assembly : Assembly
         From :func:`assemble`.
     q, qd, qdd : ndarray, shape (n_inputs, n)
@@ -98,19 +130,16 @@ def solve_kinematics(
         Threads solving chunks side by side (NumPy releases the GIL in its loops, and chunks
         write disjoint slices). Default: the machine's cores.
     progress : callable, optional
-        ``progress(done, total)``, called after each chunk with the samples finished so far;
+        ``progress(done, n)``, called after each chunk with the samples finished so far;
         calls are serialised (never two at once, ``done`` increasing), though they may come
         from worker threads.
-    continuation : {"side", "smooth"}
-        At a change point between neighbouring samples (a dyad folding flat), keep each dyad on
-        its sketch side (``"side"``) or continue the motion onto the other side (``"smooth"``:
-        the samples are then taken in order, as a path). Either way the result lists the change
-        points it found.
     unbuildable : ndarray of bool, shape (n,), optional
         Samples whose design (a plan with per-sample dimensions) builds no mechanism.
     designs : DesignBatch, optional
         A family of designs of ``plan`` (a closed-form one), one per sample: each chunk's
         constants are made as the chunk is solved.
+    carry : Carry, optional
+        What the part before handed on (none: these samples start the sweep).
     compiled : bool, optional
         Run a closed-form plan as one compiled loop (:mod:`excavkin.kinematics.compiled`, needs
         numba) or in NumPy. Default: compiled when numba is installed and the batch is large.
@@ -118,13 +147,19 @@ def solve_kinematics(
     Returns
     -------
     KinematicResult
+        Its change points are numbered in the whole sweep.
+    Carry
+        For the part after.
     """
+    carry = carry or Carry()
     n_in, n = q.shape
     n_pts = len(plan.points)
-    x = np.empty((n_pts, 2, n))
-    v = np.empty((n_pts, 2, n))
-    a = np.empty((n_pts, 2, n))
-    trans = np.empty((len(plan.transmissions), n))
+    with _small_pages():
+        x = np.empty((n_pts, 2, n))
+        v = np.empty((n_pts, 2, n))
+        a = np.empty((n_pts, 2, n))
+        trans = np.empty((len(plan.transmissions), n))
+        derived = Derived.empty(plan, n)
     status = np.zeros(n, dtype=np.int8)
     failed = np.full(n, -1, dtype=np.int16)
     q_given = q
@@ -133,32 +168,117 @@ def solve_kinematics(
         status[unbuildable & (status == Code.OK)] = Code.BAD_DESIGN
         q = q.copy()
         q[:, unbuildable] = np.nan
-    derived = Derived.empty(plan, n)
     report = _Reporter(progress, n)
     fast = compiled_plan.use(plan, n, compiled)
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
+    blocks = _blocks(carry.start, n)
+    reached = carry.reached
+    near, near_step = np.empty(n), np.empty(n, dtype=np.int16)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        if plan.has_newton:  # positions first, by continuation; then the rates by chunks
+        if plan.has_newton:  # positions by continuation, block by block; then the rates
             chunk = _newton_chunk(plan, chunk)
-            _solve_newton(plan, assembly, full, chunk, workers)
+            for b in blocks:
+                reached = _solve_newton(
+                    take(plan, b), assembly, _view(full, b), reached, chunk, workers
+                )
         checked = assembly if plan.has_newton else None
-        near, near_step = np.empty(n), np.empty(n, dtype=np.int16)
-        flattest = _solve_chunks(
+        _solve_chunks(
             plan, full, derived, (near, near_step), chunk, workers, report, designs, checked,
             fast,
         )  # fmt: skip
-    if continuation == "smooth":
-        return _smooth(plan, assembly, q_given, qd, qdd, tol, x, v)
-    arrays = precision.Arrays(x, v, a, trans, derived)
-    error = _check_precision(
-        plan, (q, qd, qdd), arrays, status, failed, (near, near_step), tol, designs
-    )
+    error, found, tail = _check_blocks(
+        plan, (q_given, q, qd, qdd), precision.Arrays(x, v, a, trans, derived), status, failed,
+        (near, near_step), tol, designs, carry, blocks,
+    )  # fmt: skip
     result = KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
     )
-    found = find_change_points(plan, x, v=v, q=q_given, qd=qd, flattest=flattest)
-    return dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
+    result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
+    return result, Carry(carry.start + n, tail, reached)
+
+
+def _check_blocks(
+    plan: SolvePlan,
+    inputs: tuple[F, F, F, F],
+    out: precision.Arrays,
+    status: np.ndarray,
+    failed: np.ndarray,
+    nearest: tuple[F, np.ndarray],
+    tol: Tolerances,
+    designs: DesignBatch | None,
+    carry: Carry,
+    blocks: list[slice],
+) -> tuple[F, list[ChangePoint], Tail | None]:
+    """Block by block, the precision check (its scales are the block's) and the change
+    points (searched in the dyads that come near flat in the block, and between it and the
+    block before): the error estimates, the change points in plan order and the last tail.
+    ``inputs``: the inputs as given, and as solved (q, qd, qdd)."""
+    q_given, q, qd, qdd = inputs
+    x, v, a, trans, derived = out.x, out.v, out.a, out.trans, out.derived
+    error = np.full(q.shape[1], np.nan)
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    for b in blocks:
+        near = (nearest[0][b], nearest[1][b])
+        arrays = precision.Arrays(
+            x[..., b], v[..., b], a[..., b], trans[:, b],
+            Derived(derived.body[..., b], derived.element[..., b]),
+        )  # fmt: skip
+        error[b] = _check_precision(
+            take(plan, b), (q[:, b], qd[:, b], qdd[:, b]), arrays, status[b], failed[b], near,
+            tol, designs, b.start,
+        )  # fmt: skip
+        here = (x[..., b], v[..., b], q_given[:, b], qd[:, b], trans[:, b])
+        found += find_change_points(
+            plan, here[0], v=here[1], q=here[2], qd=here[3], trans=here[4],
+            offset=carry.start + b.start, tail=tail,
+        )  # fmt: skip
+        tail = Tail.of(*here, before=tail)
+    order = {plan.points[st.point]: k for k, st in enumerate(plan.steps) if isinstance(st, Dyad)}
+    found.sort(key=lambda cp: order[cp.point])  # plan order, each dyad's in sample order
+    return error, found, tail
+
+
+@contextmanager
+def _small_pages() -> Iterator[None]:
+    """Arrays made here get ordinary pages. NumPy advises the kernel to back a large array
+    with huge pages; each is then found (compacted, zeroed) when first touched, and on a
+    sweep of 10⁷ samples the threads writing a fresh result stall on it (3–5× slower). The
+    setting is NumPy's, process-wide: it is put back as it was at once."""
+    try:
+        advise = importlib.import_module("numpy._core.multiarray")._set_madvise_hugepage
+    except (ImportError, AttributeError):  # NumPy 1.x
+        advise = importlib.import_module("numpy.core.multiarray")._set_madvise_hugepage
+    previous = advise(False)
+    try:
+        yield
+    finally:
+        advise(previous)
+
+
+def _blocks(start: int, n: int) -> list[slice]:
+    """The samples 0 … n − 1 of a part starting at sample ``start``, cut where blocks begin."""
+    cuts = [0, *range(-start % BLOCK or BLOCK, n, BLOCK), n]
+    return [slice(s, e) for s, e in zip(cuts[:-1], cuts[1:], strict=True) if e > s]
+
+
+def _view(full: Chunk, part: slice) -> Chunk:
+    """A chunk of views of ``full``'s samples ``part``."""
+    return Chunk(
+        full.x[:, :, part],
+        full.v[:, :, part],
+        full.a[:, :, part],
+        full.q[:, part],
+        full.qd[:, part],
+        full.qdd[:, part],
+        full.trans[:, part],
+        full.status[part],
+        full.failed[part],
+        full.close_tol,
+        full.singular_tol,
+        None if full.near is None else full.near[part],
+    )
 
 
 def _check_precision(
@@ -170,12 +290,14 @@ def _check_precision(
     nearest: tuple[F, np.ndarray],
     tol: Tolerances,
     designs: DesignBatch | None,
+    offset: int = 0,
 ) -> F:
     """The precision check near dead positions (:mod:`excavkin.kinematics.precision`), and
-    the finiteness check again on the samples it may have given extended values."""
+    the finiteness check again on the samples it may have given extended values; ``offset``
+    is the first sample's place in ``designs``."""
     q, qd, qdd = inputs
     limits = (tol.close, tol.singular)
-    plan_at = None if designs is None else (lambda index: designs.at(index)[0])
+    plan_at = None if designs is None else (lambda index: designs.at(index + offset)[0])
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         error = precision.check(plan, q, qd, qdd, arrays, status, failed, nearest, limits, plan_at)
     checked = np.flatnonzero(np.isfinite(error))
@@ -202,16 +324,15 @@ def _solve_chunks(
     designs: DesignBatch | None = None,
     assembly: Assembly | None = None,
     fast: bool = False,
-) -> F:
+) -> None:
     """The plan over chunks of samples, on a thread per core: each chunk runs the steps and
     then its derived quantities and nearness to dead positions while it is in cache (and, for
     a family of designs, makes its own constants first). Newton groups' positions are already
     found (:func:`_solve_newton`): here they get their rates, and their branch is checked
     against ``assembly``'s. ``fast``: a closed-form plan as its compiled loop. Fills
     ``nearest`` (each sample's nearness and nearest step, as
-    :func:`~excavkin.kinematics.precision.nearness`); returns each transmission's flattest."""
+    :func:`~excavkin.kinematics.precision.nearness`)."""
     n = full.status.size
-    flattest: list[F] = []
     kernel = compiled_plan.compile_plan(plan) if fast else None
 
     def one(s: int) -> None:
@@ -244,7 +365,7 @@ def _solve_chunks(
         near, near_step = nearest[0][part], nearest[1][part]
         if kernel is not None:
             body, element = derived.body[:, :, part], derived.element[:, :, part]
-            flat = compiled_plan.run(kernel, here, c, body, element, near, near_step)
+            compiled_plan.run(kernel, here, c, body, element, near, near_step)
         else:
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 signs = run_steps(here, c, 2, newton=False)
@@ -252,14 +373,10 @@ def _solve_chunks(
                     _check_branches(here, assembly, c, signs)
                 derived.fill(plan, c.x, c.v, c.a, part)
                 _flag_not_finite(c.x, c.v, c.a, c.trans, derived, part, c.status)
-                near[:], near_step[:], flat = precision.nearness(plan, c.trans, c.near)
-        flattest.append(flat)  # appends are atomic: no lock
+                near[:], near_step[:] = precision.nearness(plan, c.trans, c.near)
         report(e - s)
 
     _over_chunks(n, chunk, workers, one)
-    if not flattest:
-        return np.ones(len(plan.transmissions))
-    return np.asarray(np.min(flattest, axis=0, initial=1.0), dtype=np.float64)
 
 
 def _over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], None]) -> None:
@@ -289,50 +406,6 @@ def _check_branches(plan: SolvePlan, assembly: Assembly, c: Chunk, signs: list[F
     for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
         flipped = (sign != ref) | ~rotary_branch_ok(c, st)
         kernels.flag(c, flipped & np.isfinite(c.x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
-
-
-def _smooth(
-    plan: SolvePlan,
-    assembly: Assembly,
-    q: F,
-    qd: F,
-    qdd: F,
-    tol: Tolerances,
-    x: F,
-    v: F,
-) -> KinematicResult:
-    """Solve again with each dyad's side flipped after its change points, dyad by dyad in
-    plan order (a flip moves what is built on the dyad, and so its later change points)."""
-    if plan.has_newton:
-        raise InputError(
-            'continuation="smooth" follows dyads through their change points; this plan has '
-            "a Newton group, which keeps its own branch"
-        )
-    found: list[ChangePoint] = []
-    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    far = np.abs(_wrapped(q - q0, plan)) / _step_sizes(plan)
-    anchor = int(np.argmin(np.where(np.isfinite(far).all(axis=0), far.max(axis=0), np.inf)))
-    for k, st in enumerate(plan.steps):
-        if not isinstance(st, Dyad):
-            continue
-        signs = smooth_signs(x, st, anchor, v, q, qd)
-        if signs is None:
-            continue
-        steps = list(plan.steps)
-        steps[k] = dataclasses.replace(st, sign=signs)  # type: ignore[arg-type]
-        plan = dataclasses.replace(plan, steps=tuple(steps))
-        found += [
-            dataclasses.replace(cp, continued="smooth")
-            for cp in find_change_points(dataclasses.replace(plan, steps=(st,)), x, v=v, q=q, qd=qd)
-        ]
-        # the whole batch as one chunk: per-sample signs are indexed by sample
-        again = solve_kinematics(plan, assembly, q, qd, qdd, tol=tol, chunk=q.shape[1], workers=1)
-        x = np.moveaxis(again.positions, 0, -1)
-        v = np.moveaxis(again.velocities, 0, -1)
-    result = solve_kinematics(
-        plan, assembly, q, qd, qdd, tol=tol, chunk=max(q.shape[1], 1), workers=1
-    )
-    return dataclasses.replace(result, change_points=tuple(found))
 
 
 def _flag_not_finite(
@@ -389,11 +462,18 @@ class _Reporter:
 
 
 def _solve_newton(
-    plan: SolvePlan, assembly: Assembly, full: Chunk, chunk: int, workers: int | None
-) -> None:
-    """Positions by continuation along the sweep's own order (their rates come after).
+    plan: SolvePlan,
+    assembly: Assembly,
+    full: Chunk,
+    reached: tuple[F, F] | None,
+    chunk: int,
+    workers: int | None,
+) -> tuple[F, F] | None:
+    """Positions by continuation along the sweep's own order (their rates come after); returns
+    the last sample reached (positions and inputs), where the next block starts.
 
-    The sample nearest the sketch is reached from the sketch; every other sample then follows
+    The sample nearest the start — the sketch, or the last sample the block before reached —
+    is reached from it; every other sample then follows
     the sweep from there, through the samples between, in stages small enough for Newton.
     A sweep is a path the user asked for, so this keeps each sample on the branch the sweep
     itself is on — through a full turn, too. Samples the sweep cannot reach (the path passes
@@ -402,14 +482,20 @@ def _solve_newton(
     """
     q, status = full.q, full.status
     steps = _step_sizes(plan)
-    _continue_along_sweep(plan, assembly, full, steps, chunk, workers)
+    if reached is None:
+        reached = (assembly.positions, np.asarray(plan.input_sketch, dtype=np.float64))
+    _continue_along_sweep(plan, reached, full, steps, chunk, workers)
     for long_way in (False, True):
-        reached = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
-        retry = np.flatnonzero(~reached)
+        done = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
+        retry = np.flatnonzero(~done)
         if not retry.size or (long_way and "angle" not in plan.input_kinds):
             break
         _continue_from_sketch(plan, assembly, full, steps, retry, long_way, chunk, workers)
     full.q = q
+    ok = np.flatnonzero(status == Code.OK)
+    if not ok.size:
+        return reached
+    return full.x[:, :, ok[-1]].copy(), q[:, ok[-1]].copy()
 
 
 def _step_sizes(plan: SolvePlan) -> F:
@@ -462,13 +548,14 @@ FINER = 8
 
 def _continue_along_sweep(
     plan: SolvePlan,
-    assembly: Assembly,
+    start: tuple[F, F],
     full: Chunk,
     steps: F,
     chunk: int,
     workers: int | None,
 ) -> None:
-    """Every sample by continuation along the sweep from the sample nearest the sketch.
+    """Every sample by continuation along the sweep from the sample nearest ``start``
+    (positions (n_points, 2) and inputs (n_inputs,): the sketch, or the block before's last).
 
     A ladder of the sweep's own samples, one stage apart along its path (the inputs' moves
     added up in stages, both ways from that sample), is solved rung by rung, each from the one
@@ -482,14 +569,15 @@ def _continue_along_sweep(
     """
     q = full.q
     valid = np.flatnonzero(np.isfinite(q).all(axis=0))
-    if not valid.size:
+    if not valid.size:  # no sample to reach (every input refused): no positions either
+        full.x[:] = np.nan
         return
-    q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
+    q0 = start[1].reshape(-1, 1).copy()
     far = np.abs(_wrapped(q[:, valid] - q0, plan)) / steps
     k0 = int(np.argmin(far.max(axis=0)))  # among the valid samples
     # the sketch → that sample, then its ladder's rungs either way along the sweep
     mini = _positions_only(full, valid[[k0]], q0.copy())
-    mini.x[:] = assembly.positions[:, :, None]
+    mini.x[:] = start[0][:, :, None]
     mini.status[:] = 0
     leg = _wrapped(q[:, valid[[k0]]] - q0, plan)
     first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)

@@ -24,6 +24,19 @@ def status_counts(labels: np.ndarray) -> list[tuple[str, int]]:
     return sorted(pairs, key=lambda p: p[0] != "ok")
 
 
+def failures(total: int, groups: Sequence[tuple[str, int, Sequence[str]]], limit: int) -> str:
+    """The failing samples as one paragraph: per reason (in order of its first sample) its
+    count and its first ``limit`` samples, each already named."""
+    bad = sum(count for _, count, _ in groups)
+    if not bad:
+        return "all samples solved"
+    parts = []
+    for label, count, shown in groups:
+        more = f" and {count - limit} more" if count > limit else ""
+        parts.append(f"{label}: sample{'s' if count > 1 else ''} {', '.join(shown)}{more}")
+    return f"{bad} of {total} samples failed — " + "; ".join(parts)
+
+
 def grouped(columns: Iterable[Column]) -> list[tuple[str, str, list[str]]]:
     """Columns grouped by owner: ``[(owner kind, owner, [quantities]), ...]`` in table order."""
     groups: dict[tuple[str, str], list[str]] = {}

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -275,19 +275,23 @@ class ForceResult:
                 for c, _ in self._columns(resultants)
                 if c.name in tangent
             ]
-        forces = pd.DataFrame({c.name: arr for c, arr in described}, copy=False)
         force_cols = [c for c, _ in described]
+        model = self.kinematics.plan.model.name
         if not kinematics:
-            forces.attrs.update(table_attrs(self.kinematics.plan.model.name, force_cols))
+            forces = pd.DataFrame({c.name: arr for c, arr in described}, copy=False)
+            forces.attrs.update(table_attrs(model, force_cols))
             return forces
-        kin = self.kinematics.to_frame()
-        status = pd.Categorical(self.status_labels()) if self.singular.any() else kin["status"]
-        # one frame from all the columns at once: no insertions, no fragmentation
-        frame = pd.concat(
-            [kin.drop(columns="status"), forces, pd.DataFrame({"status": status})], axis=1
-        )
-        kin_cols = self.kinematics.columns
-        frame.attrs.update(table_attrs(self.kinematics.plan.model.name, [*kin_cols, *force_cols]))
+        kin = self.kinematics._columns()
+        # one frame from all the columns at once, each a view of its result's array: no
+        # copies, no insertions
+        data: dict[str, Any] = {c.name: arr for c, arr in [*kin, *described]}
+        status = self.kinematics.status
+        if self.singular.any():
+            data["status"] = pd.Categorical(self.status_labels())
+        else:
+            data["status"] = status.categorical()
+        frame = pd.DataFrame(data, copy=False)
+        frame.attrs.update(table_attrs(model, [*(c for c, _ in kin), *force_cols]))
         return frame
 
     # ---- checks

@@ -7,8 +7,10 @@ file is replaced only when asked (``force``).
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from excavkin.io.files import OutputError, check_target, remove_leftovers, write_atomic
 
@@ -42,47 +44,245 @@ def write_table(
     """Write ``frame`` as CSV or Parquet (by suffix), atomically.
 
     Every table is SI with plain column names. Floats are written as the shortest text that
-    reads back to the same double. A Parquet file keeps each column's unit and kind and the
-    model's name in its schema metadata (``excavkin.units``, ``excavkin.kinds``,
-    ``excavkin.model``); a CSV file may carry the units as a second header row
-    (``units_row``).
+    reads back to the same double (a whole number with ``.0``, so that readers take the
+    column as floats), NaN as an empty field, infinities as ``inf`` and ``-inf``. A Parquet
+    file keeps each column's unit and kind and the model's name in its schema metadata
+    (``excavkin.units``, ``excavkin.kinds``, ``excavkin.model``); a CSV file may carry the
+    units as a second header row (``units_row``).
     """
-    import json
+    return write_tables([frame], path, force=force, units_row=units_row)
 
+
+def write_tables(
+    frames: Iterable[pd.DataFrame],
+    path: str | Path,
+    *,
+    force: bool = False,
+    units_row: bool = False,
+) -> Path:
+    """Write frames one after another as one table (:func:`write_table`), atomically: the
+    file appears when the last frame is written, and not at all if making a frame fails.
+
+    Memory is bounded by a frame: a table of any length is written part by part, each
+    frame as the next rows (Parquet: its row groups; CSV: its lines). Every frame has the
+    first one's columns; the first's ``attrs`` give the units and kinds.
+    """
     p = check_target(path, force=force, suffixes=TABLE_SUFFIXES)
-    units = units_of(frame)
-    if p.suffix.lower() == ".parquet":
-        try:
-            import pyarrow as pa
-            import pyarrow.parquet as pq
-        except ImportError:
-            raise OutputError(
-                f"{p}: writing Parquet needs pyarrow "
-                "(pip install 'excavkin[parquet]'), or write .csv"
-            ) from None
+    parquet = p.suffix.lower() == ".parquet"
 
-        def parquet(tmp: Path) -> None:
-            out = frame.copy(deep=False)
-            if "status" in out:
-                out["status"] = out["status"].astype(str)
-            table = pa.Table.from_pandas(out, preserve_index=False)
-            meta = {
-                **(table.schema.metadata or {}),
+    def write(tmp: Path) -> None:
+        # each frame is written on a thread of its own while the next one is made (Arrow
+        # releases the GIL): a solve and a write overlap, two frames at most in memory
+        with (
+            TableWriter(tmp, parquet=parquet, units_row=units_row) as out,
+            ThreadPoolExecutor(1) as writer,
+        ):
+            pending: Future[None] | None = None
+            for frame in frames:
+                if pending is not None:
+                    pending.result()
+                pending = writer.submit(out.write, frame)
+            if pending is not None:
+                pending.result()
+
+    return write_atomic(p, write)
+
+
+class TableWriter:
+    """A table written part by part: ``write(frame)`` appends the frame's rows.
+
+    Use it on a temporary file inside :func:`write_atomic` (as :func:`write_tables` does),
+    so that a table stopped halfway is never left. The first frame fixes the columns, their
+    units and kinds; the file is complete when the writer is closed.
+
+    Parameters
+    ----------
+    path : Path
+    parquet : bool
+        Parquet (row groups of each frame's rows), else CSV.
+    units_row : bool
+        CSV: a second header row with each column's SI unit.
+    """
+
+    def __init__(self, path: Path, *, parquet: bool, units_row: bool = False) -> None:
+        pa = _pyarrow(path)
+        self.path = path
+        self.parquet = parquet
+        self.units_row = units_row
+        self.columns: list[str] | None = None
+        self.rows = 0
+        self._parquet: Any = None
+        self._file: Any = None if parquet else pa.OSFile(str(path), "wb")
+
+    def __enter__(self) -> TableWriter:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
+        if kind is None:
+            self.close()
+        else:  # what stopped the table is the error, not the table's lack of rows
+            self._release()
+
+    def write(self, frame: pd.DataFrame) -> None:
+        """Append the frame's rows."""
+        import pyarrow as pa
+
+        names = [str(c) for c in frame.columns]
+        if self.columns is None:
+            self.columns = names
+            self._start(frame)
+        elif names != self.columns:
+            raise OutputError(f"{self.path}: a part of the table has other columns")
+        arrays = [_arrow_column(frame[c]) for c in frame.columns]
+        if self.parquet:
+            table = pa.Table.from_arrays(arrays, names=names).cast(self._parquet.schema)
+            self._parquet.write_table(table)
+        else:
+            _write_csv_rows(self._file, arrays, names)
+        self.rows += len(frame)
+
+    def _start(self, frame: pd.DataFrame) -> None:
+        import json
+
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        units = units_of(frame)
+        if not self.parquet:
+            header = _csv_line(self.columns or [])
+            if self.units_row:
+                header += _csv_line([units.get(c, "") for c in self.columns or []])
+            self._file.write(header.encode("utf-8"))
+            return
+        schema = pa.schema(
+            [(str(c), _arrow_column(frame[c].iloc[:0]).type) for c in frame.columns],
+            metadata={
                 b"excavkin.units": json.dumps(units).encode(),
                 b"excavkin.kinds": json.dumps(frame.attrs.get("excavkin.kinds", {})).encode(),
                 b"excavkin.model": str(frame.attrs.get("excavkin.model", "")).encode(),
-            }
-            pq.write_table(table.replace_schema_metadata(meta), tmp)
+            },
+        )
+        # dictionaries only for text: tried on every float column they cost 3× the time
+        text = [f.name for f in schema if pa.types.is_string(f.type)]
+        self._parquet = pq.ParquetWriter(str(self.path), schema, use_dictionary=text)
 
-        return write_atomic(p, parquet)
+    def close(self) -> None:
+        """Finish the file (a CSV file with no frame written is empty; a Parquet one cannot
+        be: without a frame its columns are unknown)."""
+        self._release()
+        if self.parquet and self.columns is None:
+            raise OutputError(f"{self.path}: no table to write")
 
-    def csv(tmp: Path) -> None:
-        with open(tmp, "w", newline="", encoding="utf-8") as f:
-            if units_row:
-                frame.head(0).to_csv(f, index=False)
-                f.write(",".join(units.get(str(c), "") for c in frame.columns) + "\n")
-                frame.to_csv(f, index=False, header=False)
-            else:
-                frame.to_csv(f, index=False)
+    def _release(self) -> None:
+        if self._parquet is not None:
+            self._parquet.close()
+            self._parquet = None
+        if self._file is not None:
+            self._file.close()
+            self._file = None
 
-    return write_atomic(p, csv)
+
+def _pyarrow(path: Path) -> Any:
+    try:
+        import pyarrow as pa
+    except ImportError:
+        raise OutputError(f"{path}: writing tables needs pyarrow (pip install pyarrow)") from None
+    return pa
+
+
+def _arrow_column(series: pd.Series) -> Any:
+    """A column as Arrow: numbers as they are (NaN a null), categories and text as text."""
+    import pandas as pd
+    import pyarrow as pa
+
+    if isinstance(series.dtype, pd.CategoricalDtype):
+        codes = series.cat.codes.to_numpy()
+        labels = pa.array([str(c) for c in series.cat.categories], type=pa.string())
+        return pa.DictionaryArray.from_arrays(codes, labels).cast(pa.string())
+    values = series.to_numpy()
+    if values.dtype.kind in "OUST":
+        return pa.array(values, type=pa.string(), from_pandas=True)
+    return pa.array(values, from_pandas=True)
+
+
+#: characters that make a CSV field need quotes
+_SPECIAL = (",", '"', "\n", "\r")
+
+
+def _csv_line(cells: list[str]) -> str:
+    """One CSV line, quoted where a cell needs it (Python's csv module, as pandas writes)."""
+    import csv
+    import io
+
+    out = io.StringIO()
+    csv.writer(out, lineterminator="\n").writerow(cells)
+    return out.getvalue()
+
+
+def _csv_text(array: Any) -> Any:
+    """A column's CSV text. Floats: the shortest text that reads back to the same double
+    (Arrow's: "0.1", "1.5e-7", "1e+21"), a whole number with ".0" ("3.0", not the "3" that
+    readers take for an integer), NaN a null (an empty field), ``inf`` and ``-inf``. A column
+    of one value throughout (a ground point's) is formatted once."""
+    import numpy as np
+    import pyarrow as pa
+    import pyarrow.compute as pc
+
+    if not pa.types.is_floating(array.type):
+        return array
+    values = array.to_numpy(zero_copy_only=False)
+    if array.null_count == 0 and len(values) > 1:
+        bits = values.view(np.int64)
+        if (bits == bits[0]).all():
+            return pa.repeat(_csv_text(array.slice(0, 1))[0], len(values))
+    text = pc.cast(array, pa.string())
+    with np.errstate(invalid="ignore"):
+        whole = np.isfinite(values) & (values == np.trunc(values))
+    if not whole.any():
+        return text
+    point = pc.binary_join_element_wise(text, ".0", "")
+    if whole.all() and not pc.any(pc.match_substring(text, "e")).as_py():
+        return point
+    fix = pc.and_(pa.array(whole), pc.invert(pc.match_substring(text, "e")))
+    return pc.if_else(fix, point, text)
+
+
+def _write_csv_rows(sink: Any, arrays: list[Any], names: list[str]) -> None:
+    """Rows of a CSV file (no header). The columns' text is made on a thread per core
+    (Arrow's formatting releases the GIL) and written by Arrow; the rare row with a text cell
+    that needs quotes (a comma in a status) is written by Python's csv module, quoted as
+    pandas would."""
+    import csv
+    import io
+    import os
+    from concurrent.futures import ThreadPoolExecutor
+
+    import numpy as np
+    import pyarrow as pa
+    import pyarrow.compute as pc
+    import pyarrow.csv as pcsv
+
+    with ThreadPoolExecutor(min(os.cpu_count() or 1, 8)) as pool:
+        texts = list(pool.map(_csv_text, arrays))
+    table = pa.Table.from_arrays(texts, names=names)
+    if not table.num_rows:
+        return
+    quoted = np.zeros(table.num_rows, dtype=bool)
+    for col, given in zip(texts, arrays, strict=True):
+        if pa.types.is_string(given.type) and len(col):
+            for ch in _SPECIAL:
+                quoted |= pc.fill_null(pc.match_substring(col, ch), False).to_numpy(
+                    zero_copy_only=False
+                )
+    plain = pcsv.WriteOptions(include_header=False, quoting_style="none")
+    # runs of rows alike: [start, stop) with or without quotes
+    cuts = [0, *(np.flatnonzero(np.diff(quoted)) + 1).tolist(), table.num_rows]
+    for start, stop in zip(cuts[:-1], cuts[1:], strict=True):
+        run = table.slice(start, stop - start)
+        if not quoted[start]:
+            pcsv.write_csv(run, sink, plain)
+            continue
+        out = io.StringIO()
+        cells = [pc.cast(c, pa.string()).to_pylist() for c in run.columns]
+        csv.writer(out, lineterminator="\n").writerows(zip(*cells, strict=True))
+        sink.write(out.getvalue().encode("utf-8"))

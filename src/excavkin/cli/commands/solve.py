@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
@@ -22,11 +23,18 @@ from excavkin.cli.common import (
     si_value,
     units_row_option,
 )
-from excavkin.cli.progress import solve_with_progress
+from excavkin.cli.input_table import InputTable
+from excavkin.cli.progress import MIN_SAMPLES_FOR_BAR, progress
+from excavkin.cli.tally import Tally
 from excavkin.errors import InputError
 from excavkin.kinematics import KinematicResult
 from excavkin.mechanism import Mechanism
-from excavkin.outputs.tables import TABLE_SUFFIXES, check_target, write_table
+from excavkin.outputs.tables import TABLE_SUFFIXES, check_target, write_tables
+from excavkin.sweeps import Lazy
+from excavkin.sweeps import grid as sweep_grid
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 def build_inputs(
@@ -37,16 +45,19 @@ def build_inputs(
     accels: Sequence[str],
     grid: bool = False,
     params: Sequence[str] = (),
-) -> tuple[dict[str, np.ndarray | float], dict[str, float], dict[str, float]]:
+    lazy: bool = False,
+) -> tuple[dict[str, Any], dict[str, float], dict[str, float]]:
     """Turn ``--sweep/--set/--rate/--accel/--param`` texts into SI solve inputs.
 
     Several sweeps run side by side (sample k of each), so they must have the same N; with
     ``grid`` they form every combination instead (the first sweep varying slowest), N₁·N₂·…
     samples. A design parameter swept by ``--param NAME=START:STOP:N`` (or set by
     ``NAME=VALUE``) is one more such axis; the parameters come back in the values under
-    ``"design." + NAME`` (:func:`split_params` takes them out).
+    ``"design." + NAME`` (:func:`split_params` takes them out). With ``lazy`` the sweeps are
+    columns made part by part (:mod:`excavkin.sweeps`), never whole arrays, and no sample
+    count is refused for memory.
     """
-    values: dict[str, np.ndarray | float] = {}
+    values: dict[str, Any] = {}
     for option, texts in (
         ("--sweep", sweeps),
         ("--set", sets),
@@ -61,16 +72,18 @@ def build_inputs(
     for text in sweeps:
         name, spec = parse_assignment(text, "--sweep")
         kind = mech.input_kind(name)
-        values[name] = parse_sweep(spec, kind, f"--sweep {name}")
+        values[name] = parse_sweep(spec, kind, f"--sweep {name}", lazy)
     for text in params:
         name, spec = parse_assignment(text, "--param")
         kind = parameter_kind(mech, name)
         what = f"--param {name}"
         values[PARAM + name] = (
-            parse_sweep(spec, kind, what) if ":" in spec else si_value(spec, kind, what)
+            parse_sweep(spec, kind, what, lazy) if ":" in spec else si_value(spec, kind, what)
         )
-    lengths = {k: v.size for k, v in values.items() if isinstance(v, np.ndarray)}
-    if grid and len(lengths) > 1:
+    lengths = {k: v.size for k, v in values.items() if isinstance(v, np.ndarray | Lazy)}
+    if grid and len(lengths) > 1 and lazy:
+        values.update(zip(lengths, sweep_grid(*[values[k] for k in lengths]), strict=True))
+    elif grid and len(lengths) > 1:
         check_samples(int(np.prod(list(lengths.values()), dtype=object)), "--grid")
         axes = np.meshgrid(*[values[k] for k in lengths], indexing="ij")
         values.update({k: a.ravel() for k, a in zip(lengths, axes, strict=True)})
@@ -109,9 +122,7 @@ def parameter_kind(mech: Mechanism, name: str) -> str:
     return kind_of(name, mech.model)
 
 
-def split_params(
-    values: dict[str, np.ndarray | float],
-) -> tuple[dict[str, np.ndarray | float], dict[str, np.ndarray | float]]:
+def split_params(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
     """The drivers' values and the design parameters, apart."""
     drivers = {k: v for k, v in values.items() if not k.startswith(PARAM)}
     designs = {k[len(PARAM) :]: v for k, v in values.items() if k.startswith(PARAM)}
@@ -126,89 +137,10 @@ def _columns_per_sample(mech: Mechanism, with_forces: bool) -> int:
     return 2 * kin if with_forces else kin
 
 
-def read_inputs(
-    mech: Mechanism, path: str
-) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray], dict[str, np.ndarray], np.ndarray | None]:
-    """One row per sample from a CSV or Parquet table, SI: ``<driver>`` (or
-    ``<driver>.value``), ``<driver>.rate``, ``<driver>.accel`` and ``t``.
-
-    A CSV may carry the units row that ``--units-row`` writes; it is skipped.
-    """
-    import pandas as pd
-
-    from excavkin.errors import did_you_mean
-
-    p = check_target_readable(path)
-    try:
-        if p.suffix.lower() == ".parquet":
-            frame = pd.read_parquet(p)
-        else:
-            frame = pd.read_csv(p, dtype=str, keep_default_na=False)
-            if len(frame) and _units_row(frame.iloc[0]):
-                frame = frame.iloc[1:].reset_index(drop=True)
-            frame = frame.apply(pd.to_numeric, errors="coerce")
-    except (OSError, ValueError) as exc:
-        raise InputError(f"--inputs {path}: cannot read the table: {exc}") from None
-    values: dict[str, np.ndarray] = {}
-    rates: dict[str, np.ndarray] = {}
-    accels: dict[str, np.ndarray] = {}
-    time = None
-    known = [*mech.inputs, *(f"{d}.{q}" for d in mech.inputs for q in ("value", "rate", "accel"))]
-    for col in map(str, frame.columns):
-        data = frame[col].to_numpy(dtype=np.float64)
-        name, _, qty = col.partition(".")
-        if col == "t":
-            time = data
-        elif name in mech.inputs and qty in ("", "value"):
-            values[name] = data
-        elif name in mech.inputs and qty == "rate":
-            rates[name] = data
-        elif name in mech.inputs and qty == "accel":
-            accels[name] = data
-        else:
-            raise InputError(
-                f"--inputs {path}: column {col!r} is not an input of {mech.name!r}"
-                f"{did_you_mean(col, known)} (columns: <driver>, <driver>.rate, "
-                f"<driver>.accel, t; inputs: {', '.join(mech.inputs) or 'none'})"
-            )
-    if not len(frame):
-        raise InputError(f"--inputs {path}: the table has no samples")
-    bad = [c for c in map(str, frame.columns) if not np.isfinite(frame[c].to_numpy(float)).all()]
-    if bad:
-        raise InputError(f"--inputs {path}: column {bad[0]!r} holds a value that is not a number")
-    return values, rates, accels, time
-
-
-def _units_row(row: object) -> bool:
-    """A row of unit names (as ``--units-row`` writes), not of numbers."""
-    from excavkin.units import is_unit_text
-
-    cells = [str(v) for v in row]  # type: ignore[attr-defined]
-    numbers = sum(_is_number(c) for c in cells)
-    return numbers == 0 and all(is_unit_text(c) for c in cells)
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
-def check_target_readable(path: str) -> Path:
-    """The input table's path, if it exists and ends in .csv or .parquet."""
-    p = Path(path)
-    if p.suffix.lower() not in TABLE_SUFFIXES:
-        raise InputError(f"--inputs {path}: the table must end in .csv or .parquet")
-    if not p.is_file():
-        raise InputError(f"--inputs {path}: no such file")
-    return p
-
-
-def report_failures(result: KinematicResult, keep_going: bool) -> None:
+def report_failures(result: KinematicResult | Tally, keep_going: bool) -> None:
     """Stop with the failing samples listed, unless asked to keep going (then warn)."""
-    if result.status.all_ok:
+    ok = result.all_ok if isinstance(result, Tally) else result.status.all_ok
+    if ok:
         return
     summary = result.summary()
     if keep_going:
@@ -356,7 +288,9 @@ def command(
     """
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
-    values, rate_v, accel_v = build_inputs(mech, sweeps, sets, rates, accels, grid, params)
+    values, rate_v, accel_v = build_inputs(
+        mech, sweeps, sets, rates, accels, grid, params, lazy=True
+    )
     values, designs = split_params(values)
     for name in sensitivities:
         parameter_kind(mech, name)
@@ -364,56 +298,75 @@ def command(
     if inputs_file:
         if sweeps:
             raise InputError("--inputs and --sweep both give the samples; use one of them")
-        t_values, t_rates, t_accels, time = read_inputs(mech, inputs_file)
-        twice = sorted(set(t_values) & set(values))
+        table = InputTable(mech, inputs_file)
+        twice = sorted(set(table.values) & set(values))
         if twice:
             raise InputError(f"{', '.join(twice)}: given both in --inputs and by --set")
-        values.update(t_values)
-        rate_v.update(t_rates)  # type: ignore[arg-type]
-        accel_v.update(t_accels)  # type: ignore[arg-type]
+        values.update(table.values)
+        rate_v.update(table.rates)  # type: ignore[arg-type]
+        accel_v.update(table.accels)  # type: ignore[arg-type]
+        time = table.time
     n = max(
-        (v.size for v in (*values.values(), *designs.values()) if isinstance(v, np.ndarray)),
+        (len(v) for v in (*values.values(), *designs.values()) if np.ndim(v) == 1),
         default=1,
     )
-    # the result, its table and the file's copy: every column three times over
-    # each --sensitivity adds a derivative of every column
-    copies = 1 + len(sensitivities)
-    check_samples(n, "--sweep", 3 * 8 * copies * _columns_per_sample(mech, with_forces))
-    result = solve_with_progress(
-        mech,
-        values,
-        rate_v,
-        accel_v,
-        time=time,
-        quiet=quiet,
-        continuation=continuation,
-        params=designs or None,
-        sensitivities=list(sensitivities) or None,
-    )
-    for cp in result.change_points:
-        click.echo(f"excavkin: warning: {cp.describe()}", err=True)
-    report_failures(result, keep_going)
+    columns = _columns_per_sample(mech, with_forces) * (1 + len(sensitivities))
+    check_disk(target, n, columns)
+    loads = None
     if with_forces:
         from excavkin.kinetostatics import model_loads
 
-        forces = mech.forces(result, model_loads(mech.model, gravity=gravity))
-        singular = np.flatnonzero(forces.singular & result.status.ok)
-        if singular.size:
-            listed = ", ".join(str(int(i)) for i in singular[:10])
-            more = f" and {singular.size - 10} more" if singular.size > 10 else ""
-            text = (
-                f"{singular.size} samples are statically singular (a redundant joint at "
-                f"that position; their forces are NaN): samples {listed}{more}"
+        loads = model_loads(mech.model, gravity=gravity)
+    tally = Tally(mech.plan)
+    shape = [0]
+
+    def frames() -> Iterator[pd.DataFrame]:
+        """The table part by part; at its end, the checks that decide whether it is kept."""
+        with progress("solving", n, quiet=quiet or n < MIN_SAMPLES_FOR_BAR) as advance:
+            for part in mech.solve_stream(
+                values,
+                rate_v,
+                accel_v,
+                time=time,
+                continuation=continuation,  # type: ignore[arg-type]
+                loads=loads,
+                params=designs or None,
+                sensitivities=list(sensitivities) or None,
+            ):
+                tally.add(part.start, part.result)
+                frame = part.result.to_frame()
+                shape[0] = frame.shape[1]
+                advance(len(frame))
+                yield frame
+        for cp in tally.sorted_change_points():
+            click.echo(f"excavkin: warning: {cp.describe()}", err=True)
+        report_failures(tally, keep_going)  # stops here: the file is not kept
+        singular = tally.singular_text()
+        if singular and not keep_going:
+            fail(
+                f"{singular}. Nothing was written; pass --keep-going to write the table with "
+                "these rows marked.",
+                EXIT_SAMPLES,
             )
-            if not keep_going:
-                fail(
-                    f"{text}. Nothing was written; pass --keep-going to write the table with "
-                    "these rows marked.",
-                    EXIT_SAMPLES,
-                )
-            click.echo(f"excavkin: warning: {text}", err=True)
-        frame = forces.to_frame()
-    else:
-        frame = result.to_frame()
-    write_table(frame, target, force=force, units_row=units_row)
-    click.echo(f"wrote {len(result)} samples × {frame.shape[1]} columns to {target}")
+        if singular:
+            click.echo(f"excavkin: warning: {singular}", err=True)
+
+    write_tables(frames(), target, force=force, units_row=units_row)
+    click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")
+
+
+def check_disk(target: Path, n: int, columns: int) -> None:
+    """Refuse, before anything is solved, a table that cannot fit on the target's disk: a
+    CSV value takes about 20 characters, a Parquet one at most 8 bytes (less once
+    compressed)."""
+    import shutil
+
+    per_value = 8 if target.suffix.lower() == ".parquet" else 20
+    need = n * columns * per_value
+    free = shutil.disk_usage(target.parent).free
+    if need > free:
+        raise InputError(
+            f"{n:,} samples × {columns:,} columns need about {need / 2**30:,.1f} GiB on disk, "
+            f"more than the {free / 2**30:,.1f} GiB free in {target.parent}; split the sweep "
+            "into smaller runs" + ("" if per_value == 8 else ", or write Parquet")
+        )

@@ -1,0 +1,151 @@
+"""Tables and large sweeps, as ratios measured in one run.
+
+Run: ``python benchmarks/bench_files.py [--large]``. On ``examples/fourbar.toml``:
+
+* **CSV** and **Parquet** writing (``excavkin.outputs.tables.write_table``) of the four-bar's
+  table of 2·10⁵ samples, in rows/s, against pandas' own ``to_csv`` and ``to_parquet`` of the
+  same frame. Target for CSV: ≥ 10× pandas.
+* **to_frame** of 10⁶ samples against their solve. Target: ≤ 1× (no copies).
+* **excavkin solve** of 10⁶ samples to CSV and to Parquet, end to end (a process each).
+* with ``--large`` (about 4 GB of memory and 20 GB of disk for a while): the in-memory solve's
+  time per sample at 10⁷ against 10⁶ (target ≤ 1.3×; beside it, for reference, the same with
+  NumPy's huge-page advice on the result's arrays), and ``excavkin solve`` streaming 10⁸
+  samples to Parquet: time, file size and peak memory (``/usr/bin/time -v``). Every file is
+  removed afterwards.
+
+Best of several repeats in the same process. Not a test: machines differ; the ratios are what
+is tracked.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from timing import best_of
+
+import excavkin
+from excavkin.outputs.tables import write_table
+
+
+def writing(n: int, folder: Path) -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    frame = mech.solve({"crank": np.linspace(0.0, 6.0 * np.pi, n)}, {"crank": 31.416}).to_frame()
+
+    def ours(suffix: str) -> float:
+        target = folder / f"ours{suffix}"
+        return best_of(lambda: write_table(frame, target, force=True), repeat=3)
+
+    plain = frame.assign(status=frame["status"].astype(str))
+    t_csv = ours(".csv")
+    t_pandas_csv = best_of(lambda: plain.to_csv(folder / "pandas.csv", index=False), repeat=1)
+    t_parquet = ours(".parquet")
+    t_pandas_parquet = best_of(lambda: plain.to_parquet(folder / "pandas.parquet"), repeat=3)
+    print(f"writing the four-bar's table, {n:,} rows × {frame.shape[1]} columns")
+    print(f"  CSV     excavkin {n / t_csv:12,.0f} rows/s   pandas {n / t_pandas_csv:10,.0f}"
+          f" rows/s   ratio {t_pandas_csv / t_csv:5.1f}  (target ≥ 10)")  # fmt: skip
+    ratio = t_pandas_parquet / t_parquet
+    print(f"  Parquet excavkin {n / t_parquet:12,.0f} rows/s   pandas "
+          f"{n / t_pandas_parquet:10,.0f} rows/s   ratio {ratio:5.1f}")  # fmt: skip
+
+
+def frames(n: int) -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q = np.linspace(0.0, 2.0 * np.pi, n)
+    t_solve = best_of(lambda: mech.solve({"crank": q}))
+    res = mech.solve({"crank": q})
+    t_frame = best_of(res.to_frame)
+    forces = mech.solve({"crank": q}, loads="model")
+    t_forces = best_of(forces.to_frame)
+    print(f"to_frame, {n:,} samples")
+    print(f"  kinematics {t_frame * 1e3:7.1f} ms = {t_frame / t_solve:5.3f} × the solve "
+          f"({t_solve * 1e3:.0f} ms; target ≤ 1)")  # fmt: skip
+    print(
+        f"  forces     {t_forces * 1e3:7.1f} ms = {t_forces / t_solve:5.3f} × the kinematic solve"
+    )
+
+
+def command(args: list[str], suffix: str, folder: Path) -> tuple[float, int, int]:
+    """Seconds, peak resident memory (bytes) and the file's size of an ``excavkin`` run
+    writing a table of that suffix."""
+    out = folder / f"out{suffix}"
+    argv = [sys.executable, "-m", "excavkin", *args, "-o", str(out), "-q", "--force"]
+    timed = Path("/usr/bin/time").exists()
+    t0 = time.perf_counter()
+    run = subprocess.run(
+        ["/usr/bin/time", "-v", *argv] if timed else argv, capture_output=True, text=True
+    )
+    seconds = time.perf_counter() - t0
+    if run.returncode:
+        raise SystemExit(run.stderr)
+    peak = re.search(r"Maximum resident set size \(kbytes\): (\d+)", run.stderr)
+    size = out.stat().st_size
+    out.unlink()
+    return seconds, int(peak.group(1)) * 1024 if peak else -1, size
+
+
+def end_to_end(n: int, folder: Path) -> None:
+    print(f"excavkin solve fourbar --sweep crank=0deg:360deg:{n:,}, streamed, end to end")
+    for suffix in (".csv", ".parquet"):
+        seconds, peak, size = command(
+            ["solve", "fourbar", "--sweep", f"crank=0deg:360deg:{n}"], suffix, folder
+        )
+        print(f"  {suffix[1:]:8} {seconds:6.1f} s  {n / seconds:12,.0f} samples/s  "
+              f"file {size / 2**20:8,.0f} MiB  peak memory {peak / 2**20:6,.0f} MiB")  # fmt: skip
+
+
+def per_sample(mech: excavkin.Mechanism) -> dict[int, float]:
+    """Seconds per sample of the in-memory solve at 10⁶ and 10⁷ samples."""
+    per = {}
+    for n in (10**6, 10**7):
+        q = np.linspace(0.0, 2.0 * np.pi, n)
+        per[n] = best_of(lambda q=q: mech.solve({"crank": q}), repeat=3) / n
+    return per
+
+
+def large(folder: Path) -> None:
+    import contextlib
+
+    from excavkin.kinematics import solve
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    print("in-memory solve, time per sample")
+    for label, pages in (("ordinary pages", None), ("huge pages", contextlib.nullcontext)):
+        kept = solve._small_pages
+        if pages is not None:  # the reference: NumPy's huge-page advice left on
+            solve._small_pages = pages  # type: ignore[assignment]
+        try:
+            per = per_sample(mech)
+        finally:
+            solve._small_pages = kept
+        print(f"  {label:15} 10⁶ {per[10**6] * 1e9:6.1f} ns   10⁷ {per[10**7] * 1e9:6.1f} ns"
+              f"   ratio {per[10**7] / per[10**6]:4.2f}"
+              + ("  (target ≤ 1.3)" if pages is None else ""))  # fmt: skip
+    n = 10**8
+    seconds, peak, size = command(
+        ["solve", "fourbar", "--sweep", f"crank=0deg:3600deg:{n}"], ".parquet", folder
+    )
+    print(f"excavkin solve, {n:,} samples streamed to Parquet")
+    print(f"  {seconds:6.1f} s  {n / seconds:12,.0f} samples/s  file {size / 2**30:6.2f} GiB  "
+          f"peak memory {peak / 2**20:6,.0f} MiB")  # fmt: skip
+
+
+def main() -> None:
+    big = "--large" in sys.argv[1:] or os.environ.get("EXCAVKIN_BENCH_LARGE") == "1"
+    with tempfile.TemporaryDirectory(prefix="excavkin-bench-") as tmp:
+        folder = Path(tmp)
+        writing(200_000, folder)
+        frames(1_000_000)
+        end_to_end(1_000_000, folder)
+        if big:
+            large(folder)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,113 @@
+"""What the parts of a streamed solve said, told as the whole result would tell it.
+
+A streamed solve decides only at its end whether the table may be written (failing samples,
+statically singular ones); by then its parts are gone. The tally keeps what the messages need
+— per reason, the count and the first samples with their inputs; which inputs vary over the
+sweep; the change points — and words them as :meth:`KinematicResult.summary` would for the
+whole sweep.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from excavkin.kinematics import summary
+from excavkin.kinematics.change_points import ChangePoint
+from excavkin.kinematics.result import describe_inputs
+from excavkin.structure.plan import Dyad, SolvePlan
+
+
+class Tally:
+    """Failures, statically singular samples and change points over a streamed solve.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+    limit : int
+        Samples listed per reason.
+    """
+
+    def __init__(self, plan: SolvePlan, limit: int = 10) -> None:
+        self.plan = plan
+        self.limit = limit
+        self.n = 0
+        #: per reason: its count and its first samples (number, inputs, time)
+        self.groups: dict[str, list[Any]] = {}
+        n_in = len(plan.inputs)
+        self.low = np.full(n_in, np.nan)
+        self.high = np.full(n_in, np.nan)
+        self.singular: list[int] = []
+        self.singular_count = 0
+        self.change_points: list[ChangePoint] = []
+
+    def add(self, start: int, result: Any) -> None:
+        """Count a part's samples (``result``: its KinematicResult or ForceResult)."""
+        kin = getattr(result, "kinematics", result)
+        self.n += len(kin)
+        q = kin.inputs
+        if len(kin):
+            self.low = np.fmin(self.low, np.fmin.reduce(q, axis=0))
+            self.high = np.fmax(self.high, np.fmax.reduce(q, axis=0))
+        self.change_points += kin.change_points
+        code = kin.status.code
+        bad = np.flatnonzero(code != 0)
+        if bad.size:
+            labels = kin.status.labels()[bad]
+            for label in dict.fromkeys(labels):
+                idx = bad[labels == label]
+                group = self.groups.setdefault(str(label), [0, []])
+                group[0] += idx.size
+                room = self.limit - len(group[1])
+                t = kin.time
+                group[1] += [
+                    (start + int(i), q[i].copy(), None if t is None else float(t[i]))
+                    for i in idx[: max(room, 0)]
+                ]
+        if kin is not result:
+            singular = np.flatnonzero(result.singular & kin.status.ok)
+            self.singular_count += singular.size
+            room = self.limit - len(self.singular)
+            self.singular += [start + int(i) for i in singular[: max(room, 0)]]
+
+    @property
+    def all_ok(self) -> bool:
+        """Whether every sample solved."""
+        return not self.groups
+
+    def summary(self) -> str:
+        """The failing samples, grouped by reason, each named by its inputs: the whole
+        result's :meth:`~excavkin.kinematics.result.KinematicResult.summary`."""
+        held = (self.n > 1) & (self.low == self.high)
+        groups = [
+            (
+                label,
+                count,
+                [f"{i} ({describe_inputs(self.plan, q, held, t, i)})" for i, q, t in shown],
+            )
+            for label, (count, shown) in self.groups.items()
+        ]
+        return summary.failures(self.n, groups, self.limit)
+
+    def singular_text(self) -> str | None:
+        """The statically singular samples in a sentence, or None."""
+        if not self.singular_count:
+            return None
+        listed = ", ".join(str(i) for i in self.singular)
+        more = self.singular_count - len(self.singular)
+        return (
+            f"{self.singular_count} samples are statically singular (a redundant joint at "
+            f"that position; their forces are NaN): samples {listed}"
+            + (f" and {more} more" if more else "")
+        )
+
+    def sorted_change_points(self) -> list[ChangePoint]:
+        """The change points as the whole result lists them: in plan order, each dyad's by
+        sample."""
+        order = {
+            self.plan.points[st.point]: k
+            for k, st in enumerate(self.plan.steps)
+            if isinstance(st, Dyad)
+        }
+        return sorted(self.change_points, key=lambda cp: order[cp.point])
