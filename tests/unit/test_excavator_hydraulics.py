@@ -279,6 +279,20 @@ def test_hydraulics_errors_name_table_and_entry(old: str, new: str, pattern: str
     assert str(info.value).startswith("m.toml")
 
 
+@pytest.mark.parametrize(
+    ("pumps", "speed", "pattern"),
+    [
+        ((Pump("P", -1.0, ROLES),), 1.0, "flow must be positive"),
+        ((Pump("P", 1e-3, ("boom", "dipper")),), 1.0, "must feed"),
+        ((Pump("P", 1e-3, ("boom", "arm")),), 1.0, "no pump feeds the bucket"),
+        ((Pump("P", 1e-3, ROLES),), math.nan, "swing_speed"),
+    ],
+)
+def test_hydraulics_checks_its_numbers(pumps: tuple[Pump, ...], speed: float, pattern: str) -> None:
+    with pytest.raises(InputError, match=pattern):
+        Hydraulics(pumps, speed, 1.0)
+
+
 def test_swing_in_other_units() -> None:
     m = loads_machine(_text(**{'swing_speed = "11 rpm"': 'swing_speed = "66 deg/s"'}), "m.toml")
     assert m.hydraulics is not None

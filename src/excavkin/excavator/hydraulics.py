@@ -89,6 +89,26 @@ class Hydraulics:
     modulus: float = STEEL_E
     rod_yield: float = ROD_YIELD
 
+    def __post_init__(self) -> None:
+        for name, value in (
+            ("swing_speed", self.swing_speed),
+            ("swing_angle", self.swing_angle),
+            ("modulus", self.modulus),
+            ("rod_yield", self.rod_yield),
+        ):
+            if not (math.isfinite(value) and value > 0.0):
+                raise InputError(f"{name} must be positive and finite, not {value!r}")
+        for p in self.pumps:
+            if not (math.isfinite(p.flow) and p.flow > 0.0):
+                raise InputError(f"pump {p.name!r}: flow must be positive, not {p.flow!r}")
+            if not p.feeds or any(f not in ROLES for f in p.feeds):
+                raise InputError(
+                    f"pump {p.name!r} must feed some of {', '.join(ROLES)}, not {p.feeds!r}"
+                )
+        unfed = [r for r in ROLES if not any(r in p.feeds for p in self.pumps)]
+        if unfed:
+            raise InputError(f"no pump feeds the {', '.join(unfed)} cylinder(s)")
+
     def flow(self, role: str) -> float:
         """The flow reaching the function ``role`` moved alone: the sum over its pumps (m³/s)."""
         if role not in ROLES:
