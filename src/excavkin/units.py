@@ -56,6 +56,7 @@ KINDS: dict[str, str] = {
     "angular_jerk": "rad/s^3",
     "area": "m^2",
     "frequency": "1/s",
+    "volume_flow": "m^3/s",
     "dimensionless": "",
 }
 
@@ -179,6 +180,7 @@ def _example_unit(kind: str) -> str:
         "angular_jerk": "rad/s^3",
         "area": "mm^2",
         "frequency": "1/s",
+        "volume_flow": "L/min",
     }.get(kind, KINDS[kind])
 
 

@@ -1,4 +1,5 @@
-"""``excavkin excavator ranges|forces|ik|stability|lift MACHINE.toml``: an excavator's spec sheet.
+"""``excavkin excavator ranges|forces|ik|stability|lift|cycle MACHINE.toml``: an excavator's
+spec sheet.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
 the machine, pint) are imported inside the commands.
@@ -44,6 +45,11 @@ TABLE_KINDS = {
     ),
     **dict.fromkeys(("rated_load", "tipping_load", "hydraulic_load"), "mass"),
     "moment": "torque",
+    "length": "length",
+    "critical": "force",
+    "flow": "volume_flow",
+    **dict.fromkeys(("extend_speed", "retract_speed"), "velocity"),
+    **dict.fromkeys(("extend_time", "retract_time", "time"), "time"),
 }
 
 
@@ -64,7 +70,8 @@ def _mm(v: float) -> str:
 
 @click.group("excavator", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Working ranges, tool forces, stability, lift capacity and IK of an excavator MACHINE."""
+    """Working ranges, tool forces, stability, lift capacity, cycle time and IK of an excavator
+    MACHINE."""
 
 
 @command.command("ranges")
@@ -622,3 +629,115 @@ def lift(
         from excavkin.excavator.stability_plots import plot_lift_chart
 
         _save_png(plot_lift_chart(m, t).figure, plot, force)
+
+
+@command.command("cycle")
+@click.argument("machine", type=click.Path(dir_okay=False))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    help="Strokes, cycle and buckling checks as a table (.csv or .parquet).",
+)
+@click.option("--force", is_flag=True, help="Replace an output file that exists.")
+@handle_errors
+def cycle(machine: str, output: str | None, force: bool) -> None:
+    """Print cylinder speeds and stroke times from the pump flows, a dig–swing–dump cycle
+    estimate, and the buckling check of each cylinder at the rated forces."""
+    from excavkin.excavator.forces import rated_force, tool_forces
+    from excavkin.excavator.hydraulics import (
+        Buckling,
+        cycle_time,
+        pose_buckling,
+        relief_buckling,
+        strokes,
+    )
+    from excavkin.outputs.tables import check_target, write_table
+
+    if output:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    m = _machine(machine)
+    st = strokes(m)
+    cy = cycle_time(m)
+    h = m.hydraulics
+    assert h is not None  # strokes() refuses a machine without hydraulics
+    rows: list[dict[str, object]] = []
+    click.echo(f"{m.name} — hydraulics (no-load, full-flow speeds; flows of the feeding pumps add)")
+    click.echo(
+        f"{'cylinder':<8} {'count':>5} {'flow L/min':>10} {'ext m/s':>8} {'ret m/s':>8} "
+        f"{'ext s':>6} {'ret s':>6}"
+    )
+    for c, s in zip(m.cylinders, st, strict=True):
+        click.echo(
+            f"{s.role:<8} {c.count:>5} {s.flow * 6e4:10.0f} {s.extend_speed:8.3f} "
+            f"{s.retract_speed:8.3f} {s.extend_time:6.2f} {s.retract_time:6.2f}"
+        )
+        rows.append(
+            {
+                "section": "stroke",
+                "cylinder": s.role,
+                "flow": s.flow,
+                "extend_speed": s.extend_speed,
+                "retract_speed": s.retract_speed,
+                "extend_time": s.extend_time,
+                "retract_time": s.retract_time,
+            }
+        )
+    click.echo(
+        f"Cycle (full strokes; swing {math.degrees(h.swing_angle):.0f}° at "
+        f"{h.swing_speed * 30 / math.pi:.1f} rpm, constant speed), s"
+    )
+    for name, value in (
+        ("dig (arm + bucket in)", cy.dig),
+        ("boom up", cy.boom_up),
+        ("swing (one way)", cy.swing),
+        ("dump (arm + bucket out)", cy.dump),
+        ("boom down", cy.boom_down),
+        ("cycle, one motion at a time", cy.sequential),
+        ("cycle, swing overlapping boom", cy.overlapped),
+    ):
+        click.echo(f"  {name:<30} {value:6.2f}")
+        rows.append({"section": "cycle", "phase": name, "time": value})
+    click.echo(
+        f"Buckling (one cylinder; rod alone over the pin-to-pin length, pinned-pinned; "
+        f"E = {h.modulus / 1e9:.0f} GPa, yield {h.rod_yield / 1e6:.0f} MPa)"
+    )
+    click.echo(
+        f"{'case':<26} {'cylinder':<8} {'length':>8} {'push kN':>8} {'L/r':>6} "
+        f"{'P_cr kN':>8} {'formula':<8} {'safety':>6}"
+    )
+
+    def show(case: str, checks: tuple[Buckling, ...]) -> None:
+        for b in checks:
+            safety = float(b.safety[0])
+            click.echo(
+                f"{case:<26} {b.role:<8} {_mm(float(b.length[0]))} "
+                f"{float(b.force[0]) / 1e3:8.1f} {float(b.slenderness[0]):6.1f} "
+                f"{float(b.critical[0]) / 1e3:8.1f} {str(b.formula[0]):<8} "
+                + (f"{safety:6.2f}" if math.isfinite(safety) else f"{'pulls':>6}")
+            )
+            rows.append(
+                {
+                    "section": "buckling",
+                    "case": case,
+                    "cylinder": b.role,
+                    "length": float(b.length[0]),
+                    "force": float(b.force[0]),
+                    "slenderness": float(b.slenderness[0]),
+                    "critical": float(b.critical[0]),
+                    "formula": str(b.formula[0]),
+                    "safety": safety,
+                }
+            )
+
+    show("relief, fully extended", relief_buckling(m))
+    for working in ("arm", "bucket"):
+        r = rated_force(m, working)  # type: ignore[arg-type]
+        tf = tool_forces(m, r.lengths[None, :], working, gravity=False)  # type: ignore[arg-type]
+        show(f"ISO 6015 {working} force", pose_buckling(m, r.lengths[None, :], tf.cylinder_force))
+    click.echo(f"(ISO 6015: rated poses, tool force at the lip, no gravity; {_BUCKLING_NOTE})")
+    if output:
+        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+
+
+_BUCKLING_NOTE = "Euler above L/r = √(2π²E/σy), Johnson below"

@@ -38,7 +38,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -50,6 +50,9 @@ from excavkin.kinematics.summary import batch_repr
 from excavkin.mechanism import Mechanism
 from excavkin.model.entities import Load
 from excavkin.structure.plan import Dyad
+
+if TYPE_CHECKING:
+    from excavkin.excavator.hydraulics import Hydraulics
 
 F = NDArray[np.float64]
 B = NDArray[np.bool_]
@@ -191,6 +194,9 @@ class Machine:
     lift_point : str, optional
         The load point of lift capacity (ISO 10567): a point of the stick, the bucket or a
         bucket link, such as a lifting hook; default the bucket pin.
+    hydraulics : Hydraulics, optional
+        Pump flows, swing and rod material, for speeds, cycle time and buckling
+        (:mod:`excavkin.excavator.hydraulics`).
     name, source : str
         For messages.
 
@@ -213,6 +219,7 @@ class Machine:
         gravity: float = 9.80665,
         base: BaseMachine | None = None,
         lift_point: str | None = None,
+        hydraulics: Hydraulics | None = None,
         name: str = "",
         source: str | None = None,
     ) -> None:
@@ -224,6 +231,7 @@ class Machine:
         self.level_bottom = float(level_bottom)
         self.gravity = float(gravity)
         self.base = base
+        self.hydraulics = hydraulics
         self._mass_points: MassPoints | None = None
         self.name = name or mechanism.name
         self.source = source

@@ -23,7 +23,8 @@ relative to the machine file) or inline (a ``[model]`` table holding the model's
 Masses, inertias and centres of mass of the front are the model's (``[bodies]``), plus each
 cylinder's optional ``mass``. The optional ``[base]`` (upper structure, counterweight,
 undercarriage, ground support) and ``[lift]`` tables are read by
-:mod:`excavkin.excavator.base_file`.
+:mod:`excavkin.excavator.base_file`, the optional ``[hydraulics]`` (pumps, swing, rod material)
+by :mod:`excavkin.excavator.hydraulics_file`.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from excavkin.errors import ModelError
 from excavkin.excavator.base_file import read_base, read_lift_point
 from excavkin.excavator.file_reader import MachineReader as _Reader
 from excavkin.excavator.file_reader import within as _within
+from excavkin.excavator.hydraulics_file import read_hydraulics
 from excavkin.excavator.machine import ROLES, Circuit, Cylinder, Front, Machine
 from excavkin.io.toml_model import (
     build_model,
@@ -57,6 +59,7 @@ _TOP = {
     "gravity",
     "base",
     "lift",
+    "hydraulics",
 }
 _FRONT = {
     "boom",
@@ -261,6 +264,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
         gravity=g,
         base=read_base(r, data, swing_axis),
         lift_point=read_lift_point(r, data),
+        hydraulics=read_hydraulics(r, data),
         name=str(name),
         source=source,
     )

@@ -49,6 +49,7 @@ DEFAULT_UNITS: dict[str, str] = {
     "torque": "kN*m",
     "pressure": "bar",
     "power": "kW",
+    "volume_flow": "L/min",
     "mass": "kg",
     "dimensionless": "",
 }
@@ -69,6 +70,7 @@ KIND_NAMES = {
     "torque": "Torque",
     "pressure": "Pressure",
     "power": "Power",
+    "volume_flow": "Flow",
     "mass": "Mass",
     "dimensionless": "Value",
     "unknown": "Value",
