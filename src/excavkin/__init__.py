@@ -136,9 +136,10 @@ def examples(kind: str | None = None) -> list[str]:
 
     Parameters
     ----------
-    kind : {"model", "machine"}, optional
-        Only mechanism models (for :func:`load`) or only excavator machine files (for
-        :func:`excavkin.excavator.machine_file.load_machine`); default both.
+    kind : {"model", "machine", "study"}, optional
+        Only mechanism models (for :func:`load`), only excavator machine files (for
+        :func:`excavkin.excavator.machine_file.load_machine`) or only design studies (for
+        ``excavkin study``, in ``examples/studies/``); default all.
 
     Returns
     -------
@@ -149,6 +150,8 @@ def examples(kind: str | None = None) -> list[str]:
         for p in sorted(folder.glob("*.toml")):
             is_machine = "\n[front]" in p.read_text(encoding="utf-8")
             names.setdefault(p.stem, "machine" if is_machine else "model")
+        for p in sorted((folder / "studies").glob("*.toml")):
+            names.setdefault(p.stem, "study")
     return sorted(n for n, k in names.items() if kind is None or k == kind)
 
 
@@ -161,9 +164,9 @@ def example_path(name: str) -> Path:
         For an unknown name, listing the closest and all known names.
     """
     for folder in _example_folders():
-        candidate = folder / f"{name}.toml"
-        if candidate.is_file():
-            return candidate
+        for candidate in (folder / f"{name}.toml", folder / "studies" / f"{name}.toml"):
+            if candidate.is_file():
+                return candidate
     from excavkin.errors import ModelError, did_you_mean
 
     known = examples()

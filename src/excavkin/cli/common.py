@@ -87,7 +87,7 @@ def model_path(text: str, kind: str = "model") -> Path:
     ----------
     text : str
         A path to a ``.toml`` file, or the name of a built-in example (``fourbar``).
-    kind : {"model", "machine"}
+    kind : {"model", "machine", "study"}
         Which built-in examples a bare name may name.
 
     Raises

@@ -8,7 +8,7 @@ from excavkin.cli.common import handle_errors
 
 
 @click.command("optimize")
-@click.argument("spec", metavar="STUDY.toml", type=click.Path(dir_okay=False))
+@click.argument("spec", metavar="STUDY")
 @click.option(
     "--plot",
     default=None,
@@ -31,11 +31,12 @@ def command(spec: str, plot: str | None, out: str | None, force: bool) -> None:
     the constraints that bind.
     """
     import excavkin
+    from excavkin.cli.common import model_path
     from excavkin.io.files import check_target
     from excavkin.studies.optimize import optimize
     from excavkin.studies.study_file import load_optimization
 
-    study, settings = load_optimization(spec)
+    study, settings = load_optimization(model_path(spec, "study"))
     if plot is not None:
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
     if out is not None:

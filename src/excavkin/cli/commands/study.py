@@ -9,13 +9,13 @@ from excavkin.cli.common import handle_errors
 
 
 @click.command("study")
-@click.argument("spec", metavar="STUDY.toml", type=click.Path(dir_okay=False))
+@click.argument("spec", metavar="STUDY")
 @click.option(
     "-o",
     "--out",
     default=None,
     metavar="FILE.parquet",
-    help="The table, one row per design (default: STUDY.parquet beside the study file).",
+    help="The table, one row per design (default: STUDY.parquet in the current folder).",
 )
 @click.option("--force", is_flag=True, help="Replace the table if it exists.")
 @click.option(
@@ -42,12 +42,15 @@ def command(
     """
     from pathlib import Path
 
+    from excavkin.cli.common import model_path
     from excavkin.cli.progress import progress
     from excavkin.studies.study import run_study
     from excavkin.studies.study_file import load_study
 
-    study = load_study(spec)
-    target = Path(out) if out else Path(spec).with_suffix(".parquet")
+    path = model_path(spec, "study")
+    study = load_study(path)
+    # by default beside where the command runs (a built-in example's folder is not the user's)
+    target = Path(out) if out else Path(path.stem + ".parquet")
     total = study.designs
     click.echo(
         f"{total:,} designs × {study.poses.count:,} poses of {study.model.stem} "
