@@ -188,14 +188,27 @@ def test_dask_equals_local_to_the_bit(tmp_path: Path) -> None:
     assert pd.read_parquet(local).equals(pd.read_parquet(dask))
 
 
-def test_the_command_writes_the_table_and_refuses_to_overwrite(tmp_path: Path) -> None:
+def test_the_command_writes_the_table_and_refuses_to_overwrite(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     spec = write_study(tmp_path)
+    monkeypatch.chdir(tmp_path)  # the table goes to the current folder
     runner = CliRunner()
     first = runner.invoke(main, ["study", str(spec), "-q"])
     assert first.exit_code == 0, first.output
     assert "64 designs" in first.output and (tmp_path / "study.parquet").exists()
     again = runner.invoke(main, ["study", str(spec), "-q"])
     assert again.exit_code != 0 and "exists" in again.output
+
+
+def test_the_built_in_study_runs_by_name(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    assert "crank_rocker" in excavkin.examples("study")
+    assert "crank_rocker" not in excavkin.examples("model")
+    study = load_study(excavkin.example_path("crank_rocker"))
+    assert study.designs == 4096 and study.poses.count == 181
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(main, ["study", "crank_rock", "-q"])
+    assert result.exit_code != 0 and "crank_rocker" in result.output  # did you mean
 
 
 @pytest.mark.parametrize(
