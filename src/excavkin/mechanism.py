@@ -525,6 +525,22 @@ class Mechanism:
             **({} if chunk is None else {"chunk": int(chunk)}),
         )  # fmt: skip
         given = None if loads is None or loads == "model" else list(loads)  # type: ignore[arg-type]
+        # the inputs are checked above, at the call; the parts come as they are asked for
+        return self._stream(kinematics, batch, span, size, sensitivities, loads, given)
+
+    def _stream(
+        self,
+        kinematics: Iterator[KinematicResult],
+        batch: _Batch,
+        span: int,
+        size: int,
+        sensitivities: Sequence[str] | None,
+        loads: object,
+        given: list[Load] | None,
+    ) -> Iterator[SolvedPart]:
+        """The parts of :meth:`solve_stream`: each span's kinematics cut into parts of
+        ``size`` samples, with their parameters, sensitivities, time and forces."""
+        n = batch.n
         for s, whole in zip(range(0, n, span), kinematics, strict=True):
             for first in range(0, len(whole), size):
                 last = min(first + size, len(whole))

@@ -193,3 +193,8 @@ def test_lists_and_memmaps_are_inputs_too(tmp_path) -> None:  # type: ignore[no-
     whole = mech.solve({"crank": q.tolist()})
     assert_same(whole, list(mech.solve_stream({"crank": mapped}, size=700)))
     assert_same(whole, list(mech.solve_stream({"crank": q.tolist()}, size=700)))
+    # the inputs are checked when asked for, before any part is
+    with pytest.raises(excavkin.InputError, match="did you mean 'crank'"):
+        mech.solve_stream({"crnk": q})
+    with pytest.raises(excavkin.InputError, match="different lengths"):
+        mech.solve_stream({"crank": q}, {"crank": q[:5]})

@@ -197,6 +197,25 @@ def test_a_billion_samples_are_not_refused_for_memory(tmp_path: Path) -> None:
     np.testing.assert_array_equal(
         sweep.values(10**9 - 2, 10**9), [sweep.at(np.array([10**9 - 2]))[0], 2 * np.pi]
     )
-    r = _run("solve", FOURBAR, "--sweep", f"crank=0:1:{10**15}", "-o", str(tmp_path / "x.parquet"))
+    r = _run("solve", FOURBAR, "--sweep", f"crank=0:1:{10**15}", "-o", str(tmp_path / "x.csv"))
     assert r.exit_code == 2 and "GiB on disk" in r.output  # type: ignore[attr-defined]
     assert not list(tmp_path.iterdir())
+
+
+def test_a_parquet_table_that_may_not_fit_is_warned_of_and_tried(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Parquet compresses: too little disk for its values uncompressed is a warning, not a
+    refusal (a CSV table, which does not compress, is refused)."""
+    import shutil
+    from collections import namedtuple
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda path: usage(2**40, 0, 1000))
+    out = tmp_path / "x.parquet"
+    r = _run("solve", FOURBAR, "--sweep", "crank=0:1:50", "-q", "-o", str(out))
+    assert r.exit_code == 0 and "uncompressed" in r.output and "may stop" in r.output  # type: ignore[attr-defined]
+    assert len(pd.read_parquet(out)) == 50
+    r = _run("solve", FOURBAR, "--sweep", "crank=0:1:50", "-q", "-o", str(tmp_path / "x.csv"))
+    assert r.exit_code == 2 and "or write Parquet" in r.output  # type: ignore[attr-defined]
+    assert not (tmp_path / "x.csv").exists()

@@ -154,7 +154,8 @@ def solve_part(
     carry = carry or Carry()
     n_in, n = q.shape
     n_pts = len(plan.points)
-    with _small_pages():
+    per_sample = 8 * (6 * n_pts + len(plan.transmissions) + 3 * len(plan.bodies))
+    with _small_pages(n * (per_sample + 48 * len(plan.elements))):
         x = np.empty((n_pts, 2, n))
         v = np.empty((n_pts, 2, n))
         a = np.empty((n_pts, 2, n))
@@ -240,12 +241,21 @@ def _check_blocks(
     return error, found, tail
 
 
+#: a result at least this large (bytes) is made of ordinary pages (:func:`_small_pages`)
+LARGE_RESULT = 2**30
+
+
 @contextmanager
-def _small_pages() -> Iterator[None]:
-    """Arrays made here get ordinary pages. NumPy advises the kernel to back a large array
-    with huge pages; each is then found (compacted, zeroed) when first touched, and on a
-    sweep of 10⁷ samples the threads writing a fresh result stall on it (3–5× slower). The
-    setting is NumPy's, process-wide: it is put back as it was at once."""
+def _small_pages(nbytes: int) -> Iterator[None]:
+    """Arrays made here get ordinary pages when they add up to :data:`LARGE_RESULT` or more.
+    NumPy advises the kernel to back a large array with huge pages, each found (compacted,
+    zeroed) when first touched: fewer faults than ordinary pages (a result of 10⁶ samples is
+    made 10–15 % faster), but the threads writing a fresh result of 10⁷ samples (≈ 3 GB) were
+    seen to stall on them, 5× slower, where memory had to be compacted. The setting is
+    NumPy's, process-wide: it is put back as it was at once."""
+    if nbytes < LARGE_RESULT:
+        yield
+        return
     try:
         advise = importlib.import_module("numpy._core.multiarray")._set_madvise_hugepage
     except (ImportError, AttributeError):  # NumPy 1.x

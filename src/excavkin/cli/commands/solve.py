@@ -356,17 +356,23 @@ def command(
 
 
 def check_disk(target: Path, n: int, columns: int) -> None:
-    """Refuse, before anything is solved, a table that cannot fit on the target's disk: a
-    CSV value takes about 20 characters, a Parquet one at most 8 bytes (less once
-    compressed)."""
+    """Before anything is solved: refuse a CSV table that cannot fit on the target's disk
+    (about 20 characters a value), and warn of a Parquet one whose values, uncompressed (8
+    bytes each), would not — Parquet compresses (a ground point's columns to nothing), so it
+    is tried; should the disk fill, the temporary file is removed and nothing is written."""
     import shutil
 
-    per_value = 8 if target.suffix.lower() == ".parquet" else 20
-    need = n * columns * per_value
+    parquet = target.suffix.lower() == ".parquet"
+    need = n * columns * (8 if parquet else 20)
     free = shutil.disk_usage(target.parent).free
-    if need > free:
-        raise InputError(
-            f"{n:,} samples × {columns:,} columns need about {need / 2**30:,.1f} GiB on disk, "
-            f"more than the {free / 2**30:,.1f} GiB free in {target.parent}; split the sweep "
-            "into smaller runs" + ("" if per_value == 8 else ", or write Parquet")
-        )
+    if need <= free:
+        return
+    text = (
+        f"{n:,} samples × {columns:,} columns need about {need / 2**30:,.1f} GiB on disk"
+        + (" uncompressed" if parquet else "")
+        + f", more than the {free / 2**30:,.1f} GiB free in {target.parent}"
+    )
+    if parquet:
+        click.echo(f"excavkin: warning: {text}; the run may stop when the disk is full", err=True)
+        return
+    raise InputError(f"{text}; split the sweep into smaller runs, or write Parquet")
