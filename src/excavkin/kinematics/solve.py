@@ -169,8 +169,7 @@ def solve_part(
         status[unbuildable & (status == Code.OK)] = Code.BAD_DESIGN
         q = q.copy()
         q[:, unbuildable] = np.nan
-    report = _Reporter(progress, n)
-    fast = compiled_plan.use(plan, n, compiled)
+    report, fast = _Reporter(progress, n), compiled_plan.use(plan, n, compiled)
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     blocks = _blocks(carry.start, n)
@@ -183,11 +182,9 @@ def solve_part(
                 reached = _solve_newton(
                     take(plan, b), assembly, _view(full, b), reached, chunk, workers
                 )
-        checked = assembly if plan.has_newton else None
-        _solve_chunks(
-            plan, full, derived, (near, near_step), chunk, workers, report, designs, checked,
-            fast,
-        )  # fmt: skip
+        checked = assembly if plan.has_newton else None  # the Newton groups' branch
+        _solve_chunks(plan, full, derived, (near, near_step), chunk, workers, report, designs,
+                      checked, fast)  # fmt: skip
     error, found, tail = _check_blocks(
         plan, (q_given, q, qd, qdd), precision.Arrays(x, v, a, trans, derived), status, failed,
         (near, near_step), tol, designs, carry, blocks,
