@@ -276,3 +276,34 @@ def test_mutated_base_tables_through_the_lift_table(tmp_path_factory, data) -> N
     path = folder / "machine.toml"
     path.write_text(mutate_base(BASE_MACHINE, data))
     check_outcome(["excavator", "lift", str(path), "--step", "3m"], str(path))
+
+
+#: the built-in study, small enough to run in every fuzz case
+STUDY = (
+    excavkin.example_path("crank_rocker")
+    .read_text()
+    .replace("samples = 4096", "samples = 16")
+    .replace('crank = "0 deg:360 deg:181"', 'crank = "0 deg:360 deg:13"')
+)
+
+
+@settings(FUZZ, max_examples=60)
+@given(data=st.data())
+def test_mutated_study_files(tmp_path_factory, data) -> None:  # type: ignore[no-untyped-def]
+    """A mutated study file runs or is refused naming the file; a feasible design's metrics
+    are finite."""
+    import numpy as np
+    import pandas as pd
+
+    folder = tmp_path_factory.mktemp("study")
+    path = folder / "s.toml"
+    path.write_text(mutate(STUDY, data))
+    out = folder / "s.parquet"
+    assert "[optimize]" in STUDY  # the reader of that table is fuzzed too (below)
+    check_outcome(["study", str(path), "-o", str(out), "-q", "--force"], str(path))
+    if out.exists():
+        table = pd.read_parquet(out)
+        metrics = [c for c in table.columns if c not in ("design", "feasible", "status")]
+        ok = table[table["feasible"]]
+        assert np.isfinite(ok[metrics].to_numpy(dtype=float)).all()
+    check_outcome(["optimize", str(path), "--force"], str(path))
