@@ -226,6 +226,14 @@ def test_the_built_in_study_runs_by_name(tmp_path: Path, monkeypatch: pytest.Mon
         ),
         (("gamma_min = { min", "gamma_max = { min"), "constraints.*gamma_max.*no metric"),
         (('{ min = "25 deg" }', '{ min = "25 mm" }'), "constraints.*gamma_min"),
+        (
+            ('{ min = "25 deg" }', '{ min = "25 deg", equal = "30 deg" }'),
+            "constraints.*gamma_min.*equal",
+        ),
+        (
+            ('reduce = "min" }', 'reduce = "min", target = "90 deg" }'),
+            "metrics.*gamma_min.*target",
+        ),
         (('method = "sobol"', 'method = "random"'), "study.*method"),
         (("samples = 64", "samples = -1"), "study.*samples"),
         (('model = "fourbar"', 'model = "nowhere"'), "study.*model"),

@@ -130,3 +130,78 @@ def test_a_local_method_refuses_a_constraint_it_cannot_write_exactly() -> None:
             mech, {"A-B": (0.1, 0.14)}, poses, gamma, "max",
             constraints=[Constraint("gamma_min", high=1.0)],
         )  # fmt: skip
+
+
+# ---- the classical transmission-angle problem
+
+
+def dead_centre_family(lam: object, psi: object, phi: object) -> tuple[object, object, object]:
+    """Crank, coupler and rocker (ground 1) of the crank-rocker whose rocker swings ψ while the
+    crank turns φ, with coupler/crank = λ: the loop equations at the two dead centres,
+    (1 + λ)Z₁ − Z₂ = 1 and e^{iφ}(1 − λ)Z₁ − e^{iψ}Z₂ = 1, Z₁ the crank and Z₂ the rocker at
+    the extended dead centre — solved in mpmath."""
+    import mpmath as mp
+
+    a11, a12 = 1 + lam, -1  # type: ignore[operator]
+    a21, a22 = mp.exp(1j * phi) * (1 - lam), -mp.exp(1j * psi)  # type: ignore[operator]
+    det = a11 * a22 - a12 * a21
+    z1, z2 = (a22 - a12) / det, (a11 - a21) / det
+    return abs(z1), lam * abs(z1), abs(z2)  # type: ignore[operator]
+
+
+def test_the_classical_transmission_angle_optimum_is_found_to_1e8() -> None:
+    """Swing 45° while the crank turns 210°: the one-parameter family of such crank-rockers is
+    searched in 40-digit arithmetic for the least deviation of the transmission angle from
+    90° (the crank at 0° and 180° gives its extremes); the optimiser, over all three lengths
+    with the swing and the turn as equality constraints, finds the same design."""
+    import mpmath as mp
+
+    from excavkin.studies.study_file import load_optimization
+
+    mp.mp.dps = 40
+    psi, phi = mp.radians(45), mp.radians(210)
+
+    def deviation(lam: object) -> object:
+        a2, a3, a4 = dead_centre_family(lam, psi, phi)
+        cos_lo = (a3**2 + a4**2 - (1 - a2) ** 2) / (2 * a3 * a4)  # type: ignore[operator]
+        cos_hi = (a3**2 + a4**2 - (1 + a2) ** 2) / (2 * a3 * a4)  # type: ignore[operator]
+        return max(abs(mp.acos(cos_lo) - mp.pi / 2), abs(mp.acos(cos_hi) - mp.pi / 2))
+
+    lam = mp.findroot(lambda x: mp.diff(deviation, x), 2.2)
+    exact = [float(v) for v in dead_centre_family(lam, psi, phi)]
+    # an interior optimum of the family, not an end of it
+    assert deviation(lam) < deviation(lam - mp.mpf("1e-3"))
+    assert deviation(lam) < deviation(lam + mp.mpf("1e-3"))
+
+    study, settings = load_optimization(excavkin.example_path("crank_rocker_transmission"))
+    by_name = {m.name: m for m in study.metrics}
+    mech = excavkin.load(study.model)
+    best = optimize(
+        mech, study.bounds, study.poses, by_name[settings["objective"]], settings["sense"],
+        metrics=study.metrics, constraints=study.constraints, x0={"crank": 0.3, "coupler": 1.0},
+    )  # fmt: skip
+    got = [best.params[k] for k in ("crank", "coupler", "rocker")]
+    np.testing.assert_allclose(got, exact, rtol=1e-8)
+    assert best.value == pytest.approx(float(deviation(lam)), rel=1e-9)
+    assert best.feasible and set(best.active) == {"swing", "crank_turn"}
+    assert best.metrics["swing"] == pytest.approx(np.radians(45), abs=1e-10)
+    assert best.metrics["crank_turn"] == pytest.approx(np.radians(30), abs=1e-10)
+
+
+def test_change_and_a_deviation_from_a_target_are_their_definitions() -> None:
+    """`change` is the last pose's value less the first's; `absmax` with a target the largest
+    distance from it — each against the column itself, per design."""
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    crank = np.radians(np.linspace(20, 140, 7))
+    poses = Poses({"crank": crank}, {}, {})
+    designs = {"A-B": np.array([0.115, 0.12, 0.125])}
+    metrics = [
+        Metric("turn", "rocker.angle", "change"),
+        Metric("off", "B.transmission", "absmax", (np.pi / 2,)),
+    ]
+    table = evaluate(mech, designs, poses, metrics)
+    for i, ab in enumerate(designs["A-B"]):
+        res = mech.solve({"crank": crank}, params={"A-B": ab})
+        phi4, mu = res.column("rocker.angle"), res.column("B.transmission")
+        assert table["turn"][i] == phi4[-1] - phi4[0]
+        assert table["off"][i] == np.max(np.abs(mu - np.pi / 2))

@@ -20,8 +20,10 @@ if TYPE_CHECKING:
 
 F = NDArray[np.float64]
 
-Reduce = Literal["min", "max", "absmax", "mean", "sumsq", "argmin", "argmax"]
-REDUCTIONS: tuple[str, ...] = ("min", "max", "absmax", "mean", "sumsq", "argmin", "argmax")
+Reduce = Literal["min", "max", "absmax", "mean", "sumsq", "change", "argmin", "argmax"]
+REDUCTIONS: tuple[str, ...] = (
+    "min", "max", "absmax", "mean", "sumsq", "change", "argmin", "argmax",
+)  # fmt: skip
 
 
 @dataclass(frozen=True, slots=True)
@@ -29,8 +31,10 @@ class Metric:
     """One number per design: ``column`` reduced over the pose set.
 
     ``argmin``/``argmax`` give the index of the pose where the column is least or greatest;
-    ``sumsq`` the sum over the poses of the squared differences from ``target`` (one value per
-    pose, SI).
+    ``sumsq`` the sum over the poses of the squared differences from ``target`` and ``absmax``
+    the largest absolute difference from it (``target``: one value, or one per pose, SI; absmax
+    without a target is the largest magnitude); ``change`` the value at the last pose minus
+    that at the first (a rocker's swing between its two dead centres, say).
     """
 
     name: str
@@ -132,10 +136,8 @@ def evaluate(
 
             raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(columns))
         col = column_of(res, m.column).reshape(d, p)
-        if m.reduce == "sumsq":
-            if m.target is None or len(m.target) != p:
-                raise InputError(f"metric {m.name!r}: sumsq needs one target value per pose")
-            col = col - np.asarray(m.target, dtype=np.float64)
+        if m.reduce == "sumsq" or m.target is not None:
+            col = col - target_of(m, p)
         out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
     failed = (~ok).sum(axis=1)
     out["poses_failed"] = failed
@@ -170,6 +172,18 @@ def column_of(res: Any, name: str) -> F:
     return np.asarray(res.column(name), dtype=np.float64)
 
 
+def target_of(m: Metric, p: int) -> F:
+    """A metric's target at each of ``p`` poses (one value is held at every pose)."""
+    if m.target is None:
+        raise InputError(f"metric {m.name!r}: {m.reduce} needs a target value per pose")
+    if m.reduce not in ("sumsq", "absmax"):
+        raise InputError(f"metric {m.name!r}: a target belongs to a sumsq or absmax metric")
+    t = np.asarray(m.target, dtype=np.float64)
+    if t.size not in (1, p):
+        raise InputError(f"metric {m.name!r}: {t.size} targets for {p} poses")
+    return np.broadcast_to(t, (p,)) if t.size == 1 else t
+
+
 def _reduce(a: F, how: str) -> F:
     """Reduce over the poses (axis 1), ignoring poses that did not solve (NaN)."""
     empty = np.asarray(np.isnan(a).all(axis=1))
@@ -184,6 +198,8 @@ def _reduce(a: F, how: str) -> F:
         r = np.nanmean(filled, axis=1)
     elif how == "sumsq":
         r = np.nansum(filled * filled, axis=1)
+    elif how == "change":  # NaN unless both ends solved
+        r = a[:, -1] - a[:, 0]
     elif how == "argmin":
         r = np.nanargmin(np.where(np.isnan(filled), np.inf, filled), axis=1).astype(np.float64)
     else:

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.errors import InputError
-from excavkin.studies.metrics import Constraint, Metric, Poses, column_of, evaluate
+from excavkin.studies.metrics import Constraint, Metric, Poses, column_of, evaluate, target_of
 
 if TYPE_CHECKING:
     from excavkin.mechanism import Mechanism
@@ -37,6 +37,8 @@ if TYPE_CHECKING:
 F = NDArray[np.float64]
 
 Method = Literal["slsqp", "differential-evolution"]
+#: reductions that are smooth functions of the design (no epigraph needed)
+SMOOTH: tuple[str, ...] = ("mean", "sumsq", "change")
 METHODS: tuple[str, ...] = ("slsqp", "differential-evolution")
 
 
@@ -106,13 +108,15 @@ def optimize(
     poses : Poses
         Every design is solved at these poses.
     objective : Metric
-        Its reduce is ``min``, ``max``, ``absmax``, ``mean`` or ``sumsq`` (with a target).
+        Its reduce is ``min``, ``max``, ``absmax`` (from a target, if it has one), ``mean``,
+        ``sumsq`` (with a target) or ``change``.
     sense : {"min", "max"}
     metrics : sequence of Metric
         Metrics the constraints refer to (besides the objective).
     constraints : sequence of Constraint
         For a local method, a constraint on a ``min`` metric needs a lower bound and one on a
-        ``max`` or ``absmax`` metric an upper bound (those are exact per-pose constraints).
+        ``max`` or ``absmax`` metric an upper bound (those are exact per-pose constraints). A
+        smooth metric (``mean``, ``sumsq``, ``change``) whose bounds are equal is an equality.
     method : {"slsqp", "differential-evolution"}
     x0 : mapping, optional
         Start of a local method (default: the model's own values, clipped to the bounds).
@@ -228,23 +232,28 @@ class _Problem:
         self._memo[key] = out
         return out
 
-    def smooth(self, m: Metric, u: F) -> tuple[float, F]:
-        """A smooth metric (mean, sumsq) and its gradient in u."""
+    def column(self, m: Metric, u: F) -> tuple[F, F]:
+        """A metric's column at every pose, less its target if it has one, and its gradient."""
         values, grads, _ = self.columns_at(u)
-        c, g = values[m.column], grads[m.column]
+        c = values[m.column]
+        return (c if m.target is None else c - target_of(m, c.size)), grads[m.column]
+
+    def smooth(self, m: Metric, u: F) -> tuple[float, F]:
+        """A smooth metric (mean, sumsq, change) and its gradient in u."""
+        c, g = self.column(m, u)
         if m.reduce == "mean":
             return float(c.mean()), g.mean(axis=0)
         if m.reduce == "sumsq":
-            r = c - _target(m, c.size)
-            return float(r @ r), 2.0 * r @ g
+            return float(c @ c), 2.0 * c @ g
+        if m.reduce == "change":
+            return float(c[-1] - c[0]), g[-1] - g[0]
         raise InputError(f"metric {m.name!r} ({m.reduce}) is not smooth")
 
     def true_value(self, u: F) -> float:
         """The objective metric at u, from the solve kept for u."""
-        values, _, _ = self.columns_at(u)
-        c = values[self.objective.column]
+        c, _ = self.column(self.objective, u)
         how = self.objective.reduce
-        if how in ("mean", "sumsq"):
+        if how in SMOOTH:
             return self.smooth(self.objective, u)[0]
         if how == "absmax":
             return float(np.max(np.abs(c)))
@@ -268,8 +277,7 @@ class _Problem:
         if obj.reduce == "sumsq" and not self.constraints and self.sign > 0:
             return self._least_squares(u0, maxiter)
         if self.epigraph:
-            values, _, _ = self.columns_at(u0)
-            c0 = values[obj.column]
+            c0, _ = self.column(obj, u0)
             c0 = np.abs(c0) if obj.reduce == "absmax" else c0
             t0 = float(np.min(c0) if obj.reduce == "min" else np.max(c0))
             self.scale = max(abs(t0), 1e-300)
@@ -297,8 +305,8 @@ class _Problem:
         if self.epigraph:
             lo[-1], hi[-1] = -np.inf, np.inf
         cons = [
-            {"type": "ineq", "fun": (lambda z, f=f: f(z)[0]), "jac": (lambda z, f=f: f(z)[1])}
-            for f in constraints
+            {"type": kind, "fun": (lambda z, f=f: f(z)[0]), "jac": (lambda z, f=f: f(z)[1])}
+            for kind, f in constraints
         ]
         res = minimize(
             fun, z0, jac=True, method="SLSQP", bounds=Bounds(lo, hi), constraints=cons,
@@ -314,8 +322,7 @@ class _Problem:
         m = self.objective
 
         def residuals(u: F) -> F:
-            values, _, _ = self.columns_at(u)
-            r = values[m.column] - _target(m, values[m.column].size)
+            r, _ = self.column(m, u)
             if np.isfinite(r).all():
                 self.history.append(float(r @ r))
             return np.nan_to_num(r, nan=1e3)
@@ -329,18 +336,22 @@ class _Problem:
         )  # fmt: skip
         return self._optimum(res.x, bool(res.success), str(res.message))
 
-    def _local_constraints(self, n: int) -> list[Any]:
-        """Each constraint (and the epigraph) as functions z → (g(z) ≥ 0 values, jacobian)."""
-        out = []
+    def _local_constraints(self, n: int) -> list[tuple[str, Any]]:
+        """Each constraint (and the epigraph) as ("ineq", z → (g(z) ≥ 0, jacobian)) or
+        ("eq", z → (g(z) = 0, jacobian))."""
+        out: list[tuple[str, Any]] = []
         obj = self.objective
         if self.epigraph:
-            out.append(self._per_pose(obj, n, epigraph=True))
+            out.append(("ineq", self._per_pose(obj, n, epigraph=True)))
         for c in self.constraints:
             m = self.by_name[c.metric]
-            if m.reduce in ("mean", "sumsq"):
+            if m.reduce in SMOOTH:
+                if c.low is not None and c.low == c.high:
+                    out.append(("eq", self._smooth_bound(m, c.low, 1.0, n)))
+                    continue
                 for bound, sign in ((c.low, 1.0), (c.high, -1.0)):
                     if bound is not None:
-                        out.append(self._smooth_bound(m, bound, sign, n))
+                        out.append(("ineq", self._smooth_bound(m, bound, sign, n)))
                 continue
             if (
                 (m.reduce == "min" and c.high is not None)
@@ -351,7 +362,7 @@ class _Problem:
                     f"constraint on {c.metric!r}: a local method needs a lower bound on a min "
                     "metric and an upper bound on a max one; use differential-evolution"
                 )
-            out.append(self._per_pose(m, n, bound=c.low if m.reduce == "min" else c.high))
+            out.append(("ineq", self._per_pose(m, n, bound=c.low if m.reduce == "min" else c.high)))
         return out
 
     def _per_pose(
@@ -361,8 +372,7 @@ class _Problem:
         t the epigraph variable or the bound."""
 
         def g(z: F) -> tuple[F, F]:
-            values, grads, _ = self.columns_at(z[:n])
-            c, dc = values[m.column], grads[m.column]
+            c, dc = self.column(m, z[:n])
             t = z[-1] * self.scale if epigraph else float(bound)  # type: ignore[arg-type]
             jac_t = np.full((c.size, 1), self.scale)
             if m.reduce == "min":
@@ -470,12 +480,3 @@ class _Problem:
             history=tuple(self.history),
             evaluations=self.evaluations,
         )
-
-
-def _target(m: Metric, n: int) -> F:
-    if m.target is None:
-        raise InputError(f"metric {m.name!r}: sumsq needs a target value per pose")
-    t = np.asarray(m.target, dtype=np.float64)
-    if t.size != n:
-        raise InputError(f"metric {m.name!r}: {t.size} targets for {n} poses")
-    return t

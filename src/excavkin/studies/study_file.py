@@ -215,10 +215,10 @@ def _metrics(r: TomlReader, mech: Any) -> list[Metric]:
             raise r.err(f"reduce must be one of {', '.join(REDUCTIONS)}, not {how!r}",
                         "metrics", name)  # fmt: skip
         target = None
-        if how == "sumsq":
+        if how == "sumsq" or (how == "absmax" and "target" in spec):
             target = _target(r, spec.get("target"), mech, column, name)
         elif "target" in spec:
-            raise r.err("a target belongs to a sumsq metric", "metrics", name)
+            raise r.err("a target belongs to a sumsq or absmax metric", "metrics", name)
         out.append(Metric(name, column, how, target))
     from excavkin.studies.metrics import needs_forces
 
@@ -230,9 +230,11 @@ def _metrics(r: TomlReader, mech: Any) -> list[Metric]:
 
 
 def _target(r: TomlReader, given: Any, mech: Any, column: str, name: str) -> tuple[float, ...]:
-    """A sumsq metric's target: one value per pose, in the column's kind."""
+    """A sumsq or absmax metric's target: one value, or one per pose, in the column's kind."""
+    if isinstance(given, (str, int, float)) and not isinstance(given, bool):
+        given = [given]
     if not isinstance(given, list) or not given:
-        raise r.err("sumsq needs target = [one value per pose]", "metrics", name)
+        raise r.err("needs target = a value, or [one value per pose]", "metrics", name)
     kinds = {c.name: c.kind for c in mech.solve({}, loads=[]).columns}
     kind = kinds.get(column, "dimensionless")
     return tuple(r.qty(v, kind, "metrics", name) for v in given)
@@ -279,9 +281,16 @@ def _constraints(r: TomlReader, kinds: dict[str, str]) -> list[Constraint]:
         if name not in kinds:
             raise r.err(str(unknown_name("metric", name, list(kinds))), "constraints", name)
         if not isinstance(spec, dict) or not spec:
-            raise r.err('must be a table such as { min = "40 deg" }', "constraints", name)
-        r.keys(spec, {"min", "max"}, "constraints", name)
+            raise r.err('must be a table such as { min = "40 deg" } or { equal = "45 deg" }',
+                        "constraints", name)  # fmt: skip
+        r.keys(spec, {"min", "max", "equal"}, "constraints", name)
         kind = kinds[name]
+        if "equal" in spec:
+            if "min" in spec or "max" in spec:
+                raise r.err("give equal, or min and/or max, not both", "constraints", name)
+            value = r.qty(spec["equal"], kind, "constraints", name)
+            out.append(Constraint(name, value, value))
+            continue
         low = r.qty(spec["min"], kind, "constraints", name) if "min" in spec else None
         high = r.qty(spec["max"], kind, "constraints", name) if "max" in spec else None
         if low is not None and high is not None and not low <= high:
