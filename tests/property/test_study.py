@@ -183,8 +183,9 @@ def test_the_table_carries_units_and_kinds(tmp_path: Path) -> None:
 def test_dask_equals_local_to_the_bit(tmp_path: Path) -> None:
     pytest.importorskip("distributed")
     study = load_study(write_study(tmp_path))
-    local = run_study(study, tmp_path / "local.parquet", chunk_samples=600)
-    dask = run_study(study, tmp_path / "dask.parquet", chunk_samples=600, scheduler="dask")
+    # 3-design chunks: 22 tasks, more than the window in flight, so the window refills
+    local = run_study(study, tmp_path / "local.parquet", chunk_samples=3 * 37)
+    dask = run_study(study, tmp_path / "dask.parquet", chunk_samples=3 * 37, scheduler="dask")
     assert pd.read_parquet(local).equals(pd.read_parquet(dask))
 
 

@@ -12,6 +12,7 @@ results are identical.
 from __future__ import annotations
 
 import hashlib
+import itertools
 import json
 import shutil
 from collections.abc import Callable, Iterator, Mapping
@@ -214,11 +215,23 @@ def _run(
         )  # fmt: skip
     try:
         with Client(cluster if cluster is not None else scheduler) as client:
-            futures = {
-                client.submit(evaluate_chunk, study, s, e, pure=False): (s, e) for s, e in todo
-            }
-            for future in as_completed(futures):
-                yield futures[future], future.result()
+            # a bounded window of tasks in flight, each released once its rows are here: the
+            # cluster's memory and the scheduler's queue stay bounded however many chunks
+            window = max(8, 2 * sum(client.nthreads().values()))
+            pending = iter(todo)
+            futures = {}
+            for s, e in itertools.islice(pending, window):
+                futures[client.submit(evaluate_chunk, study, s, e, pure=False)] = (s, e)
+            running = as_completed(list(futures))
+            for future in running:
+                span = futures.pop(future)
+                frame = future.result()
+                future.release()
+                for s, e in itertools.islice(pending, 1):
+                    nxt = client.submit(evaluate_chunk, study, s, e, pure=False)
+                    futures[nxt] = (s, e)
+                    running.add(nxt)
+                yield span, frame
     finally:
         if cluster is not None:
             cluster.close()
