@@ -324,3 +324,20 @@ def test_cli_cycle(tmp_path: Path, machine) -> None:  # type: ignore[no-untyped-
     np.testing.assert_allclose(pushed["safety"], pushed["critical"] / pushed["force"], rtol=1e-12)
     again = CliRunner().invoke(main, args)
     assert again.exit_code == 2 and "--force" in again.output
+
+
+def test_cli_cycle_power_table_and_plot(tmp_path: Path, machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.cycle_power import cycle_power
+
+    out, figure = tmp_path / "cycle.csv", tmp_path / "power.png"
+    args = ["excavator", "cycle", str(MACHINE), "-o", str(out), "--plot", str(figure)]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    assert "Power along the cycle" in r.output and "cannot run at full flow" in r.output
+    power = pd.read_csv(out)
+    power = power[power["section"] == "power"].set_index("phase")
+    cp = {p.name: p for p in cycle_power(machine).phases}
+    assert set(power.index) == {k for k, p in cp.items() if p.role is not None}
+    for name, row in power.iterrows():
+        assert row["work"] == cp[str(name)].work and row["peak_power"] == cp[str(name)].peak
+    assert figure.stat().st_size > 10_000

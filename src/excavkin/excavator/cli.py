@@ -8,10 +8,14 @@ the machine, pint) are imported inside the commands.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import click
 
 from excavkin.cli.common import handle_errors, model_path, si_value
+
+if TYPE_CHECKING:
+    from excavkin.excavator.machine import Machine
 
 
 def _machine(path: str):  # type: ignore[no-untyped-def]
@@ -50,6 +54,9 @@ TABLE_KINDS = {
     "flow": "volume_flow",
     **dict.fromkeys(("extend_speed", "retract_speed"), "velocity"),
     **dict.fromkeys(("extend_time", "retract_time", "time"), "time"),
+    "peak_power": "power",
+    "peak_pressure": "pressure",
+    "work": "energy",
 }
 
 
@@ -639,11 +646,17 @@ def lift(
     type=click.Path(dir_okay=False),
     help="Strokes, cycle and buckling checks as a table (.csv or .parquet).",
 )
+@click.option(
+    "--plot",
+    type=click.Path(dir_okay=False),
+    help="Power and inlet pressure along the cycle (.png, .svg or .pdf).",
+)
 @click.option("--force", is_flag=True, help="Replace an output file that exists.")
 @handle_errors
-def cycle(machine: str, output: str | None, force: bool) -> None:
+def cycle(machine: str, output: str | None, plot: str | None, force: bool) -> None:
     """Print cylinder speeds and stroke times from the pump flows, a dig–swing–dump cycle
-    estimate, and the buckling check of each cylinder at the rated forces."""
+    estimate with the hydraulic power of each phase, and the buckling check of each cylinder
+    at the rated forces."""
     from excavkin.excavator.forces import rated_force, tool_forces
     from excavkin.excavator.hydraulics import (
         Buckling,
@@ -656,6 +669,8 @@ def cycle(machine: str, output: str | None, force: bool) -> None:
 
     if output:
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    if plot:
+        check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
     m = _machine(machine)
     st = strokes(m)
     cy = cycle_time(m)
@@ -698,6 +713,7 @@ def cycle(machine: str, output: str | None, force: bool) -> None:
     ):
         click.echo(f"  {name:<30} {value:6.2f}")
         rows.append({"section": "cycle", "phase": name, "time": value})
+    _cycle_power(m, rows, plot, force)
     click.echo(
         f"Buckling (one cylinder; rod alone over the pin-to-pin length, pinned-pinned; "
         f"E = {h.modulus / 1e9:.0f} GPa, yield {h.rod_yield / 1e6:.0f} MPa)"
@@ -741,3 +757,48 @@ def cycle(machine: str, output: str | None, force: bool) -> None:
 
 
 _BUCKLING_NOTE = "Euler above L/r = √(2π²E/σy), Johnson below"
+
+
+def _cycle_power(m: Machine, rows: list[dict[str, object]], plot: str | None, force: bool) -> None:
+    """The power section of ``cycle``: each phase's peak power, inlet pressure and work."""
+    from excavkin.excavator.cycle_power import cycle_power
+
+    cp = cycle_power(m)
+    click.echo(
+        "Power along the cycle, one motion at a time (weight and inertia, no soil; "
+        f"pumps: {cp.supply / 1e3:.0f} kW at full flow and working pressure)"
+    )
+    click.echo(f"  {'phase':<14} {'peak kW':>8} {'peak bar':>9} {'work kJ':>8}")
+    for ph in cp.phases:
+        if ph.role is None:
+            continue
+        warn = (
+            f"  beyond the working pressure ({ph.working_pressure / 1e5:.0f} bar) over "
+            f"{ph.over_pressure:.0%} of the stroke: cannot run at full flow there"
+            if ph.over_pressure > 0.0
+            else ""
+        )
+        click.echo(
+            f"  {ph.name:<14} {ph.peak / 1e3:8.1f} {ph.peak_pressure / 1e5:9.0f} "
+            f"{ph.work / 1e3:8.1f}{warn}"
+        )
+        rows.append(
+            {
+                "section": "power",
+                "phase": ph.name,
+                "cylinder": ph.role,
+                "time": ph.duration,
+                "peak_power": ph.peak,
+                "peak_pressure": ph.peak_pressure,
+                "over_pressure": ph.over_pressure,
+                "work": ph.work,
+            }
+        )
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from excavkin.excavator.cycle_plots import plot_cycle_power
+
+        title = f"{m.name} — power along the cycle"
+        _save_png(plot_cycle_power(cp, title=title).figure, plot, force)

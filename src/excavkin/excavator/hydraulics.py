@@ -156,7 +156,7 @@ def strokes(machine: Machine, hydraulics: Hydraulics | None = None) -> tuple[Str
     InputError
         The machine has no hydraulics.
     """
-    h = _hydraulics(machine, hydraulics)
+    h = hydraulics_of(machine, hydraulics)
     out = []
     for c in machine.cylinders:
         q = h.flow(c.role)
@@ -193,7 +193,7 @@ class Cycle:
 
 def cycle_time(machine: Machine, hydraulics: Hydraulics | None = None) -> Cycle:
     """The dig–swing–dump cycle estimate of ``machine`` (full strokes, constant swing speed)."""
-    h = _hydraulics(machine, hydraulics)
+    h = hydraulics_of(machine, hydraulics)
     s = dict(zip(ROLES, strokes(machine, h), strict=True))
     cyl = dict(zip(ROLES, machine.cylinders, strict=True))
 
@@ -369,7 +369,7 @@ def buckling(
 def relief_buckling(machine: Machine, hydraulics: Hydraulics | None = None) -> tuple[Buckling, ...]:
     """Each cylinder at its port relief pressure on the bore side, fully extended: the largest
     push it can hold at its longest (the worst case of the cylinder alone)."""
-    h = _hydraulics(machine, hydraulics)
+    h = hydraulics_of(machine, hydraulics)
     out = []
     for c in machine.cylinders:
         p = machine.circuits[c.circuit].relief * c.bore_area / c.count
@@ -386,7 +386,7 @@ def pose_buckling(
     """Each cylinder's check at poses ``lengths`` (shape (n, 3)) under the forces of all
     ``count`` cylinders ``cylinder_force`` (shape (n, 3), N, > 0 pushing), e.g. those of
     :func:`~excavkin.excavator.forces.tool_forces` at the rated poses."""
-    h = _hydraulics(machine, hydraulics)
+    h = hydraulics_of(machine, hydraulics)
     L = as_lengths(lengths)
     f = np.broadcast_to(np.asarray(cylinder_force, dtype=np.float64), L.shape)
     return tuple(
@@ -395,7 +395,8 @@ def pose_buckling(
     )
 
 
-def _hydraulics(machine: Machine, hydraulics: Hydraulics | None) -> Hydraulics:
+def hydraulics_of(machine: Machine, hydraulics: Hydraulics | None = None) -> Hydraulics:
+    """The given hydraulics, or the machine's own; an error naming the machine if it has none."""
     h = hydraulics if hydraulics is not None else machine.hydraulics
     if h is None:
         raise InputError(

@@ -59,6 +59,8 @@ SI_UNITS: dict[str, str] = {
     "moment": "N*m",
     "pressure": "Pa",
     "power": "W",
+    "energy": "J",
+    "volume_flow": "m^3/s",
     "mass": "kg",
     "inertia": "kg*m^2",
     "dimensionless": "",
