@@ -488,7 +488,7 @@ def _solve_newton(
     round and then the longer.
     """
     q, status = full.q, full.status
-    steps = _step_sizes(plan)
+    steps = step_sizes(plan)
     if reached is None:
         reached = (assembly.positions, np.asarray(plan.input_sketch, dtype=np.float64))
     _continue_along_sweep(plan, reached, full, steps, chunk, workers)
@@ -505,14 +505,14 @@ def _solve_newton(
     return full.x[:, :, ok[-1]].copy(), q[:, ok[-1]].copy()
 
 
-def _step_sizes(plan: SolvePlan) -> F:
+def step_sizes(plan: SolvePlan) -> F:
     """The largest move of each input in one continuation stage: 0.1 rad, or 5 % of the size."""
     return np.array(
         [0.1 if kind == "angle" else 0.05 * plan.scale for kind in plan.input_kinds]
     ).reshape(-1, 1)
 
 
-def _wrapped(delta: F, plan: SolvePlan) -> F:
+def wrapped_difference(delta: F, plan: SolvePlan) -> F:
     """Input differences, angles the shorter way round (q and q ± 2π are one pose)."""
     out = delta.copy()
     for i, kind in enumerate(plan.input_kinds):
@@ -580,13 +580,13 @@ def _continue_along_sweep(
         full.x[:] = np.nan
         return
     q0 = start[1].reshape(-1, 1).copy()
-    far = np.abs(_wrapped(q[:, valid] - q0, plan)) / steps
+    far = np.abs(wrapped_difference(q[:, valid] - q0, plan)) / steps
     k0 = int(np.argmin(far.max(axis=0)))  # among the valid samples
     # the sketch → that sample, then its ladder's rungs either way along the sweep
     mini = _positions_only(full, valid[[k0]], q0.copy())
     mini.x[:] = start[0][:, :, None]
     mini.status[:] = 0
-    leg = _wrapped(q[:, valid[[k0]]] - q0, plan)
+    leg = wrapped_difference(q[:, valid[[k0]]] - q0, plan)
     first = max(int(np.ceil(np.nanmax(np.abs(leg) / steps))), 1)
     first_plan = take(plan, valid[[k0]])
     for k in range(1, first + 1):
@@ -728,7 +728,7 @@ def _continue_from_sketch(
     the longer, past what the shorter way could not pass), by chunks of them."""
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
     target = _at(full.q, samples)
-    delta = _wrapped(target - q0, plan)
+    delta = wrapped_difference(target - q0, plan)
     if long_way:
         for i, kind in enumerate(plan.input_kinds):
             if kind == "angle":

@@ -31,9 +31,9 @@ from excavkin.kinematics.solve import (
     Assembly,
     Carry,
     Tolerances,
-    _step_sizes,
-    _wrapped,
     solve_part,
+    step_sizes,
+    wrapped_difference,
 )
 from excavkin.structure.design import DesignBatch
 from excavkin.structure.plan import Dyad, SolvePlan
@@ -273,10 +273,10 @@ def _smooth(
 def _anchor(plan: SolvePlan, parts: Parts) -> int:
     """The sample nearest the sketch (in continuation stages; the first of equals)."""
     q0 = np.asarray(plan.input_sketch, dtype=np.float64)[:, None]
-    steps = _step_sizes(plan)
+    steps = step_sizes(plan)
     best, anchor = np.inf, 0
     for p in parts():
-        far = np.abs(_wrapped(p.q - q0, plan)) / steps
+        far = np.abs(wrapped_difference(p.q - q0, plan)) / steps
         here = np.where(np.isfinite(far).all(axis=0), far.max(axis=0), np.inf)
         k = int(np.argmin(here))
         if here[k] < best:
