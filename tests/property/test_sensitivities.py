@@ -163,3 +163,59 @@ def test_load_magnitudes_are_parameters() -> None:
     per_sample = mech.solve(q, loads="model", params={"push.Fx": np.linspace(0, 80, 12)})
     one = mech.solve({"crank": q["crank"][3:4]}, loads="model", params={"push.Fx": 80 * 3 / 11})
     assert per_sample.torque("crank")[3] == pytest.approx(one.torque("crank")[0], rel=1e-12)
+
+
+def _spring_loads(k: float = 400.0, c: float = 3.0):  # type: ignore[no-untyped-def]
+    """A spring from B to a fixed point and a damper on the rocker: loads that are functions of
+    the result, and so of the design."""
+    from excavkin.kinetostatics import PointForce, Torque
+
+    def spring(r):  # type: ignore[no-untyped-def]
+        b = r.point("B")[0]
+        return np.stack([-k * (b[:, 0] - 0.05), -k * (b[:, 1] - 0.2)], axis=-1)
+
+    def damper(r):  # type: ignore[no-untyped-def]
+        return -c * r.body("rocker")[1]
+
+    return [PointForce("spring", "coupler", "B", spring), Torque("damper", "rocker", damper)]
+
+
+def test_a_load_that_is_a_function_of_the_result_is_differentiated() -> None:
+    """Force sensitivities under a spring and a damper (functions of the result) equal 8th-order
+    differences of whole solves; holding the loads at their values would miss their own
+    dependence on the design by far more than the tolerance."""
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q, rates = {"crank": np.radians(np.linspace(10, 340, 9))}, {"crank": 3.0}
+    loads = _spring_loads()
+    names = ["A-B", "O4.x"]
+    kin = mech.solve(q, rates=rates, sensitivities=names)
+    res = mech.forces(kin, loads)
+    held = mech.forces(kin, [dataclasses.replace(ld, value=ld.value(kin)) for ld in loads])
+    for name in names:
+        step = 3e-4 * mech.plan.scale
+        tables = []
+        for j in range(-4, 5):
+            moved = {name: mech.parameters[name] + j * step}
+            tables.append(mech.forces(mech.solve(q, rates=rates, params=moved), loads))
+        for col in ("crank.torque", "B.rocker.Fx", "ground.Ry"):
+            ref = sum(w * t.column(col) for w, t in zip(WEIGHTS, tables, strict=True)) / step
+            scale = np.abs(ref).max()
+            exact = res.sensitivity(col, name)
+            assert np.abs(exact - ref).max() <= 1e-8 * scale, (name, col)
+            assert np.abs(held.sensitivity(col, name) - ref).max() > 1e-3 * scale
+
+
+def test_a_load_function_that_cannot_be_differentiated_is_refused() -> None:
+    from excavkin.kinetostatics import Torque
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    kin = mech.solve({"crank": np.radians([10.0, 50.0])}, sensitivities=["A-B"])
+    opaque = Torque("opaque", "rocker", lambda r: -2.0 * r.column("rocker.angle"))
+    with pytest.raises(InputError, match="'opaque'.*cannot be differentiated"):
+        mech.forces(kin, [opaque])
+    # without sensitivities the same load is fine
+    plain = mech.solve({"crank": np.radians([10.0, 50.0])})
+    assert np.isfinite(mech.forces(plain, [opaque]).column("crank.torque")).all()
+    # a function of time alone has no tangent to carry
+    steady = Torque("steady", "rocker", lambda r: np.full(len(r), 0.5))
+    assert np.isfinite(mech.forces(kin, [steady]).sensitivity("crank.torque", "A-B")).all()

@@ -138,6 +138,21 @@ class Dual:
             return Dual(np.where(cond, av, bv), np.where(cond, at, bt))
         if func is np.ndim:
             return self.ndim
+        if func is np.stack:  # components into a vector: the tangents' axis stays first
+            items, axis = args[0], kwargs.get("axis", args[1] if len(args) > 1 else 0)
+            n = np.ndim(np.asarray(_parts(items[0])[0]))
+            axis = axis if axis >= 0 else axis + n + 1
+            vals = [np.asarray(_parts(x)[0]) for x in items]
+            shape = np.broadcast_shapes(*(v.shape for v in vals))
+            ms = [np.shape(x.tan)[0] for x in items if isinstance(x, Dual) and x.tan.ndim]
+            if not ms:
+                return Dual(np.stack(vals, axis=axis), 0.0)
+            m = ms[0]
+            tans = [
+                np.broadcast_to(x.tan if isinstance(x, Dual) and x.tan.ndim else 0.0, (m, *shape))
+                for x in items
+            ]
+            return Dual(np.stack(vals, axis=axis), np.stack(tans, axis=axis + 1))
         if func is np.any or func is np.all:
             return func(self.val, *args[1:], **kwargs)
         return NotImplemented

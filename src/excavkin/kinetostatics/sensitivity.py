@@ -5,8 +5,10 @@ The positions, accelerations and angular accelerations carry their tangents from
 sensitivities (:mod:`excavkin.kinematics.sensitivity`); the masses, moments of inertia and
 centres of mass carry theirs from the parameters. The equilibrium's own elimination and dense
 block solve run on them unchanged, so each force's tangent is the exact derivative of the
-solved forces. Loads are taken as given: a load that is a function of the result is held at its
-evaluated values (its own dependence on the dimensions is not differentiated).
+solved forces. A load given as a function of the result (a spring, a damper) is evaluated
+once more on a result whose arrays are dual numbers, so that its own dependence on the
+dimensions is differentiated too; a function that cannot take them (it converts the arrays,
+or uses a function the duals do not carry) is refused by name rather than held fixed.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from excavkin.kinetostatics.equilibrium import solve_system
 from excavkin.structure.design import mass_items
 
 if TYPE_CHECKING:
+    from excavkin.kinematics.result import KinematicResult
     from excavkin.kinetostatics.result import ForceResult
 
 #: samples per pass
@@ -104,6 +107,7 @@ def _dual_loads(forces: ForceResult, names: Sequence[str], n: int) -> Any:
 
     ev = forces.evaluated
     m = len(names)
+    dual_result = _dual_result(forces.kinematics, names)
 
     def with_tangent(value: Any, name: str) -> Any:
         if name not in names:
@@ -115,15 +119,79 @@ def _dual_loads(forces: ForceResult, names: Sequence[str], n: int) -> Any:
     # evaluate_loads keeps the loads' order: the k-th point force is forces[k], and so on
     pushes = [ld for ld in forces.loads if isinstance(ld, PointForce)]
     couples = [ld for ld in forces.loads if isinstance(ld, Torque)]
-    new_forces = [
-        (body, point, with_tangent(fx, f"{ld.name}.Fx"), with_tangent(fy, f"{ld.name}.Fy"))
-        for (body, point, fx, fy), ld in zip(ev.forces, pushes, strict=True)
-    ]
-    new_torques = [
-        (body, reaction, with_tangent(tau, f"{ld.name}.torque"))
-        for (body, reaction, tau), ld in zip(ev.torques, couples, strict=True)
-    ]
+    new_forces = []
+    for (body, point, fx, fy), ld in zip(ev.forces, pushes, strict=True):
+        if callable(ld.value):
+            f = _function_tangent(ld, dual_result, (fx, fy), m, n)
+            new_forces.append((body, point, f[0], f[1]))
+        else:
+            fx, fy = with_tangent(fx, f"{ld.name}.Fx"), with_tangent(fy, f"{ld.name}.Fy")
+            new_forces.append((body, point, fx, fy))
+    new_torques = []
+    for (body, reaction, tau), couple in zip(ev.torques, couples, strict=True):
+        if callable(couple.value):
+            tau = _function_tangent(couple, dual_result, (tau,), m, n)[0]
+        else:
+            tau = with_tangent(tau, f"{couple.name}.torque")
+        new_torques.append((body, reaction, tau))
     return dataclasses.replace(ev, forces=tuple(new_forces), torques=tuple(new_torques))
+
+
+#: the fields of a kinematic result that carry tangents, for a load function to read
+_DUAL_FIELDS = (
+    "positions", "velocities", "accelerations", "body_angle", "body_omega", "body_epsilon",
+    "inputs", "input_rates", "input_accels", "element_length", "element_rate",
+    "element_accel", "element_angle", "element_omega", "element_epsilon", "transmission",
+)  # fmt: skip
+
+
+def _dual_result(kin: KinematicResult, names: Sequence[str]) -> KinematicResult:
+    """The result with each array a dual number carrying its tangents to ``names``."""
+    import dataclasses
+
+    assert kin.tangents is not None
+    duals = {
+        f: Dual(getattr(kin, f), np.stack([getattr(kin.tangents[p], f) for p in names]))
+        for f in _DUAL_FIELDS
+    }
+    return dataclasses.replace(kin, tangents=None, **duals)  # type: ignore[arg-type]
+
+
+def _function_tangent(
+    ld: Any, dual_result: KinematicResult, values: tuple[Any, ...], m: int, n: int
+) -> list[Any]:
+    """A load function's components (as evaluated) with their tangents: the function run on
+    the dual result. A function that does not carry them is an error naming the load."""
+    from excavkin.errors import InputError
+
+    def refuse(why: str) -> InputError:
+        return InputError(
+            f"load {ld.name!r}: its value function cannot be differentiated with respect to "
+            f"the design ({why}); for force sensitivities write it with NumPy arithmetic, "
+            "sqrt, hypot, arctan2, sin and cos on result.point/body/driver arrays, or give "
+            "the load as values"
+        )
+
+    try:
+        out = ld.value(dual_result)
+    except Exception as exc:  # the user's function: say whose it was
+        raise refuse(f"it raised {type(exc).__name__}: {exc}") from exc
+    if not isinstance(out, Dual):
+        try:
+            np.asarray(out, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise refuse(f"it converted the arrays: {exc}") from None
+        # it read nothing that moves with the design (time, sample count): no tangent
+        return list(values)
+    parts = [out[..., 0], out[..., 1]] if len(values) == 2 else [out]
+    result = []
+    for value, part in zip(values, parts, strict=True):
+        tan = np.asarray(part.tan, dtype=np.float64) if isinstance(part, Dual) else np.zeros(m)
+        if tan.ndim == 1:  # one value for every sample
+            tan = tan[:, None]
+        val = np.broadcast_to(np.asarray(value, dtype=np.float64), (n,)).copy()
+        result.append(Dual(val, np.broadcast_to(tan, (m, n)).copy()))
+    return result
 
 
 def _dual_masses(forces: ForceResult, names: Sequence[str], n: int) -> _Masses:
