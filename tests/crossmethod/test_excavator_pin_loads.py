@@ -20,7 +20,7 @@ import pytest
 import excavkin
 from excavkin.errors import InputError
 from excavkin.excavator.forces import gravity_terms, tool_forces
-from excavkin.excavator.lift import hydraulic_lift
+from excavkin.excavator.lift import cylinder_limits, hydraulic_lift
 from excavkin.excavator.machine import Machine, transfer
 from excavkin.excavator.machine_file import load_machine
 from excavkin.excavator.pin_loads import CASES, PinLoads, load_maxima, pin_labels, pin_loads
@@ -242,3 +242,18 @@ def test_bad_input_is_refused(machine: Machine) -> None:
     assert not r.held.any() and np.isnan(r.load).all()
     with pytest.raises(InputError, match="no pose"):
         load_maxima([r])
+
+
+@pytest.mark.parametrize("gravity", [True, False])
+def test_the_default_lift_load_is_the_capacity(machine: Machine, gravity: bool) -> None:
+    """One cylinder at its limit (the boom at working pressure, the others at relief), none
+    beyond, with or without the front's weight."""
+    r = pin_loads(machine, _poses(machine, 40, seed=7), "lift", gravity=gravity)
+    ok = r.held
+    assert ok.sum() >= 30
+    lo, hi = cylinder_limits(machine)
+    f = r.cylinder_force[ok]
+    scale = np.maximum(np.abs(lo), hi)
+    assert np.all(f >= lo - 1e-9 * scale) and np.all(f <= hi + 1e-9 * scale)
+    at_limit = np.isclose(f, lo, rtol=1e-9, atol=0) | np.isclose(f, hi, rtol=1e-9, atol=0)
+    assert at_limit.any(axis=1).all()

@@ -40,9 +40,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from excavkin.errors import InputError
-from excavkin.excavator.forces import At, gravity_terms, tool_forces
-from excavkin.excavator.lift import cylinder_limits
-from excavkin.excavator.machine import ROLES, B, F, Machine, as_lengths, transfer
+from excavkin.excavator.forces import At, tool_forces
+from excavkin.excavator.lift import hydraulic_lift
+from excavkin.excavator.machine import ROLES, B, F, Machine, as_lengths
 from excavkin.kinematics.summary import batch_repr
 from excavkin.kinetostatics import ForceResult, PointForce
 
@@ -90,8 +90,9 @@ class PinLoads:
         The bucket pin (m).
     lengths : ndarray, shape (n, 3)
     held : ndarray of bool, shape (n,)
-        The pose assembles within the strokes and the cylinders hold the load (for a given
-        lift load: it does not exceed the lift capacity there); the maxima are taken over these.
+        The pose assembles within the strokes and the cylinders hold the load: not where they
+        cannot even hold the front (no tool force, no lift capacity), nor where a given lift
+        load exceeds the capacity; the maxima are taken over these.
     forces : ForceResult
         The engine's kinetostatics (every pin force on every body, by name).
     """
@@ -137,25 +138,15 @@ def _lift_carrier(machine: Machine) -> str:
     raise AssertionError("Machine checks that the lift point is on one of these bodies")
 
 
-def _lift_load(machine: Machine, L: F, load: float | None, gravity: bool) -> tuple[F, F, B, F]:
-    """Lift load (N), its point, whether the cylinders hold it, and their forces by virtual
-    work (the capacity as :func:`~excavkin.excavator.lift.hydraulic_lift` finds it)."""
-    tr = transfer(machine, L)
-    point, J = tr.point(machine, machine.lift_point)
-    a = J[:, 1, :]  # ∂y_P/∂L_c: a downward load's share of each cylinder, per newton
-    G = gravity_terms(machine, tr.d) if gravity else np.zeros_like(a)
-    lo, hi = cylinder_limits(machine)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cap = np.where(a > 0.0, (hi - G) / a, np.where(a < 0.0, (lo - G) / a, np.inf))
-    capacity = np.maximum(np.min(np.where(np.isnan(cap), np.inf, cap), axis=1), 0.0)
-    ok = tr.ok & np.all(np.isfinite(J), axis=(1, 2))
+def _lift_load(machine: Machine, L: F, load: float | None, gravity: bool) -> tuple[F, F, B]:
+    """Lift load (N), its point, and whether the cylinders hold it (and the front: a pose
+    where they cannot even hold the front has no capacity)."""
+    hyd = hydraulic_lift(machine, L, gravity=gravity)
+    held = hyd.ok & (hyd.load > 0.0)
     if load is None:
-        W = np.where(ok, capacity, np.nan)
-        held = ok & np.isfinite(W)
-    else:
-        W = np.where(ok, load, np.nan)
-        held = ok & (load <= capacity * (1.0 + 1e-12))
-    return W, point, np.asarray(held), W[:, None] * a + G
+        return hyd.load, hyd.point, held
+    W = np.where(hyd.ok, load, np.nan)
+    return W, hyd.point, np.asarray(held & (load <= hyd.load * (1.0 + 1e-12)))
 
 
 def pin_loads(
@@ -199,7 +190,7 @@ def pin_loads(
     n = len(L)
     f = machine.front
     if case == "lift":
-        W, point, held, _ = _lift_load(machine, L, load, gravity)
+        W, point, held = _lift_load(machine, L, load, gravity)
         body, where = _lift_carrier(machine), machine.lift_point
         P = np.zeros((n, 2))
         P[:, 1] = -W
@@ -210,7 +201,8 @@ def pin_loads(
         # the soil pushes back on the bucket against the tool's motion
         P = -tf.force[:, None] * tf.direction
         magnitude = tf.force
-        held = np.asarray(tf.pose.ok & np.isfinite(tf.force))
+        # a pose where the holding cylinders cannot even hold the front has no tool force
+        held = np.asarray(tf.pose.ok & (tf.force > 0.0))
     res = machine.solve(L)  # at rest: no inertia
     loads = [*(machine.weight_loads() if gravity else []), PointForce("tool", body, where, P)]
     fr = machine.mechanism.forces(res, loads)
