@@ -7,4 +7,5 @@ excavkin excavator ranges "$m" --plot docs/img/excavator-working-range.png --for
 excavkin excavator forces "$m" --samples 41 --map docs/img/excavator-force --force
 excavkin excavator stability "$m" --samples 31 --map docs/img/excavator-stability --force
 excavkin excavator lift "$m" --plot docs/img/excavator-lift-chart.png --force
+excavkin excavator pins "$m" --samples 31 --plot docs/img/excavator-pins-maxima.png --map docs/img/excavator-pins --force
 excavkin excavator cycle "$m" --plot docs/img/excavator-cycle-power.png --force >/dev/null

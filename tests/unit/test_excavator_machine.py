@@ -168,3 +168,42 @@ def test_cli_forces(tmp_path: Path) -> None:
     )
     assert again.exit_code == 2 and "map-arm.png" in again.output and "--force" in again.output
     assert "Rated" not in again.output and not fresh.exists()
+
+
+def test_cli_pins(tmp_path: Path) -> None:
+    out = tmp_path / "pins.csv"
+    args = ["excavator", "pins", str(MACHINE), "--samples", "5", "-o", str(out)]
+    r = CliRunner().invoke(
+        main, [*args, "--plot", str(tmp_path / "bars.png"), "--map", str(tmp_path / "map")]
+    )
+    assert r.exit_code == 0, r.output
+    assert "boom foot" in r.output and "link junction / bucket cylinder rod eye" in r.output
+    for name in ("bars.png", "map-bucket.png", "map-arm.png", "map-lift.png"):
+        assert (tmp_path / name).is_file(), name
+    table = pd.read_csv(out)
+    assert list(table["kind"]) == ["pin"] * 11 + ["cylinder"] * 3
+    assert set(table["case"]) <= {"bucket", "arm", "lift"}
+    per_case = table[["max_bucket", "max_arm", "max_lift"]].max(axis=1)
+    np.testing.assert_allclose(table["load"].abs(), per_case, rtol=1e-15)
+    # one case with a given lift mass; the table's load is that mass's weight
+    lift = tmp_path / "lift.csv"
+    r = CliRunner().invoke(
+        main,
+        ["excavator", "pins", str(MACHINE), "--samples", "5", "--case", "lift", "--load", "2t"]
+        + ["-o", str(lift)],
+    )
+    assert r.exit_code == 0, r.output
+    assert "2000 kg hanging at Q" in r.output and "holds the lift load at 100 %" in r.output
+    np.testing.assert_allclose(pd.read_csv(lift)["tool_force"], 2000 * 9.80665, rtol=1e-15)
+    # errors: name the option, write nothing, keep what exists
+    for bad, text in (
+        (["--case", "arm", "--load", "2t"], "lift case only"),
+        (["--load", "2m"], "not a mass"),
+        (["--load", "-1t"], "negative"),
+        (["--samples", "1"], "at least 2"),
+        (["-o", str(out)], "--force"),
+    ):
+        before = out.read_bytes()
+        r = CliRunner().invoke(main, ["excavator", "pins", str(MACHINE), *bad])
+        assert r.exit_code == 2 and text in r.output and "Traceback" not in r.output, bad
+        assert "boom foot" not in r.output and out.read_bytes() == before

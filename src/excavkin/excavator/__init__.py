@@ -13,10 +13,12 @@ module               what it holds
 ``file_reader``      the machine file's field lookups (units, ranges, errors)
 ``stability``        tipping and slipping (whole-machine equilibrium); forces capped by them
 ``lift``             lift capacity (ISO 10567): postures, hydraulic capacity, tables
+``pin_loads``        pin loads and cylinder forces over the working range, their maxima
 ``search``           the pattern search shared by ranges and forces
 ``plots``            the working-range and force-map figures
 ``stability_plots`` the lift chart and the stability and limit maps
-``cli``              ``excavkin excavator ranges|forces|ik|stability|lift``
+``pin_plots``        pin-load heat maps and the chart of the largest loads
+``cli``              ``excavkin excavator ranges|forces|ik|stability|lift|pins|cycle``
 ===================  ====================================================================
 
 The core of excavkin never imports this package.

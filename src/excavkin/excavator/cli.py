@@ -1,5 +1,5 @@
-"""``excavkin excavator ranges|forces|ik|stability|lift|cycle MACHINE.toml``: an excavator's
-spec sheet.
+"""``excavkin excavator ranges|forces|ik|stability|lift|pins|cycle MACHINE.toml``: an
+excavator's spec sheet.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
 the machine, pint) are imported inside the commands.
@@ -34,7 +34,10 @@ def _save_png(fig, path: str, force: bool) -> None:  # type: ignore[no-untyped-d
 
 #: kinds of the excavator tables' columns (SI, plain names, like every excavkin table)
 TABLE_KINDS = {
-    **dict.fromkeys(("value", "x", "y", "boom", "arm", "bucket", "radius", "height"), "length"),
+    **dict.fromkeys(
+        ("value", "x", "y", "boom", "arm", "bucket", "radius", "height", "pin_x", "pin_y"),
+        "length",
+    ),
     "bucket_angle": "angle",
     **dict.fromkeys(
         (
@@ -44,6 +47,11 @@ TABLE_KINDS = {
             "tipping_force",
             "slipping_force",
             "cylinders_only",
+            "load",
+            "tool_force",
+            "max_bucket",
+            "max_arm",
+            "max_lift",
         ),
         "force",
     ),
@@ -77,8 +85,8 @@ def _mm(v: float) -> str:
 
 @click.group("excavator", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Working ranges, tool forces, stability, lift capacity, cycle time and IK of an excavator
-    MACHINE."""
+    """Working ranges, tool forces, stability, lift capacity, pin loads, cycle time and IK of an
+    excavator MACHINE."""
 
 
 @command.command("ranges")
@@ -636,6 +644,172 @@ def lift(
         from excavkin.excavator.stability_plots import plot_lift_chart
 
         _save_png(plot_lift_chart(m, t).figure, plot, force)
+
+
+@command.command("pins")
+@click.argument("machine", type=click.Path(dir_okay=False))
+@click.option(
+    "--case",
+    "cases",
+    type=click.Choice(["bucket", "arm", "lift"]),
+    multiple=True,
+    help="Load case (repeat for several; default all): the bucket- or arm-cylinder tool force, "
+    "or a load hanging at the lift point.",
+)
+@click.option(
+    "--load",
+    "load",
+    help="Lift load as a mass, e.g. 2t (default: the hydraulic lift capacity at each pose).",
+)
+@click.option(
+    "--at",
+    type=click.Choice(["lip", "tip"]),
+    default="lip",
+    show_default=True,
+    help="Tool point: the lip (ISO 6015) or the tooth tip (SAE J1179).",
+)
+@click.option("--no-gravity", is_flag=True, help="Leave the weight of the front out.")
+@click.option(
+    "--samples", default=31, show_default=True, help="Grid points per stroke of the sweep."
+)
+@click.option(
+    "--plot", "plot", type=click.Path(dir_okay=False), help="Bar chart PNG of the largest loads."
+)
+@click.option(
+    "--map",
+    "map_prefix",
+    type=click.Path(dir_okay=False),
+    help="Write pin-load heat maps PREFIX-<case>.png, one per case.",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    help="The largest loads as a table (.csv or .parquet).",
+)
+@click.option("--force", is_flag=True, help="Replace output files that exist.")
+@handle_errors
+def pins(
+    machine: str,
+    cases: tuple[str, ...],
+    load: str | None,
+    at: str,
+    no_gravity: bool,
+    samples: int,
+    plot: str | None,
+    map_prefix: str | None,
+    output: str | None,
+    force: bool,
+) -> None:
+    """Print the largest load on each pin and in each cylinder over the working range, the load
+    case and the pose where it occurs."""
+    from excavkin.excavator.pin_loads import CASES, load_maxima, pin_loads
+    from excavkin.excavator.ranges import stroke_grid
+    from excavkin.outputs.tables import check_target, write_table
+
+    if samples < 2:
+        raise click.BadParameter("at least 2", param_hint="--samples")
+    chosen = [c for c in CASES if c in cases] if cases else list(CASES)
+    mass = None
+    if load is not None:
+        if "lift" not in chosen:
+            raise click.BadParameter("applies to the lift case only", param_hint="--load")
+        mass = si_value(load, "mass", "--load")
+        if not mass >= 0.0:
+            raise click.BadParameter(f"{load!r} is negative", param_hint="--load")
+    if output:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    if plot:
+        check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
+    if map_prefix:
+        for case in chosen:
+            check_target(f"{map_prefix}-{case}.png", force=force, suffixes=(".png",))
+    m = _machine(machine)
+    grav = not no_gravity
+    W = None if mass is None else mass * m.gravity
+    # a lift load's point moves with the boom and the stick: a finer grid of those two, at
+    # about the same count of poses, covers its map and its maxima better
+    lift_grid = (2 * samples - 1, 2 * samples - 1, max(3, round(samples / 4)))
+    results = tuple(
+        pin_loads(
+            m,
+            stroke_grid(m, lift_grid if case == "lift" else samples),
+            case,
+            load=W if case == "lift" else None,
+            at=at,  # type: ignore[arg-type]
+            gravity=grav,
+        )
+        for case in chosen
+    )
+    maxima = load_maxima(results)
+    grids = f"{samples}³ stroke sweep" if chosen != ["lift"] else ""
+    if "lift" in chosen:
+        grids += (", " if grids else "") + "{} × {} × {} for the lift load".format(*lift_grid)
+    std = "ISO 6015, lip" if at == "lip" else "SAE J1179, tooth tip"
+    text = {
+        "bucket": f"bucket: bucket-cylinder tool force ({std})",
+        "arm": f"arm: arm-cylinder tool force ({std})",
+        "lift": f"lift: {'the hydraulic lift capacity' if W is None else f'{mass:.0f} kg'} "
+        f"hanging at {m.lift_point}",
+    }
+    click.echo(f"{m.name} — pin loads and cylinder forces over the working range (kN; mm)")
+    click.echo(
+        f"{grids}; {'with' if grav else 'without'} the front's weight; cases: "
+        + "; ".join(text[c] for c in chosen)
+    )
+    if W is not None:
+        lift = results[chosen.index("lift")]
+        click.echo(f"the front holds the lift load at {100 * lift.held.mean():.0f} % of the poses")
+    per_case = "".join(f" {c:>7}" for c in chosen)
+    click.echo(
+        f"{'pin':<7} {'what':<40} {'max':>7} {'case':<7}{per_case}  {'load':>6} "
+        f"{'x':>6} {'y':>6}  {'boom':>5} {'arm':>5} {'bucket':>6}"
+    )
+    rows = []
+    for mx in maxima:
+        name = mx.name if mx.kind == "pin" else ""
+        cells = "".join(f" {mx.by_case[c] / 1e3:7.1f}" for c in chosen)
+        click.echo(
+            f"{name:<7} {mx.label:<40} {mx.value / 1e3:7.1f} {mx.case:<7}{cells}  "
+            f"{mx.tool_force / 1e3:6.1f} {mx.tool_point[0] * 1e3:6.0f} "
+            f"{mx.tool_point[1] * 1e3:6.0f}  {mx.lengths[0] * 1e3:5.0f} "
+            f"{mx.lengths[1] * 1e3:5.0f} {mx.lengths[2] * 1e3:6.0f}"
+        )
+        rows.append(
+            {
+                "name": mx.name,
+                "label": mx.label,
+                "kind": mx.kind,
+                "load": mx.value,
+                "case": mx.case,
+                **{f"max_{c}": mx.by_case[c] for c in chosen},
+                "tool_force": mx.tool_force,
+                "x": mx.tool_point[0],
+                "y": mx.tool_point[1],
+                "pin_x": mx.bucket_pin[0],
+                "pin_y": mx.bucket_pin[1],
+                "boom": mx.lengths[0],
+                "arm": mx.lengths[1],
+                "bucket": mx.lengths[2],
+            }
+        )
+    click.echo(
+        "max: largest force the pin passes to one of its members (a cylinder: its force, "
+        "> 0 pushing); load: the tool force or lift load there, acting at (x, y)"
+    )
+    if output:
+        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+    if plot or map_prefix:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from excavkin.excavator.pin_plots import plot_load_maxima, plot_pin_maps
+
+        if plot:
+            _save_png(plot_load_maxima(m, maxima).figure, plot, force)
+        if map_prefix:
+            for r in results:
+                _save_png(plot_pin_maps(m, r).figure, f"{map_prefix}-{r.case}.png", force)
 
 
 @command.command("cycle")

@@ -198,6 +198,7 @@ def hydraulic_lift(
     *,
     lifting: Literal["boom", "arm"] = "boom",
     pressure: Pressure = "working",
+    gravity: bool = True,
 ) -> HydraulicLift:
     """The hydraulic lift capacity at each pose (see the module's text).
 
@@ -209,6 +210,8 @@ def hydraulic_lift(
         The lifting cylinder.
     pressure : {"working", "relief"}
         Its pressure: the circuit's working (main relief) pressure, or its port relief.
+    gravity : bool
+        Include the front's own weight (the cylinders carry it besides the load).
 
     Returns
     -------
@@ -222,7 +225,7 @@ def hydraulic_lift(
     tr = transfer(machine, L)
     point, J = tr.point(machine, machine.lift_point)
     a = J[:, 1, :]  # ∂y_P/∂L_c: the load's share of each cylinder, per newton
-    G = gravity_terms(machine, tr.d)
+    G = gravity_terms(machine, tr.d) if gravity else np.zeros_like(a)
     lo, hi = cylinder_limits(machine, lifting, pressure)
     with np.errstate(divide="ignore", invalid="ignore"):
         cap = np.where(a > 0.0, (hi - G) / a, np.where(a < 0.0, (lo - G) / a, np.inf))

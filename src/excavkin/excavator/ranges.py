@@ -131,13 +131,18 @@ def sweep(machine: Machine, n: int | tuple[int, int, int] = 41) -> FrontPose:
     FrontPose
         Of ``n_boom · n_arm · n_bucket`` samples, bucket length varying fastest.
     """
+    return forward(machine, stroke_grid(machine, n))
+
+
+def stroke_grid(machine: Machine, n: int | tuple[int, int, int] = 41) -> F:
+    """The cylinder lengths of :func:`sweep`: a full 3-D grid of strokes, shape
+    (n_boom · n_arm · n_bucket, 3), ends included, bucket length varying fastest."""
     counts = (n, n, n) if isinstance(n, int) else n
     axes = [
         np.linspace(lo, hi, k)
         for lo, hi, k in zip(machine.lengths_min, machine.lengths_max, counts, strict=True)
     ]
-    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-    return forward(machine, grid)
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
 
 
 def _even_in_angle(machine: Machine, c: int, n: int) -> F:

@@ -1,0 +1,375 @@
+r"""Pin loads and cylinder forces of an excavator front over its working range.
+
+At each pose (a set of cylinder lengths) one **load case** acts on the front at rest, with its
+weight (the model's bodies and the cylinders, as :meth:`Machine.weight_loads` puts them) unless
+``gravity=False``:
+
+* ``"bucket"``, ``"arm"`` — the tool force of that working cylinder as
+  :func:`~excavkin.excavator.forces.tool_forces` gives it at that pose: the working cylinder at
+  its working pressure, the force capped where a holding cylinder reaches its port relief; the
+  soil pushes back on the bucket at the tool point (the lip, ISO 6015; or the tooth tip).
+* ``"lift"`` — a load hanging straight down from the lift point (``[lift] point`` of the machine
+  file, default the bucket pin): by default the **hydraulic lift capacity** at that pose
+  (ISO 10567's, before its 87 % factor: the boom cylinders at working pressure, the arm and
+  bucket cylinders within their port relief), or a given load, where the cylinders hold it.
+  The load hangs from the bucket where the lift point is the bucket's, else from the first of
+  the H-link, the side link and the stick that holds it.
+
+The general kinetostatics (:meth:`Mechanism.forces`) then gives the force of every pin on every
+member it joins and every cylinder's force. The **load of a pin** is the largest force it passes
+to any one of its members — the bodies pinned there and, at a cylinder's end, the cylinder's
+eye (whose force is the cylinder's) — so that for a pin of two members it is the force between
+them::
+
+    load(p) = max( |F[p, b]| over the bodies b at p ,  |f_c| over the cylinders c ending at p )
+
+Where ``count`` cylinders act together (two boom cylinders), their pins are drawn as one and
+carry all of them: each of the real pins carries its share.
+
+Everything is one batch over the poses: three transfer solves for the tool force (or the lift
+capacity) and one static solve with the loads.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from excavkin.errors import InputError
+from excavkin.excavator.forces import At, tool_forces
+from excavkin.excavator.lift import hydraulic_lift
+from excavkin.excavator.machine import ROLES, B, F, Machine, as_lengths
+from excavkin.kinematics.summary import batch_repr
+from excavkin.kinetostatics import ForceResult, PointForce
+
+Case = Literal["bucket", "arm", "lift"]
+#: the load cases, in the order of every table
+CASES: tuple[Case, Case, Case] = ("bucket", "arm", "lift")
+
+_ROLE_TEXT = {
+    "foot": "boom foot",
+    "stick_pivot": "stick pivot",
+    "bucket_pin": "bucket pin",
+    "link_pivot": "side-link pivot",
+    "junction": "link junction",
+    "link_pin": "H-link pin",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class PinLoads:
+    """Pin loads and cylinder forces of one load case at n poses (SI: N, m).
+
+    Attributes
+    ----------
+    case : {"bucket", "arm", "lift"}
+    gravity : bool
+        The front's weight is included.
+    pins : tuple of str
+        The pins' point names, in the engine's order.
+    labels : tuple of str
+        What each pin is (``"bucket pin"``, ``"link junction / bucket cylinder rod eye"``).
+    members : tuple of tuple of str
+        Per pin, its members: the bodies pinned there and ``"<role> cylinder"`` at a cylinder's
+        end.
+    member_force : tuple of ndarray, shape (n, k)
+        Per pin, the magnitude of the force it passes to each of its k members (N).
+    load : ndarray, shape (n, n_pins)
+        The pin's load: its largest member force (N); NaN where the pose does not assemble.
+    cylinder_force : ndarray, shape (n, 3)
+        Boom, arm and bucket cylinder forces (N, > 0 pushing), from the kinetostatics.
+    tool_force : ndarray, shape (n,)
+        Magnitude of the tool force or of the lift load (N).
+    tool_point : ndarray, shape (n, 2)
+        Where it acts (lip, tooth tip or lift point; m).
+    bucket_pin : ndarray, shape (n, 2)
+        The bucket pin (m).
+    lengths : ndarray, shape (n, 3)
+    held : ndarray of bool, shape (n,)
+        The pose assembles within the strokes and the cylinders hold the load: not where they
+        cannot even hold the front (no tool force, no lift capacity), nor where a given lift
+        load exceeds the capacity; the maxima are taken over these.
+    forces : ForceResult
+        The engine's kinetostatics (every pin force on every body, by name).
+    """
+
+    def __repr__(self) -> str:
+        return batch_repr(self)
+
+    case: str
+    gravity: bool
+    pins: tuple[str, ...]
+    labels: tuple[str, ...]
+    members: tuple[tuple[str, ...], ...]
+    member_force: tuple[F, ...]
+    load: F
+    cylinder_force: F
+    tool_force: F
+    tool_point: F
+    bucket_pin: F
+    lengths: F
+    held: B
+    forces: ForceResult = field(repr=False)
+
+
+def pin_labels(machine: Machine) -> dict[str, str]:
+    """What each pin of the front is, by point name (several roles joined by ``" / "``)."""
+    p = machine.pins
+    roles: dict[str, list[str]] = {}
+    for key, text in _ROLE_TEXT.items():
+        roles.setdefault(getattr(p, key), []).append(text)
+    for role, (base, rod) in zip(ROLES, p.cyl_ends, strict=True):
+        roles.setdefault(base, []).append(f"{role} cylinder base")
+        roles.setdefault(rod, []).append(f"{role} cylinder rod eye")
+    return {name: " / ".join(texts) for name, texts in roles.items()}
+
+
+def _lift_carrier(machine: Machine) -> str:
+    """The body a lift load hangs from: the bucket, else a bucket link, else the stick."""
+    f = machine.front
+    bodies = {b.name: b.points for b in machine.mechanism.model.bodies}
+    for body in (f.bucket, f.h_link, f.side_link, f.stick):
+        if machine.lift_point in bodies[body]:
+            return body
+    raise AssertionError("Machine checks that the lift point is on one of these bodies")
+
+
+def _lift_load(machine: Machine, L: F, load: float | None, gravity: bool) -> tuple[F, F, B]:
+    """Lift load (N), its point, and whether the cylinders hold it (and the front: a pose
+    where they cannot even hold the front has no capacity)."""
+    hyd = hydraulic_lift(machine, L, gravity=gravity)
+    held = hyd.ok & (hyd.load > 0.0)
+    if load is None:
+        return hyd.load, hyd.point, held
+    W = np.where(hyd.ok, load, np.nan)
+    return W, hyd.point, np.asarray(held & (load <= hyd.load * (1.0 + 1e-12)))
+
+
+def pin_loads(
+    machine: Machine,
+    lengths: ArrayLike,
+    case: Case = "bucket",
+    *,
+    load: float | None = None,
+    at: At = "lip",
+    gravity: bool = True,
+) -> PinLoads:
+    """Every pin's load and every cylinder's force under one load case, at each pose.
+
+    Parameters
+    ----------
+    machine : Machine
+    lengths : array_like, shape (n, 3)
+        Boom, arm and bucket cylinder lengths (m).
+    case : {"bucket", "arm", "lift"}
+        The bucket- or arm-cylinder tool force (capped by the holding cylinders), or a lift load.
+    load : float, optional
+        For ``"lift"``: the load (N) at the lift point; default the hydraulic lift capacity of
+        each pose.
+    at : {"lip", "tip"}
+        For the tool forces: the lip (ISO 6015) or the tooth tip (SAE J1179).
+    gravity : bool
+        Include the front's weight (in the tool force or capacity too).
+
+    Returns
+    -------
+    PinLoads
+    """
+    if case not in CASES:
+        raise InputError(f"case must be 'bucket', 'arm' or 'lift', not {case!r}")
+    if load is not None and (case != "lift" or not (np.isfinite(load) and load >= 0.0)):
+        raise InputError(
+            "a load is given for the lift case only, finite and not negative "
+            f"(case {case!r}, load {load!r})"
+        )
+    L = as_lengths(lengths)
+    n = len(L)
+    f = machine.front
+    if case == "lift":
+        W, point, held = _lift_load(machine, L, load, gravity)
+        body, where = _lift_carrier(machine), machine.lift_point
+        P = np.zeros((n, 2))
+        P[:, 1] = -W
+        magnitude = W
+    else:
+        tf = tool_forces(machine, L, case, at=at, gravity=gravity)
+        body, where = f.bucket, (f.lip if at == "lip" else f.tip)
+        # the soil pushes back on the bucket against the tool's motion
+        P = -tf.force[:, None] * tf.direction
+        magnitude = tf.force
+        # a pose where the holding cylinders cannot even hold the front has no tool force
+        held = np.asarray(tf.pose.ok & (tf.force > 0.0))
+    res = machine.solve(L)  # at rest: no inertia
+    loads = [*(machine.weight_loads() if gravity else []), PointForce("tool", body, where, P)]
+    fr = machine.mechanism.forces(res, loads)
+    held = np.asarray(held & fr.ok & machine.within_stroke(L))
+    cyl = np.stack([fr.force(d) for d in machine.drivers], axis=1)
+    labels = pin_labels(machine)
+    pins = tuple(dict.fromkeys(p for p, _ in fr.pins))
+    members: list[tuple[str, ...]] = []
+    member_force: list[F] = []
+    for p in pins:
+        names = [b for q, b in fr.pins if q == p]
+        cols = [np.hypot(*fr.pin(p, b).T) for b in names]
+        for c, ends in enumerate(machine.pins.cyl_ends):
+            if p in ends:
+                names.append(f"{ROLES[c]} cylinder")
+                cols.append(np.abs(cyl[:, c]))
+        members.append(tuple(names))
+        member_force.append(np.stack(cols, axis=1))
+    pin_load = np.stack([m.max(axis=1) for m in member_force], axis=1)
+    return PinLoads(
+        case,
+        gravity,
+        pins,
+        tuple(labels.get(p, p) for p in pins),
+        tuple(members),
+        tuple(member_force),
+        pin_load,
+        cyl,
+        magnitude,
+        res.point(where)[0],
+        res.point(machine.pins.bucket_pin)[0],
+        L,
+        held,
+        fr,
+    )
+
+
+@dataclass(frozen=True, slots=True)
+class LoadMaximum:
+    """The largest load of one pin or cylinder over the poses and cases, and where it occurs.
+
+    Attributes
+    ----------
+    name : str
+        The pin's point name, or the cylinder's role.
+    label : str
+    kind : {"pin", "cylinder"}
+    value : float
+        N; for a cylinder the force of largest magnitude, signed (> 0 pushing).
+    case : str
+        The load case where it occurs.
+    index : int
+        Its pose in that case's arrays.
+    lengths : ndarray, shape (3,)
+    tool_point, bucket_pin : ndarray, shape (2,)
+    tool_force : float
+        The tool force or lift load there (N).
+    by_case : dict of str to float
+        The largest magnitude in each case given (N).
+    """
+
+    name: str
+    label: str
+    kind: str
+    value: float
+    case: str
+    index: int
+    lengths: F
+    tool_point: F
+    bucket_pin: F
+    tool_force: float
+    by_case: dict[str, float]
+
+
+def _maximum(
+    results: Sequence[PinLoads], name: str, label: str, kind: str, column: int
+) -> LoadMaximum:
+    best: tuple[float, int, int] = (-np.inf, -1, -1)
+    by_case: dict[str, float] = {}
+    for r_i, r in enumerate(results):
+        values = r.load[:, column] if kind == "pin" else np.abs(r.cylinder_force[:, column])
+        v = np.where(r.held & np.isfinite(values), values, -np.inf)
+        k = int(np.argmax(v))
+        by_case[r.case] = float(v[k])
+        if v[k] > best[0]:
+            best = (float(v[k]), r_i, k)
+    value, r_i, k = best
+    r = results[r_i]
+    if kind == "cylinder":
+        value = float(r.cylinder_force[k, column])
+    return LoadMaximum(
+        name,
+        label,
+        kind,
+        value,
+        r.case,
+        k,
+        r.lengths[k],
+        r.tool_point[k],
+        r.bucket_pin[k],
+        float(r.tool_force[k]),
+        by_case,
+    )
+
+
+def load_maxima(results: Sequence[PinLoads]) -> tuple[LoadMaximum, ...]:
+    """Per pin, then per cylinder, the largest load over the held poses of all cases given.
+
+    Parameters
+    ----------
+    results : sequence of PinLoads
+        One per case, of the same machine.
+
+    Returns
+    -------
+    tuple of LoadMaximum
+        The pins in the engine's order, then the boom, arm and bucket cylinders.
+
+    Raises
+    ------
+    InputError
+        No results, results of different pins, or no pose of any case where the front holds.
+    """
+    if not results:
+        raise InputError("no load case to take the maxima of")
+    first = results[0]
+    if any(r.pins != first.pins for r in results):
+        raise InputError("the load cases belong to different machines (their pins differ)")
+    if not any(r.held.any() for r in results):
+        raise InputError("no pose of any load case assembles with the load held")
+    out = [
+        _maximum(results, p, lab, "pin", j)
+        for j, (p, lab) in enumerate(zip(first.pins, first.labels, strict=True))
+    ]
+    out += [
+        _maximum(results, role, f"{role} cylinder", "cylinder", c) for c, role in enumerate(ROLES)
+    ]
+    return tuple(out)
+
+
+def largest_pin_loads(
+    machine: Machine,
+    lengths: ArrayLike,
+    cases: Sequence[Case] = CASES,
+    *,
+    load: float | None = None,
+    at: At = "lip",
+    gravity: bool = True,
+) -> tuple[tuple[PinLoads, ...], tuple[LoadMaximum, ...]]:
+    """:func:`pin_loads` of each case at the poses, and :func:`load_maxima` over them.
+
+    Parameters
+    ----------
+    machine : Machine
+    lengths : array_like, shape (n, 3)
+        E.g. :func:`~excavkin.excavator.ranges.stroke_grid`.
+    cases : sequence of {"bucket", "arm", "lift"}
+    load, at, gravity
+        As :func:`pin_loads` (``load`` for the lift case).
+
+    Returns
+    -------
+    results : tuple of PinLoads
+    maxima : tuple of LoadMaximum
+    """
+    results = tuple(
+        pin_loads(machine, lengths, c, load=load if c == "lift" else None, at=at, gravity=gravity)
+        for c in cases
+    )
+    return results, load_maxima(results)
