@@ -7,3 +7,4 @@ excavkin excavator ranges "$m" --plot docs/img/excavator-working-range.png --for
 excavkin excavator forces "$m" --samples 41 --map docs/img/excavator-force --force
 excavkin excavator stability "$m" --samples 31 --map docs/img/excavator-stability --force
 excavkin excavator lift "$m" --plot docs/img/excavator-lift-chart.png --force
+excavkin excavator dig "$m" --width 1.2m --soil clay --samples 21 --plot docs/img/excavator-dig.png --force

@@ -14,9 +14,12 @@ module               what it holds
 ``stability``        tipping and slipping (whole-machine equilibrium); forces capped by them
 ``lift``             lift capacity (ISO 10567): postures, hydraulic capacity, tables
 ``search``           the pattern search shared by ranges and forces
+``soil``             soil-cutting resistance: Zelenin's, Balovnev's and McKyes's models
+``dig``              resistance along a dig against the available force; the stall point
+``dig_plots``        the dig figure (side view; resistance against available force)
 ``plots``            the working-range and force-map figures
 ``stability_plots`` the lift chart and the stability and limit maps
-``cli``              ``excavkin excavator ranges|forces|ik|stability|lift``
+``cli``              ``excavkin excavator ranges|forces|ik|stability|lift|cycle|dig``
 ===================  ====================================================================
 
 The core of excavkin never imports this package.
