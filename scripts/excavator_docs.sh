@@ -9,3 +9,4 @@ excavkin excavator stability "$m" --samples 31 --map docs/img/excavator-stabilit
 excavkin excavator lift "$m" --plot docs/img/excavator-lift-chart.png --force
 excavkin excavator pins "$m" --samples 31 --plot docs/img/excavator-pins-maxima.png --map docs/img/excavator-pins --force
 excavkin excavator cycle "$m" --plot docs/img/excavator-cycle-power.png --force >/dev/null
+excavkin excavator dig "$m" --width 1.2m --soil clay --samples 21 --plot docs/img/excavator-dig.png --force

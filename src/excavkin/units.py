@@ -57,6 +57,7 @@ KINDS: dict[str, str] = {
     "area": "m^2",
     "frequency": "1/s",
     "volume_flow": "m^3/s",
+    "density": "kg/m^3",
     "dimensionless": "",
 }
 

@@ -15,10 +15,13 @@ module               what it holds
 ``lift``             lift capacity (ISO 10567): postures, hydraulic capacity, tables
 ``pin_loads``        pin loads and cylinder forces over the working range, their maxima
 ``search``           the pattern search shared by ranges and forces
+``soil``             soil-cutting resistance: Zelenin's, Balovnev's and McKyes's models
+``dig``              resistance along a dig against the available force; the stall point
+``dig_plots``        the dig figure (side view; resistance against available force)
 ``plots``            the working-range and force-map figures
 ``stability_plots`` the lift chart and the stability and limit maps
 ``pin_plots``        pin-load heat maps and the chart of the largest loads
-``cli``              ``excavkin excavator ranges|forces|ik|stability|lift|pins|cycle``
+``cli``              ``excavkin excavator ranges|forces|ik|stability|lift|pins|cycle|dig``
 ===================  ====================================================================
 
 The core of excavkin never imports this package.

@@ -1,4 +1,4 @@
-"""``excavkin excavator ranges|forces|ik|stability|lift|pins|cycle MACHINE.toml``: an
+"""``excavkin excavator ranges|forces|ik|stability|lift|pins|cycle|dig MACHINE.toml``: an
 excavator's spec sheet.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
@@ -85,8 +85,8 @@ def _mm(v: float) -> str:
 
 @click.group("excavator", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Working ranges, tool forces, stability, lift capacity, pin loads, cycle time and IK of an
-    excavator MACHINE."""
+    """Working ranges, tool forces, stability, lift capacity, pin loads, cycle time, digging
+    resistance and IK of an excavator MACHINE."""
 
 
 @command.command("ranges")
@@ -976,3 +976,235 @@ def _cycle_power(m: Machine, rows: list[dict[str, object]], plot: str | None, fo
 
         title = f"{m.name} — power along the cycle"
         _save_png(plot_cycle_power(cp, title=title).figure, plot, force)
+
+
+#: ``--param`` keys of ``excavator dig``: kind of quantity, and whether soil or tool
+DIG_PARAMS: dict[str, tuple[str, str]] = {
+    "density": ("density", "soil"),
+    "friction_angle": ("angle", "soil"),
+    "cohesion": ("pressure", "soil"),
+    "metal_friction": ("angle", "soil"),
+    "adhesion": ("pressure", "soil"),
+    "blows": ("dimensionless", "soil"),
+    "surcharge": ("pressure", "soil"),
+    "teeth": ("dimensionless", "tool"),
+    "walls": ("dimensionless", "tool"),
+    "normal_ratio": ("dimensionless", "tool"),
+    "edge_thickness": ("length", "tool"),
+    "edge_angle": ("angle", "tool"),
+    "wall_thickness": ("length", "tool"),
+    "wall_length": ("length", "tool"),
+}
+
+
+def _lengths_option(text: str, what: str) -> list[float]:
+    """``"2639,2170,2205 mm"`` or ``"2.6 m,2.2 m,2.2 m"`` → three lengths (m)."""
+    parts = [p.strip() for p in text.split(",")]
+    if len(parts) != 3:
+        raise click.BadParameter(
+            f"three cylinder lengths (boom, arm, bucket) separated by commas, not {text!r}",
+            param_hint=what,
+        )
+    unit = ""
+    head = parts[-1].split()
+    if len(head) == 2:  # one unit after the last number applies to all three
+        unit = head[1]
+    out = []
+    for p in parts:
+        q = p if len(p.split()) == 2 else f"{p} {unit}".strip()
+        if not unit and len(p.split()) == 1:
+            raise click.BadParameter(
+                f"{p!r} has no unit (say '... mm' or '... m')", param_hint=what
+            )
+        out.append(si_value(q, "length", what, hint=False))
+    return out
+
+
+@command.command("dig")
+@click.argument("machine", type=click.Path(dir_okay=False))
+@click.option(
+    "--model",
+    type=click.Choice(["zelenin", "balovnev", "mckyes"]),
+    default="balovnev",
+    show_default=True,
+    help="Soil-cutting model.",
+)
+@click.option("--soil", "soil_name", default="loam", show_default=True, help="Soil category.")
+@click.option(
+    "--param",
+    "params",
+    multiple=True,
+    metavar="KEY=VALUE",
+    help="Replace a soil or tool property, with its unit: 'cohesion=20 kPa', 'blows=9', "
+    "'friction_angle=28 deg', 'wall_length=0.9 m' (repeatable).",
+)
+@click.option("--width", required=True, help="Cutting width of the bucket, e.g. '1.2 m'.")
+@click.option("--from", "start", help="Start cylinder lengths: 'boom,arm,bucket mm'.")
+@click.option("--to", "end", help="End cylinder lengths: 'boom,arm,bucket mm'.")
+@click.option(
+    "--depth",
+    default="0.5 m",
+    show_default=True,
+    help="Deepest point of the default dig (without --from/--to).",
+)
+@click.option("--samples", default=41, show_default=True, help="Points along the dig.")
+@click.option("--law", default=None, help="Motion law spacing the points in time (cubic, 345, …).")
+@click.option(
+    "--at",
+    type=click.Choice(["lip", "tip"]),
+    default="lip",
+    show_default=True,
+    help="Tool point: the lip (ISO 6015) or the tooth tip.",
+)
+@click.option("--swing", default="front", show_default=True, help="front, side or an angle.")
+@click.option("--plot", "plot", type=click.Path(dir_okay=False), help="Dig PNG.")
+@click.option(
+    "-o", "--output", type=click.Path(dir_okay=False), help="The dig as a table (.csv/.parquet)."
+)
+@click.option("--force", is_flag=True, help="Replace output files that exist.")
+@handle_errors
+def dig(
+    machine: str,
+    model: str,
+    soil_name: str,
+    params: tuple[str, ...],
+    width: str,
+    start: str | None,
+    end: str | None,
+    depth: str,
+    samples: int,
+    law: str | None,
+    at: str,
+    swing: str,
+    plot: str | None,
+    output: str | None,
+    force: bool,
+) -> None:
+    """Soil resistance along a dig against the force the machine can exert: margin and the
+    point where the dig stalls."""
+    import numpy as np
+
+    from excavkin.excavator.dig import default_dig, dig_path
+    from excavkin.excavator.dig import dig as run_dig
+    from excavkin.excavator.soil import SOILS, Tool, soil
+    from excavkin.outputs.tables import check_target, write_table
+
+    if samples < 3:
+        raise click.BadParameter("at least 3", param_hint="--samples")
+    if (start is None) != (end is None):
+        raise click.BadParameter("give both --from and --to, or neither", param_hint="--from/--to")
+    if soil_name not in SOILS:
+        raise click.BadParameter(
+            f"unknown soil {soil_name!r}; known: {', '.join(SOILS)}", param_hint="--soil"
+        )
+    if output:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    if plot:
+        check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
+    soil_kw: dict[str, float] = {}
+    tool_kw: dict[str, float] = {}
+    for item in params:
+        key, sep, value = item.partition("=")
+        key = key.strip()
+        if not sep or key not in DIG_PARAMS:
+            raise click.BadParameter(
+                f"{item!r}: KEY=VALUE with KEY one of {', '.join(DIG_PARAMS)}",
+                param_hint="--param",
+            )
+        kind, target = DIG_PARAMS[key]
+        v = si_value(value, kind, f"--param {key}", hint=kind != "dimensionless")
+        (soil_kw if target == "soil" else tool_kw)[key] = v
+    s = soil(soil_name, **soil_kw)
+    tool = Tool(si_value(width, "length", "--width"), **tool_kw)
+    sw: float | str = swing if swing in ("front", "side") else si_value(swing, "angle", "--swing")
+    m = _machine(machine)
+    if start is not None and end is not None:
+        L = dig_path(
+            m, _lengths_option(start, "--from"), _lengths_option(end, "--to"), samples, law=law
+        )
+    else:
+        L = default_dig(m, samples, depth=si_value(depth, "length", "--depth"), law=law)
+    d = run_dig(m, L, s, tool, model, at=at, swing=sw)  # type: ignore[arg-type]
+    click.echo(
+        f"{m.name} — {model} resistance along a dig in {s.name}, {tool.width * 1e3:.0f} mm wide "
+        f"(kN; positions mm)"
+    )
+    click.echo(
+        f"{'pt':>3} {'x':>7} {'y':>7} {'depth':>6} {'angle':>5} {'along':>7} {'normal':>7} "
+        f"{'needed':>7} {'avail':>7} {'margin':>7}  limited by"
+    )
+    rows = []
+    for i in range(len(L)):
+        flag = "  ← stalls" if i == d.stall else ""
+        click.echo(
+            f"{i:3d} {_mm(d.point[i, 0]):>7} {_mm(d.point[i, 1]):>7} "
+            f"{_mm(max(d.depth[i], 0.0)).strip():>6} {np.degrees(d.rake[i]):5.1f} "
+            f"{d.resistance.along[i] / 1e3:7.1f} {d.resistance.normal[i] / 1e3:7.1f} "
+            f"{d.required[i] / 1e3:7.1f} {d.available[i] / 1e3:7.1f} {d.margin[i] / 1e3:7.1f}  "
+            f"{d.limiting[i]}{flag}"
+        )
+        rows.append(
+            {
+                "point": i,
+                "boom": L[i, 0],
+                "arm": L[i, 1],
+                "bucket": L[i, 2],
+                "x": d.point[i, 0],
+                "y": d.point[i, 1],
+                "depth": d.depth[i],
+                "cutting_angle": d.rake[i],
+                "resistance_along": d.resistance.along[i],
+                "resistance_normal": d.resistance.normal[i],
+                "required": d.required[i],
+                "available": d.available[i],
+                "margin": d.margin[i],
+                "limited_by": str(d.limiting[i]),
+            }
+        )
+    soil_line = (
+        f"soil {s.name}: ρ {s.density:.0f} kg/m³, φ {np.degrees(s.friction_angle):.0f}°, "
+        f"c {s.cohesion / 1e3:.0f} kPa, δ {np.degrees(s.metal_friction):.0f}°, "
+        f"c_a {s.adhesion / 1e3:.0f} kPa, C {s.blows:g} blows, q {s.surcharge / 1e3:.0f} kPa"
+    )
+    click.echo(soil_line)
+    inside = d.depth > 0.0
+    k = int(np.nanargmax(np.where(inside, d.required, -np.inf)))
+    click.echo(
+        f"largest resistance {d.required[k] / 1e3:.1f} kN at point {k} "
+        f"(depth {d.depth[k] * 1e3:.0f} mm); least margin "
+        f"{np.nanmin(np.where(inside, d.margin, np.inf)) / 1e3:.1f} kN"
+    )
+    if d.stall >= 0:
+        i = d.stall
+        click.echo(
+            f"the dig stalls at point {i} (x {d.point[i, 0] * 1e3:.0f}, y "
+            f"{d.point[i, 1] * 1e3:.0f} mm): {d.required[i] / 1e3:.1f} kN needed, "
+            f"{d.available[i] / 1e3:.1f} kN available, limited by {d.limiting[i]}"
+        )
+    else:
+        click.echo("the dig goes through: the available force exceeds the resistance throughout")
+    if output:
+        kinds = {
+            "depth": "length",
+            "cutting_angle": "angle",
+            "resistance_along": "force",
+            "resistance_normal": "force",
+            "required": "force",
+            "available": "force",
+            "margin": "force",
+        }
+        import pandas as pd
+
+        from excavkin.kinematics.columns import kinds_attrs
+
+        frame = pd.DataFrame(rows)
+        table_kinds = {c: k for c, k in TABLE_KINDS.items() if c in frame} | kinds
+        frame.attrs.update(kinds_attrs(m.name, table_kinds))
+        click.echo(f"wrote {write_table(frame, output, force=force)}")
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from excavkin.excavator.dig_plots import plot_dig
+
+        _save_png(plot_dig(m, d).figure, plot, force)

@@ -390,3 +390,94 @@ def rated_force(
         tool,
         "+".join(named) or str(tf.limiting[0]),
     )
+
+
+@dataclass(frozen=True, slots=True)
+class DirectedForce:
+    """The largest force the tool can exert along given directions, the cylinders capping it.
+
+    Attributes
+    ----------
+    force : ndarray, shape (n,)
+        N; 0 where the front cannot even hold itself, NaN where the pose does not assemble.
+    limiting : ndarray of str, shape (n,)
+        The cylinder whose limit binds (``"boom"``, ``"arm"``, ``"bucket"``).
+    driving : ndarray of bool, shape (n, 3)
+        Cylinders doing work against the load (capped at the working pressure; the others at
+        their port relief).
+    cylinder_force : ndarray, shape (n, 3)
+        Boom, arm, bucket cylinder forces at that force (N, > 0 pushing).
+    """
+
+    def __repr__(self) -> str:
+        return batch_repr(self)
+
+    force: F
+    limiting: NDArray[np.str_]
+    driving: NDArray[np.bool_]
+    cylinder_force: F
+
+
+def directed_force(
+    machine: Machine,
+    lengths: ArrayLike,
+    direction: ArrayLike,
+    rates: ArrayLike,
+    *,
+    at: At = "lip",
+    gravity: bool = True,
+) -> DirectedForce:
+    """Largest force F the tool exerts along ``direction`` while the cylinders move at ``rates``.
+
+    The soil's force on the tool is −F·e (e the unit direction), so cylinder c carries
+    ``f_c = F·(e·J_c) + G_c`` (virtual work, as :func:`tool_forces`). A cylinder moving so
+    that it does work against the load (``(e·J_c)·rate_c > 0``) is limited by its circuit's
+    working pressure; the others, held or pushed back, by their port relief. F is the least of
+    those caps. With e along the working cylinder's own motion and only that cylinder moving,
+    this is :func:`tool_forces`.
+
+    Parameters
+    ----------
+    machine : Machine
+    lengths : array_like, shape (n, 3)
+        Boom, arm, bucket cylinder lengths (m).
+    direction : array_like, shape (n, 2)
+        The force the tool exerts on the soil (unit vectors, or any length > 0).
+    rates : array_like, shape (n, 3)
+        Cylinder length rates, or any vectors of the same directions (m/s or m).
+    at : {"lip", "tip"}
+    gravity : bool
+        Include the front's weight.
+
+    Returns
+    -------
+    DirectedForce
+    """
+    if at not in ("lip", "tip"):
+        raise InputError(f"at must be 'lip' or 'tip', not {at!r}")
+    L = as_lengths(lengths)
+    e = np.broadcast_to(np.asarray(direction, dtype=np.float64), (len(L), 2))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        e = e / np.hypot(e[:, 0], e[:, 1])[:, None]
+    R = np.broadcast_to(np.asarray(rates, dtype=np.float64), L.shape)
+    tr = transfer(machine, L)
+    _, J = tr.point(machine, machine.front.lip if at == "lip" else machine.front.tip)
+    G = gravity_terms(machine, tr.d) if gravity else np.zeros((len(L), 3))
+    a = np.einsum("ni,nic->nc", e, J)  # e·J_c
+    driving = a * R > 0.0
+    force = np.full(len(L), np.inf)
+    limiting = np.full(len(L), "", dtype="<U8")
+    for c, cyl in enumerate(machine.cylinders):
+        circ = machine.circuits[cyl.circuit]
+        lo, hi = cyl.force_limits(np.where(driving[:, c], circ.working, circ.relief))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cap = np.where(
+                a[:, c] > 0.0,
+                (hi - G[:, c]) / a[:, c],
+                np.where(a[:, c] < 0.0, (lo - G[:, c]) / a[:, c], np.inf),
+            )
+        lower = cap < force
+        force = np.where(lower, cap, force)
+        limiting = np.where(lower, ROLES[c], limiting)
+    force = np.where(np.isfinite(force), np.maximum(force, 0.0), np.nan)
+    return DirectedForce(force, limiting, driving, force[:, None] * a + G)

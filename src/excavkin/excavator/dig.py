@@ -1,0 +1,304 @@
+r"""Digging resistance along a dig, against the force the machine can exert there.
+
+A dig is a path in cylinder space, lengths shape (n, 3) (given, or from one pose to another,
+spaced by a motion law). At each point:
+
+- the tool point (the lip, ISO 6015) and its direction of motion t = J·L′/|J·L′|, L′ the
+  path's tangent in cylinder space (central differences over the samples; the direction of
+  J·L̇ for any timing of the same path);
+- the depth below the ground line, d = y_ground − y (the thickness of the cut for a single
+  pass under a level surface); out of the soil (d ≤ 0) there is no resistance;
+- the cutting (rake) angle α between the cutting face — from the edge back along the teeth
+  (tip → lip), or along the floor of a bucket without teeth — and the path behind the edge,
+  on the side of the free surface (the cut frame's normal n: the unit normal to t pointing
+  up);
+- the soil resistance of the chosen model (:mod:`excavkin.excavator.soil`): ``along`` against
+  t, ``normal`` along −n, so the tool must exert R = along·t + normal·n on the soil;
+- the available force along R's direction (:func:`~excavkin.excavator.forces.directed_force`:
+  the cylinders doing the work at working pressure, the others at their port relief, the
+  front's weight counted), capped by tipping and slipping where the machine has a base;
+- the margin, available − |R|: the dig stalls at the first point where it is negative.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from excavkin.errors import InputError
+from excavkin.excavator.forces import At, directed_force
+from excavkin.excavator.machine import F, FrontPose, Machine, as_lengths, pose_of, transfer
+from excavkin.excavator.soil import Resistance, Soil, Tool, resistance
+from excavkin.excavator.stability import SWING, Over, equilibrium
+from excavkin.kinematics.summary import batch_repr
+from excavkin.motion import get_law
+
+
+@dataclass(frozen=True, slots=True)
+class Dig:
+    """Resistance and available force along a dig of n points.
+
+    Attributes
+    ----------
+    model : str
+    soil : Soil
+    tool : Tool
+    lengths : ndarray, shape (n, 3)
+    point : ndarray, shape (n, 2)
+        The tool point (m).
+    depth : ndarray, shape (n,)
+        Below the ground line (m; ≤ 0 out of the soil).
+    direction : ndarray, shape (n, 2)
+        Unit direction of motion t.
+    rake : ndarray, shape (n,)
+        Cutting angle α (rad).
+    resistance : Resistance
+        The model's force (cut frame).
+    required : ndarray, shape (n,)
+        |R|, the force the tool must exert on the soil (N).
+    load : ndarray, shape (n, 2)
+        Unit direction of R (t where there is no resistance).
+    available : ndarray, shape (n,)
+        The largest force along ``load`` (N), every cap applied.
+    limiting : ndarray of str, shape (n,)
+        The cylinder, ``"tipping (<line>)"`` or ``"slipping"`` that caps ``available``.
+    margin : ndarray, shape (n,)
+        available − required (N).
+    stall : int
+        First point in the soil with a negative margin; −1 where the dig goes through.
+    pose : FrontPose
+    """
+
+    def __repr__(self) -> str:
+        return batch_repr(self)
+
+    model: str
+    soil: Soil
+    tool: Tool
+    lengths: F
+    point: F
+    depth: F
+    direction: F
+    rake: F
+    resistance: Resistance
+    required: F
+    load: F
+    available: F
+    limiting: NDArray[np.str_]
+    margin: F
+    stall: int
+    pose: FrontPose
+
+
+def dig_path(
+    machine: Machine,
+    start: ArrayLike,
+    end: ArrayLike,
+    samples: int = 41,
+    *,
+    law: str | None = None,
+) -> F:
+    """Cylinder lengths from ``start`` to ``end`` (each shape (3,), m): shape (samples, 3).
+
+    The path is the straight line between the poses in cylinder space. Without a ``law`` the
+    samples are evenly spaced along it; with one (a name of :func:`excavkin.motion.get_law`)
+    every cylinder follows that rest-to-rest law and the samples are at equal time steps.
+    """
+    a = as_lengths(np.asarray(start, dtype=np.float64).reshape(1, 3))[0]
+    b = as_lengths(np.asarray(end, dtype=np.float64).reshape(1, 3))[0]
+    if samples < 3:
+        raise InputError(f"a dig needs at least 3 samples, not {samples}")
+    s = np.linspace(0.0, 1.0, samples)
+    if law is not None:
+        try:
+            s = get_law(law, 1.0, 1.0).evaluate(s).s
+        except (ValueError, TypeError) as exc:
+            raise InputError(str(exc)) from None
+    L = a[None, :] + s[:, None] * (b - a)[None, :]
+    out = ~machine.within_stroke(L)
+    if np.any(out):
+        k = int(np.argmax(out))
+        raise InputError(
+            f"the dig leaves the cylinders' strokes at sample {k}: lengths "
+            f"{np.array2string(L[k] * 1e3, precision=0)} mm"
+        )
+    return np.asarray(L, dtype=np.float64)
+
+
+def _lip_height(machine: Machine, L: F) -> F:
+    return np.asarray(pose_of(machine, L, machine.solve(L)).lip[:, 1] - machine.ground_line)
+
+
+def _crossing(x: F, y: F, level: float) -> float | None:
+    """The first x (in order) where y crosses ``level``, linearly interpolated."""
+    z = y - level
+    ok = np.isfinite(z)
+    k = np.flatnonzero(ok[:-1] & ok[1:] & (np.sign(z[:-1]) != np.sign(z[1:])))
+    if len(k) == 0:
+        return None
+    i = int(k[0])
+    return float(x[i] - z[i] * (x[i + 1] - x[i]) / (z[i + 1] - z[i]))
+
+
+def default_dig(
+    machine: Machine, samples: int = 41, *, depth: float = 0.5, law: str | None = None
+) -> F:
+    """An arm-in curl from the ground, shape (samples, 3).
+
+    It starts with the stick out (the arm cylinder at its dig start), the bucket half curled
+    and the boom where the lip touches the ground line; the arm crowds in and the bucket curls
+    towards the ends of their strokes while the boom moves linearly to the length that makes
+    the deepest point of the cut ``depth`` (m) below the ground line; the dig ends where the
+    lip comes back up through the ground line (or at the ends of the strokes).
+    """
+    if not (np.isfinite(depth) and depth > 0.0):
+        raise InputError(f"the dig's depth must be > 0, not {depth!r} m")
+    lo, hi = machine.lengths_min, machine.lengths_max
+    arm0, arm1 = (lo[1], hi[1]) if machine.cylinders[1].dig == "extend" else (hi[1], lo[1])
+    bkt0 = 0.5 * (lo[2] + hi[2])
+    bkt1 = hi[2] if machine.cylinders[2].dig == "extend" else lo[2]
+    boom = np.linspace(lo[0], hi[0], 401)
+    L = np.column_stack([boom, np.full_like(boom, arm0), np.full_like(boom, bkt0)])
+    b0 = _crossing(boom, _lip_height(machine, L), 0.0)
+    if b0 is None:
+        raise InputError("no boom length puts the lip on the ground line with the stick out")
+    # the boom's end length: the deepest point of the cut as it goes, from the boom's longest
+    # (shallowest) end towards its shortest
+    ends = np.linspace(hi[0], lo[0], 81)
+    u = np.linspace(0.0, 1.0, samples)
+    paths = np.stack(
+        [
+            b0 + u[None, :] * (ends[:, None] - b0),
+            np.broadcast_to(arm0 + u * (arm1 - arm0), (len(ends), samples)),
+            np.broadcast_to(bkt0 + u * (bkt1 - bkt0), (len(ends), samples)),
+        ],
+        axis=2,
+    )
+    y = _lip_height(machine, paths.reshape(-1, 3)).reshape(len(ends), samples)
+    deepest = np.where(np.all(np.isfinite(y), axis=1), -np.min(y, axis=1), np.nan)
+    b1 = _crossing(ends, deepest, depth)
+    if b1 is None:
+        raise InputError(f"no boom motion makes an arm-in curl {depth * 1e3:.0f} mm deep")
+    start, end = np.array([b0, arm0, bkt0]), np.array([b1, arm1, bkt1])
+    # the dig ends where the lip comes back up through the ground line
+    u = np.linspace(0.0, 1.0, 401)
+    y = _lip_height(machine, start + u[:, None] * (end - start))
+    below = np.flatnonzero(y < 0.0)
+    if len(below):
+        out = _crossing(u[below[0] :], y[below[0] :], 0.0)
+        if out is not None:
+            end = start + out * (end - start)
+    return dig_path(machine, start, end, samples, law=law)
+
+
+def _cut_frame(machine: Machine, lengths: F, at: At) -> tuple[F, F, F, F, FrontPose]:
+    """Tool point, unit motion t, unit normal n (up) and rake α along the path."""
+    tr = transfer(machine, lengths)
+    pose = pose_of(machine, lengths, tr.result)
+    point = pose.lip if at == "lip" else pose.tip
+    _, J = tr.point(machine, machine.front.lip if at == "lip" else machine.front.tip)
+    dL = np.gradient(lengths, axis=0)
+    v = np.einsum("nic,nc->ni", J, dL)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = v / np.hypot(v[:, 0], v[:, 1])[:, None]
+    n = np.column_stack([-t[:, 1], t[:, 0]])
+    n = np.where((n[:, 1] < 0.0)[:, None], -n, n)
+    # the cutting face, from the edge back: the teeth tip → lip (or floor → lip reversed)
+    face = pose.bucket_angle - (machine.wall_bucket_angle + 0.5 * np.pi) + np.pi
+    f = np.column_stack([np.cos(face), np.sin(face)])
+    rake = np.arctan2(np.einsum("ni,ni->n", f, n), -np.einsum("ni,ni->n", f, t))
+    return point, t, n, rake, pose
+
+
+def dig(
+    machine: Machine,
+    lengths: ArrayLike,
+    soil: Soil,
+    tool: Tool,
+    model: str = "balovnev",
+    *,
+    at: At = "lip",
+    gravity: bool = True,
+    swing: float | Over = "front",
+) -> Dig:
+    """Resistance, available force, margin and stall point along a dig.
+
+    Parameters
+    ----------
+    machine : Machine
+    lengths : array_like, shape (n, 3)
+        The dig in cylinder space (m), n ≥ 3, in the order it is dug.
+    soil : Soil
+    tool : Tool
+    model : {"zelenin", "balovnev", "mckyes"}
+    at : {"lip", "tip"}
+        The tool point: the lip (ISO 6015) or the tooth tip.
+    gravity : bool
+        Count the front's weight in the cylinders' balance.
+    swing : float or {"front", "side"}
+        Where the front points, for tipping and slipping (machines with a base).
+
+    Returns
+    -------
+    Dig
+    """
+    L = as_lengths(lengths)
+    if isinstance(swing, str) and swing not in SWING:
+        raise InputError(f"swing must be 'front', 'side' or an angle, not {swing!r}")
+    if len(L) < 3:
+        raise InputError(f"a dig needs at least 3 points, not {len(L)}")
+    point, t, n, rake, pose = _cut_frame(machine, L, at)
+    depth = machine.ground_line - point[:, 1]
+    inside = depth > 0.0
+    bad = inside & ~((rake > 0.0) & (rake < np.pi))
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        raise InputError(
+            f"at dig point {k} the bucket's back leads (cutting angle "
+            f"{np.degrees(rake[k]):.1f}°, outside 0°–180°): not a cut the models describe"
+        )
+    res = resistance(model, depth, np.clip(rake, 1e-9, np.pi - 1e-9), soil, tool)
+    R = res.along[:, None] * t + res.normal[:, None] * n
+    required = np.hypot(R[:, 0], R[:, 1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        load = np.where((required > 0.0)[:, None], R / required[:, None], t)
+    df = directed_force(machine, L, load, np.gradient(L, axis=0), at=at, gravity=gravity)
+    available, limiting = df.force, df.limiting.astype("<U40")
+    if machine.base is not None:
+        ok = pose.ok & np.all(np.isfinite(load), axis=1)
+        st = equilibrium(
+            machine,
+            pose.result.positions,
+            point,
+            np.where(ok[:, None], -load, (0.0, -1.0)),
+            SWING[swing] if isinstance(swing, str) else float(swing),
+            pose.ok,
+        )
+        tip_name = np.char.add(np.char.add("tipping (", st.tipping_line.astype(str)), ")")
+        for names, cap in ((tip_name, st.tipping_load), ("slipping", st.slipping_load)):
+            lower = cap < available
+            available = np.where(lower, cap, available)
+            limiting = np.where(lower, names, limiting)
+    margin = available - required
+    stalled = np.flatnonzero(inside & ~(margin >= 0.0))
+    stall = int(stalled[0]) if len(stalled) else -1
+    return Dig(
+        model,
+        soil,
+        tool,
+        L,
+        point,
+        depth,
+        t,
+        rake,
+        res,
+        required,
+        load,
+        available,
+        limiting,
+        margin,
+        stall,
+        pose,
+    )
