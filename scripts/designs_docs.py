@@ -26,14 +26,21 @@ def rope_shovel() -> None:
     top.plot(drag * 1e3, np.degrees(res.column("bucket.angle")), color="black")
     for cd in (2330.0, 2430.0):
         other = mech.solve({"drag": drag}, params={"C-D": cd / 1e3})
-        top.plot(drag * 1e3, np.degrees(other.column("bucket.angle")), ls="--",
-                 label=f"C-D = {cd:.0f} mm")
+        top.plot(
+            drag * 1e3,
+            np.degrees(other.column("bucket.angle")),
+            ls="--",
+            label=f"C-D = {cd:.0f} mm",
+        )
     top.set_ylabel("bucket.angle [°]")
     top.legend(title="nominal C-D = 2380 mm (solid)", fontsize=8)
     top.grid(alpha=0.3)
     for name in names:  # degrees of bucket attitude per millimetre
-        bottom.plot(drag * 1e3, np.degrees(res.sensitivity("bucket.angle", name)) / 1e3,
-                    label=f"d(bucket.angle)/d({name})")
+        bottom.plot(
+            drag * 1e3,
+            np.degrees(res.sensitivity("bucket.angle", name)) / 1e3,
+            label=f"d(bucket.angle)/d({name})",
+        )
     bottom.set_xlabel("drag rope length F–E [mm]")
     bottom.set_ylabel("[°/mm]")
     bottom.legend(fontsize=8)
@@ -49,8 +56,13 @@ def excavator() -> None:
     tols = {n: "±0.5 mm" for n in ("F.x", "F.y", "K.x", "K.y", "N.x", "N.y")}
     tols["bucket.mass"] = "±25 kg"
     bands = excavkin.tolerance_bands(
-        mech, {"bucket_cyl": bucket}, tolerances=tols, clearance="0.3 mm", loads="model",
-        columns=["W.y", "bucket_cyl.force"], draws=100_000,
+        mech,
+        {"bucket_cyl": bucket},
+        tolerances=tols,
+        clearance="0.3 mm",
+        loads="model",
+        columns=["W.y", "bucket_cyl.force"],
+        draws=100_000,
     )
     fig, axes = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
     plot_bands(bands, "W.y", bucket * 1e3, x_label="bucket_cyl [mm]", ax=axes[0])
