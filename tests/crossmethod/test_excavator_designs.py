@@ -50,6 +50,7 @@ def test_parameters_are_the_mechanisms_and_the_machine_files(machine) -> None:  
     assert p["cylinders.bucket.stroke"] == pytest.approx(1.120, rel=1e-15)
     assert p["circuits.bucket.working"] == pytest.approx(34.3e6, rel=1e-15)
     assert p["circuits.arm.relief"] == pytest.approx(39.2e6, rel=1e-15)
+    assert machine.parameters == p
 
 
 def _random_designs(machine, rng, d):  # type: ignore[no-untyped-def]
