@@ -122,6 +122,7 @@ def test_pose_outside_a_designs_stroke_fails(machine) -> None:  # type: ignore[n
 
 
 def test_study_of_the_nominal_design_is_the_machines_own(machine, study) -> None:  # type: ignore[no-untyped-def]
+    assert STUDY in excavkin.examples("study")
     nominal = {k: np.array([machine.mechanism.parameters[k]]) for k in study.bounds}
     row = study.evaluate(nominal)
     f = tool_forces(machine, study.lengths, "bucket", gravity=False).force

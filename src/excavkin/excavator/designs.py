@@ -63,7 +63,7 @@ def machine_parameter_kind(name: str, machine: Machine) -> str:
     """The physical kind of a machine parameter (for units at the edges)."""
     from excavkin.structure.design import parameter_kind
 
-    head, _, key = name.rpartition(".")
+    head = name.rpartition(".")[0]
     if head.startswith("cylinders."):
         return "length"
     if head.startswith("circuits."):
