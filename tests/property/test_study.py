@@ -302,3 +302,42 @@ def test_optimize_table_errors_name_the_entry(tmp_path: Path, body: str, message
     result = CliRunner().invoke(main, ["optimize", str(spec)])
     assert result.exit_code != 0 and "Traceback" not in result.output
     assert str(spec) in result.output and re.search(message, result.output), result.output
+
+
+def test_first_and_last_are_the_columns_at_the_end_poses() -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    crank = np.linspace(0.3, 2.9, 9)
+    designs = {"A-B": np.array([0.115, 0.125]), "O4.x": np.array([0.095, 0.105])}
+    metrics = [
+        Metric("a", "rocker.angle", "first"),
+        Metric("b", "rocker.angle", "last"),
+    ]
+    table = evaluate(mech, designs, Poses({"crank": crank}, {}, {}), metrics)
+    for i in range(2):
+        res = mech.solve({"crank": crank[[0, -1]]}, params={k: v[i] for k, v in designs.items()})
+        ends = np.asarray(res.column("rocker.angle"))
+        assert table["a"][i] == ends[0]
+        assert table["b"][i] == ends[1]
+
+
+def test_slsqp_holds_a_last_pose_constraint_with_exact_gradients() -> None:
+    """Maximise the least transmission angle with the rocker's angle at the last pose held at
+    a value: the constraint is active at the optimum and met to round-off."""
+    from excavkin.studies.optimize import optimize
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    poses = Poses({"crank": np.linspace(0.0, 2 * np.pi, 37)}, {}, {})
+    bounds = {"A-B": (0.11, 0.13), "O4.x": (0.09, 0.11)}
+    last = Metric("last", "rocker.angle", "last")
+    free = optimize(mech, bounds, poses, Metric("g", "B.transmission", "min"), "max",
+                    metrics=[last])  # fmt: skip
+    centre = {k: np.array([(a + b) / 2]) for k, (a, b) in bounds.items()}
+    target = float(evaluate(mech, centre, poses, [last])["last"][0])  # a feasible value
+    assert abs(target - free.metrics["last"]) > 1e-3  # that the free optimum does not meet
+    held = optimize(
+        mech, bounds, poses, Metric("g", "B.transmission", "min"), "max",
+        metrics=[last], constraints=[Constraint("last", target, target)],
+    )  # fmt: skip
+    assert held.feasible and "last" in held.active
+    assert held.metrics["last"] == pytest.approx(target, abs=1e-9)
+    assert held.value <= free.value + 1e-9

@@ -1,5 +1,6 @@
 """``excavkin excavator ranges|forces|ik|stability|lift|pins|cycle|dig MACHINE.toml``: an
-excavator's spec sheet.
+excavator's spec sheet; ``excavkin excavator optimize STUDY.toml``: the best design of a
+machine study.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
 the machine, pint) are imported inside the commands.
@@ -1208,3 +1209,55 @@ def dig(
         from excavkin.excavator.dig_plots import plot_dig
 
         _save_png(plot_dig(m, d).figure, plot, force)
+
+
+@command.command("optimize")
+@click.argument("study", type=click.Path(dir_okay=False))
+@click.option(
+    "--method",
+    type=click.Choice(["slsqp", "differential-evolution"]),
+    default=None,
+    help="Override the study's [optimize] method.",
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    help="The optimum (parameters, metrics, feasibility) as a one-row table (.csv or .parquet).",
+)
+@click.option("--force", is_flag=True, help="Replace the output file if it exists.")
+@handle_errors
+def optimize(study: str, method: str | None, output: str | None, force: bool) -> None:
+    """The best design of a STUDY file that names a machine (``machine = ...`` in [study]):
+    its [optimize] objective over its parameter box under its constraints, every population or
+    gradient solved as one batch of designs."""
+    from excavkin.excavator.study import load_machine_study, optimize_machine
+    from excavkin.io.files import check_target
+
+    spec = load_machine_study(model_path(study, "study"))
+    if output is not None:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    best = optimize_machine(spec, method=method)
+    how = method or spec.optimize.get("method", "slsqp")
+    verdict = "feasible" if best.feasible else "NOT feasible"
+    click.echo(
+        f"{spec.optimize['sense']}imum of {spec.optimize['objective']} ({how}, "
+        f"{best.evaluations:,} designs solved): {best.value:.10g} — {verdict}"
+    )
+    for name, value in {**best.params, **best.metrics}.items():
+        click.echo(f"  {name:<24} {value:.10g}")
+    click.echo(f"  active constraints: {', '.join(best.active) or 'none'}")
+    bounds = ", ".join(f"{k} ({side})" for k, side in best.at_bounds.items())
+    click.echo(f"  at the box's bounds: {bounds or 'none'}")
+    if not best.success:
+        click.echo(f"excavkin: warning: the optimiser says: {best.message}", err=True)
+    if output is not None:
+        import pandas as pd
+
+        from excavkin.outputs.tables import write_table
+
+        row: dict[str, list[object]] = {f"design.{k}": [v] for k, v in best.params.items()}
+        row.update({k: [v] for k, v in best.metrics.items()})
+        row["feasible"] = [best.feasible]
+        write_table(pd.DataFrame(row), output, force=force)
+        click.echo(f"wrote the optimum to {output}")

@@ -407,6 +407,14 @@ class Machine:
         return (self.cylinders[0].driver, self.cylinders[1].driver, self.cylinders[2].driver)
 
     @property
+    def parameters(self) -> dict[str, float]:
+        """Every parameter of the machine and its nominal value (SI): the mechanism's and its
+        cylinders' and circuits' (:func:`excavkin.excavator.designs.machine_parameters`)."""
+        from excavkin.excavator.designs import machine_parameters
+
+        return machine_parameters(self)
+
+    @property
     def lengths_min(self) -> F:
         """Fully retracted lengths, shape (3,)."""
         return np.array([c.retracted for c in self.cylinders])

@@ -20,9 +20,11 @@ if TYPE_CHECKING:
 
 F = NDArray[np.float64]
 
-Reduce = Literal["min", "max", "absmax", "mean", "sumsq", "change", "argmin", "argmax"]
+Reduce = Literal[
+    "min", "max", "absmax", "mean", "sumsq", "change", "argmin", "argmax", "first", "last"
+]  # fmt: skip
 REDUCTIONS: tuple[str, ...] = (
-    "min", "max", "absmax", "mean", "sumsq", "change", "argmin", "argmax",
+    "min", "max", "absmax", "mean", "sumsq", "change", "argmin", "argmax", "first", "last",
 )  # fmt: skip
 
 
@@ -31,6 +33,7 @@ class Metric:
     """One number per design: ``column`` reduced over the pose set.
 
     ``argmin``/``argmax`` give the index of the pose where the column is least or greatest;
+    ``first``/``last`` its value at the first or the last pose (NaN if that pose fails);
     ``sumsq`` the sum over the poses of the squared differences from ``target`` and ``absmax``
     the largest absolute difference from it (``target``: one value, or one per pose, SI; absmax
     without a target is the largest magnitude); ``change`` the value at the last pose minus
@@ -116,8 +119,6 @@ def evaluate(
         constraint met) and ``status`` ("ok", or why not). A metric is over the poses that
         solved; NaN if none did.
     """
-    import pandas as pd
-
     d = len(next(iter(designs.values())))
     p = poses.count
     params = {k: np.repeat(np.asarray(v, dtype=np.float64), p) for k, v in designs.items()}
@@ -129,13 +130,32 @@ def evaluate(
     ok = res.status.solved if loads is None else res.kinematics.status.solved & ~res.singular
     columns = {c.name for c in res.columns}
     ok = np.broadcast_to(ok, (n,)).reshape(d, p)
-    out: dict[str, Any] = {f"design.{k}": np.asarray(v) for k, v in designs.items()}
+    cols: dict[str, F] = {}
     for m in metrics:
         if m.column not in columns:
             from excavkin.errors import unknown_name
 
             raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(columns))
-        col = column_of(res, m.column).reshape(d, p)
+        cols[m.column] = column_of(res, m.column).reshape(d, p)
+    return tabulate(designs, cols, ok, metrics, constraints)
+
+
+def tabulate(
+    designs: Mapping[str, F],
+    columns: Mapping[str, F],
+    ok: NDArray[np.bool_],
+    metrics: Sequence[Metric],
+    constraints: Sequence[Constraint] = (),
+) -> pd.DataFrame:
+    """The study's table from each metric's column at every design and pose (shape
+    (designs, poses)) and whether each pose solved (same shape): the metrics reduced over
+    the poses that solved, and each design's feasibility (see :func:`evaluate`)."""
+    import pandas as pd
+
+    d, p = ok.shape
+    out: dict[str, Any] = {f"design.{k}": np.asarray(v) for k, v in designs.items()}
+    for m in metrics:
+        col = columns[m.column]
         if m.reduce == "sumsq" or m.target is not None:
             col = col - target_of(m, p)
         out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
@@ -186,6 +206,8 @@ def target_of(m: Metric, p: int) -> F:
 
 def _reduce(a: F, how: str) -> F:
     """Reduce over the poses (axis 1), ignoring poses that did not solve (NaN)."""
+    if how in ("first", "last"):
+        return np.asarray(a[:, 0 if how == "first" else -1])
     empty = np.asarray(np.isnan(a).all(axis=1))
     filled = np.where(empty[:, None], 0.0, a)
     if how == "min":

@@ -32,13 +32,15 @@ from excavkin.errors import InputError
 from excavkin.studies.metrics import Constraint, Metric, Poses, column_of, evaluate, target_of
 
 if TYPE_CHECKING:
+    import pandas as pd
+
     from excavkin.mechanism import Mechanism
 
 F = NDArray[np.float64]
 
 Method = Literal["slsqp", "differential-evolution"]
 #: reductions that are smooth functions of the design (no epigraph needed)
-SMOOTH: tuple[str, ...] = ("mean", "sumsq", "change")
+SMOOTH: tuple[str, ...] = ("mean", "sumsq", "change", "first", "last")
 METHODS: tuple[str, ...] = ("slsqp", "differential-evolution")
 
 
@@ -109,7 +111,7 @@ def optimize(
         Every design is solved at these poses.
     objective : Metric
         Its reduce is ``min``, ``max``, ``absmax`` (from a target, if it has one), ``mean``,
-        ``sumsq`` (with a target) or ``change``.
+        ``first``, ``last``, ``change`` or ``sumsq`` (with a target).
     sense : {"min", "max"}
     metrics : sequence of Metric
         Metrics the constraints refer to (besides the objective).
@@ -132,7 +134,21 @@ def optimize(
     -------
     Optimum
     """
-    problem = _Problem(mech, bounds, poses, objective, sense, metrics, constraints, loads)
+    problem = _MechanismProblem(mech, bounds, poses, objective, sense, metrics, constraints, loads)
+    return run(problem, method, x0, seed=seed, maxiter=maxiter, popsize=popsize, tol=tol)
+
+
+def run(
+    problem: Problem,
+    method: str,
+    x0: Mapping[str, float] | None = None,
+    *,
+    seed: int = 0,
+    maxiter: int = 200,
+    popsize: int = 32,
+    tol: float = 1e-12,
+) -> Optimum:
+    """Optimise ``problem`` (see :func:`optimize` for the arguments)."""
     if method == "differential-evolution":
         return problem.differential_evolution(seed, maxiter, popsize, tol)
     if method != "slsqp":
@@ -141,32 +157,36 @@ def optimize(
     return problem.local(start, method, maxiter, tol)
 
 
-class _Problem:
-    """The optimisation in scaled variables u ∈ [0, 1]ⁿ (and an epigraph variable t)."""
+class Problem:
+    """The optimisation in scaled variables u ∈ [0, 1]ⁿ (and an epigraph variable t).
+
+    A subclass gives the designs' metrics: :meth:`columns_at` (each metric's column at every
+    pose and its gradient) and :meth:`table` (a table of designs, as
+    :func:`~excavkin.studies.metrics.evaluate` makes).
+    """
 
     def __init__(
         self,
-        mech: Mechanism,
+        parameters: Mapping[str, float],
         bounds: Mapping[str, tuple[float, float]],
         poses: Poses,
         objective: Metric,
         sense: str,
         metrics: Sequence[Metric],
         constraints: Sequence[Constraint],
-        loads: Any,
     ) -> None:
         from excavkin.errors import unknown_name
 
         for name in bounds:
-            if name not in mech.parameters:
-                raise unknown_name("parameter", name, list(mech.parameters))
+            if name not in parameters:
+                raise unknown_name("parameter", name, list(parameters))
         if sense not in ("min", "max"):
             raise InputError(f"sense must be 'min' or 'max', not {sense!r}")
         by_name = {m.name: m for m in (objective, *metrics)}
         for c in constraints:
             if c.metric not in by_name:
                 raise unknown_name("metric (in a constraint)", c.metric, sorted(by_name))
-        self.mech = mech
+        self.nominal = dict(parameters)
         self.names = list(bounds)
         self.lo = np.array([bounds[k][0] for k in self.names], dtype=np.float64)
         self.hi = np.array([bounds[k][1] for k in self.names], dtype=np.float64)
@@ -180,12 +200,29 @@ class _Problem:
         self.metrics = list(by_name.values())
         self.by_name = by_name
         self.constraints = list(constraints)
-        self.loads = loads
         self.history: list[float] = []
         self.evaluations = 0
         self._memo: dict[bytes, tuple[dict[str, F], dict[str, F], bool]] = {}
         # an epigraph variable when the objective is a least or greatest value over poses
         self.epigraph = objective.reduce in ("min", "max", "absmax")
+
+    def columns_at(self, u: F) -> tuple[dict[str, F], dict[str, F], bool]:
+        """Each metric's column at every pose, its gradient in u (poses × parameters), and
+        whether every pose solved."""
+        raise NotImplementedError
+
+    def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
+        """The metrics of designs (parameter → values, SI), one row per design."""
+        raise NotImplementedError
+
+    def remember(
+        self, u: F, out: tuple[dict[str, F], dict[str, F], bool]
+    ) -> tuple[dict[str, F], dict[str, F], bool]:
+        """Keep ``columns_at(u)`` for the next call at the same u."""
+        if len(self._memo) > 8:
+            self._memo.clear()
+        self._memo[u.tobytes()] = out
+        return out
 
     # ---- designs
     def params_of(self, u: F) -> dict[str, float]:
@@ -193,44 +230,11 @@ class _Problem:
         return {k: float(v) for k, v in zip(self.names, x, strict=True)}
 
     def start(self, x0: Mapping[str, float] | None) -> F:
-        given = dict(self.mech.parameters)
+        given = dict(self.nominal)
         if x0 is not None:
             given.update(x0)
         x = np.array([given[k] for k in self.names], dtype=np.float64)
         return np.asarray(np.clip((x - self.lo) / (self.hi - self.lo), 0.0, 1.0))
-
-    def columns_at(self, u: F) -> tuple[dict[str, F], dict[str, F], bool]:
-        """Each metric's column at every pose, its gradient in u (poses × parameters), and
-        whether every pose solved — one solve with sensitivities, kept for the next call at
-        the same u."""
-        key = u.tobytes()
-        if key in self._memo:
-            return self._memo[key]
-        params = self.params_of(u)
-        res: Any = self.mech.solve(
-            self.poses.values, self.poses.rates, self.poses.accels,
-            params=params, sensitivities=self.names, loads=self.loads,
-        )  # fmt: skip
-        self.evaluations += 1
-        kin = res if self.loads is None else res.kinematics
-        ok = kin.status.solved if self.loads is None else kin.status.solved & ~res.singular
-        values, grads = {}, {}
-        span = self.hi - self.lo
-        for m in self.metrics:
-            col = column_of(res, m.column)
-            values[m.column] = col
-            grads[m.column] = np.stack(
-                [
-                    np.asarray(res.sensitivity(m.column, k)) * s
-                    for k, s in zip(self.names, span, strict=True)
-                ],
-                axis=-1,
-            ).reshape(col.size, len(self.names))
-        out = (values, grads, bool(np.all(ok)))
-        if len(self._memo) > 8:
-            self._memo.clear()
-        self._memo[key] = out
-        return out
 
     def column(self, m: Metric, u: F) -> tuple[F, F]:
         """A metric's column at every pose, less its target if it has one, and its gradient."""
@@ -239,10 +243,13 @@ class _Problem:
         return (c if m.target is None else c - target_of(m, c.size)), grads[m.column]
 
     def smooth(self, m: Metric, u: F) -> tuple[float, F]:
-        """A smooth metric (mean, sumsq, change) and its gradient in u."""
+        """A smooth metric (mean, sumsq, change, first, last) and its gradient in u."""
         c, g = self.column(m, u)
         if m.reduce == "mean":
             return float(c.mean()), g.mean(axis=0)
+        if m.reduce in ("first", "last"):
+            k = 0 if m.reduce == "first" else -1
+            return float(c[k]), g[k]
         if m.reduce == "sumsq":
             return float(c @ c), 2.0 * c @ g
         if m.reduce == "change":
@@ -260,10 +267,7 @@ class _Problem:
         return float(np.min(c) if how == "min" else np.max(c))
 
     def metric_values(self, params: Mapping[str, float]) -> tuple[dict[str, float], bool]:
-        table = evaluate(
-            self.mech, {k: np.array([v]) for k, v in params.items()}, self.poses,
-            self.metrics, (), self.loads,
-        )  # fmt: skip
+        table = self.table({k: np.array([v]) for k, v in params.items()})
         return {m.name: float(table[m.name][0]) for m in self.metrics}, bool(
             table["poses_failed"][0] == 0
         )
@@ -413,7 +417,7 @@ class _Problem:
                 k: self.lo[j] + u[:, j] * (self.hi[j] - self.lo[j])
                 for j, k in enumerate(self.names)
             }
-            table = evaluate(self.mech, designs, self.poses, self.metrics, (), self.loads)
+            table = self.table(designs)
             self.evaluations += len(u)
             f = self.sign * table[self.objective.name].to_numpy(dtype=np.float64)
             penalty = np.where(table["poses_failed"].to_numpy() > 0, 1.0, 0.0)
@@ -480,3 +484,54 @@ class _Problem:
             history=tuple(self.history),
             evaluations=self.evaluations,
         )
+
+
+class _MechanismProblem(Problem):
+    """A mechanism's designs: exact sensitivities from the differentiated plan."""
+
+    def __init__(
+        self,
+        mech: Mechanism,
+        bounds: Mapping[str, tuple[float, float]],
+        poses: Poses,
+        objective: Metric,
+        sense: str,
+        metrics: Sequence[Metric],
+        constraints: Sequence[Constraint],
+        loads: Any,
+    ) -> None:
+        super().__init__(mech.parameters, bounds, poses, objective, sense, metrics, constraints)
+        self.mech = mech
+        self.loads = loads
+
+    def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
+        return evaluate(self.mech, designs, self.poses, self.metrics, (), self.loads)
+
+    def columns_at(self, u: F) -> tuple[dict[str, F], dict[str, F], bool]:
+        """Each metric's column at every pose, its gradient in u (poses × parameters), and
+        whether every pose solved — one solve with sensitivities, kept for the next call at
+        the same u."""
+        key = u.tobytes()
+        if key in self._memo:
+            return self._memo[key]
+        params = self.params_of(u)
+        res: Any = self.mech.solve(
+            self.poses.values, self.poses.rates, self.poses.accels,
+            params=params, sensitivities=self.names, loads=self.loads,
+        )  # fmt: skip
+        self.evaluations += 1
+        kin = res if self.loads is None else res.kinematics
+        ok = kin.status.solved if self.loads is None else kin.status.solved & ~res.singular
+        values, grads = {}, {}
+        span = self.hi - self.lo
+        for m in self.metrics:
+            col = column_of(res, m.column)
+            values[m.column] = col
+            grads[m.column] = np.stack(
+                [
+                    np.asarray(res.sensitivity(m.column, k)) * s
+                    for k, s in zip(self.names, span, strict=True)
+                ],
+                axis=-1,
+            ).reshape(col.size, len(self.names))
+        return self.remember(u, (values, grads, bool(np.all(ok))))

@@ -32,6 +32,7 @@ Errors name the file, the table and the entry; nothing in the file is evaluated.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -69,6 +70,12 @@ def load_study(path: str | Path) -> Study:
         "the file",
     )
     head = r.table("study", required=True)
+    if "machine" in head:
+        raise r.err(
+            "a study of an excavator machine: run it with `excavkin excavator optimize`",
+            "study",
+            "machine",
+        )
     r.keys(head, {"model", "method", "samples", "seed", "loads"}, "study")
     model = _model(r, head, Path(path).parent)
     try:
@@ -83,11 +90,20 @@ def load_study(path: str | Path) -> Study:
     loads = head.get("loads")
     if loads not in (None, "model"):
         raise r.err('must be "model" (the model\'s own loads and gravity)', "study", "loads")
-    bounds = _bounds(r, mech)
-    poses = _poses(r, mech)
-    metrics = _metrics(r, mech)
+    from excavkin.structure.design import parameter_kind
+
+    bounds = read_bounds(r, mech.parameters, lambda k: parameter_kind(k, mech.model))
+    poses = read_poses(r, mech)
+    columns = {c.name: c.kind for c in (*mech.solve({}).columns, *mech.solve({}, loads=[]).columns)}
+    metrics = read_metrics(r, columns)
+    from excavkin.studies.metrics import needs_forces
+
+    try:
+        needs_forces(mech, metrics)
+    except ExcavkinError as exc:
+        raise r.err(str(exc), "metrics") from None
     kinds = metric_kinds(mech, {m.name: (m.column, m.reduce) for m in metrics})
-    constraints = _constraints(r, kinds)
+    constraints = read_constraints(r, kinds)
     study = Study(
         model=model,
         bounds=bounds,
@@ -126,18 +142,21 @@ def _whole(r: TomlReader, value: Any, entry: str, low: int, high: int, table: st
     return value
 
 
-def _bounds(r: TomlReader, mech: Any) -> dict[str, tuple[float, float]]:
+def read_bounds(
+    r: TomlReader, known: Mapping[str, float], kind_of: Callable[[str], str]
+) -> dict[str, tuple[float, float]]:
+    """The ``[parameters]`` table: each parameter (a name of ``known``) and its bounds, SI
+    (``kind_of(name)``: the parameter's kind, for its units)."""
     from excavkin.errors import unknown_name
-    from excavkin.structure.design import parameter_kind
 
     out = {}
     for name, given in r.table("parameters", required=True).items():
-        if name not in mech.parameters:
-            problem = str(unknown_name("parameter", name, list(mech.parameters)))
+        if name not in known:
+            problem = str(unknown_name("parameter", name, list(known)))
             raise r.err(problem, "parameters", name)
         if not isinstance(given, list) or len(given) != 2:
             raise r.err("bounds must be [low, high]", "parameters", name)
-        kind = parameter_kind(name, mech.model)
+        kind = kind_of(name)
         lo, hi = (r.qty(v, kind, "parameters", name) for v in given)
         if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
             raise r.err(f"bounds must be finite with low < high, got [{lo:g}, {hi:g}]",
@@ -146,7 +165,9 @@ def _bounds(r: TomlReader, mech: Any) -> dict[str, tuple[float, float]]:
     return out
 
 
-def _poses(r: TomlReader, mech: Any) -> Poses:
+def read_poses(r: TomlReader, mech: Any) -> Poses:
+    """The ``[poses]`` table: the drivers' values (sweeps or single values), rates and
+    accelerations, SI."""
     table = dict(r.table("poses"))
     rates_t = table.pop("rates", {})
     accels_t = table.pop("accels", {})
@@ -200,7 +221,11 @@ def _sweep(r: TomlReader, spec: Any, kind: str, table: str, entry: str) -> Any:
     return r.qty(spec, kind, table, entry)
 
 
-def _metrics(r: TomlReader, mech: Any) -> list[Metric]:
+def read_metrics(r: TomlReader, columns: Mapping[str, str]) -> list[Metric]:
+    """The ``[metrics]`` table: each a column of ``columns`` (name → kind) reduced over the
+    poses."""
+    from excavkin.errors import unknown_name
+
     out = []
     for name, spec in r.table("metrics", required=True).items():
         r.name(name, "metrics")
@@ -211,32 +236,27 @@ def _metrics(r: TomlReader, mech: Any) -> list[Metric]:
         column, how = spec.get("column"), spec.get("reduce")
         if not isinstance(column, str):
             raise r.err("needs the column it reduces", "metrics", name)
+        if column not in columns:
+            problem = str(unknown_name(f"column (metric {name!r})", column, sorted(columns)))
+            raise r.err(problem, "metrics", name)
         if how not in REDUCTIONS:
             raise r.err(f"reduce must be one of {', '.join(REDUCTIONS)}, not {how!r}",
                         "metrics", name)  # fmt: skip
         target = None
         if how == "sumsq" or (how == "absmax" and "target" in spec):
-            target = _target(r, spec.get("target"), mech, column, name)
+            target = _target(r, spec.get("target"), columns[column], name)
         elif "target" in spec:
             raise r.err("a target belongs to a sumsq or absmax metric", "metrics", name)
         out.append(Metric(name, column, how, target))
-    from excavkin.studies.metrics import needs_forces
-
-    try:
-        needs_forces(mech, out)
-    except ExcavkinError as exc:
-        raise r.err(str(exc), "metrics") from None
     return out
 
 
-def _target(r: TomlReader, given: Any, mech: Any, column: str, name: str) -> tuple[float, ...]:
+def _target(r: TomlReader, given: Any, kind: str, name: str) -> tuple[float, ...]:
     """A sumsq or absmax metric's target: one value, or one per pose, in the column's kind."""
     if isinstance(given, (str, int, float)) and not isinstance(given, bool):
         given = [given]
     if not isinstance(given, list) or not given:
         raise r.err("needs target = a value, or [one value per pose]", "metrics", name)
-    kinds = {c.name: c.kind for c in mech.solve({}, loads=[]).columns}
-    kind = kinds.get(column, "dimensionless")
     return tuple(r.qty(v, kind, "metrics", name) for v in given)
 
 
@@ -244,14 +264,19 @@ def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
     """A study file with an ``[optimize]`` table: the study, and the optimisation's settings
     (``objective``: a metric's name; ``sense``: "min" or "max"; ``method``: "slsqp" or
     "differential-evolution"; ``maxiter``; ``popsize``)."""
-    from excavkin.studies.optimize import METHODS as OPTIMIZERS
-
     study = load_study(path)
     source = str(path)
     r = TomlReader(read_toml(read_text_file(path), source), source)
+    return study, read_optimize(r, [m.name for m in study.metrics])
+
+
+def read_optimize(r: TomlReader, names: list[str]) -> dict[str, Any]:
+    """The ``[optimize]`` table's settings (see :func:`load_optimization`); ``names`` are the
+    metrics'."""
+    from excavkin.studies.optimize import METHODS as OPTIMIZERS
+
     spec = r.table("optimize", required=True)
     r.keys(spec, {"objective", "sense", "method", "maxiter", "popsize"}, "optimize")
-    names = [m.name for m in study.metrics]
     objective = spec.get("objective")
     if objective not in names:
         from excavkin.errors import unknown_name
@@ -263,17 +288,17 @@ def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
     method = spec.get("method", "slsqp")
     if method not in OPTIMIZERS:
         raise r.err(f"must be one of {', '.join(OPTIMIZERS)}, not {method!r}", "optimize", "method")
-    settings = {
+    return {
         "objective": objective,
         "sense": sense,
         "method": method,
         "maxiter": _whole(r, spec.get("maxiter", 200), "maxiter", 1, 100_000, "optimize"),
         "popsize": _whole(r, spec.get("popsize", 32), "popsize", 4, 10_000, "optimize"),
     }
-    return study, settings
 
 
-def _constraints(r: TomlReader, kinds: dict[str, str]) -> list[Constraint]:
+def read_constraints(r: TomlReader, kinds: Mapping[str, str]) -> list[Constraint]:
+    """The ``[constraints]`` table: bounds of metrics (name → kind), SI."""
     from excavkin.errors import unknown_name
 
     out = []

@@ -1,0 +1,311 @@
+"""Design studies and optimisation of an excavator machine: a study file that names a machine
+file, whose parameters are the machine's (:func:`~excavkin.excavator.designs.machine_parameters`)
+and whose metrics read the machine's columns at a set of cylinder lengths.
+
+::
+
+    [study]
+    machine = "excavator_machine"   # a machine file beside this one, or a built-in example
+
+    [parameters]                    # mechanism and machine parameters, with bounds
+    "K.x" = ["6669.6 mm", "6769.6 mm"]
+    "cylinders.bucket.bore" = ["120 mm", "130 mm"]
+
+    [poses]                         # cylinder lengths: START:STOP:N, or one value
+    boom_cyl = "2768 mm"
+    arm_cyl = "2972 mm"
+    bucket_cyl = "1645 mm:2765 mm:57"
+
+    [metrics]
+    force_min = { column = "rated.bucket", reduce = "min" }
+
+A design's pose fails where the front does not assemble or a cylinder length lies outside that
+design's stroke; a design whose cylinders or circuits are impossible fails at every pose.
+
+The machine columns (:data:`COLUMNS`) come from the engine's transfer functions, which have no
+parameter sensitivities of their own here: the local method takes the gradient of every column
+at every pose by central differences in the scaled parameters, all 2n + 1 designs of one
+gradient solved as one batch. Differential evolution solves its whole population as one batch.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from excavkin.errors import ExcavkinError, InputError
+from excavkin.excavator.designs import (
+    bucket_angle_to_stick,
+    check_designs,
+    check_parameters,
+    design_tool_forces,
+    design_transfer,
+    machine_parameter_kind,
+    machine_parameters,
+    within_strokes,
+)
+from excavkin.excavator.forces import Working
+from excavkin.excavator.machine import F, Machine, as_lengths
+from excavkin.studies.metrics import Constraint, Metric, Poses, tabulate
+from excavkin.studies.optimize import Optimum, Problem, run
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+#: The machine's columns and their kinds. ``rated.*``: the ISO 6015 tool force of the bucket
+#: or arm cylinder at the lip, at working pressure, capped by the holding cylinders' reliefs,
+#: without the front's weight (as rated forces are given); ``force.*``: the same with the
+#: weight; ``bucket.angle_to_stick``: the bucket's angle relative to the stick
+#: (:func:`~excavkin.excavator.designs.bucket_angle_to_stick`); ``tip.x``, ``tip.y``: the
+#: tooth tip.
+COLUMNS: dict[str, str] = {
+    "rated.bucket": "force",
+    "rated.arm": "force",
+    "force.bucket": "force",
+    "force.arm": "force",
+    "bucket.angle_to_stick": "angle",
+    "tip.x": "length",
+    "tip.y": "length",
+}
+
+
+def machine_columns(
+    machine: Machine,
+    lengths: ArrayLike,
+    params: Mapping[str, ArrayLike],
+    names: Sequence[str],
+) -> tuple[dict[str, F], NDArray[np.bool_]]:
+    """The columns ``names`` (of :data:`COLUMNS`) at cylinder ``lengths`` (shape (n, 3)),
+    sample i the design ``params[name][i]``, and which samples are valid (assembled, within
+    their design's strokes, possible cylinders and circuits), shape (n,)."""
+    L = as_lengths(lengths)
+    n = len(L)
+    for name in names:
+        if name not in COLUMNS:
+            from excavkin.errors import unknown_name
+
+            raise unknown_name("machine column", name, list(COLUMNS))
+    tr = design_transfer(machine, L, params)
+    within = within_strokes(machine, L, params)
+    ok = np.asarray(tr.result.status.solved & within & check_designs(machine, params, n))
+    out: dict[str, F] = {}
+    for name in names:
+        if name.startswith(("rated.", "force.")):
+            working: Working = "arm" if name.endswith("arm") else "bucket"
+            f = design_tool_forces(
+                machine, L, params, working, gravity=name.startswith("force."), transfer=tr
+            )
+            out[name] = f.force
+        elif name == "bucket.angle_to_stick":
+            out[name] = bucket_angle_to_stick(machine, tr)
+        else:
+            tip, _ = tr.point(machine, machine.front.tip)
+            out[name] = np.asarray(tip[:, 0 if name == "tip.x" else 1])
+    return out, ok
+
+
+def pose_lengths(machine: Machine, poses: Poses) -> F:
+    """The cylinder lengths of a pose set, shape (p, 3): each driver's values, or the model's
+    sketch length for a driver not given."""
+    sketch = machine.mechanism.sketch_values()
+    p = poses.count
+    return np.column_stack(
+        [
+            np.broadcast_to(np.asarray(poses.values.get(d, sketch[d]), float), (p,))
+            for d in machine.drivers
+        ]
+    )
+
+
+def evaluate_machine(
+    machine: Machine,
+    designs: Mapping[str, F],
+    lengths: ArrayLike,
+    metrics: Sequence[Metric],
+    constraints: Sequence[Constraint] = (),
+) -> pd.DataFrame:
+    """Every design at every pose (cylinder lengths, shape (p, 3)), as one batch of
+    designs × poses samples; one row per design (columns as
+    :func:`excavkin.studies.metrics.evaluate`'s)."""
+    check_parameters(machine, designs)
+    L = as_lengths(lengths)
+    d = len(next(iter(designs.values())))
+    p = len(L)
+    params = {k: np.repeat(np.asarray(v, dtype=np.float64), p) for k, v in designs.items()}
+    names = list(dict.fromkeys(m.column for m in metrics))
+    cols, ok = machine_columns(machine, np.tile(L, (d, 1)), params, names)
+    return tabulate(
+        designs, {k: v.reshape(d, p) for k, v in cols.items()}, ok.reshape(d, p), metrics,
+        constraints,
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class MachineStudy:
+    """A study of an excavator machine (all values SI).
+
+    Attributes
+    ----------
+    machine : Machine
+    bounds : dict of str to (float, float)
+        Design parameters (names of :func:`machine_parameters`) and their bounds.
+    lengths : ndarray, shape (p, 3)
+        The poses: boom, arm and bucket cylinder lengths.
+    metrics : tuple of Metric
+        Of :data:`COLUMNS`.
+    constraints : tuple of Constraint
+    optimize : dict
+        The ``[optimize]`` settings (empty if the file has none).
+    """
+
+    machine: Machine
+    bounds: dict[str, tuple[float, float]]
+    lengths: F
+    metrics: tuple[Metric, ...]
+    constraints: tuple[Constraint, ...] = ()
+    optimize: dict[str, Any] = field(default_factory=dict)
+
+    def evaluate(self, designs: Mapping[str, F]) -> pd.DataFrame:
+        """The study's metrics of ``designs`` (parameter → values), one row per design."""
+        return evaluate_machine(self.machine, designs, self.lengths, self.metrics, self.constraints)
+
+
+def load_machine_study(path: str | Path) -> MachineStudy:
+    """Read a study file whose ``[study]`` names a ``machine`` (module docstring).
+
+    Raises
+    ------
+    ModelError, UnitError
+        Naming the file, the table and the entry.
+    """
+    from excavkin.io.toml_model import TomlReader, read_text_file, read_toml
+    from excavkin.studies import study_file as sf
+
+    source = str(path)
+    r = TomlReader(read_toml(read_text_file(path), source), source)
+    r.keys(r.data, {"study", "units", "parameters", "poses", "metrics", "constraints", "optimize"},
+           "the file")  # fmt: skip
+    head = r.table("study", required=True)
+    r.keys(head, {"machine"}, "study")
+    machine = _machine(r, head.get("machine"), Path(path).parent)
+    known = machine_parameters(machine)
+    bounds = sf.read_bounds(r, known, lambda k: machine_parameter_kind(k, machine))
+    table = r.table("poses")
+    for key in ("rates", "accels"):
+        if key in table:
+            raise r.err("a machine study's poses are cylinder lengths alone", "poses", key)
+    poses = sf.read_poses(r, machine.mechanism)
+    metrics = sf.read_metrics(r, COLUMNS)
+    kinds = {m.name: "dimensionless" if m.reduce.startswith("arg") else COLUMNS[m.column]
+             for m in metrics}  # fmt: skip
+    constraints = sf.read_constraints(r, kinds)
+    settings = sf.read_optimize(r, [m.name for m in metrics]) if "optimize" in r.data else {}
+    return MachineStudy(
+        machine, bounds, pose_lengths(machine, poses), tuple(metrics), tuple(constraints),
+        settings,
+    )  # fmt: skip
+
+
+def _machine(r: Any, text: Any, folder: Path) -> Machine:
+    import excavkin
+    from excavkin.excavator.machine_file import load_machine
+
+    if not isinstance(text, str) or not text:
+        raise r.err("names the machine file (or a built-in machine example)", "study", "machine")
+    given = folder / text
+    if not given.is_file():
+        if text not in excavkin.examples("machine"):
+            raise r.err(f"{text!r}: no such file beside the study, nor a built-in machine "
+                        "example", "study", "machine")  # fmt: skip
+        given = excavkin.example_path(text)
+    try:
+        return load_machine(given)
+    except ExcavkinError as exc:
+        raise r.err(f"the machine cannot be read: {exc}", "study", "machine") from None
+
+
+class _MachineProblem(Problem):
+    """A machine's designs: gradients by central differences, each gradient one batch."""
+
+    #: the step in the scaled parameters (a 100 mm box: 1 µm)
+    STEP = 1e-5
+
+    def __init__(
+        self, study: MachineStudy, objective: Metric, sense: str, metrics: Sequence[Metric]
+    ) -> None:
+        poses = Poses({}, {}, {})
+        super().__init__(
+            machine_parameters(study.machine), study.bounds, poses, objective, sense, metrics,
+            study.constraints,
+        )  # fmt: skip
+        self.study = study
+
+    def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
+        return evaluate_machine(self.study.machine, designs, self.study.lengths, self.metrics)
+
+    def columns_at(self, u: F) -> tuple[dict[str, F], dict[str, F], bool]:
+        key = u.tobytes()
+        if key in self._memo:
+            return self._memo[key]
+        n, h = len(self.names), self.STEP
+        steps = np.vstack([np.zeros(n), h * np.eye(n), -h * np.eye(n)])  # (2n + 1, n)
+        x = self.lo + (np.clip(u, 0.0, 1.0) + steps) * (self.hi - self.lo)
+        L = self.study.lengths
+        p = len(L)
+        params = {k: np.repeat(x[:, j], p) for j, k in enumerate(self.names)}
+        names = list(dict.fromkeys(m.column for m in self.metrics))
+        cols, ok = machine_columns(self.study.machine, np.tile(L, (2 * n + 1, 1)), params, names)
+        self.evaluations += 2 * n + 1
+        values, grads = {}, {}
+        for name, c in cols.items():
+            c = c.reshape(2 * n + 1, p)
+            values[name] = c[0]
+            grads[name] = ((c[1 : n + 1] - c[n + 1 :]) / (2.0 * h)).T  # (p, n)
+        return self.remember(u, (values, grads, bool(ok[:p].all())))
+
+
+def optimize_machine(
+    study: MachineStudy,
+    objective: str | None = None,
+    sense: str | None = None,
+    *,
+    method: str | None = None,
+    x0: Mapping[str, float] | None = None,
+    seed: int = 0,
+    maxiter: int | None = None,
+    popsize: int | None = None,
+    tol: float = 1e-12,
+) -> Optimum:
+    """The best design of the study's box under its constraints (arguments left out come from
+    its ``[optimize]`` table): differential evolution over whole populations solved as one
+    batch, then polished by SLSQP on central-difference gradients; or SLSQP alone.
+
+    Returns
+    -------
+    Optimum
+    """
+    s = study.optimize
+    objective = objective or s.get("objective")
+    if objective is None:
+        raise InputError("the study has no [optimize] table naming its objective")
+    by_name = {m.name: m for m in study.metrics}
+    if objective not in by_name:
+        from excavkin.errors import unknown_name
+
+        raise unknown_name("metric (the objective)", str(objective), list(by_name))
+    problem = _MachineProblem(
+        study, by_name[objective], sense or s.get("sense", "max"),
+        [m for m in study.metrics if m.name != objective],
+    )  # fmt: skip
+    how = method or s.get("method", "slsqp")
+    if how not in ("slsqp", "differential-evolution"):
+        raise InputError(f"unknown method {how!r} (known: slsqp, differential-evolution)")
+    return run(
+        problem, how, x0, seed=seed, maxiter=maxiter or s.get("maxiter", 200),
+        popsize=popsize or s.get("popsize", 32), tol=tol,
+    )  # fmt: skip
