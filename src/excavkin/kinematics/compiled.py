@@ -55,6 +55,11 @@ def available() -> bool:
     return importlib.util.find_spec("numba") is not None
 
 
+def numba_installed() -> bool:
+    """Whether numba can be imported (whatever ``EXCAVKIN_COMPILED`` says)."""
+    return importlib.util.find_spec("numba") is not None
+
+
 def supports(plan: SolvePlan) -> bool:
     """Whether the plan can be compiled: closed-form steps only."""
     return all(isinstance(st, Fixed | Rotate | Attach | Dyad | SliderStep) for st in plan.steps)
@@ -120,8 +125,26 @@ def run(
     fill its derived quantities (``body`` and ``element``: the chunk's slices of
     :class:`~excavkin.kinematics.result.Derived`) and each
     sample's nearness to a dead position and nearest step (``near``, ``near_step``, as
-    :func:`~excavkin.kinematics.precision.nearness`)."""
+    :func:`~excavkin.kinematics.precision.nearness`).
+
+    Bytes not written are bytes not paged in: ``c.v`` and ``c.a`` come zeroed (fresh
+    ``np.zeros`` pages cost nothing until written), and a fixed point's rows are left so."""
     k, stride = table(constants(plan), c.status.size)
+    run_table(kernel, (k, stride), c, body, element, near, near_step)
+
+
+def run_table(
+    kernel: Kernel,
+    consts: tuple[F, int],
+    c: Chunk,
+    body: F,
+    element: F,
+    near: F,
+    near_step: np.ndarray,
+) -> None:
+    """:func:`run` with the chunk's constants table and stride (:func:`table`) given: a
+    whole solve's table is made once, and each chunk takes its columns."""
+    k, stride = consts
     kernel(
         c.q, c.qd, c.qdd, k, stride, c.x, c.v, c.a, c.trans, body, element,
         c.status, c.failed, c.close_tol, c.singular_tol, near, near_step,
@@ -131,7 +154,12 @@ def run(
 def compile_plan(plan: SolvePlan) -> Kernel:
     """The plan's compiled kernel: made once per structure, kept in memory and on disk (numba
     compiles it at its first call, for the argument types of that call)."""
-    text = source(plan)
+    return kernel_of(source(plan))
+
+
+def kernel_of(text: str) -> Kernel:
+    """The ``kernel`` function of a generated source: imported once, kept in memory and on
+    disk (a source made by another module's generator, too)."""
     key = _key(text)
     with _lock:
         kernel = _kernels.get(key)
@@ -145,7 +173,12 @@ def compile_plan(plan: SolvePlan) -> Kernel:
 
 def is_compiled(plan: SolvePlan) -> bool:
     """Whether the plan's kernel has been compiled, in this process or an earlier one."""
-    key = _key(source(plan))
+    return source_compiled(source(plan))
+
+
+def source_compiled(text: str) -> bool:
+    """Whether a generated source's kernel has been compiled, here or in an earlier process."""
+    key = _key(text)
     return key in _kernels or (cache_dir() / f"excavkin_kernel_{key}.compiled").exists()
 
 
@@ -250,6 +283,9 @@ class _Source:
         self.n_checks = 0
         #: the derived values as stored (read back by the exact finiteness check)
         self.stored: list[str] = []
+        #: the points of the fixed steps: at rest, their velocity and acceleration rows are
+        #: left as they come (zero)
+        self.at_rest: set[int] = set()
 
     def emit(self, *lines: str) -> None:
         self.lines += lines
@@ -277,6 +313,7 @@ class _Source:
 
     def fixed(self, st: Fixed) -> None:
         for p in st.points:
+            self.at_rest.add(p)
             self.emit(
                 f"X{p} = {self.const()}", f"Y{p} = {self.const()}",
                 f"VX{p} = 0.0", f"VY{p} = 0.0", f"AX{p} = 0.0", f"AY{p} = 0.0",
@@ -467,6 +504,8 @@ class _Source:
         stored = list(self.stored)
         for p in range(len(plan.points)):
             for arr, (X, Y) in (("x", ("X", "Y")), ("v", ("VX", "VY")), ("a", ("AX", "AY"))):
+                if arr != "x" and p in self.at_rest:
+                    continue
                 self.emit(f"{arr}[{p}, 0, i] = {X}{p}", f"{arr}[{p}, 1, i] = {Y}{p}")
                 self.check(f"{X}{p}", f"{Y}{p}")
                 stored += [f"{arr}[{p}, 0, i]", f"{arr}[{p}, 1, i]"]
