@@ -147,6 +147,8 @@ def test_the_source_depends_on_the_structure_not_the_values() -> None:
     text, values = compiled.source(sy, mp, one, inertia=True)
     text2, values2 = compiled.source(sy, heavier, two, inertia=True)
     assert text == text2 and values != values2
+    compiled._traced.clear()  # traced anew: the same source as the one kept
+    assert compiled.source(sy, heavier, two, inertia=True) == (text2, values2)
     assert compiled.source(sy, mp, one, inertia=False)[0] != text
 
 

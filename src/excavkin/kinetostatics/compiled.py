@@ -212,19 +212,55 @@ def kernel(x, a, eps, K, ks, out, singular, rel_tol):
 '''
 
 
+#: traced sources by what they depend on (:func:`_shape`); a few kept
+_traced: dict[tuple[Any, ...], str] = {}
+
+
+def _shape(
+    sy: StaticsSystem, mp: MassProperties, ev: EvaluatedLoads, inertia: bool
+) -> tuple[Any, ...]:
+    """All that the traced source depends on: the system, which bodies have a mass and a
+    moment of inertia, where each load acts, whether gravity and inertia are on."""
+    massive = mp.massive
+    return (
+        sy,
+        inertia,
+        massive,
+        tuple(bool(np.any(mp.inertia[j] != 0.0)) for j in massive),
+        tuple(int(i) for i in mp.base.ravel()),
+        tuple((b, p) for b, p, _, _ in ev.forces),
+        tuple((b, r) for b, r, _ in ev.torques),
+        ev.gravity is None,
+    )
+
+
 def source(
     sy: StaticsSystem, mp: MassProperties, ev: EvaluatedLoads, inertia: bool
 ) -> tuple[str, list[float | F]]:
     """The kernel's source for this system, masses and loads, and the values its constants
-    table holds (in the order it reads them)."""
+    table holds (in the order it reads them). The trace is made once for each
+    :func:`_shape`; the values are read anew each time."""
+    key = _shape(sy, mp, ev, inertia)
+    g = _Source()
+    masses: Any = _Masses(g, mp)
+    loads = _loads(g, ev)
+    text = _traced.get(key)
+    if text is None:
+        text = _trace(g, sy, masses, loads, inertia)
+        if len(_traced) >= 16:
+            _traced.pop(next(iter(_traced)))
+        _traced[key] = text
+    return text, g.values
+
+
+def _trace(g: _Source, sy: StaticsSystem, masses: Any, loads: EvaluatedLoads, inertia: bool) -> str:
+    """Run the NumPy path's elimination on the symbols of ``g``: the kernel's source."""
     from excavkin.kinetostatics.solve import _body_loads
 
-    g = _Source()
     x = _Points(g, "x")
     acc = _Points(g, "a") if inertia else None
     eps = _Points(g, "eps") if inertia else None
-    masses: Any = _Masses(g, mp)
-    rhs_body = _body_loads(sy, masses, _loads(g, ev), x, acc, eps, slice(None))  # type: ignore[arg-type]
+    rhs_body = _body_loads(sy, masses, loads, x, acc, eps, slice(None))  # type: ignore[arg-type]
     rows = _assemble(sy, x)  # type: ignore[arg-type]
     rhs: list[Any] = [0.0] * (2 * len(sy.nodes))
     for fx, fy, mz in rhs_body:
@@ -247,7 +283,7 @@ def source(
     for col, val in enumerate(sol):
         g.emit(f"out[{col}, i] = {_text(val)}")
     g.emit("singular[i] = sg")
-    return _HEAD + "".join(f"        {line}\n" for line in g.lines), g.values
+    return _HEAD + "".join(f"        {line}\n" for line in g.lines)
 
 
 def _dense(g: _Source, a: list[list[Any]], b: list[Any]) -> list[_Sym]:
