@@ -169,3 +169,21 @@ def test_automatic_choice_and_refusal(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(kinematic_kernels, "numba_installed", lambda: False)
     with pytest.raises(InputError, match="numba"):
         mech.forces(kin, compiled=True)
+
+
+def test_streamed_parts_compiled_equal_numpy(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``solve_stream`` with loads passes ``compiled`` on to each part's forces."""
+    mech = excavkin.load(excavkin.example_path("excavator"))
+    values = sweep(mech, 5000, 0.5)
+    args = dict(rates={k: 0.4 for k in values}, loads=[Gravity()], size=4096)
+    calls = []
+    solve = compiled.solve
+    monkeypatch.setattr(compiled, "solve", lambda *a, **k: calls.append(1) or solve(*a, **k))
+    fast = list(mech.solve_stream(values, compiled=True, **args))
+    assert len(calls) == 2  # each part's forces by the kernel
+    ref = list(mech.solve_stream(values, compiled=False, **args))
+    assert len(calls) == 2
+    assert [p.start for p in fast] == [p.start for p in ref] == [0, 4096]
+    for a, b in zip(fast, ref, strict=True):
+        assert isinstance(a.result, ForceResult) and isinstance(b.result, ForceResult)
+        assert_same_forces(a.result, b.result)
