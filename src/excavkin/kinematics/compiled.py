@@ -154,7 +154,7 @@ def run_table(
 def compile_plan(plan: SolvePlan) -> Kernel:
     """The plan's compiled kernel: made once per structure, kept in memory and on disk (numba
     compiles it at its first call, for the argument types of that call)."""
-    return kernel_of(source(plan))
+    return kernel_of(source(plan, write_at_rest=False))
 
 
 def kernel_of(text: str) -> Kernel:
@@ -173,7 +173,7 @@ def kernel_of(text: str) -> Kernel:
 
 def is_compiled(plan: SolvePlan) -> bool:
     """Whether the plan's kernel has been compiled, in this process or an earlier one."""
-    return source_compiled(source(plan))
+    return source_compiled(source(plan, write_at_rest=False))
 
 
 def source_compiled(text: str) -> bool:
@@ -221,9 +221,11 @@ def _load(text: str, key: str) -> Kernel:
 # source generation
 
 
-def source(plan: SolvePlan) -> str:
-    """The kernel's Python source for ``plan`` (closed-form steps only)."""
-    g = _Source()
+def source(plan: SolvePlan, *, write_at_rest: bool = True) -> str:
+    """The kernel's Python source for ``plan`` (closed-form steps only). ``write_at_rest``
+    False: a fixed point's velocity and acceleration rows are left as they come (the kernel
+    of :func:`compile_plan`, whose caller hands them in zeroed)."""
+    g = _Source(write_at_rest)
     for k, st in enumerate(plan.steps):
         if isinstance(st, Fixed):
             g.fixed(st)
@@ -275,7 +277,8 @@ _CHAINS = 8
 class _Source:
     """Lines of the loop body, and the count of constants read so far."""
 
-    def __init__(self) -> None:
+    def __init__(self, write_at_rest: bool = True) -> None:
+        self.write_at_rest = write_at_rest
         self.lines: list[str] = []
         self.n_const = 0
         #: (transmission index, plan step) of each dyad and slider
@@ -284,7 +287,7 @@ class _Source:
         #: the derived values as stored (read back by the exact finiteness check)
         self.stored: list[str] = []
         #: the points of the fixed steps: at rest, their velocity and acceleration rows are
-        #: left as they come (zero)
+        #: left as they come (zero) unless ``write_at_rest``
         self.at_rest: set[int] = set()
 
     def emit(self, *lines: str) -> None:
@@ -504,7 +507,7 @@ class _Source:
         stored = list(self.stored)
         for p in range(len(plan.points)):
             for arr, (X, Y) in (("x", ("X", "Y")), ("v", ("VX", "VY")), ("a", ("AX", "AY"))):
-                if arr != "x" and p in self.at_rest:
+                if arr != "x" and p in self.at_rest and not self.write_at_rest:
                     continue
                 self.emit(f"{arr}[{p}, 0, i] = {X}{p}", f"{arr}[{p}, 1, i] = {Y}{p}")
                 self.check(f"{X}{p}", f"{Y}{p}")
