@@ -217,6 +217,7 @@ def _check_blocks(
     error = np.full(q.shape[1], np.nan)
     found: list[ChangePoint] = []
     tail = carry.tail
+    per_sample = take(plan, slice(0, 0)) is not plan  # (else every block's plan is the plan)
     for b in blocks:
         near = (nearest[0][b], nearest[1][b])
         arrays = precision.Arrays(
@@ -224,8 +225,8 @@ def _check_blocks(
             Derived(derived.body[..., b], derived.element[..., b]),
         )  # fmt: skip
         error[b] = _check_precision(
-            take(plan, b), (q[:, b], qd[:, b], qdd[:, b]), arrays, status[b], failed[b], near,
-            tol, designs, b.start,
+            take(plan, b) if per_sample else plan, (q[:, b], qd[:, b], qdd[:, b]), arrays,
+            status[b], failed[b], near, tol, designs, b.start,
         )  # fmt: skip
         here = (x[..., b], v[..., b], q_given[:, b], qd[:, b], trans[:, b])
         found += find_change_points(
