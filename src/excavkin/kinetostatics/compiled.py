@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
@@ -214,6 +215,7 @@ def kernel(x, a, eps, K, ks, out, singular, rel_tol):
 
 #: traced sources by what they depend on (:func:`_shape`); a few kept
 _traced: dict[tuple[Any, ...], str] = {}
+_lock = threading.Lock()
 
 
 def _shape(
@@ -247,9 +249,10 @@ def source(
     text = _traced.get(key)
     if text is None:
         text = _trace(g, sy, masses, loads, inertia)
-        if len(_traced) >= 16:
-            _traced.pop(next(iter(_traced)))
-        _traced[key] = text
+        with _lock:  # (forces may be solved on several threads)
+            while len(_traced) >= 16:
+                _traced.pop(next(iter(_traced)), None)
+            _traced[key] = text
     return text, g.values
 
 
