@@ -6,7 +6,13 @@ Prints, in one run:
 - the four-bar's full kinematic state at N samples: excavkin's compiled plan (``mech.solve``,
   all it does included) against a hand-written numba kernel of the textbook arccos/atan2 form on
   a thread per core, computing the same quantities — target ≥ 1.3× its throughput;
-- the excavator model: the compiled plan against the NumPy path (today's engine) — target ≥ 2×.
+- the excavator model: the compiled plan against the NumPy path (today's engine) — target ≥ 2×;
+- the excavator's forces (inertia, gravity, a load at the bucket tip): the compiled
+  kinetostatic elimination against the NumPy one.
+
+The programs run in turn, ``repeat`` rounds, so that a change in the machine's load falls on
+all alike; each ratio is printed as the ratio of the best times and the median of the rounds'
+ratios.
 
 Not a test: machines differ; the ratios are what is tracked.
 """
@@ -14,13 +20,15 @@ Not a test: machines differ; the ratios are what is tracked.
 from __future__ import annotations
 
 import sys
+from collections.abc import Callable
 
 import numba
 import numpy as np
 from bench_kinematics import A, B, C, D, hand_numpy
-from timing import best_of
+from timing import times_in_turn
 
 import excavkin
+from excavkin.kinetostatics import Gravity, PointForce
 
 
 @numba.njit(parallel=True, cache=True)
@@ -68,7 +76,13 @@ def textbook(th: np.ndarray, w: float, al: float) -> np.ndarray:
     return out
 
 
-def main(n: int = 1_000_000) -> tuple[float, float]:
+def _ratios(slow: list[float], fast: list[float]) -> tuple[float, float]:
+    """The ratio of the best times, and the median of the rounds' ratios (runs in turn)."""
+    per_round = sorted(a / b for a, b in zip(slow, fast, strict=True))
+    return min(slow) / min(fast), per_round[len(per_round) // 2]
+
+
+def main(n: int = 1_000_000, repeat: int = 7) -> tuple[float, float, float]:
     fourbar = excavkin.load(excavkin.example_path("fourbar"))
     th = np.linspace(0.0, 2 * np.pi, n)
     w, al = 31.416, 2.5
@@ -78,37 +92,54 @@ def main(n: int = 1_000_000) -> tuple[float, float]:
     for row, key in checked.items():
         assert np.allclose(hand[row], ref[key], rtol=1e-9, atol=1e-9 * np.abs(ref[key]).max())
 
-    def solve(mech: excavkin.Mechanism, values: dict, compiled: bool) -> float:
-        rates = {k: 0.5 for k in values}
-        return best_of(lambda: mech.solve(values, rates=rates, compiled=compiled))
+    def fb(compiled: bool) -> Callable[[], object]:
+        return lambda: fourbar.solve(
+            {"crank": th}, rates={"crank": w}, accels={"crank": al}, compiled=compiled
+        )
 
-    solve(fourbar, {"crank": th[:1000]}, True)  # compile (or load the kernel compiled before)
-    t_ours = best_of(lambda: fourbar.solve({"crank": th}, rates={"crank": w},
-                                           accels={"crank": al}, compiled=True))  # fmt: skip
-    t_numpy = best_of(lambda: fourbar.solve({"crank": th}, rates={"crank": w},
-                                            accels={"crank": al}, compiled=False))  # fmt: skip
-    t_hand = best_of(lambda: textbook(th, w, al))
-    print(f"four-bar, full kinematic state, N = {n:,}, {numba.get_num_threads()} threads")
-    print(f"  hand-written numba, textbook form    : {n / t_hand / 1e6:6.2f} M samples/s")
-    print(f"  excavkin, NumPy path                 : {n / t_numpy / 1e6:6.2f} M samples/s")
-    print(f"  excavkin, compiled plan              : {n / t_ours / 1e6:6.2f} M samples/s")
-    r_fourbar = t_hand / t_ours
-    print(f"  compiled / hand-written numba        : {r_fourbar:6.2f}×  (target ≥ 1.3)")
+    fourbar.solve({"crank": th[:1000]}, compiled=True)  # compile (or load the kernel made before)
+    t_hand, t_ours, t_numpy = times_in_turn(
+        [lambda: textbook(th, w, al), fb(True), fb(False)], repeat
+    )
+    print(f"four-bar, full kinematic state, N = {n:,}, {numba.get_num_threads()} threads, "
+          f"{repeat} rounds (best, median)")  # fmt: skip
+    rows = [("hand-written numba, textbook form", t_hand), ("excavkin, NumPy path", t_numpy),
+            ("excavkin, compiled plan", t_ours)]  # fmt: skip
+    for label, t in rows:
+        print(f"  {label:37s}: {n / min(t) / 1e6:6.2f}, {n / np.median(t) / 1e6:6.2f} M samples/s")
+    r_fourbar, m_fourbar = _ratios(t_hand, t_ours)
+    print(f"  compiled / hand-written numba        : {r_fourbar:6.2f}×, {m_fourbar:.2f}×"
+          "  (target ≥ 1.3)")  # fmt: skip
 
     exc = excavkin.load(excavkin.example_path("excavator"))
     values = {}
     for k, v in exc.sketch_values().items():
         span = 0.3 if exc.input_kind(k) == "angle" else 0.03 * v
         values[k] = v + span * np.sin(np.linspace(0.0, 7.0, n) + len(k))
-    solve(exc, {k: v[:1000] for k, v in values.items()}, True)
-    t_fast = solve(exc, values, True)
-    t_slow = solve(exc, values, False)
-    r_exc = t_slow / t_fast
+    rates = {k: 0.5 for k in values}
+
+    def ex(compiled: bool) -> Callable[[], object]:
+        return lambda: exc.solve(values, rates=rates, compiled=compiled)
+
+    exc.solve({k: v[:1000] for k, v in values.items()}, compiled=True)
+    t_fast, t_slow = times_in_turn([ex(True), ex(False)], repeat)
+    r_exc, m_exc = _ratios(t_slow, t_fast)
     print(f"excavator, full kinematic state, N = {n:,}")
-    print(f"  excavkin, NumPy path                 : {n / t_slow / 1e6:6.2f} M samples/s")
-    print(f"  excavkin, compiled plan              : {n / t_fast / 1e6:6.2f} M samples/s")
-    print(f"  compiled / NumPy                     : {r_exc:6.2f}×  (target ≥ 2)")
-    return r_fourbar, r_exc
+    print(f"  excavkin, NumPy path                 : {n / min(t_slow) / 1e6:6.2f} M samples/s")
+    print(f"  excavkin, compiled plan              : {n / min(t_fast) / 1e6:6.2f} M samples/s")
+    print(f"  compiled / NumPy                     : {r_exc:6.2f}×, {m_exc:.2f}×  (target ≥ 2)")
+
+    kin = exc.solve(values, rates=rates, compiled=True)
+    loads = [Gravity(), PointForce("dig", "bucket", "W", (-20e3, 5e3))]
+    exc.forces(kin, loads, compiled=True)
+    fast, slow = (lambda c=c: exc.forces(kin, loads, compiled=c) for c in (True, False))
+    t_fast, t_slow = times_in_turn([fast, slow], repeat)
+    r_forces, m_forces = _ratios(t_slow, t_fast)
+    print(f"excavator, forces (inertia, gravity, a load at the tip), N = {n:,}")
+    print(f"  excavkin, NumPy elimination          : {n / min(t_slow) / 1e6:6.2f} M samples/s")
+    print(f"  excavkin, compiled elimination       : {n / min(t_fast) / 1e6:6.2f} M samples/s")
+    print(f"  compiled / NumPy                     : {r_forces:6.2f}×, {m_forces:.2f}×")
+    return r_fourbar, r_exc, r_forces
 
 
 if __name__ == "__main__":

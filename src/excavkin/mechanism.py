@@ -397,10 +397,10 @@ class Mechanism:
             dyad on its sketch side, or continue the motion onto the other side (the samples
             taken in order, as a path). ``result.change_points`` lists them either way.
         compiled : bool, optional
-            Run a closed-form plan as one compiled loop (needs numba: ``pip install
-            'excavkin[fast]'``; results equal the NumPy path's to round-off) or in NumPy.
-            Default: compiled when numba is installed and the batch has at least 131 072
-            samples.
+            Run a closed-form plan (and, with ``loads``, the equilibrium) as one compiled loop
+            (needs numba: ``pip install 'excavkin[fast]'``; results equal the NumPy path's to
+            round-off) or in NumPy. Default: compiled when numba is installed and the batch
+            has at least 131 072 samples.
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only).
@@ -445,7 +445,8 @@ class Mechanism:
             raise SolveFailure(result.summary(), result)
         if loads is None:
             return result
-        return self.forces(result, None if isinstance(loads, str) and loads == "model" else loads)
+        given = None if isinstance(loads, str) and loads == "model" else loads
+        return self.forces(result, given, compiled=compiled)
 
     def solve_stream(
         self,
@@ -526,7 +527,7 @@ class Mechanism:
         )  # fmt: skip
         given = None if loads is None or loads == "model" else list(loads)  # type: ignore[arg-type]
         # the inputs are checked above, at the call; the parts come as they are asked for
-        return self._stream(kinematics, batch, span, size, sensitivities, loads, given)
+        return self._stream(kinematics, batch, span, size, sensitivities, loads, given, compiled)
 
     def _stream(
         self,
@@ -537,6 +538,7 @@ class Mechanism:
         sensitivities: Sequence[str] | None,
         loads: object,
         given: list[Load] | None,
+        compiled: bool | None = None,
     ) -> Iterator[SolvedPart]:
         """The parts of :meth:`solve_stream`: each span's kinematics cut into parts of
         ``size`` samples, with their parameters, sensitivities, time and forces."""
@@ -549,7 +551,7 @@ class Mechanism:
                 )
                 out: KinematicResult | ForceResult = result
                 if loads is not None:
-                    out = self.forces(result, given)
+                    out = self.forces(result, given, compiled=compiled)
                 yield SolvedPart(s + first, out, n)
 
     def _finish(
@@ -658,7 +660,13 @@ class Mechanism:
             self._statics = compile_statics(self.model)
         return self._statics
 
-    def forces(self, result: KinematicResult, loads: Iterable[Load] | None = None) -> ForceResult:
+    def forces(
+        self,
+        result: KinematicResult,
+        loads: Iterable[Load] | None = None,
+        *,
+        compiled: bool | None = None,
+    ) -> ForceResult:
         """Joint forces, cylinder forces and driver torques for a kinematic result.
 
         d'Alembert inertia (from the result's accelerations) plus ``loads``, in equilibrium
@@ -674,6 +682,10 @@ class Mechanism:
             (of any registry) or a string such as ``"5 kN"`` or ``("5 kN", "-2 kN")`` for a
             force, ``"300 N*m"`` for a torque, ``"9.81 m/s^2"`` for gravity; a wrong dimension
             is a :class:`~excavkin.errors.UnitError` naming the load.
+        compiled : bool, optional
+            Solve the equilibrium as one compiled loop over samples (needs numba; equal to the
+            NumPy path's to round-off) or in NumPy. Default: compiled when numba is installed
+            and the batch has at least 131 072 samples.
 
         Returns
         -------
@@ -686,7 +698,7 @@ class Mechanism:
         given = self.loads if loads is None else [_load_in_si(load) for load in loads]
         if result.parameters:
             given = _loads_of_designs(given, result.parameters, len(result))
-        forces = solve_forces(result, given, system=self.statics)
+        forces = solve_forces(result, given, system=self.statics, compiled=compiled)
         if result.tangents:
             from excavkin.kinetostatics.sensitivity import force_tangents
 

@@ -149,3 +149,30 @@ def test_a_cache_folder_that_cannot_be_written_compiles_in_memory(
     values = sweep(mech, 50, 0.5)
     assert_same(mech.solve(values, compiled=True), mech.solve(values, compiled=False))
     assert not compiled.is_compiled(mech.plan) or compiled._kernels
+
+
+def test_fixed_points_rows_left_unwritten_only_when_asked() -> None:
+    """The solve's kernel leaves a fixed point's velocity and acceleration rows as they come
+    (the solve hands them in zeroed: pages never touched); the generator's default writes
+    them. Every other value is the same."""
+    from excavkin.kinematics.kernels import Chunk
+    from excavkin.kinematics.result import Derived
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    plan, n = mech.plan, 200
+    fixed = list(plan.steps[0].points)
+    outs = []
+    for write in (False, True):
+        kernel = compiled.kernel_of(compiled.source(plan, write_at_rest=write))
+        q = np.linspace(0.0, 6.0, n)[None, :]
+        x, v, a = (np.full((len(plan.points), 2, n), 7.0) for _ in range(3))
+        c = Chunk(x, v, a, q, np.ones((1, n)), np.zeros((1, n)), np.empty((1, n)),
+                  np.zeros(n, np.int8), np.full(n, -1, np.int16), 1e-12, 1e-9, None)  # fmt: skip
+        d = Derived.empty(plan, n)
+        compiled.run(kernel, plan, c, d.body, d.element, np.empty(n), np.empty(n, np.int16))
+        assert (v[fixed] == (0.0 if write else 7.0)).all() and (a[fixed] == v[fixed]).all()
+        moving = [p for p in range(len(plan.points)) if p not in fixed]
+        outs.append((x, v[moving], a[moving], d.body, c.trans))
+    for one, other in zip(*outs, strict=True):
+        np.testing.assert_array_equal(one, other)
+    assert compiled.source(plan, write_at_rest=False) != compiled.source(plan)

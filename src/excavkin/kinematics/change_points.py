@@ -226,10 +226,8 @@ def find_change_points(
     for st in plan.steps:
         if isinstance(st, Dyad):
             if trans is not None:
-                sines = [trans[st.index]] + ([] if tail is None else [tail.trans[st.index]])
-                with np.errstate(invalid="ignore"):
-                    flattest = min(np.nanmin(np.abs(np.sin(s)), initial=1.0) for s in sines)
-                if flattest >= NEVER_FLAT:
+                angles = [trans[st.index]] + ([] if tail is None else [tail.trans[st.index]])
+                if min(_flattest(t) for t in angles) >= NEVER_FLAT:
                     continue
             found = [] if tail is None else _across(tail, x, v, q, qd, st, offset)
             found += [(i + offset, j + offset, shape) for i, j, shape in _changes(x, v, q, qd, st)]
@@ -237,6 +235,22 @@ def find_change_points(
                 partners = (names[st.a], names[st.b])
                 out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))
     return out
+
+
+def _flattest(trans: F) -> float:
+    """The least |sin γ| of transmission angles γ (NaN passed over; 1 if none): from their
+    least and greatest, as |sin| grows with the distance from 0 and π — two passes over the
+    samples where a sine of each would cost ten times as much."""
+    if not trans.size:
+        return 1.0
+    lo = float(np.nanmin(trans, initial=np.inf))
+    hi = float(np.nanmax(trans, initial=-np.inf))
+    if lo > hi:  # all NaN
+        return 1.0
+    if lo >= 0.0 and hi <= np.pi:
+        return min(float(np.sin(min(lo, np.pi - hi))), 1.0)
+    with np.errstate(invalid="ignore"):
+        return float(np.nanmin(np.abs(np.sin(trans)), initial=1.0))
 
 
 @dataclass(frozen=True, slots=True)

@@ -55,6 +55,11 @@ def available() -> bool:
     return importlib.util.find_spec("numba") is not None
 
 
+def numba_installed() -> bool:
+    """Whether numba can be imported (whatever ``EXCAVKIN_COMPILED`` says)."""
+    return importlib.util.find_spec("numba") is not None
+
+
 def supports(plan: SolvePlan) -> bool:
     """Whether the plan can be compiled: closed-form steps only."""
     return all(isinstance(st, Fixed | Rotate | Attach | Dyad | SliderStep) for st in plan.steps)
@@ -120,8 +125,26 @@ def run(
     fill its derived quantities (``body`` and ``element``: the chunk's slices of
     :class:`~excavkin.kinematics.result.Derived`) and each
     sample's nearness to a dead position and nearest step (``near``, ``near_step``, as
-    :func:`~excavkin.kinematics.precision.nearness`)."""
+    :func:`~excavkin.kinematics.precision.nearness`).
+
+    Bytes not written are bytes not paged in: ``c.v`` and ``c.a`` come zeroed (fresh
+    ``np.zeros`` pages cost nothing until written), and a fixed point's rows are left so."""
     k, stride = table(constants(plan), c.status.size)
+    run_table(kernel, (k, stride), c, body, element, near, near_step)
+
+
+def run_table(
+    kernel: Kernel,
+    consts: tuple[F, int],
+    c: Chunk,
+    body: F,
+    element: F,
+    near: F,
+    near_step: np.ndarray,
+) -> None:
+    """:func:`run` with the chunk's constants table and stride (:func:`table`) given: a
+    whole solve's table is made once, and each chunk takes its columns."""
+    k, stride = consts
     kernel(
         c.q, c.qd, c.qdd, k, stride, c.x, c.v, c.a, c.trans, body, element,
         c.status, c.failed, c.close_tol, c.singular_tol, near, near_step,
@@ -131,7 +154,12 @@ def run(
 def compile_plan(plan: SolvePlan) -> Kernel:
     """The plan's compiled kernel: made once per structure, kept in memory and on disk (numba
     compiles it at its first call, for the argument types of that call)."""
-    text = source(plan)
+    return kernel_of(source(plan, write_at_rest=False))
+
+
+def kernel_of(text: str) -> Kernel:
+    """The ``kernel`` function of a generated source: imported once, kept in memory and on
+    disk (a source made by another module's generator, too)."""
     key = _key(text)
     with _lock:
         kernel = _kernels.get(key)
@@ -145,7 +173,12 @@ def compile_plan(plan: SolvePlan) -> Kernel:
 
 def is_compiled(plan: SolvePlan) -> bool:
     """Whether the plan's kernel has been compiled, in this process or an earlier one."""
-    key = _key(source(plan))
+    return source_compiled(source(plan, write_at_rest=False))
+
+
+def source_compiled(text: str) -> bool:
+    """Whether a generated source's kernel has been compiled, here or in an earlier process."""
+    key = _key(text)
     return key in _kernels or (cache_dir() / f"excavkin_kernel_{key}.compiled").exists()
 
 
@@ -188,9 +221,11 @@ def _load(text: str, key: str) -> Kernel:
 # source generation
 
 
-def source(plan: SolvePlan) -> str:
-    """The kernel's Python source for ``plan`` (closed-form steps only)."""
-    g = _Source()
+def source(plan: SolvePlan, *, write_at_rest: bool = True) -> str:
+    """The kernel's Python source for ``plan`` (closed-form steps only). ``write_at_rest``
+    False: a fixed point's velocity and acceleration rows are left as they come (the kernel
+    of :func:`compile_plan`, whose caller hands them in zeroed)."""
+    g = _Source(write_at_rest)
     for k, st in enumerate(plan.steps):
         if isinstance(st, Fixed):
             g.fixed(st)
@@ -242,7 +277,8 @@ _CHAINS = 8
 class _Source:
     """Lines of the loop body, and the count of constants read so far."""
 
-    def __init__(self) -> None:
+    def __init__(self, write_at_rest: bool = True) -> None:
+        self.write_at_rest = write_at_rest
         self.lines: list[str] = []
         self.n_const = 0
         #: (transmission index, plan step) of each dyad and slider
@@ -250,6 +286,9 @@ class _Source:
         self.n_checks = 0
         #: the derived values as stored (read back by the exact finiteness check)
         self.stored: list[str] = []
+        #: the points of the fixed steps: at rest, their velocity and acceleration rows are
+        #: left as they come (zero) unless ``write_at_rest``
+        self.at_rest: set[int] = set()
 
     def emit(self, *lines: str) -> None:
         self.lines += lines
@@ -277,6 +316,7 @@ class _Source:
 
     def fixed(self, st: Fixed) -> None:
         for p in st.points:
+            self.at_rest.add(p)
             self.emit(
                 f"X{p} = {self.const()}", f"Y{p} = {self.const()}",
                 f"VX{p} = 0.0", f"VY{p} = 0.0", f"AX{p} = 0.0", f"AY{p} = 0.0",
@@ -467,6 +507,8 @@ class _Source:
         stored = list(self.stored)
         for p in range(len(plan.points)):
             for arr, (X, Y) in (("x", ("X", "Y")), ("v", ("VX", "VY")), ("a", ("AX", "AY"))):
+                if arr != "x" and p in self.at_rest and not self.write_at_rest:
+                    continue
                 self.emit(f"{arr}[{p}, 0, i] = {X}{p}", f"{arr}[{p}, 1, i] = {Y}{p}")
                 self.check(f"{X}{p}", f"{Y}{p}")
                 stored += [f"{arr}[{p}, 0, i]", f"{arr}[{p}, 1, i]"]

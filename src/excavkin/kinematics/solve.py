@@ -157,8 +157,8 @@ def solve_part(
     per_sample = 8 * (6 * n_pts + len(plan.transmissions) + 3 * len(plan.bodies))
     with _small_pages(n * (per_sample + 48 * len(plan.elements))):
         x = np.empty((n_pts, 2, n))
-        v = np.empty((n_pts, 2, n))
-        a = np.empty((n_pts, 2, n))
+        v = np.zeros((n_pts, 2, n))  # (a fixed point's rows stay so: the compiled plan
+        a = np.zeros((n_pts, 2, n))  # leaves them unwritten, and never paged in)
         trans = np.empty((len(plan.transmissions), n))
         derived = Derived.empty(plan, n)
     status = np.zeros(n, dtype=np.int8)
@@ -217,6 +217,7 @@ def _check_blocks(
     error = np.full(q.shape[1], np.nan)
     found: list[ChangePoint] = []
     tail = carry.tail
+    per_sample = take(plan, slice(0, 0)) is not plan  # (else every block's plan is the plan)
     for b in blocks:
         near = (nearest[0][b], nearest[1][b])
         arrays = precision.Arrays(
@@ -224,8 +225,8 @@ def _check_blocks(
             Derived(derived.body[..., b], derived.element[..., b]),
         )  # fmt: skip
         error[b] = _check_precision(
-            take(plan, b), (q[:, b], qd[:, b], qdd[:, b]), arrays, status[b], failed[b], near,
-            tol, designs, b.start,
+            take(plan, b) if per_sample else plan, (q[:, b], qd[:, b], qdd[:, b]), arrays,
+            status[b], failed[b], near, tol, designs, b.start,
         )  # fmt: skip
         here = (x[..., b], v[..., b], q_given[:, b], qd[:, b], trans[:, b])
         found += find_change_points(
@@ -341,13 +342,15 @@ def _solve_chunks(
     :func:`~excavkin.kinematics.precision.nearness`)."""
     n = full.status.size
     kernel = compiled_plan.compile_plan(plan) if fast else None
+    # the compiled loop's constants, made once: each chunk takes its columns
+    consts = compiled_plan.table(compiled_plan.constants(plan), n) if fast else None
 
     def one(s: int) -> None:
         e = min(s + chunk, n)
         part = slice(s, e)
         q = full.q[:, part]
         if designs is None:
-            here = take(plan, part)  # per-sample constants where the plan holds them
+            here = plan if consts is not None else take(plan, part)  # per-sample constants
         else:
             here, bad = designs.at(part)
             if bad.any():  # a design that builds no mechanism: a status, and no values
@@ -372,7 +375,12 @@ def _solve_chunks(
         near, near_step = nearest[0][part], nearest[1][part]
         if kernel is not None:
             body, element = derived.body[:, :, part], derived.element[:, :, part]
-            compiled_plan.run(kernel, here, c, body, element, near, near_step)
+            if designs is None and consts is not None:
+                k, stride = consts
+                table = (k[:, part] if stride else k, stride)
+                compiled_plan.run_table(kernel, table, c, body, element, near, near_step)
+            else:
+                compiled_plan.run(kernel, here, c, body, element, near, near_step)
         else:
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 signs = run_steps(here, c, 2, newton=False)

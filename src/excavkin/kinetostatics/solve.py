@@ -13,6 +13,7 @@ from collections.abc import Iterable
 import numpy as np
 
 from excavkin.errors import InputError
+from excavkin.kinematics.compiled import THRESHOLD, available
 from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import (
@@ -105,6 +106,7 @@ def solve_forces(
     inertia: bool = True,
     method: str = "sparse",
     chunk: int = 8192,
+    compiled: bool | None = None,
 ) -> ForceResult:
     """Joint forces, linear-driver forces and rotary-driver torques for every sample.
 
@@ -125,6 +127,11 @@ def solve_forces(
         with LAPACK (slow; for cross-checking).
     chunk : int
         Samples per pass.
+    compiled : bool, optional
+        Run the ``"sparse"`` elimination as one compiled loop over samples
+        (:mod:`excavkin.kinetostatics.compiled`, needs numba) or in NumPy. Default: compiled
+        when numba is installed and the batch is large (the rule of the kinematics'
+        ``compiled``).
 
     Returns
     -------
@@ -160,23 +167,8 @@ def solve_forces(
     with np.errstate(divide="ignore", invalid="ignore"):
         if method == "dense":
             _solve_dense(sy, mp, ev, x, a, eps, out, singular)
-        else:
-            for s in range(0, n, chunk):
-                sl = slice(s, min(s + chunk, n))
-                xc = x[:, :, sl]
-                rhs = _body_loads(
-                    sy,
-                    mp.at(sl),
-                    ev,
-                    xc,
-                    None if a is None else a[:, :, sl],
-                    None if eps is None else eps[:, sl],
-                    sl,
-                )
-                sol, sing = solve_system(sy, xc, rhs)
-                for col, val in enumerate(sol):
-                    out[col, sl] = val
-                singular[sl] = sing
+        elif not _solve_compiled((sy, mp, ev), (x, a, eps), out, singular, compiled):
+            _solve_sparse((sy, mp, ev), (x, a, eps), out, singular, chunk)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
     bad = singular | ~result.status.solved
@@ -197,6 +189,56 @@ def solve_forces(
         evaluated=ev,
         mass=mp,
     )
+
+
+def _solve_sparse(
+    known: tuple[StaticsSystem, MassProperties, EvaluatedLoads],
+    motion: tuple[F, F | None, F | None],
+    out: F,
+    singular: np.ndarray,
+    chunk: int,
+) -> None:
+    """The sparse elimination in NumPy, chunk by chunk."""
+    sy, mp, ev = known
+    x, a, eps = motion
+    for s in range(0, out.shape[1], chunk):
+        sl = slice(s, min(s + chunk, out.shape[1]))
+        xc = x[:, :, sl]
+        rhs = _body_loads(
+            sy,
+            mp.at(sl),
+            ev,
+            xc,
+            None if a is None else a[:, :, sl],
+            None if eps is None else eps[:, sl],
+            sl,
+        )
+        sol, sing = solve_system(sy, xc, rhs)
+        for col, val in enumerate(sol):
+            out[col, sl] = val
+        singular[sl] = sing
+
+
+def _solve_compiled(
+    known: tuple[StaticsSystem, MassProperties, EvaluatedLoads],
+    motion: tuple[F, F | None, F | None],
+    out: F,
+    singular: np.ndarray,
+    compiled: bool | None,
+) -> bool:
+    """The sparse elimination as its compiled kernel, if ``compiled`` (see
+    :func:`solve_forces`) asks for it here; whether it ran."""
+    from excavkin.kinetostatics import compiled as kernel
+
+    n = out.shape[1]
+    if compiled is False or compiled is None and (n < THRESHOLD or not available()):
+        return False  # (before the source is traced: small batches stay cheap)
+    x, a, eps = motion
+    text, values = kernel.source(*known, inertia=a is not None)
+    if not kernel.use(text, n, compiled):
+        return False
+    kernel.solve(text, values, x, a, eps, out, singular)
+    return True
 
 
 def _solve_dense(

@@ -1,0 +1,384 @@
+"""The kinetostatic elimination compiled to one machine-code loop over samples (numba, optional).
+
+:func:`~excavkin.kinetostatics.solve.solve_forces` reduces each moving body's loads to a force
+and a moment, assembles the equilibrium rows, eliminates the constant pivots, solves the small
+dense block with partial pivoting and substitutes back — each step an array operation over a
+chunk of samples. Here those same steps are *traced*: they run once on symbols instead of
+arrays, and every arithmetic operation they do is written down as one line of straight-line
+source. numba compiles the loop over samples of that source (as
+:mod:`excavkin.kinematics.compiled` does for a solve plan), so a sample's equations stay in
+registers. Because the trace runs the NumPy path's own functions (:func:`_body_loads`,
+:func:`_assemble`, :func:`_eliminate_one`, :func:`_mul` …), the operations and their order are
+the NumPy path's; only the dense block's row swaps, which NumPy makes with ``where``, become a
+branch. Tests hold the two to 1e-15 of each column's scale.
+
+The source depends on the equilibrium system's structure, which bodies have a mass (and a
+moment of inertia), which loads act where, and whether inertia and gravity are on; every value —
+a mass, a centre of mass, a load — is read from a constants table (one column for all samples,
+or one per sample for a family of designs or loads that vary), so one kernel serves every
+design of a model, and it is cached on disk.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from typing import Any
+
+import numpy as np
+
+from excavkin.kinematics import compiled as kernels
+from excavkin.kinematics.kernels import F
+from excavkin.kinetostatics.equilibrium import (
+    StaticsSystem,
+    _assemble,
+    _div,
+    _eliminate_one,
+    _mul,
+    _neg,
+    _sub,
+)
+from excavkin.kinetostatics.inertia import MassProperties
+from excavkin.kinetostatics.loads import EvaluatedLoads
+
+#: samples per call of the kernel (a thread's share of the work at a time)
+CHUNK = 32768
+
+
+class _Sym:
+    """A per-sample value while the elimination is traced: each operation on it writes a line
+    computing a new local variable. NumPy's scalars defer to it (``__array_ufunc__``)."""
+
+    __slots__ = ("g", "name", "nonzero")
+
+    def __init__(self, g: _Source, name: str, nonzero: bool = True) -> None:
+        self.g, self.name, self.nonzero = g, name, nonzero
+
+    def _op(self, a: object, op: str, b: object) -> _Sym:
+        return self.g.tmp(f"{_text(a)} {op} {_text(b)}")
+
+    def __mul__(self, o: object) -> _Sym:
+        return self._op(self, "*", o)
+
+    def __rmul__(self, o: object) -> _Sym:
+        return self._op(o, "*", self)
+
+    def __add__(self, o: object) -> _Sym:
+        return self._op(self, "+", o)
+
+    def __radd__(self, o: object) -> _Sym:
+        return self._op(o, "+", self)
+
+    def __sub__(self, o: object) -> _Sym:
+        return self._op(self, "-", o)
+
+    def __rsub__(self, o: object) -> _Sym:
+        return self._op(o, "-", self)
+
+    def __truediv__(self, o: object) -> _Sym:
+        return self._op(self, "/", o)
+
+    def __rtruediv__(self, o: object) -> _Sym:
+        return self._op(o, "/", self)
+
+    def __neg__(self) -> _Sym:
+        return self.g.tmp(f"-{self.name}")
+
+    def __getitem__(self, _: object) -> _Sym:  # a chunk's slice of a per-sample value
+        return self
+
+    def __ne__(self, other: object) -> bool:  # "is it ever nonzero", as the NumPy path asks
+        return self.nonzero if other == 0.0 else NotImplemented  # type: ignore[return-value]
+
+    def __eq__(self, other: object) -> bool:
+        return not self.nonzero if other == 0.0 else NotImplemented  # type: ignore[return-value]
+
+    __hash__ = object.__hash__
+
+    def __array_ufunc__(self, ufunc: Any, method: str, *args: Any, **kw: Any) -> Any:
+        ops = {np.multiply: "*", np.add: "+", np.subtract: "-", np.true_divide: "/"}
+        if method != "__call__" or kw:
+            return NotImplemented
+        if ufunc in ops and len(args) == 2:
+            return self._op(args[0], ops[ufunc], args[1])
+        if ufunc is np.negative:
+            return -args[0]
+        if ufunc is np.sqrt:
+            return self.g.tmp(f"math.sqrt({_text(args[0])})")
+        return NotImplemented
+
+
+def _text(v: object) -> str:
+    """A value as source: a symbol's name, or a float literal that reads back exactly."""
+    if isinstance(v, _Sym):
+        return v.name
+    f = float(v)  # type: ignore[arg-type]
+    if math.isnan(f):
+        return "nan"
+    if math.isinf(f):
+        return "inf" if f > 0 else "-inf"
+    return f"({f!r})"
+
+
+class _Source:
+    """The lines of the loop body, and the values the constants table holds."""
+
+    def __init__(self) -> None:
+        self.lines: list[str] = []
+        self.values: list[float | F] = []
+        self.loaded: dict[str, _Sym] = {}
+        self.n_tmp = 0
+
+    def emit(self, line: str) -> None:
+        self.lines.append(line)
+
+    def tmp(self, expr: str) -> _Sym:
+        self.n_tmp += 1
+        name = f"t{self.n_tmp}"
+        self.emit(f"{name} = {expr}")
+        return _Sym(self, name)
+
+    def load(self, name: str, expr: str) -> _Sym:
+        """A value read once per sample (a point's coordinate, a body's ε)."""
+        if name not in self.loaded:
+            self.emit(f"{name} = {expr}")
+            self.loaded[name] = _Sym(self, name)
+        return self.loaded[name]
+
+    def value(self, v: Any) -> _Sym:
+        """A constant or per-sample value of the loads or masses: a row of the table."""
+        k = len(self.values)
+        arr = np.asarray(v, dtype=np.float64)
+        self.values.append(float(arr) if arr.ndim == 0 else arr)
+        name = f"c{k}"
+        self.emit(f"{name} = K[{k}, j]")
+        return _Sym(self, name, bool(np.any(arr != 0.0)))
+
+
+class _Points:
+    """``arr[k, c]`` of a (n_points, 2, n) array (or ``arr[j]`` of a (n_bodies, n) one), read
+    at the sample."""
+
+    def __init__(self, g: _Source, arr: str) -> None:
+        self.g, self.arr = g, arr
+
+    def __getitem__(self, key: Any) -> _Sym:
+        if isinstance(key, tuple):
+            k, c = (int(i) for i in key)
+            return self.g.load(f"{self.arr}{k}_{c}", f"{self.arr}[{k}, {c}, i]")
+        return self.g.load(f"{self.arr}{int(key)}", f"{self.arr}[{int(key)}, i]")
+
+
+class _Masses:
+    """The mass properties as the traced :func:`_body_loads` reads them: each value a row of the
+    constants table, the bodies with a mass and their base points as they are."""
+
+    def __init__(self, g: _Source, mp: MassProperties) -> None:
+        self.base = mp.base
+        self.massive = mp.massive
+        nb = len(mp.base)
+        self.mass = [g.value(mp.mass[j]) if j in self.massive else 0.0 for j in range(nb)]
+        self.inertia = [g.value(mp.inertia[j]) if j in self.massive else 0.0 for j in range(nb)]
+        self.com = [
+            (g.value(mp.com[j, 0]), g.value(mp.com[j, 1])) if j in self.massive else (0.0, 0.0)
+            for j in range(nb)
+        ]
+
+
+def _loads(g: _Source, ev: EvaluatedLoads) -> EvaluatedLoads:
+    forces = tuple((b, p, g.value(fx), g.value(fy)) for b, p, fx, fy in ev.forces)
+    torques = tuple((b, r, g.value(tau)) for b, r, tau in ev.torques)
+    gravity = None if ev.gravity is None else (g.value(ev.gravity[0]), g.value(ev.gravity[1]))
+    return EvaluatedLoads(forces, torques, gravity)  # type: ignore[arg-type]
+
+
+_HEAD = '''\
+"""Generated by excavkin.kinetostatics.compiled from an equilibrium system; do not edit."""
+import math
+
+import numba
+
+nan, inf = math.nan, math.inf
+A1, A2, A3 = numba.float64[:], numba.float64[:, :], numba.float64[:, :, :]
+SIGNATURE = numba.void(A3, A3, A2, A2, numba.int64, A2, numba.boolean[:], numba.float64)
+
+
+@numba.njit(SIGNATURE, nogil=True, cache=True, error_model="numpy")
+def kernel(x, a, eps, K, ks, out, singular, rel_tol):
+    for i in range(out.shape[1]):
+        j = i * ks
+'''
+
+
+#: traced sources by what they depend on (:func:`_shape`); a few kept
+_traced: dict[tuple[Any, ...], str] = {}
+_lock = threading.Lock()
+
+
+def _shape(
+    sy: StaticsSystem, mp: MassProperties, ev: EvaluatedLoads, inertia: bool
+) -> tuple[Any, ...]:
+    """All that the traced source depends on: the system, which bodies have a mass and a
+    moment of inertia, where each load acts, whether gravity and inertia are on."""
+    massive = mp.massive
+    return (
+        sy,
+        inertia,
+        massive,
+        tuple(bool(np.any(mp.inertia[j] != 0.0)) for j in massive),
+        tuple(int(i) for i in mp.base.ravel()),
+        tuple((b, p) for b, p, _, _ in ev.forces),
+        tuple((b, r) for b, r, _ in ev.torques),
+        ev.gravity is None,
+    )
+
+
+def source(
+    sy: StaticsSystem, mp: MassProperties, ev: EvaluatedLoads, inertia: bool
+) -> tuple[str, list[float | F]]:
+    """The kernel's source for this system, masses and loads, and the values its constants
+    table holds (in the order it reads them). The trace is made once for each
+    :func:`_shape`; the values are read anew each time."""
+    key = _shape(sy, mp, ev, inertia)
+    g = _Source()
+    masses: Any = _Masses(g, mp)
+    loads = _loads(g, ev)
+    text = _traced.get(key)
+    if text is None:
+        text = _trace(g, sy, masses, loads, inertia)
+        with _lock:  # (forces may be solved on several threads)
+            while len(_traced) >= 16:
+                _traced.pop(next(iter(_traced)), None)
+            _traced[key] = text
+    return text, g.values
+
+
+def _trace(g: _Source, sy: StaticsSystem, masses: Any, loads: EvaluatedLoads, inertia: bool) -> str:
+    """Run the NumPy path's elimination on the symbols of ``g``: the kernel's source."""
+    from excavkin.kinetostatics.solve import _body_loads
+
+    x = _Points(g, "x")
+    acc = _Points(g, "a") if inertia else None
+    eps = _Points(g, "eps") if inertia else None
+    rhs_body = _body_loads(sy, masses, loads, x, acc, eps, slice(None))  # type: ignore[arg-type]
+    rows = _assemble(sy, x)  # type: ignore[arg-type]
+    rhs: list[Any] = [0.0] * (2 * len(sy.nodes))
+    for fx, fy, mz in rhs_body:
+        rhs += [_neg(fx), _neg(fy), _neg(mz)]
+    for p in sy.pivots:
+        _eliminate_one(rows, rhs, p.row, p.col, p.value, p.targets)
+    sol: list[Any] = [0.0] * sy.size
+    g.emit("sg = False")
+    if sy.residual_cols:
+        a = [[rows[r].get(col, 0.0) for col in sy.residual_cols] for r in sy.residual_rows]
+        y = _dense(g, a, [rhs[r] for r in sy.residual_rows])
+        for col, val in zip(sy.residual_cols, y, strict=True):
+            sol[col] = val
+    for p in reversed(sy.pivots):
+        s = rhs[p.row]
+        for j, w in rows[p.row].items():
+            if j != p.col:
+                s = _sub(s, _mul(w, sol[j]))
+        sol[p.col] = _div(s, p.value)
+    for col, val in enumerate(sol):
+        g.emit(f"out[{col}, i] = {_text(val)}")
+    g.emit("singular[i] = sg")
+    return _HEAD + "".join(f"        {line}\n" for line in g.lines)
+
+
+def _dense(g: _Source, a: list[list[Any]], b: list[Any]) -> list[_Sym]:
+    """Gaussian elimination with partial pivoting of the dense block, as
+    :func:`~excavkin.kinetostatics.equilibrium._dense_solve` does it for each sample: the same
+    operations, a row swap where its ``where`` swaps. Sets ``sg``: a pivot below ``rel_tol``
+    times the block's largest entry."""
+    r = len(b)
+    m = [[f"m{i}_{k}" for k in range(r)] for i in range(r)]
+    for i in range(r):
+        for k in range(r):
+            g.emit(f"{m[i][k]} = {_text(a[i][k])}")
+        g.emit(f"b{i} = {_text(b[i])}")
+    g.emit("scale = 0.0")
+    for row in m:
+        for v in row:  # np.maximum: a NaN wins
+            g.emit(f"w = abs({v})")
+            g.emit("scale = scale if (scale >= w or scale != scale) else w")
+    for k in range(r):
+        for i in range(k + 1, r):
+            g.emit(f"if abs({m[i][k]}) > abs({m[k][k]}):")
+            for j in range(k, r):
+                g.emit(f"    {m[k][j]}, {m[i][j]} = {m[i][j]}, {m[k][j]}")
+            g.emit(f"    b{k}, b{i} = b{i}, b{k}")
+        g.emit(f"if abs({m[k][k]}) <= rel_tol * scale:")
+        g.emit("    sg = True")
+        g.emit(f"inv = 1.0 / {m[k][k]}")
+        for i in range(k + 1, r):
+            g.emit(f"f = {m[i][k]} * inv")
+            for j in range(k + 1, r):
+                g.emit(f"{m[i][j]} = {m[i][j]} - f * {m[k][j]}")
+            g.emit(f"b{i} = b{i} - f * b{k}")
+    for k in range(r - 1, -1, -1):
+        g.emit(f"s = b{k}")
+        for j in range(k + 1, r):
+            g.emit(f"s = s - {m[k][j]} * y{j}")
+        g.emit(f"y{k} = s / {m[k][k]}")
+    return [_Sym(g, f"y{k}") for k in range(r)]
+
+
+def use(text: str, n: int, compiled: bool | None) -> bool:
+    """Whether forces of ``n`` samples are solved by the compiled kernel of ``text``: the rule
+    of :func:`excavkin.kinematics.compiled.use` (``compiled`` None: numba installed and a large
+    batch; True: required)."""
+    if compiled is None:
+        if n < kernels.THRESHOLD or not kernels.available():
+            return False
+        return n >= kernels.COMPILE_AT or kernels.source_compiled(text)
+    if compiled and not kernels.numba_installed():
+        from excavkin.errors import InputError
+
+        raise InputError(
+            "compiled=True: the compiled forces need numba (pip install 'excavkin[fast]'); "
+            "leave compiled unset to choose automatically"
+        )
+    return compiled
+
+
+def solve(
+    text: str,
+    values: list[float | F],
+    x: F,
+    a: F | None,
+    eps: F | None,
+    out: F,
+    singular: np.ndarray,
+    workers: int | None = None,
+) -> None:
+    """Fill ``out`` (n_unknowns, n) and ``singular`` (n,) with the kernel of ``text``, over
+    chunks of samples on a thread per core. ``x``, ``a``: (n_points, 2, n); ``eps``:
+    (n_bodies, n) (``a`` and ``eps`` None: no inertia)."""
+    kernel = kernels.kernel_of(text)
+    n = out.shape[1]
+    k, stride = kernels.table(values, n)
+    acc = x if a is None else a
+    e = np.empty((1, n)) if eps is None else eps
+
+    def one(s: int) -> None:
+        part = slice(s, min(s + CHUNK, n))
+        kp = k[:, part] if stride else k
+        kernel(x[:, :, part], acc[:, :, part], e[:, part], kp, stride, out[:, part],
+               singular[part], 1e-12)  # fmt: skip
+
+    _over(n, workers, one)
+
+
+def _over(n: int, workers: int | None, one: Callable[[int], None]) -> None:
+    starts = range(0, n, CHUNK)
+    threads = min(workers or os.cpu_count() or 1, len(starts))
+    if threads > 1:
+        with ThreadPoolExecutor(threads) as pool:
+            list(pool.map(one, starts))
+    else:
+        for s in starts:
+            one(s)
