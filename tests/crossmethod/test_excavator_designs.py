@@ -218,3 +218,51 @@ def test_command_line_optimize_and_the_core_reader_refusing(tmp_path, optimum) -
     r = CliRunner().invoke(main, ["study", STUDY, "-o", str(tmp_path / "t.parquet")])
     assert r.exit_code != 0 and "excavkin excavator optimize" in r.output
     assert "Traceback" not in r.output
+
+
+def test_a_machine_study_table_is_its_designs_evaluated_and_resumes(tmp_path, study) -> None:  # type: ignore[no-untyped-def]
+    """`excavkin excavator study`: the table holds the design of experiments' designs, each
+    row equal to evaluating that design directly; an interrupted run resumes to the same
+    table; the units are in the metadata."""
+    import dataclasses
+    import json
+
+    import pandas as pd
+    import pyarrow.parquet as pq
+    from click.testing import CliRunner
+
+    from excavkin.cli import main
+    from excavkin.studies.design_space import sample_designs
+    from excavkin.studies.study import run_study
+
+    small = dataclasses.replace(study, samples=48)
+    whole = run_study(small, tmp_path / "whole.parquet", chunk_samples=10 * 57)
+    table = pd.read_parquet(whole)
+    designs = sample_designs(small.bounds, 48, small.method, small.seed, (0, 48))
+    direct = small.evaluate(designs)
+    assert list(table["design"]) == list(range(48))
+    pd.testing.assert_frame_equal(table.drop(columns="design"), direct, check_exact=True)
+    units = json.loads(pq.read_schema(whole).metadata[b"excavkin.units"])
+    assert units["design.N.x"] == "m" and units["force_min"] == "N"
+    # interrupted after two chunks: the rest is computed on resuming, the table is the same
+    parts = tmp_path / ".resumed.parquet.parts"
+    calls = []
+
+    def stop_after_two(done: int, total: int) -> None:
+        calls.append(done)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_study(small, tmp_path / "resumed.parquet", chunk_samples=10 * 57,
+                  progress=stop_after_two)  # fmt: skip
+    assert len(list(parts.glob("part-*.parquet"))) == 2
+    resumed = run_study(small, tmp_path / "resumed.parquet", chunk_samples=10 * 57)
+    assert pd.read_parquet(resumed).equals(table)
+    # the command line, by the built-in study's name
+    out = tmp_path / "linkage.parquet"
+    r = CliRunner().invoke(main, ["excavator", "study", STUDY, "-o", str(out), "-q"])
+    assert r.exit_code == 0, r.output
+    assert "4,096 designs" in r.output and out.stat().st_size > 0
+    r = CliRunner().invoke(main, ["excavator", "study", STUDY, "-o", str(out), "-q"])
+    assert r.exit_code != 0 and "--force" in r.output and "Traceback" not in r.output

@@ -1211,6 +1211,48 @@ def dig(
         _save_png(plot_dig(m, d).figure, plot, force)
 
 
+@command.command("study")
+@click.argument("spec", metavar="STUDY")
+@click.option(
+    "-o",
+    "--out",
+    default=None,
+    metavar="FILE.parquet",
+    help="The table, one row per design (default: STUDY.parquet in the current folder).",
+)
+@click.option("--force", is_flag=True, help="Replace the table if it exists.")
+@click.option(
+    "--restart",
+    is_flag=True,
+    help="Start anew instead of resuming the finished designs of an interrupted run.",
+)
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="dask|tcp://HOST:PORT",
+    help="Run the chunks of designs on a local Dask cluster ('dask') or an existing Dask "
+    "scheduler (its address); the table is the same as a local run's.",
+)
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
+@handle_errors
+def study(
+    spec: str, out: str | None, force: bool, restart: bool, scheduler: str | None, quiet: bool
+) -> None:
+    """A design study of a machine: designs sampled in the box of STUDY.toml's parameter
+    bounds (its [study] names a machine), each at every pose (cylinder lengths) in one batch;
+    one row per design to a Parquet table, streamed and resumable."""
+    from pathlib import Path
+
+    from excavkin.cli.commands.study import run_with_progress
+    from excavkin.excavator.study import load_machine_study
+
+    path = model_path(spec, "study")
+    subject = load_machine_study(path)
+    target = Path(out) if out else Path(path.stem + ".parquet")
+    title = f"{subject.machine.name} ({subject.method}, seed {subject.seed})"
+    run_with_progress(subject, title, target, force, restart, scheduler, quiet)
+
+
 @command.command("optimize")
 @click.argument("study", type=click.Path(dir_okay=False))
 @click.option(

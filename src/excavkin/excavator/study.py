@@ -161,6 +161,10 @@ class MachineStudy:
     constraints : tuple of Constraint
     optimize : dict
         The ``[optimize]`` settings (empty if the file has none).
+    method, samples, seed
+        The design of experiments of ``excavkin excavator study`` (as a model's study).
+    source : str
+        The machine file's text (for the study's fingerprint).
     """
 
     machine: Machine
@@ -169,10 +173,58 @@ class MachineStudy:
     metrics: tuple[Metric, ...]
     constraints: tuple[Constraint, ...] = ()
     optimize: dict[str, Any] = field(default_factory=dict)
+    method: str = "sobol"
+    samples: int = 1024
+    seed: int = 0
+    source: str = ""
 
     def evaluate(self, designs: Mapping[str, F]) -> pd.DataFrame:
         """The study's metrics of ``designs`` (parameter → values), one row per design."""
         return evaluate_machine(self.machine, designs, self.lengths, self.metrics, self.constraints)
+
+    # ---- what run_study needs (excavkin.studies.study.Subject)
+    @property
+    def designs(self) -> int:
+        return self.samples ** len(self.bounds) if self.method == "grid" else self.samples
+
+    @property
+    def pose_count(self) -> int:
+        return len(self.lengths)
+
+    def fingerprint(self) -> str:
+        """A hash of everything that decides the results, so that parts of another study are
+        never mixed in."""
+        import hashlib
+        import json
+
+        text = json.dumps(
+            {
+                "machine": self.source,
+                "bounds": self.bounds,
+                "lengths": np.asarray(self.lengths).tolist(),
+                "metrics": [(m.name, m.column, m.reduce, m.target) for m in self.metrics],
+                "constraints": [(c.metric, c.low, c.high) for c in self.constraints],
+                "sampling": (self.method, self.samples, self.seed),
+            },
+            sort_keys=True,
+        )
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+    def prepare(self) -> tuple[dict[str, str], str]:
+        """Each column's kind and the machine's name, for the table's metadata."""
+        kinds = {f"design.{k}": machine_parameter_kind(k, self.machine) for k in self.bounds}
+        for m in self.metrics:
+            kinds[m.name] = "dimensionless" if m.reduce.startswith("arg") else COLUMNS[m.column]
+        return kinds, self.machine.name
+
+    def evaluate_chunk(self, start: int, stop: int) -> pd.DataFrame:
+        """The designs ``start:stop`` of the design of experiments, with their index."""
+        from excavkin.studies.design_space import sample_designs
+
+        part = sample_designs(self.bounds, self.samples, self.method, self.seed, (start, stop))
+        frame = self.evaluate(part)
+        frame.insert(0, "design", np.arange(start, stop))
+        return frame
 
 
 def load_machine_study(path: str | Path) -> MachineStudy:
@@ -191,8 +243,9 @@ def load_machine_study(path: str | Path) -> MachineStudy:
     r.keys(r.data, {"study", "units", "parameters", "poses", "metrics", "constraints", "optimize"},
            "the file")  # fmt: skip
     head = r.table("study", required=True)
-    r.keys(head, {"machine"}, "study")
-    machine = _machine(r, head.get("machine"), Path(path).parent)
+    r.keys(head, {"machine", "method", "samples", "seed"}, "study")
+    machine, source = _machine(r, head.get("machine"), Path(path).parent)
+    method, samples, seed = sf.read_sampling(r, head)
     known = machine_parameters(machine)
     bounds = sf.read_bounds(r, known, lambda k: machine_parameter_kind(k, machine))
     table = r.table("poses")
@@ -205,13 +258,15 @@ def load_machine_study(path: str | Path) -> MachineStudy:
              for m in metrics}  # fmt: skip
     constraints = sf.read_constraints(r, kinds)
     settings = sf.read_optimize(r, [m.name for m in metrics]) if "optimize" in r.data else {}
-    return MachineStudy(
+    study = MachineStudy(
         machine, bounds, pose_lengths(machine, poses), tuple(metrics), tuple(constraints),
-        settings,
+        settings, method, samples, seed, source,
     )  # fmt: skip
+    sf.check_design_count(r, study.designs)
+    return study
 
 
-def _machine(r: Any, text: Any, folder: Path) -> Machine:
+def _machine(r: Any, text: Any, folder: Path) -> tuple[Machine, str]:
     import excavkin
     from excavkin.excavator.machine_file import load_machine
 
@@ -224,7 +279,7 @@ def _machine(r: Any, text: Any, folder: Path) -> Machine:
                         "example", "study", "machine")  # fmt: skip
         given = excavkin.example_path(text)
     try:
-        return load_machine(given)
+        return load_machine(given), given.read_text(encoding="utf-8")
     except ExcavkinError as exc:
         raise r.err(f"the machine cannot be read: {exc}", "study", "machine") from None
 

@@ -18,7 +18,7 @@ import shutil
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -70,6 +70,27 @@ class Study:
     def designs(self) -> int:
         return self.samples ** len(self.bounds) if self.method == "grid" else self.samples
 
+    @property
+    def pose_count(self) -> int:
+        return self.poses.count
+
+    def prepare(self) -> tuple[dict[str, str], str]:
+        """Refuse, before any solve, unknown parameters, columns and metric names; return each
+        column's kind and the model's name, for the table's metadata."""
+        mech = _check(self)
+        return _kinds(self, mech), mech.name
+
+    def evaluate_chunk(self, start: int, stop: int) -> pd.DataFrame:
+        """The designs ``start:stop``: their rows, with their ``design`` index. A pure function
+        of the study, so that it can run anywhere (a Dask worker)."""
+        from excavkin import load
+
+        mech = load(self.model)
+        part = sample_designs(self.bounds, self.samples, self.method, self.seed, (start, stop))
+        frame = evaluate(mech, part, self.poses, self.metrics, self.constraints, self.loads)
+        frame.insert(0, "design", np.arange(start, stop))
+        return frame
+
     def fingerprint(self) -> str:
         """A hash of everything that decides the results (the model file's text included), so
         that parts of another study are never mixed in."""
@@ -91,27 +112,37 @@ class Study:
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
-def chunks(study: Study, chunk_samples: int = CHUNK_SAMPLES) -> list[tuple[int, int]]:
+class Subject(Protocol):
+    """What :func:`run_study` runs: a :class:`Study` of a model, or a study of another
+    subject (a machine) with the same sampling, chunks and table."""
+
+    @property
+    def designs(self) -> int: ...
+
+    @property
+    def pose_count(self) -> int: ...
+
+    def fingerprint(self) -> str: ...
+
+    def prepare(self) -> tuple[dict[str, str], str]: ...
+
+    def evaluate_chunk(self, start: int, stop: int) -> pd.DataFrame: ...
+
+
+def chunks(study: Subject, chunk_samples: int = CHUNK_SAMPLES) -> list[tuple[int, int]]:
     """The designs' index ranges, each solved as one batch."""
-    per = max(1, chunk_samples // study.poses.count)
+    per = max(1, chunk_samples // study.pose_count)
     n = study.designs
     return [(s, min(s + per, n)) for s in range(0, n, per)]
 
 
-def evaluate_chunk(study: Study, start: int, stop: int) -> pd.DataFrame:
-    """The designs ``start:stop`` of the study: its rows, with their ``design`` index. A pure
-    function of its arguments, so that it can run anywhere (a Dask worker)."""
-    from excavkin import load
-
-    mech = load(study.model)
-    part = sample_designs(study.bounds, study.samples, study.method, study.seed, (start, stop))
-    frame = evaluate(mech, part, study.poses, study.metrics, study.constraints, study.loads)
-    frame.insert(0, "design", np.arange(start, stop))
-    return frame
+def evaluate_chunk(study: Subject, start: int, stop: int) -> pd.DataFrame:
+    """The designs ``start:stop`` of the study (module level, for a Dask task)."""
+    return study.evaluate_chunk(start, stop)
 
 
 def run_study(
-    study: Study,
+    study: Subject,
     out: str | Path,
     *,
     force: bool = False,
@@ -146,7 +177,7 @@ def run_study(
     from excavkin.io.files import check_target
 
     target = check_target(out, force=force, suffixes=(".parquet",))
-    mech = _check(study)
+    kinds, name = study.prepare()
     parts = target.parent / f".{target.name}.parts"
     fingerprint = study.fingerprint()
     stamp = parts / "study.json"
@@ -163,7 +194,7 @@ def run_study(
         done += e - s
         if progress is not None:
             progress(done, study.designs)
-    _assemble(parts, target, study, mech)
+    _assemble(parts, target, study.fingerprint(), kinds, name)
     shutil.rmtree(parts)
     return target
 
@@ -193,7 +224,7 @@ def _check(study: Study) -> Mechanism:
 
 
 def _run(
-    study: Study, todo: list[tuple[int, int]], scheduler: str | None
+    study: Subject, todo: list[tuple[int, int]], scheduler: str | None
 ) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
     if scheduler is None:
         for s, e in todo:
@@ -255,7 +286,9 @@ def _write_part(frame: pd.DataFrame, path: Path) -> None:
     write_atomic(path, lambda tmp: frame.to_parquet(tmp, index=False))
 
 
-def _assemble(parts: Path, target: Path, study: Study, mech: Mechanism) -> None:
+def _assemble(
+    parts: Path, target: Path, fingerprint: str, kinds: dict[str, str], name: str
+) -> None:
     """The parts in design order, as one table with units in its metadata, moved into place
     whole; one part in memory at a time."""
     import pyarrow as pa
@@ -266,12 +299,11 @@ def _assemble(parts: Path, target: Path, study: Study, mech: Mechanism) -> None:
 
     files = sorted(parts.glob("part-*.parquet"))
     schema = pq.read_schema(files[0])
-    kinds = _kinds(study, mech)
     meta = {
         b"excavkin.units": json.dumps({k: si_unit(v) for k, v in kinds.items()}).encode(),
         b"excavkin.kinds": json.dumps(kinds).encode(),
-        b"excavkin.model": mech.name.encode(),
-        b"excavkin.study": study.fingerprint().encode(),
+        b"excavkin.model": name.encode(),
+        b"excavkin.study": fingerprint.encode(),
     }
     schema = schema.with_metadata({**(schema.metadata or {}), **meta})
 

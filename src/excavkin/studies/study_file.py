@@ -72,7 +72,8 @@ def load_study(path: str | Path) -> Study:
     head = r.table("study", required=True)
     if "machine" in head:
         raise r.err(
-            "a study of an excavator machine: run it with `excavkin excavator optimize`",
+            "a study of an excavator machine: run it with `excavkin excavator study` or "
+            "`excavkin excavator optimize`",
             "study",
             "machine",
         )
@@ -82,11 +83,7 @@ def load_study(path: str | Path) -> Study:
         mech = excavkin.load(model)
     except ExcavkinError as exc:
         raise r.err(f"the model cannot be read: {exc}", "study", "model") from None
-    method = head.get("method", "sobol")
-    if method not in METHODS:
-        raise r.err(f"must be one of {', '.join(METHODS)}, not {method!r}", "study", "method")
-    samples = _whole(r, head.get("samples", 1024), "samples", 1, MAX_DESIGNS)
-    seed = _whole(r, head.get("seed", 0), "seed", 0, 2**63 - 1)
+    method, samples, seed = read_sampling(r, head)
     loads = head.get("loads")
     if loads not in (None, "model"):
         raise r.err('must be "model" (the model\'s own loads and gravity)', "study", "loads")
@@ -115,9 +112,24 @@ def load_study(path: str | Path) -> Study:
         seed=seed,
         loads=loads,
     )
-    if study.designs > MAX_DESIGNS:
-        raise r.err(f"{study.designs:,} designs is more than {MAX_DESIGNS:,}", "study", "samples")
+    check_design_count(r, study.designs)
     return study
+
+
+def read_sampling(r: TomlReader, head: Mapping[str, Any]) -> tuple[str, int, int]:
+    """``[study]``'s ``method`` (default sobol), ``samples`` (1024) and ``seed`` (0)."""
+    method = head.get("method", "sobol")
+    if method not in METHODS:
+        raise r.err(f"must be one of {', '.join(METHODS)}, not {method!r}", "study", "method")
+    samples = _whole(r, head.get("samples", 1024), "samples", 1, MAX_DESIGNS)
+    seed = _whole(r, head.get("seed", 0), "seed", 0, 2**63 - 1)
+    return str(method), samples, seed
+
+
+def check_design_count(r: TomlReader, designs: int) -> None:
+    """Refuse more designs than a study may have (a grid's count grows with its levels)."""
+    if designs > MAX_DESIGNS:
+        raise r.err(f"{designs:,} designs is more than {MAX_DESIGNS:,}", "study", "samples")
 
 
 def _model(r: TomlReader, head: dict[str, Any], folder: Path) -> Path:

@@ -3,9 +3,16 @@ design (parameters, metrics over a pose set, feasibility), streamed and resumabl
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import click
 
 from excavkin.cli.common import handle_errors
+
+if TYPE_CHECKING:
+    from pathlib import Path
+
+    from excavkin.studies.study import Subject
 
 
 @click.command("study")
@@ -43,20 +50,32 @@ def command(
     from pathlib import Path
 
     from excavkin.cli.common import model_path
-    from excavkin.cli.progress import progress
-    from excavkin.studies.study import run_study
     from excavkin.studies.study_file import load_study
 
     path = model_path(spec, "study")
     study = load_study(path)
     # by default beside where the command runs (a built-in example's folder is not the user's)
     target = Path(out) if out else Path(path.stem + ".parquet")
+    title = f"{study.model.stem} ({study.method}, seed {study.seed})"
+    run_with_progress(study, title, target, force, restart, scheduler, quiet)
+
+
+def run_with_progress(
+    study: Subject,
+    title: str,
+    target: Path,
+    force: bool,
+    restart: bool,
+    scheduler: str | None,
+    quiet: bool,
+) -> None:
+    """Run a study (of a model, or of a machine) into ``target`` with a progress bar, and say
+    how many designs are feasible."""
+    from excavkin.cli.progress import progress
+    from excavkin.studies.study import run_study
+
     total = study.designs
-    click.echo(
-        f"{total:,} designs × {study.poses.count:,} poses of {study.model.stem} "
-        f"({study.method}, seed {study.seed})",
-        err=True,
-    )
+    click.echo(f"{total:,} designs × {study.pose_count:,} poses of {title}", err=True)
     with progress("designs", total, quiet=quiet) as advance:
         seen = [0]
 
