@@ -440,7 +440,7 @@ class Mechanism:
                 )  # fmt: skip
             )
         )
-        result = self._finish(result, batch, 0, batch.n, sensitivities)
+        result = self._finish(result, batch, 0, batch.n, sensitivities, compiled)
         if strict and not result.status.all_ok:
             raise SolveFailure(result.summary(), result)
         if loads is None:
@@ -526,7 +526,7 @@ class Mechanism:
         )  # fmt: skip
         given = None if loads is None or loads == "model" else list(loads)  # type: ignore[arg-type]
         # the inputs are checked above, at the call; the parts come as they are asked for
-        return self._stream(kinematics, batch, span, size, sensitivities, loads, given)
+        return self._stream(kinematics, batch, span, size, sensitivities, loads, given, compiled)
 
     def _stream(
         self,
@@ -537,6 +537,7 @@ class Mechanism:
         sensitivities: Sequence[str] | None,
         loads: object,
         given: list[Load] | None,
+        compiled: bool | None = None,
     ) -> Iterator[SolvedPart]:
         """The parts of :meth:`solve_stream`: each span's kinematics cut into parts of
         ``size`` samples, with their parameters, sensitivities, time and forces."""
@@ -545,7 +546,12 @@ class Mechanism:
             for first in range(0, len(whole), size):
                 last = min(first + size, len(whole))
                 result = self._finish(
-                    whole.rows(first, last, s), batch, s + first, s + last, sensitivities
+                    whole.rows(first, last, s),
+                    batch,
+                    s + first,
+                    s + last,
+                    sensitivities,
+                    compiled,
                 )
                 out: KinematicResult | ForceResult = result
                 if loads is not None:
@@ -559,9 +565,10 @@ class Mechanism:
         start: int,
         stop: int,
         sensitivities: Sequence[str] | None,
+        compiled: bool | None = None,
     ) -> KinematicResult:
         """A kinematic result of samples ``start`` … ``stop − 1`` with its design parameters,
-        sensitivities and time."""
+        sensitivities (``compiled`` as for the kinematics) and time."""
         given = {k: part_of(v, start, stop) for k, v in batch.params.items()}
         if given:
             result = dataclasses.replace(result, parameters=given)
@@ -570,7 +577,7 @@ class Mechanism:
         if sensitivities:
             from excavkin.kinematics.sensitivity import solve_tangents
 
-            tangents = solve_tangents(result, list(sensitivities), given)
+            tangents = solve_tangents(result, list(sensitivities), given, compiled)
             result = dataclasses.replace(result, tangents=tangents)
         if batch.time is not None:
             t = np.asarray(part_of(batch.time, start, stop), dtype=np.float64)
