@@ -400,7 +400,8 @@ class Mechanism:
             Run a closed-form plan as one compiled loop (needs numba: ``pip install
             'excavkin[fast]'``; results equal the NumPy path's to round-off) or in NumPy.
             Default: compiled when numba is installed and the batch has at least 131 072
-            samples.
+            samples. The ``sensitivities`` follow the same rule with a kernel of their own
+            (:mod:`excavkin.kinematics.compiled_tangents`).
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only).
