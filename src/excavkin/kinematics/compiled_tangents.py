@@ -100,7 +100,8 @@ def fill(
     Parameters
     ----------
     out : Outputs
-        Arrays of shape (k, …, n), written for every sample.
+        Arrays of shape (k, …, n) of zeros, written for every sample where a derivative is
+        not identically 0 (a fixed point's velocity is not).
     plan : SolvePlan
         The solved result's plan (its per-sample branch signs included).
     inputs : tuple of ndarray
@@ -340,7 +341,8 @@ class _Differ:
         index = self.rename(target.slice)
         elts = index.elts if isinstance(index, ast.Tuple) else [index]
         index_text = ", ".join(ast.unparse(e) for e in elts)
-        self.emit(None, f"{_STORES[target.value.id]}[p_, {index_text}] = {tan or '0.0'}")
+        if tan is not None:  # else 0, as the arrays are made (their pages never touched)
+            self.emit(None, f"{_STORES[target.value.id]}[p_, {index_text}] = {tan}")
 
     def branch(self, st: ast.If) -> None:
         """An ``if``: the names it assigns become variables set on either branch (their

@@ -118,14 +118,15 @@ class _Tangents:
         npts = len(plan.points)
         self.plan = plan
         self.m = m
-        # every sample is written by its chunk (the unsolved ones NaN afterwards)
-        self.x = np.empty((m, npts, 2, n))
-        self.v = np.empty_like(self.x)
-        self.a = np.empty_like(self.x)
+        # zeros (pages the system maps only once written): every sample is written by its
+        # chunk but for derivatives that are 0 throughout (the unsolved ones NaN afterwards)
+        self.x = np.zeros((m, npts, 2, n))
+        self.v = np.zeros(self.x.shape)
+        self.a = np.zeros(self.x.shape)
         self.q = np.zeros((m, len(plan.inputs), n))
-        self.trans = np.empty((m, len(plan.transmissions), n))
+        self.trans = np.zeros((m, len(plan.transmissions), n))
         self.body = np.zeros((m, 3, len(plan.bodies), n))
-        self.element = np.empty((m, 6, len(plan.elements), n))
+        self.element = np.zeros((m, 6, len(plan.elements), n))
 
     def solve(
         self, plan: SolvePlan, q: Dual, qd: F, qdd: F, part: slice, values: tuple[F, ...]
