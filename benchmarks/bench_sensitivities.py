@@ -25,6 +25,7 @@ import numpy as np
 from timing import best_of
 
 import excavkin
+from excavkin.kinematics import compiled_tangents
 from excavkin.kinematics.sensitivity import _Tangents
 
 
@@ -49,6 +50,7 @@ def one(name: str, n: int) -> tuple[float, float, float]:
     rates = {k: 0.5 for k in values}
     small = {k: v[:1000] for k, v in values.items()}
     mech.solve(small, rates, sensitivities=names, compiled=True)  # compile both kernels
+    assert compiled_tangents.use(mech.plan, n, None), "the default is not the compiled kernel"
     ok = mech.solve(values, rates).status.ok.mean()
     t_numpy = best_of(lambda: mech.solve(values, rates, compiled=False), 3)
     t_comp = best_of(lambda: mech.solve(values, rates, compiled=True), 3)
