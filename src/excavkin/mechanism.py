@@ -400,7 +400,8 @@ class Mechanism:
             Run a closed-form plan (and, with ``loads``, the equilibrium) as one compiled loop
             (needs numba: ``pip install 'excavkin[fast]'``; results equal the NumPy path's to
             round-off) or in NumPy. Default: compiled when numba is installed and the batch
-            has at least 131 072 samples.
+            has at least 131 072 samples. The ``sensitivities`` follow the same rule with a
+            kernel of their own (:mod:`excavkin.kinematics.compiled_tangents`).
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only).
@@ -440,7 +441,7 @@ class Mechanism:
                 )  # fmt: skip
             )
         )
-        result = self._finish(result, batch, 0, batch.n, sensitivities)
+        result = self._finish(result, batch, 0, batch.n, sensitivities, compiled)
         if strict and not result.status.all_ok:
             raise SolveFailure(result.summary(), result)
         if loads is None:
@@ -547,7 +548,12 @@ class Mechanism:
             for first in range(0, len(whole), size):
                 last = min(first + size, len(whole))
                 result = self._finish(
-                    whole.rows(first, last, s), batch, s + first, s + last, sensitivities
+                    whole.rows(first, last, s),
+                    batch,
+                    s + first,
+                    s + last,
+                    sensitivities,
+                    compiled,
                 )
                 out: KinematicResult | ForceResult = result
                 if loads is not None:
@@ -561,9 +567,10 @@ class Mechanism:
         start: int,
         stop: int,
         sensitivities: Sequence[str] | None,
+        compiled: bool | None = None,
     ) -> KinematicResult:
         """A kinematic result of samples ``start`` … ``stop − 1`` with its design parameters,
-        sensitivities and time."""
+        sensitivities (``compiled`` as for the kinematics) and time."""
         given = {k: part_of(v, start, stop) for k, v in batch.params.items()}
         if given:
             result = dataclasses.replace(result, parameters=given)
@@ -572,7 +579,7 @@ class Mechanism:
         if sensitivities:
             from excavkin.kinematics.sensitivity import solve_tangents
 
-            tangents = solve_tangents(result, list(sensitivities), given)
+            tangents = solve_tangents(result, list(sensitivities), given, compiled)
             result = dataclasses.replace(result, tangents=tangents)
         if batch.time is not None:
             t = np.asarray(part_of(batch.time, start, stop), dtype=np.float64)

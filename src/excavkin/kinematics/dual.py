@@ -194,6 +194,7 @@ _RULES: dict[str, Any] = {
     "subtract": _binary("__sub__", "__rsub__"),
     "multiply": _binary("__mul__", "__rmul__"),
     "true_divide": _binary("__truediv__", "__rtruediv__"),
+    "divide": _binary("__truediv__", "__rtruediv__"),  # true_divide's name in NumPy 2
     "negative": lambda a: -a,
     "absolute": abs,
     "sqrt": _sqrt,

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from excavkin.kinematics import newton
+from excavkin.kinematics import compiled_tangents, newton
 from excavkin.kinematics.dual import Dual, seed, zeros
 from excavkin.kinematics.kernels import Chunk, F
 from excavkin.kinematics.result import Derived, KinematicResult, Status
@@ -38,6 +38,7 @@ def solve_tangents(
     result: KinematicResult,
     names: Sequence[str],
     values: Mapping[str, Any] | None = None,
+    compiled: bool | None = None,
 ) -> dict[str, KinematicResult]:
     """For each parameter in ``names``, a result whose columns are the derivatives of
     ``result``'s columns with respect to it (SI per SI unit).
@@ -50,6 +51,10 @@ def solve_tangents(
         Parameters of :func:`~excavkin.structure.design.parameters`.
     values : mapping, optional
         The parameters given per sample (``result.parameters``); the rest are nominal.
+    compiled : bool, optional
+        Differentiate a closed-form plan in its compiled loop
+        (:mod:`excavkin.kinematics.compiled_tangents`) or in NumPy, chosen as for the
+        kinematics (:func:`excavkin.kinematics.compiled.use`).
     """
     plan = result.plan
     known = {**parameters(plan.model), **joint_offsets(plan.model)}
@@ -61,11 +66,15 @@ def solve_tangents(
     n, m = len(result), len(names)
     given = dict(values or {})
     base = {**{k: known[k] for k in names}, **{k: v for k, v in given.items() if k in names}}
-    duals: dict[str, Any] = {**given, **seed(base, list(names), n)}
-    dual_plan, held, _ = vary(plan, duals)
     q = np.moveaxis(result.inputs, 0, -1)
     qd = np.moveaxis(result.input_rates, 0, -1)
     qdd = np.moveaxis(result.input_accels, 0, -1)
+    if compiled_tangents.use(plan, n, compiled):
+        fast = _Tangents(plan, n, m)
+        compiled_tangents.fill(fast, plan, (q, qd, qdd), list(names), given, base)
+        return fast.results(result, names)
+    duals: dict[str, Any] = {**given, **seed(base, list(names), n)}
+    dual_plan, held, _ = vary(plan, duals)
     q_dual = _inputs(plan, q, held, m)
     out = _Tangents(plan, n, m)
     solved = (
@@ -109,14 +118,15 @@ class _Tangents:
         npts = len(plan.points)
         self.plan = plan
         self.m = m
-        # every sample is written by its chunk (the unsolved ones NaN afterwards)
-        self.x = np.empty((m, npts, 2, n))
-        self.v = np.empty_like(self.x)
-        self.a = np.empty_like(self.x)
+        # zeros (pages the system maps only once written): every sample is written by its
+        # chunk but for derivatives that are 0 throughout (the unsolved ones NaN afterwards)
+        self.x = np.zeros((m, npts, 2, n))
+        self.v = np.zeros(self.x.shape)
+        self.a = np.zeros(self.x.shape)
         self.q = np.zeros((m, len(plan.inputs), n))
-        self.trans = np.empty((m, len(plan.transmissions), n))
+        self.trans = np.zeros((m, len(plan.transmissions), n))
         self.body = np.zeros((m, 3, len(plan.bodies), n))
-        self.element = np.empty((m, 6, len(plan.elements), n))
+        self.element = np.zeros((m, 6, len(plan.elements), n))
 
     def solve(
         self, plan: SolvePlan, q: Dual, qd: F, qdd: F, part: slice, values: tuple[F, ...]
