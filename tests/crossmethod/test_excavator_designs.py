@@ -266,3 +266,34 @@ def test_a_machine_study_table_is_its_designs_evaluated_and_resumes(tmp_path, st
     assert "4,096 designs" in r.output and out.stat().st_size > 0
     r = CliRunner().invoke(main, ["excavator", "study", STUDY, "-o", str(out), "-q"])
     assert r.exit_code != 0 and "--force" in r.output and "Traceback" not in r.output
+
+
+def test_design_ranges_equal_each_designs_own_working_ranges(machine) -> None:  # type: ignore[no-untyped-def]
+    """The free working-range figures of a family of designs, searched together, equal each
+    design's own working_ranges (pins of the bucket linkage and the bucket cylinder's stroke
+    changed); a design with an impossible cylinder gives NaN; as machine columns they are the
+    design's figure at every pose."""
+    from excavkin.excavator.design_ranges import FIGURES, design_ranges
+    from excavkin.excavator.designs import design_machine
+    from excavkin.excavator.ranges import working_ranges
+
+    rng = np.random.default_rng(5)
+    nominal = machine.mechanism.parameters
+    # moves that keep the linkage assembling over the whole stroke (working_ranges needs it)
+    params = {k: nominal[k] + rng.uniform(-0.02, 0.02, 3) for k in ("N.x", "N.y", "L.x", "L.y")}
+    params["cylinders.bucket.stroke"] = np.array([1.10, 1.08, 1.10])
+    params["cylinders.bucket.rod"] = np.array([0.085, 0.085, 0.2])  # the third: rod > bore
+    got = design_ranges(machine, params)
+    for i in range(2):
+        own = working_ranges(design_machine(machine, {k: float(v[i]) for k, v in params.items()}))
+        for f in FIGURES:
+            assert got[f][i] == pytest.approx(own.figure(f).value, abs=1e-9), (i, f)
+    assert all(np.isnan(got[f][2]) for f in FIGURES)
+    L = np.array([[2.7, 2.9, 2.0], [2.6, 3.0, 1.9]])
+    cols, _ = machine_columns(
+        machine, np.repeat(L, 2, axis=0), {k: np.tile(v[:2], 2) for k, v in params.items()},
+        ["range.max_digging_depth"],
+    )  # fmt: skip
+    np.testing.assert_array_equal(
+        cols["range.max_digging_depth"], np.tile(got["max_digging_depth"][:2], 2)
+    )

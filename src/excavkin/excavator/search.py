@@ -28,26 +28,34 @@ def maximize_strokes(
     rounds: int = 32,
     m: int = 5,
     base: F | None = None,
+    strokes: tuple[F, F] | None = None,
 ) -> tuple[F, F]:
     """Maximise ``evaluate`` over the free strokes, for ``problems`` independent problems.
 
     ``evaluate(L)`` takes lengths of shape (problems, k, 3) (entries not in ``free`` at
     ``base``, mid-stroke by default) and returns the objective (problems, k) (−inf where
-    infeasible) and the full lengths of the pose it scored (problems, k, 3). Returns the best
-    objective (problems,) and lengths (problems, 3).
+    infeasible) and the full lengths of the pose it scored (problems, k, 3). ``strokes``: each
+    problem's shortest and longest lengths, shape (problems, 3) each (a family of designs);
+    default the machine's. Returns the best objective (problems,) and lengths (problems, 3).
     """
-    lo, hi = machine.lengths_min, machine.lengths_max
-    mid = 0.5 * (lo + hi) if base is None else np.asarray(base, dtype=np.float64)
+    if strokes is None:
+        lo = np.broadcast_to(machine.lengths_min, (problems, 3))
+        hi = np.broadcast_to(machine.lengths_max, (problems, 3))
+    else:
+        lo, hi = (np.broadcast_to(np.asarray(a, dtype=np.float64), (problems, 3)) for a in strokes)
+    mid = 0.5 * (lo + hi) if base is None else np.broadcast_to(base, (problems, 3))
     nf = len(free)
-    axes = [np.linspace(lo[d], hi[d], coarse) for d in free]
-    g = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, nf)
-    L = np.broadcast_to(mid, (problems, len(g), 3)).copy()
-    L[:, :, free] = g
+    fr = list(free)
+    unit = np.stack(
+        np.meshgrid(*[np.linspace(0.0, 1.0, coarse)] * nf, indexing="ij"), axis=-1
+    ).reshape(-1, nf)
+    L = np.broadcast_to(mid[:, None, :], (problems, len(unit), 3)).copy()
+    L[:, :, fr] = lo[:, None, fr] + unit * (hi - lo)[:, None, fr]
     obj, full = evaluate(L)
     full = np.where(np.isfinite(full), full, L)
     top = np.argsort(-obj, axis=1)[:, :keep]
     centre = np.take_along_axis(full, top[:, :, None], axis=1)  # (P, keep, 3)
-    w = (hi - lo)[list(free)] / (coarse - 1)
+    w = ((hi - lo)[:, fr] / (coarse - 1))[:, None, None, :]  # (P, 1, 1, nf)
     offs = np.stack(np.meshgrid(*[np.linspace(-1.0, 1.0, m)] * nf, indexing="ij"), axis=-1).reshape(
         -1, nf
     )  # (m^nf, nf)
@@ -55,8 +63,8 @@ def maximize_strokes(
     best_L = centre.copy()
     for _ in range(rounds):
         trial = np.broadcast_to(best_L[:, :, None, :], (problems, keep, len(offs), 3)).copy()
-        trial[..., free] = np.clip(
-            best_L[:, :, None, free] + offs * w, lo[list(free)], hi[list(free)]
+        trial[..., fr] = np.clip(
+            best_L[:, :, None, fr] + offs * w, lo[:, None, None, fr], hi[:, None, None, fr]
         )
         o, full = evaluate(trial.reshape(problems, -1, 3))
         o = o.reshape(problems, keep, -1)

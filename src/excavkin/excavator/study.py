@@ -62,7 +62,8 @@ if TYPE_CHECKING:
 #: without the front's weight (as rated forces are given); ``force.*``: the same with the
 #: weight; ``bucket.angle_to_stick``: the bucket's angle relative to the stick
 #: (:func:`~excavkin.excavator.designs.bucket_angle_to_stick`); ``tip.x``, ``tip.y``: the
-#: tooth tip.
+#: tooth tip; ``range.*``: the design's working-range figure
+#: (:mod:`~excavkin.excavator.design_ranges`), the same at every pose.
 COLUMNS: dict[str, str] = {
     "rated.bucket": "force",
     "rated.arm": "force",
@@ -71,6 +72,9 @@ COLUMNS: dict[str, str] = {
     "bucket.angle_to_stick": "angle",
     "tip.x": "length",
     "tip.y": "length",
+    "range.max_digging_reach": "length",
+    "range.max_digging_depth": "length",
+    "range.max_cutting_height": "length",
 }
 
 
@@ -103,10 +107,25 @@ def machine_columns(
             out[name] = f.force
         elif name == "bucket.angle_to_stick":
             out[name] = bucket_angle_to_stick(machine, tr)
+        elif name.startswith("range."):
+            out[name] = _design_figure(machine, params, n, name.removeprefix("range."))
         else:
             tip, _ = tr.point(machine, machine.front.tip)
             out[name] = np.asarray(tip[:, 0 if name == "tip.x" else 1])
     return out, ok
+
+
+def _design_figure(machine: Machine, params: Mapping[str, ArrayLike], n: int, figure: str) -> F:
+    """A working-range figure of each sample's design, searched once per distinct design."""
+    from excavkin.excavator.design_ranges import design_ranges
+
+    if not params:
+        return np.full(n, design_ranges(machine, {}, [figure])[figure][0])
+    names = sorted(params)
+    rows = np.column_stack([np.broadcast_to(np.asarray(params[k], float), (n,)) for k in names])
+    designs, which = np.unique(rows, axis=0, return_inverse=True)
+    values = design_ranges(machine, dict(zip(names, designs.T, strict=True)), [figure])[figure]
+    return np.asarray(values[which.reshape(-1)])
 
 
 def pose_lengths(machine: Machine, poses: Poses) -> F:
