@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from excavkin.cli.commands.study import study_options
 from excavkin.cli.common import handle_errors, model_path, si_value
 
 if TYPE_CHECKING:
@@ -1213,27 +1214,7 @@ def dig(
 
 @command.command("study")
 @click.argument("spec", metavar="STUDY")
-@click.option(
-    "-o",
-    "--out",
-    default=None,
-    metavar="FILE.parquet",
-    help="The table, one row per design (default: STUDY.parquet in the current folder).",
-)
-@click.option("--force", is_flag=True, help="Replace the table if it exists.")
-@click.option(
-    "--restart",
-    is_flag=True,
-    help="Start anew instead of resuming the finished designs of an interrupted run.",
-)
-@click.option(
-    "--scheduler",
-    default=None,
-    metavar="dask|tcp://HOST:PORT",
-    help="Run the chunks of designs on a local Dask cluster ('dask') or an existing Dask "
-    "scheduler (its address); the table is the same as a local run's.",
-)
-@click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
+@study_options
 @handle_errors
 def study(
     spec: str, out: str | None, force: bool, restart: bool, scheduler: str | None, quiet: bool
@@ -1267,39 +1248,29 @@ def study(
     type=click.Path(dir_okay=False),
     help="The optimum (parameters, metrics, feasibility) as a one-row table (.csv or .parquet).",
 )
-@click.option("--force", is_flag=True, help="Replace the output file if it exists.")
+@click.option(
+    "--plot",
+    type=click.Path(dir_okay=False),
+    help="Draw the convergence: the objective after each iteration (.png, .svg or .pdf).",
+)
+@click.option("--force", is_flag=True, help="Replace the output files if they exist.")
 @handle_errors
-def optimize(study: str, method: str | None, output: str | None, force: bool) -> None:
+def optimize(
+    study: str, method: str | None, output: str | None, plot: str | None, force: bool
+) -> None:
     """The best design of a STUDY file that names a machine (``machine = ...`` in [study]):
     its [optimize] objective over its parameter box under its constraints, every population or
     gradient solved as one batch of designs."""
+    from excavkin.cli.commands.optimize import report_optimum
     from excavkin.excavator.study import load_machine_study, optimize_machine
     from excavkin.io.files import check_target
 
     spec = load_machine_study(model_path(study, "study"))
     if output is not None:
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    if plot is not None:
+        check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
     best = optimize_machine(spec, method=method)
     how = method or spec.optimize.get("method", "slsqp")
-    verdict = "feasible" if best.feasible else "NOT feasible"
-    click.echo(
-        f"{spec.optimize['sense']}imum of {spec.optimize['objective']} ({how}, "
-        f"{best.evaluations:,} designs solved): {best.value:.10g} — {verdict}"
-    )
-    for name, value in {**best.params, **best.metrics}.items():
-        click.echo(f"  {name:<24} {value:.10g}")
-    click.echo(f"  active constraints: {', '.join(best.active) or 'none'}")
-    bounds = ", ".join(f"{k} ({side})" for k, side in best.at_bounds.items())
-    click.echo(f"  at the box's bounds: {bounds or 'none'}")
-    if not best.success:
-        click.echo(f"excavkin: warning: the optimiser says: {best.message}", err=True)
-    if output is not None:
-        import pandas as pd
-
-        from excavkin.outputs.tables import write_table
-
-        row: dict[str, list[object]] = {f"design.{k}": [v] for k, v in best.params.items()}
-        row.update({k: [v] for k, v in best.metrics.items()})
-        row["feasible"] = [best.feasible]
-        write_table(pd.DataFrame(row), output, force=force)
-        click.echo(f"wrote the optimum to {output}")
+    sense, objective = spec.optimize["sense"], spec.optimize["objective"]
+    report_optimum(best, sense, objective, how, output, plot, force)

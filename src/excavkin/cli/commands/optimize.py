@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import click
 
 from excavkin.cli.common import handle_errors
+
+if TYPE_CHECKING:
+    from excavkin.studies.optimize import Optimum
 
 
 @click.command("optimize")
@@ -58,9 +63,23 @@ def command(spec: str, plot: str | None, out: str | None, force: bool) -> None:
         maxiter=settings["maxiter"],
         popsize=settings["popsize"],
     )
+    report_optimum(best, settings["sense"], objective.name, settings["method"], out, plot, force)
+
+
+def report_optimum(
+    best: Optimum,
+    sense: str,
+    objective: str,
+    method: str,
+    out: str | None,
+    plot: str | None,
+    force: bool,
+) -> None:
+    """Print an optimum (its parameters, metrics, binding constraints and parameters at the
+    box's bounds), and write it as a one-row table and its convergence plot if asked."""
     verdict = "feasible" if best.feasible else "NOT feasible"
     click.echo(
-        f"{settings['sense']}imum of {objective.name} ({settings['method']}, "
+        f"{sense}imum of {objective} ({method}, "
         f"{best.evaluations:,} designs solved): {best.value:.10g} — {verdict}"
     )
     for name, value in best.params.items():
@@ -91,7 +110,7 @@ def command(spec: str, plot: str | None, out: str | None, force: bool) -> None:
         from excavkin.io.files import write_atomic
         from excavkin.outputs.convergence import plot_convergence
 
-        fig = plot_convergence(best.history, objective.name).get_figure(root=True)
+        fig = plot_convergence(best.history, objective).get_figure(root=True)
         assert fig is not None
         fig.tight_layout()
         write_atomic(plot, lambda tmp: fig.savefig(tmp, dpi=110, format=Path(plot).suffix[1:]))
