@@ -13,8 +13,8 @@ from typing import TYPE_CHECKING
 
 import click
 
-from excavkin.cli.commands.study import study_options
 from excavkin.cli.common import handle_errors, model_path, si_value
+from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
     from excavkin.excavator.machine import Machine

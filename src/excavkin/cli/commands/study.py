@@ -3,50 +3,17 @@ design (parameters, metrics over a pose set, feasibility), streamed and resumabl
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import click
 
 from excavkin.cli.common import handle_errors
+from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
     from pathlib import Path
 
     from excavkin.studies.study import Subject
-
-
-def study_options(f: Callable[..., None]) -> Callable[..., None]:
-    """The options of a study command (a model's, a machine's): the table, --force,
-    --restart, --scheduler, --quiet."""
-    for option in reversed(_OPTIONS):
-        f = option(f)
-    return f
-
-
-_OPTIONS = [
-    click.option(
-        "-o",
-        "--out",
-        default=None,
-        metavar="FILE.parquet",
-        help="The table, one row per design (default: STUDY.parquet in the current folder).",
-    ),
-    click.option("--force", is_flag=True, help="Replace the table if it exists."),
-    click.option(
-        "--restart",
-        is_flag=True,
-        help="Start anew instead of resuming the finished designs of an interrupted run.",
-    ),
-    click.option(
-        "--scheduler",
-        default=None,
-        metavar="dask|tcp://HOST:PORT",
-        help="Run the chunks of designs on a local Dask cluster ('dask') or an existing Dask "
-        "scheduler (its address); the table is the same as a local run's.",
-    ),
-    click.option("-q", "--quiet", is_flag=True, help="No progress bar."),
-]
 
 
 @click.command("study")
