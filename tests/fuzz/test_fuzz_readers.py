@@ -307,3 +307,74 @@ def test_mutated_study_files(tmp_path_factory, data) -> None:  # type: ignore[no
         ok = table[table["feasible"]]
         assert np.isfinite(ok[metrics].to_numpy(dtype=float)).all()
     check_outcome(["optimize", str(path), "--force"], str(path))
+
+
+#: the built-in machine study, small enough to run in every fuzz case
+MACHINE_STUDY = (
+    excavkin.example_path("excavator_bucket_linkage")
+    .read_text()
+    .replace("samples = 4096", "samples = 8")
+    .replace('bucket_cyl = "1645 mm:2765 mm:57"', 'bucket_cyl = "1645 mm:2765 mm:9"')
+)
+
+
+@settings(FUZZ, max_examples=40)
+@given(data=st.data())
+def test_mutated_machine_study_files(tmp_path_factory, data) -> None:  # type: ignore[no-untyped-def]
+    """A mutated machine study runs or is refused naming the file, through the design of
+    experiments and the optimiser; a feasible design's metrics are finite."""
+    import numpy as np
+    import pandas as pd
+
+    folder = tmp_path_factory.mktemp("machine-study")
+    path = folder / "s.toml"
+    path.write_text(mutate(MACHINE_STUDY, data))
+    out = folder / "s.parquet"
+    assert "[optimize]" in MACHINE_STUDY and "samples = 8" in MACHINE_STUDY
+    check_outcome(["excavator", "study", str(path), "-o", str(out), "-q", "--force"], str(path))
+    if out.exists():
+        table = pd.read_parquet(out)
+        metrics = [c for c in table.columns if c not in ("design", "feasible", "status")]
+        ok = table[table["feasible"]]
+        assert np.isfinite(ok[metrics].to_numpy(dtype=float)).all()
+    check_outcome(
+        ["excavator", "optimize", str(path), "--method", "slsqp", "-o", str(folder / "b.csv"),
+         "--force"],
+        str(path),
+    )  # fmt: skip
+
+
+#: pieces of option values: numbers, units, separators and junk
+_PIECES = st.sampled_from(
+    ["1.2", "-3", "0", "1e400", "nan", "inf", "2700", " ", ",", "m", "mm", "kPa", "deg", "kg/m^3",
+     "=", "cohesion", "density", "friction", "blows", "x", "\x00", "é", "1,2", ":"]
+)  # fmt: skip
+
+
+@settings(FUZZ, max_examples=40)
+@given(
+    width=st.lists(_PIECES, max_size=4).map("".join),
+    param=st.lists(_PIECES, max_size=5).map("".join),
+    start=st.lists(_PIECES, max_size=6).map("".join),
+    depth=st.lists(_PIECES, max_size=3).map("".join),
+)
+def test_dig_options_run_or_are_refused(width: str, param: str, start: str, depth: str) -> None:
+    """`excavkin excavator dig` with junk in its options: a table, or one clear error
+    naming what is wrong; never a traceback, never a hang."""
+    cases = (
+        ["--width", width or "1.2m"],
+        ["--width", "1.2m", "--param", param],
+        ["--width", "1.2m", "--from", start, "--to", "2700,2170,2205 mm"],
+        ["--width", "1.2m", "--depth", depth],
+    )
+    for extra in cases:
+        began = time.perf_counter()
+        r = CliRunner().invoke(main, ["excavator", "dig", "excavator_machine", "--samples", "5",
+                                      *extra])  # fmt: skip
+        assert r.exception is None or isinstance(r.exception, SystemExit), (
+            f"{extra}: {type(r.exception).__name__}: {r.exception}"
+        )
+        assert r.exit_code in (0, 2), (extra, r.output)
+        if r.exit_code == 2:
+            assert "Error" in r.output or r.output.startswith("excavkin: error:"), r.output
+        assert time.perf_counter() - began < 20
