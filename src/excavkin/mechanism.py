@@ -323,6 +323,7 @@ class Mechanism:
         loads: None = None,
         params: Mapping[str, Any] | None = None,
         sensitivities: Sequence[str] | None = None,
+        sensitivity_columns: Sequence[str] | None = None,
     ) -> KinematicResult: ...
 
     @overload
@@ -343,6 +344,7 @@ class Mechanism:
         loads: Iterable[Load] | Literal["model"],
         params: Mapping[str, Any] | None = None,
         sensitivities: Sequence[str] | None = None,
+        sensitivity_columns: Sequence[str] | None = None,
     ) -> ForceResult: ...
 
     def solve(
@@ -362,6 +364,7 @@ class Mechanism:
         loads: Iterable[Load] | Literal["model"] | None = None,
         params: Mapping[str, Any] | None = None,
         sensitivities: Sequence[str] | None = None,
+        sensitivity_columns: Sequence[str] | None = None,
     ) -> KinematicResult | ForceResult:
         """Positions, velocities and accelerations for a batch of driver inputs.
 
@@ -414,6 +417,11 @@ class Mechanism:
         sensitivities : sequence of str, optional
             Parameters to differentiate every column by (exactly, forward mode through the
             plan): ``result.sensitivity("B.x", "A-B")`` then gives dB.x/d(A-B) per sample.
+        sensitivity_columns : sequence of str, optional
+            Only these kinematic columns' derivatives (default: every column's). The
+            compiled tangent loop then computes and stores no others, which is most of its
+            cost; asking for another column's derivative is an error. Not with ``loads``
+            (the forces' derivatives need every kinematic one).
 
         Returns
         -------
@@ -423,6 +431,11 @@ class Mechanism:
             With ``loads``: forces plus the kinematics (``.kinematics``); its ``to_frame()``
             has the kinematic columns followed by the force columns.
         """
+        if sensitivity_columns is not None and (loads is not None or not sensitivities):
+            raise InputError(
+                "sensitivity_columns selects kinematic columns of sensitivities: give it with "
+                "sensitivities and without loads (the forces' derivatives need all of them)"
+            )
         batch = self._batch(values, rates, accels, time, params, continuation, lazy=False)
         whole = batch.part(0, batch.n)
         result = next(
@@ -441,7 +454,9 @@ class Mechanism:
                 )  # fmt: skip
             )
         )
-        result = self._finish(result, batch, 0, batch.n, sensitivities, compiled)
+        result = self._finish(
+            result, batch, 0, batch.n, sensitivities, compiled, sensitivity_columns
+        )
         if strict and not result.status.all_ok:
             raise SolveFailure(result.summary(), result)
         if loads is None:
@@ -568,6 +583,7 @@ class Mechanism:
         stop: int,
         sensitivities: Sequence[str] | None,
         compiled: bool | None = None,
+        columns: Sequence[str] | None = None,
     ) -> KinematicResult:
         """A kinematic result of samples ``start`` … ``stop − 1`` with its design parameters,
         sensitivities (``compiled`` as for the kinematics) and time."""
@@ -579,8 +595,9 @@ class Mechanism:
         if sensitivities:
             from excavkin.kinematics.sensitivity import solve_tangents
 
-            tangents = solve_tangents(result, list(sensitivities), given, compiled)
-            result = dataclasses.replace(result, tangents=tangents)
+            tangents = solve_tangents(result, list(sensitivities), given, compiled, columns)
+            kept = None if columns is None else frozenset(columns)
+            result = dataclasses.replace(result, tangents=tangents, tangent_columns=kept)
         if batch.time is not None:
             t = np.asarray(part_of(batch.time, start, stop), dtype=np.float64)
             result = result.with_time(np.broadcast_to(t, (stop - start,)).reshape(stop - start))

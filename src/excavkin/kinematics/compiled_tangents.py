@@ -22,10 +22,11 @@ from __future__ import annotations
 
 import ast
 import contextlib
+import functools
 import os
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -35,12 +36,17 @@ from excavkin.kinematics.kernels import F
 from excavkin.structure.design import take, vary
 from excavkin.structure.plan import SolvePlan
 
+if TYPE_CHECKING:
+    from excavkin.kinematics.result import KinematicResult
+
 #: samples per kernel call (a thread's share of the work at a time)
 CHUNK = 16384
 #: the NumPy tangent path's tolerances for its own masks (the solve's statuses decide the rest)
 CLOSE_TOL, SINGULAR_TOL = 1e-10, 1e-7
 
 Kernel = Callable[..., None]
+#: tangent array → the entries (indices before the sample's) to write
+Keep = dict[str, set[tuple[int, ...]]]
 
 
 class Outputs(Protocol):
@@ -55,26 +61,27 @@ class Outputs(Protocol):
     element: F
 
 
-def use(plan: SolvePlan, n: int, compiled: bool | None) -> bool:
+def use(plan: SolvePlan, n: int, compiled: bool | None, keep: Keep | None = None) -> bool:
     """Whether the sensitivities of a solve of ``n`` samples take the compiled path: by the
     compiled plan's rule (:func:`~excavkin.kinematics.compiled.use`), and, left to choose,
     only where the tangent kernel is compiled already or the batch is large enough to pay for
     compiling it."""
     if not compiled_plan.use(plan, n, compiled):
         return False
-    return bool(compiled) or n >= compiled_plan.COMPILE_AT or is_compiled(plan)
+    return bool(compiled) or n >= compiled_plan.COMPILE_AT or is_compiled(plan, keep)
 
 
-def is_compiled(plan: SolvePlan) -> bool:
+def is_compiled(plan: SolvePlan, keep: Keep | None = None) -> bool:
     """Whether the plan's tangent kernel has been compiled, in this process or an earlier one."""
-    key = compiled_plan._key(source(plan))
+    key = compiled_plan._key(source(plan, keep))
     marker = compiled_plan.cache_dir() / f"excavkin_kernel_{key}.compiled"
     return key in compiled_plan._kernels or marker.exists()
 
 
-def compile_tangents(plan: SolvePlan) -> Kernel:
-    """The plan's tangent kernel: made once per structure, kept in memory and on disk."""
-    text = source(plan)
+def compile_tangents(plan: SolvePlan, keep: Keep | None = None) -> Kernel:
+    """The plan's tangent kernel (of the entries ``keep``, default all): made once per
+    structure, kept in memory and on disk."""
+    text = source(plan, keep)
     key = compiled_plan._key(text)
     with compiled_plan._lock:
         kernel = compiled_plan._kernels.get(key)
@@ -94,8 +101,10 @@ def fill(
     given: dict[str, Any],
     base: dict[str, Any],
     workers: int | None = None,
+    keep: Keep | None = None,
 ) -> None:
-    """Fill ``out`` with the tangents of every sample's state with respect to ``names``.
+    """Fill ``out`` with the tangents of every sample's state with respect to ``names`` (of
+    the entries ``keep`` only, if given: the others stay 0).
 
     Parameters
     ----------
@@ -115,7 +124,7 @@ def fill(
     """
     q, qd, qdd = inputs
     n, m = q.shape[1], len(names)
-    kernel = compile_tangents(plan)
+    kernel = compile_tangents(plan, keep)
     per_sample = any(np.ndim(v) for v in (*given.values(), *base.values()))
     # one design: its seeds are computed once, on one sample
     nominal = None if per_sample else _Seeds(plan, given, base, names, 1)
@@ -143,6 +152,48 @@ def fill(
     else:
         for s in starts:
             one(s)
+
+
+#: a result's arrays and the tangent arrays the compiled kernel writes them to; the drivers'
+#: rates and accelerations do not depend on the design (their tangents are 0 throughout)
+_FIELDS: tuple[tuple[str, str, int | None], ...] = (
+    ("positions", "tx", None), ("velocities", "tv", None), ("accelerations", "ta", None),
+    ("body_angle", "tbody", 0), ("body_omega", "tbody", 1), ("body_epsilon", "tbody", 2),
+    ("inputs", "tq", None), ("input_rates", "", None), ("input_accels", "", None),
+    ("element_length", "telement", 0), ("element_rate", "telement", 1),
+    ("element_accel", "telement", 2), ("element_angle", "telement", 3),
+    ("element_omega", "telement", 4), ("element_epsilon", "telement", 5),
+    ("transmission", "ttrans", None),
+)  # fmt: skip
+
+
+def entries(result: KinematicResult, columns: Sequence[str]) -> Keep:
+    """The tangent arrays' entries that hold the derivatives of ``columns``: read from the
+    result's own column layout (each array of a one-row copy numbered, then its columns
+    read back), so that the two never disagree. An unknown column is an error naming it."""
+    import dataclasses
+
+    one = result.rows(0, 1)
+    where: list[tuple[str, tuple[int, ...]]] = []
+    coded: dict[str, Any] = {}
+    for name, store, lead in _FIELDS:
+        shape = np.shape(getattr(one, name))[1:]
+        codes = np.arange(len(where), len(where) + int(np.prod(shape)), dtype=np.float64)
+        for idx in np.ndindex(*shape):
+            where.append((store, idx if lead is None else (lead, *idx)))
+        coded[name] = codes.reshape(1, *shape)
+    numbered = dataclasses.replace(one, time=None, parameters=None, tangents=None, **coded)
+    found = {c.name: arr for c, arr in numbered._columns()}
+    keep: Keep = {}
+    for name in columns:
+        if name not in found:
+            from excavkin.errors import unknown_name
+
+            raise unknown_name("column", name, list(found))
+        store, idx = where[int(found[name][0])]
+        if store:
+            keep.setdefault(store, set()).add(idx)
+    return keep
 
 
 class _Seeds:
@@ -198,14 +249,25 @@ def _table(entries: list[Any], part: slice, m: int, n: int | None) -> tuple[F, F
 # source generation
 
 
-def source(plan: SolvePlan) -> str:
-    """The tangent kernel's Python source for ``plan`` (closed-form steps only)."""
-    loop = _loop_body(compiled_plan.source(plan))
-    d = _Differ()
+def source(plan: SolvePlan, keep: Keep | None = None) -> str:
+    """The tangent kernel's Python source for ``plan`` (closed-form steps only); with
+    ``keep``, only those tangent arrays' entries are written (the compiler then drops what
+    only the others needed)."""
+    frozen = None if keep is None else tuple(sorted((k, tuple(sorted(v))) for k, v in keep.items()))
+    return _source(compiled_plan.source(plan), len(plan.inputs), frozen)
+
+
+@functools.lru_cache(maxsize=64)
+def _source(text: str, inputs: int, frozen: tuple[tuple[str, tuple[Any, ...]], ...] | None) -> str:
+    """:func:`source` from the compiled plan's source (the same text: the same kernel)."""
+    keep = None if frozen is None else {k: set(v) for k, v in frozen}
+    loop = _loop_body(text)
+    d = _Differ(keep)
     for st in loop:
         d.statement(st)
-    for k in range(len(plan.inputs)):
-        d.out2.append(f"tq[p_, {k}, i] = {_held(k)}")
+    for k in range(inputs):
+        if keep is None or (k,) in keep.get("tq", ()):
+            d.out2.append(f"tq[p_, {k}, i] = {_held(k)}")
     return (
         _HEAD
         + "".join(f"        {line}\n" for line in d.out1)
@@ -297,7 +359,8 @@ class _Differ:
     """Writes the values' pass (``out1``: each operation once, in single assignments) and the
     tangents' pass (``out2``: one tangent per value, for the parameter ``p_``)."""
 
-    def __init__(self) -> None:
+    def __init__(self, keep: Keep | None = None) -> None:
+        self.keep = keep
         self.out1: list[str] = []
         self.out2: list[str] = []
         self.indent = ""
@@ -341,8 +404,13 @@ class _Differ:
         index = self.rename(target.slice)
         elts = index.elts if isinstance(index, ast.Tuple) else [index]
         index_text = ", ".join(ast.unparse(e) for e in elts)
+        store = _STORES[target.value.id]
+        if self.keep is not None:
+            at = tuple(int(ast.unparse(e)) for e in elts[:-1])
+            if at not in self.keep.get(store, ()):
+                return
         if tan is not None:  # else 0, as the arrays are made (their pages never touched)
-            self.emit(None, f"{_STORES[target.value.id]}[p_, {index_text}] = {tan}")
+            self.emit(None, f"{store}[p_, {index_text}] = {tan}")
 
     def branch(self, st: ast.If) -> None:
         """An ``if``: the names it assigns become variables set on either branch (their

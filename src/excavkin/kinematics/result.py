@@ -195,6 +195,8 @@ class KinematicResult:
     tangents : dict, optional
         Per parameter asked for (``solve(..., sensitivities=)``), a result whose columns are the
         derivatives of these columns with respect to it: read them with :meth:`sensitivity`.
+    tangent_columns : frozenset of str, optional
+        The columns whose derivatives were asked for (``sensitivity_columns``); None: all.
     """
 
     plan: SolvePlan
@@ -220,6 +222,7 @@ class KinematicResult:
     error_estimate: F | None = None
     parameters: dict[str, F] | None = None
     tangents: dict[str, KinematicResult] | None = None
+    tangent_columns: frozenset[str] | None = None
 
     @classmethod
     def build(
@@ -331,6 +334,13 @@ class KinematicResult:
             )
         if parameter not in self.tangents:
             raise unknown_name("parameter with sensitivities", parameter, list(self.tangents))
+        if self.tangent_columns is not None and column not in self.tangent_columns:
+            from excavkin.errors import InputError
+
+            raise InputError(
+                f"the derivative of {column!r} was not computed: solve with "
+                f"sensitivity_columns naming it (asked: {', '.join(sorted(self.tangent_columns))})"
+            )
         return self.tangents[parameter].column(column)
 
     def column(self, name: str) -> F:
@@ -389,7 +399,8 @@ class KinematicResult:
         for name, tangent in (self.tangents or {}).items():
             kind = parameter_kind(name, plan.model)
             for c, arr in tangent._columns():
-                if c.owner_kind != "time":
+                wanted = self.tangent_columns is None or c.name in self.tangent_columns
+                if c.owner_kind != "time" and wanted:
                     cols.append((derivative_column(c, name, kind), arr))
         return cols
 

@@ -39,6 +39,7 @@ def solve_tangents(
     names: Sequence[str],
     values: Mapping[str, Any] | None = None,
     compiled: bool | None = None,
+    columns: Sequence[str] | None = None,
 ) -> dict[str, KinematicResult]:
     """For each parameter in ``names``, a result whose columns are the derivatives of
     ``result``'s columns with respect to it (SI per SI unit).
@@ -55,6 +56,10 @@ def solve_tangents(
         Differentiate a closed-form plan in its compiled loop
         (:mod:`excavkin.kinematics.compiled_tangents`) or in NumPy, chosen as for the
         kinematics (:func:`excavkin.kinematics.compiled.use`).
+    columns : sequence of str, optional
+        Only these columns' derivatives are needed: the compiled loop then writes (and
+        computes) no others; the result must say so (``tangent_columns``), since theirs are
+        left 0. The NumPy path computes all of them anyway.
     """
     plan = result.plan
     known = {**parameters(plan.model), **joint_offsets(plan.model)}
@@ -69,9 +74,10 @@ def solve_tangents(
     q = np.moveaxis(result.inputs, 0, -1)
     qd = np.moveaxis(result.input_rates, 0, -1)
     qdd = np.moveaxis(result.input_accels, 0, -1)
-    if compiled_tangents.use(plan, n, compiled):
+    keep = None if columns is None else compiled_tangents.entries(result, columns)
+    if compiled_tangents.use(plan, n, compiled, keep):
         fast = _Tangents(plan, n, m)
-        compiled_tangents.fill(fast, plan, (q, qd, qdd), list(names), given, base)
+        compiled_tangents.fill(fast, plan, (q, qd, qdd), list(names), given, base, keep=keep)
         return fast.results(result, names)
     duals: dict[str, Any] = {**given, **seed(base, list(names), n)}
     dual_plan, held, _ = vary(plan, duals)
@@ -165,6 +171,8 @@ class _Tangents:
     def results(self, result: KinematicResult, names: Sequence[str]) -> dict[str, KinematicResult]:
         """One result of derivatives per parameter, NaN where ``result`` did not solve."""
         bad = ~result.status.solved
+        if not bad.any():  # nothing to mark: no pass over the (large) tangent arrays
+            bad = slice(0, 0)  # type: ignore[assignment]
         out = {}
         zero = np.zeros_like(self.q[0])
         for j, name in enumerate(names):

@@ -503,6 +503,7 @@ class _MechanismProblem(Problem):
         super().__init__(mech.parameters, bounds, poses, objective, sense, metrics, constraints)
         self.mech = mech
         self.loads = loads
+        self.wanted = list(dict.fromkeys(m.column for m in self.metrics))
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
         return evaluate(self.mech, designs, self.poses, self.metrics, (), self.loads)
@@ -515,9 +516,12 @@ class _MechanismProblem(Problem):
         if key in self._memo:
             return self._memo[key]
         params = self.params_of(u)
-        res: Any = self.mech.solve(
+        # only the metrics' columns are differentiated (every one when forces are)
+        wanted = None if self.loads is not None else self.wanted
+        res: Any = self.mech.solve(  # type: ignore[call-overload]
             self.poses.values, self.poses.rates, self.poses.accels,
             params=params, sensitivities=self.names, loads=self.loads,
+            sensitivity_columns=wanted,
         )  # fmt: skip
         self.evaluations += 1
         kin = res if self.loads is None else res.kinematics
