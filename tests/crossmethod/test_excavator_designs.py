@@ -297,3 +297,42 @@ def test_design_ranges_equal_each_designs_own_working_ranges(machine) -> None:  
     np.testing.assert_array_equal(
         cols["range.max_digging_depth"], np.tile(got["max_digging_depth"][:2], 2)
     )
+
+
+def test_a_design_that_does_not_assemble_over_its_strokes_has_no_ranges(machine) -> None:  # type: ignore[no-untyped-def]
+    """An arm cylinder retracting below where the front assembles: working_ranges refuses
+    such a machine, and the family's search gives NaN rather than a figure at the edge of
+    assembly."""
+    from excavkin.errors import ModelError
+    from excavkin.excavator.design_ranges import design_ranges
+    from excavkin.excavator.designs import design_machine
+    from excavkin.excavator.ranges import working_ranges
+
+    bad = {"cylinders.arm.retracted": 1.80, "cylinders.arm.stroke": 1.76}
+    with pytest.raises(ModelError):
+        working_ranges(design_machine(machine, bad))
+    got = design_ranges(machine, {k: np.array([v]) for k, v in bad.items()})
+    assert all(np.isnan(v[0]) for v in got.values())
+
+
+def test_a_machine_studys_fingerprint_reads_the_model_file_too(tmp_path, machine) -> None:  # type: ignore[no-untyped-def]
+    """Editing the model file a machine file names makes another study (its parts are not
+    resumed into it)."""
+    import shutil
+
+    from excavkin.excavator.study import load_machine_study
+
+    for name in ("excavator_machine", "excavator"):
+        shutil.copy(excavkin.example_path(name), tmp_path / f"{name}.toml")
+    study = tmp_path / "s.toml"
+    text = excavkin.example_path(STUDY).read_text()
+    study.write_text(
+        text.replace('machine = "excavator_machine"', 'machine = "excavator_machine.toml"')
+    )
+    assert load_machine_study(study).source.startswith(
+        (tmp_path / "excavator_machine.toml").read_text()
+    )
+    before = load_machine_study(study).fingerprint()
+    model = tmp_path / "excavator.toml"
+    model.write_text(model.read_text() + "\n# an edit\n")
+    assert load_machine_study(study).fingerprint() != before

@@ -341,3 +341,34 @@ def test_slsqp_holds_a_last_pose_constraint_with_exact_gradients() -> None:
     assert held.feasible and "last" in held.active
     assert held.metrics["last"] == pytest.approx(target, abs=1e-9)
     assert held.value <= free.value + 1e-9
+
+
+def test_a_target_is_part_of_the_fingerprint(tmp_path: Path) -> None:
+    """Two studies that differ only in a metric's target are two studies: the parts of one
+    are never resumed into the other."""
+    text = STUDY.replace(
+        'torque_peak = { column = "crank.torque", reduce = "absmax" }',
+        'torque_peak = { column = "crank.torque", reduce = "absmax", target = "10 N*m" }',
+    )
+    assert text != STUDY
+    a = load_study(write_study(tmp_path, text)).fingerprint()
+    b = load_study(write_study(tmp_path, text.replace("10 N*m", "500 N*m"))).fingerprint()
+    assert a != b
+
+
+def test_an_angles_change_is_followed_along_the_poses() -> None:
+    """`change` of an angle column passing ±180°: the turn itself (the crank over 0°→210°
+    turns 210°), not the wrapped difference (−150°), in the table and in the optimiser's
+    value; a length's change is the plain difference."""
+    from excavkin.studies.metrics import Metric, Poses, angle_change, evaluate
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    poses = Poses({"crank": np.radians(np.linspace(0, 210, 22))}, {}, {})
+    metrics = [Metric("turn", "crank.angle", "change"), Metric("dx", "B.x", "change")]
+    table = evaluate(mech, {"A-B": np.array([0.12])}, poses, metrics)
+    assert table["turn"][0] == pytest.approx(np.radians(210), abs=1e-12)
+    res = mech.solve(poses.values)
+    assert table["dx"][0] == res.column("B.x")[-1] - res.column("B.x")[0]
+    assert angle_change(np.radians([[170.0, -170.0, -150.0]]))[0] == pytest.approx(
+        np.radians(40.0), abs=1e-12
+    )

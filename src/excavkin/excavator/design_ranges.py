@@ -15,6 +15,10 @@ figure                 definition (heights from the ground line, reaches from th
 ``max_cutting_height`` the highest tip
 =====================  ===========================================================
 
+A design whose front does not assemble everywhere in its stroke box (on a 9-level grid) gives
+NaN, as :func:`~excavkin.excavator.ranges.working_ranges` refuses such a machine: its figures
+would sit at the edge of assembly.
+
 The other figures impose a posture (the tip on the ground line, the bucket hanging, teeth
 vertical) and are left to :func:`~excavkin.excavator.ranges.working_ranges` of one design.
 """
@@ -26,7 +30,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from excavkin.excavator.designs import check_designs, cylinder_arrays, within_strokes
+from excavkin.excavator.designs import B, check_designs, cylinder_arrays, within_strokes
 from excavkin.excavator.machine import ROLES, F, Machine
 from excavkin.excavator.search import maximize_strokes
 
@@ -74,6 +78,7 @@ def design_ranges(
     lo, hi = np.where(possible[:, None], lo, 1.0), np.where(possible[:, None], hi, 2.0)
     tip_index = machine.mechanism.plan.points.index(machine.front.tip)
     geometry = {k: v for k, v in per.items() if k in machine.mechanism.parameters}
+    possible &= _assembles(machine, geometry, lo, hi)
     out: dict[str, F] = {}
     for f in figures:
         sign, axis = FIGURES[f]
@@ -100,3 +105,23 @@ def design_ranges(
             value = extreme - machine.ground_line
         out[f] = np.where(possible & np.isfinite(best), value, np.nan)
     return out
+
+
+#: levels per stroke of the grid on which every design must assemble
+CHECK_LEVELS = 9
+
+
+def _assembles(machine: Machine, geometry: Mapping[str, F], lo: F, hi: F) -> B:
+    """Whether each design's front assembles at every point of a grid over its stroke box:
+    where it does not, its strokes run past what the linkage allows, and its figures would
+    sit at the edge of assembly (working_ranges refuses such a machine)."""
+    d = len(lo)
+    unit = np.stack(
+        np.meshgrid(*[np.linspace(0.0, 1.0, CHECK_LEVELS)] * 3, indexing="ij"), axis=-1
+    ).reshape(-1, 3)
+    k = len(unit)
+    L = (lo[:, None, :] + unit * (hi - lo)[:, None, :]).reshape(-1, 3)
+    values = {drv: L[:, i] for i, drv in enumerate(machine.drivers)}
+    rows = {key: np.repeat(v, k) for key, v in geometry.items()}
+    res = machine.mechanism.solve(values, params=rows or None)
+    return np.asarray(res.status.solved.reshape(d, k).all(axis=1))

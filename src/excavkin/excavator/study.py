@@ -76,6 +76,8 @@ COLUMNS: dict[str, str] = {
     "range.max_digging_depth": "length",
     "range.max_cutting_height": "length",
 }
+#: the angle columns (their ``change`` is followed along the poses)
+ANGLES = frozenset(k for k, kind in COLUMNS.items() if kind == "angle")
 
 
 def machine_columns(
@@ -160,7 +162,7 @@ def evaluate_machine(
     cols, ok = machine_columns(machine, np.tile(L, (d, 1)), params, names)
     return tabulate(
         designs, {k: v.reshape(d, p) for k, v in cols.items()}, ok.reshape(d, p), metrics,
-        constraints,
+        constraints, ANGLES,
     )  # fmt: skip
 
 
@@ -298,9 +300,15 @@ def _machine(r: Any, text: Any, folder: Path) -> tuple[Machine, str]:
                         "example", "study", "machine")  # fmt: skip
         given = excavkin.example_path(text)
     try:
-        return load_machine(given), given.read_text(encoding="utf-8")
+        machine = load_machine(given)
     except ExcavkinError as exc:
         raise r.err(f"the machine cannot be read: {exc}", "study", "machine") from None
+    # what decides the results: the machine file and the model file it names
+    texts = [given.read_text(encoding="utf-8")]
+    model = Path(str(machine.mechanism.model.source or ""))
+    if model.is_file() and model.resolve() != given.resolve():
+        texts.append(model.read_text(encoding="utf-8"))
+    return machine, "\n".join(texts)
 
 
 class _MachineProblem(Problem):
@@ -318,6 +326,7 @@ class _MachineProblem(Problem):
             study.constraints,
         )  # fmt: skip
         self.study = study
+        self.angles = set(ANGLES)
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
         return evaluate_machine(self.study.machine, designs, self.study.lengths, self.metrics)

@@ -4,7 +4,7 @@ on the metrics."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -37,7 +37,8 @@ class Metric:
     ``sumsq`` the sum over the poses of the squared differences from ``target`` and ``absmax``
     the largest absolute difference from it (``target``: one value, or one per pose, SI; absmax
     without a target is the largest magnitude); ``change`` the value at the last pose minus
-    that at the first (a rocker's swing between its two dead centres, say).
+    that at the first (a rocker's swing between its two dead centres, say; an angle's followed
+    along the poses, so that passing ±180° is no jump).
     """
 
     name: str
@@ -137,7 +138,8 @@ def evaluate(
 
             raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(columns))
         cols[m.column] = column_of(res, m.column).reshape(d, p)
-    return tabulate(designs, cols, ok, metrics, constraints)
+    angles = {c.name for c in res.columns if c.kind == "angle"}
+    return tabulate(designs, cols, ok, metrics, constraints, angles)
 
 
 def tabulate(
@@ -146,10 +148,12 @@ def tabulate(
     ok: NDArray[np.bool_],
     metrics: Sequence[Metric],
     constraints: Sequence[Constraint] = (),
+    angles: Collection[str] = (),
 ) -> pd.DataFrame:
     """The study's table from each metric's column at every design and pose (shape
     (designs, poses)) and whether each pose solved (same shape): the metrics reduced over
-    the poses that solved, and each design's feasibility (see :func:`evaluate`)."""
+    the poses that solved, and each design's feasibility (see :func:`evaluate`). The
+    ``change`` of a column in ``angles`` is taken along the poses (:func:`angle_change`)."""
     import pandas as pd
 
     d, p = ok.shape
@@ -158,7 +162,10 @@ def tabulate(
         col = columns[m.column]
         if m.reduce == "sumsq" or m.target is not None:
             col = col - target_of(m, p)
-        out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
+        if m.reduce == "change" and m.column in angles:
+            out[m.name] = angle_change(np.where(ok, col, np.nan))
+        else:
+            out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
     failed = (~ok).sum(axis=1)
     out["poses_failed"] = failed
     met = failed == 0
@@ -202,6 +209,15 @@ def target_of(m: Metric, p: int) -> F:
     if t.size not in (1, p):
         raise InputError(f"metric {m.name!r}: {t.size} targets for {p} poses")
     return np.broadcast_to(t, (p,)) if t.size == 1 else t
+
+
+def angle_change(a: F) -> F:
+    """An angle's change from the first pose to the last (axis 1), followed along the poses:
+    each step the shorter way round, so that an angle passing ±180° turns on rather than
+    jumps by 360° (neighbouring poses must be less than 180° apart; NaN unless every pose
+    solved)."""
+    step = np.diff(a, axis=-1)
+    return np.asarray(np.sum((step + np.pi) % (2.0 * np.pi) - np.pi, axis=-1))
 
 
 def _reduce(a: F, how: str) -> F:

@@ -29,7 +29,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.errors import InputError
-from excavkin.studies.metrics import Constraint, Metric, Poses, column_of, evaluate, target_of
+from excavkin.studies.metrics import (
+    Constraint,
+    Metric,
+    Poses,
+    angle_change,
+    column_of,
+    evaluate,
+    target_of,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -201,6 +209,8 @@ class Problem:
         self.by_name = by_name
         self.constraints = list(constraints)
         self.history: list[float] = []
+        #: the angle columns (their ``change`` is followed along the poses); a subclass's
+        self.angles: set[str] = set()
         self.evaluations = 0
         self._memo: dict[bytes, tuple[dict[str, F], dict[str, F], bool]] = {}
         # an epigraph variable when the objective is a least or greatest value over poses
@@ -253,7 +263,8 @@ class Problem:
         if m.reduce == "sumsq":
             return float(c @ c), 2.0 * c @ g
         if m.reduce == "change":
-            return float(c[-1] - c[0]), g[-1] - g[0]
+            turn = angle_change(c) if m.column in self.angles else c[-1] - c[0]
+            return float(turn), g[-1] - g[0]
         raise InputError(f"metric {m.name!r} ({m.reduce}) is not smooth")
 
     def true_value(self, u: F) -> float:
@@ -504,6 +515,8 @@ class _MechanismProblem(Problem):
         self.mech = mech
         self.loads = loads
         self.wanted = list(dict.fromkeys(m.column for m in self.metrics))
+        probe = mech.solve({}, loads=[]) if loads is not None else mech.solve({})
+        self.angles = {c.name for c in probe.columns if c.kind == "angle"}
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
         return evaluate(self.mech, designs, self.poses, self.metrics, (), self.loads)

@@ -102,7 +102,7 @@ class Study:
                     {k: np.asarray(v).tolist() for k, v in part.items()}
                     for part in (self.poses.values, self.poses.rates, self.poses.accels)
                 ],
-                "metrics": [(m.name, m.column, m.reduce) for m in self.metrics],
+                "metrics": [(m.name, m.column, m.reduce, m.target) for m in self.metrics],
                 "constraints": [(c.metric, c.low, c.high) for c in self.constraints],
                 "sampling": (self.method, self.samples, self.seed),
                 "loads": self.loads,
