@@ -23,9 +23,7 @@ from __future__ import annotations
 import ast
 import contextlib
 import functools
-import os
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
@@ -33,6 +31,7 @@ import numpy as np
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinematics.kernels import F
+from excavkin.kinematics.threads import over_chunks
 from excavkin.structure.design import take, vary
 from excavkin.structure.plan import SolvePlan
 
@@ -144,14 +143,7 @@ def fill(
             out.trans[..., part], out.body[..., part], out.element[..., part],
         )  # fmt: skip
 
-    starts = range(0, n, CHUNK)
-    threads = min(workers or os.cpu_count() or 1, len(starts))
-    if threads > 1:
-        with ThreadPoolExecutor(threads) as pool:
-            list(pool.map(one, starts))
-    else:
-        for s in starts:
-            one(s)
+    over_chunks(n, CHUNK, workers, one)
 
 
 #: a result's arrays and the tangent arrays the compiled kernel writes them to; the drivers'

@@ -11,10 +11,8 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
-import os
 import threading
 from collections.abc import Callable, Iterator
-from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -28,6 +26,7 @@ from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.kinematics.newton import rotary_branch_ok
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
+from excavkin.kinematics.threads import over_chunks
 from excavkin.structure.design import DesignBatch, take
 from excavkin.structure.plan import (
     Dyad,
@@ -391,20 +390,7 @@ def _solve_chunks(
                 near[:], near_step[:] = precision.nearness(plan, c.trans, c.near)
         report(e - s)
 
-    _over_chunks(n, chunk, workers, one)
-
-
-def _over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], None]) -> None:
-    """``one(start)`` for every chunk of ``n`` samples, on a thread per core (NumPy releases
-    the GIL in its loops, and chunks write disjoint slices)."""
-    starts = range(0, n, chunk)
-    threads = min(workers or os.cpu_count() or 1, len(starts))
-    if threads > 1:
-        with ThreadPoolExecutor(threads) as pool:
-            list(pool.map(one, starts))
-    else:
-        for s in starts:
-            one(s)
+    over_chunks(n, chunk, workers, one)
 
 
 def _newton_chunk(plan: SolvePlan, chunk: int) -> int:
@@ -632,7 +618,7 @@ def _continue_along_sweep(
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             run_steps(take(plan, part), c, 0)
 
-    _over_chunks(q.shape[1], chunk, workers, one)
+    over_chunks(q.shape[1], chunk, workers, one)
 
 
 def _rungs(walked: F, k0: int, h: float) -> tuple[np.ndarray, np.ndarray]:
@@ -701,7 +687,7 @@ def _from_solved(
             run_steps(take(plan, samples[part]), c, 0)
         out[:, :, part] = c.x
 
-    _over_chunks(samples.size, chunk, workers, one)
+    over_chunks(samples.size, chunk, workers, one)
     return out
 
 
@@ -761,7 +747,7 @@ def _continue_from_sketch(
         full.status[these] = c.status
         full.failed[these] = c.failed
 
-    _over_chunks(samples.size, chunk, workers, one)
+    over_chunks(samples.size, chunk, workers, one)
 
 
 def assemble(plan: SolvePlan) -> Assembly:

@@ -22,16 +22,14 @@ design of a model, and it is cached on disk.
 from __future__ import annotations
 
 import math
-import os
 import threading
-from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
 
 from excavkin.kinematics import compiled as kernels
 from excavkin.kinematics.kernels import F
+from excavkin.kinematics.threads import over_chunks
 from excavkin.kinetostatics.equilibrium import (
     StaticsSystem,
     _assemble,
@@ -370,15 +368,4 @@ def solve(
         kernel(x[:, :, part], acc[:, :, part], e[:, part], kp, stride, out[:, part],
                singular[part], 1e-12)  # fmt: skip
 
-    _over(n, workers, one)
-
-
-def _over(n: int, workers: int | None, one: Callable[[int], None]) -> None:
-    starts = range(0, n, CHUNK)
-    threads = min(workers or os.cpu_count() or 1, len(starts))
-    if threads > 1:
-        with ThreadPoolExecutor(threads) as pool:
-            list(pool.map(one, starts))
-    else:
-        for s in starts:
-            one(s)
+    over_chunks(n, CHUNK, workers, one)
