@@ -144,3 +144,19 @@ def test_bad_digs_are_refused(machine: Machine) -> None:
         default_dig(machine, 11, depth=-0.2)
     with pytest.raises(InputError, match="swing"):
         dig(machine, default_dig(machine, 11), SOILS["sand"], Tool(1.0), swing="rear")
+
+
+@pytest.mark.parametrize("samples", [3, 5, 41])
+def test_the_default_dig_reaches_its_depth_whatever_the_samples(
+    machine: Machine, samples: int
+) -> None:
+    """The default dig's straight path in cylinder space, followed densely, goes 0.5 m below
+    the ground line at its deepest (to the boom-end search's interpolation, 0.1 mm), however
+    few points the dig is sampled at."""
+    from excavkin.excavator.machine import forward
+
+    L = default_dig(machine, samples, depth=0.5)
+    u = np.linspace(0.0, 1.0, 4001)[:, None]
+    lip = forward(machine, L[0] + u * (L[-1] - L[0])).lip
+    deepest = machine.ground_line - np.nanmin(lip[:, 1])
+    assert deepest == pytest.approx(0.5, abs=1e-4)

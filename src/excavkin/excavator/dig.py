@@ -167,16 +167,19 @@ def default_dig(
     # the boom's end length: the deepest point of the cut as it goes, from the boom's longest
     # (shallowest) end towards its shortest
     ends = np.linspace(hi[0], lo[0], 81)
-    u = np.linspace(0.0, 1.0, samples)
+    # the deepest point of each candidate path on a fine grid of its own, whatever the
+    # samples asked for, so that the path reaches the depth asked for
+    fine = 401
+    u = np.linspace(0.0, 1.0, fine)
     paths = np.stack(
         [
             b0 + u[None, :] * (ends[:, None] - b0),
-            np.broadcast_to(arm0 + u * (arm1 - arm0), (len(ends), samples)),
-            np.broadcast_to(bkt0 + u * (bkt1 - bkt0), (len(ends), samples)),
+            np.broadcast_to(arm0 + u * (arm1 - arm0), (len(ends), fine)),
+            np.broadcast_to(bkt0 + u * (bkt1 - bkt0), (len(ends), fine)),
         ],
         axis=2,
     )
-    y = _lip_height(machine, paths.reshape(-1, 3)).reshape(len(ends), samples)
+    y = _lip_height(machine, paths.reshape(-1, 3)).reshape(len(ends), fine)
     deepest = np.where(np.all(np.isfinite(y), axis=1), -np.min(y, axis=1), np.nan)
     b1 = _crossing(ends, deepest, depth)
     if b1 is None:
