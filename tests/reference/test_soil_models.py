@@ -260,3 +260,17 @@ def test_bad_inputs_are_refused_by_name() -> None:
         _soil(cohesion=-1.0)
     with pytest.raises(InputError, match="width"):
         Tool(0.0)
+
+
+def test_a_frictionless_soil_is_refused_by_balovnev_before_any_arithmetic() -> None:
+    """φ = 0: the clear refusal, with no division-by-zero warning ahead of it."""
+    import dataclasses
+    import warnings
+
+    from excavkin.excavator.soil import SOILS, Tool, balovnev
+
+    soil = dataclasses.replace(SOILS["clay"], friction_angle=0.0, metal_friction=0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(InputError, match="0 < φ < 90°"):
+            balovnev(np.array([0.2]), np.array([1.0]), soil, Tool(width=1.2))

@@ -277,6 +277,7 @@ def balovnev(
     phi, delta = s.friction_angle, s.metal_friction
     gam = s.unit_weight(g)
     td = np.tan(delta)
+    balovnev_a(0.5 * np.pi, phi, delta)  # its limits on φ and δ first, before c·cot φ
     base = s.cohesion / np.tan(phi) + s.surcharge
     e, ae = tool.edge_thickness, tool.edge_angle
     ka = (1.0 - np.sin(phi)) / (1.0 + np.sin(phi))
