@@ -12,8 +12,6 @@
 
 from __future__ import annotations
 
-import tomllib
-
 import numpy as np
 import pytest
 
@@ -25,26 +23,12 @@ from excavkin.excavator.machine import Machine, transfer
 from excavkin.excavator.machine_file import load_machine
 from excavkin.excavator.pin_loads import CASES, PinLoads, load_maxima, pin_labels, pin_loads
 from excavkin.excavator.ranges import stroke_grid
-from tests.conftest import EXAMPLES
-
-G = 9.80665
+from tests.crossmethod.test_excavator_stability import G, _files, _poses
 
 
 @pytest.fixture(scope="module")
 def machine() -> Machine:
     return load_machine(excavkin.example_path("excavator_machine"))
-
-
-def _files() -> tuple[dict, dict]:
-    model = tomllib.loads((EXAMPLES / "excavator.toml").read_text(encoding="utf-8"))
-    mach = tomllib.loads((EXAMPLES / "excavator_machine.toml").read_text(encoding="utf-8"))
-    return model, mach
-
-
-def _poses(machine: Machine, n: int, seed: int) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    lo, hi = machine.lengths_min + 0.01, machine.lengths_max - 0.01
-    return lo + rng.random((n, 3)) * (hi - lo)
 
 
 def _applied(machine: Machine, r: PinLoads, gravity: bool) -> dict[str, list]:

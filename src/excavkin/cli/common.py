@@ -178,7 +178,7 @@ def check_samples(n: int, what: str, bytes_per_sample: int = MIN_BYTES_PER_SAMPL
 
 def _hint_bare(texts: list[str], values: tuple[float, float], kind: str, what: str) -> None:
     """Warn when bare (SI) numbers look like degrees or millimetres."""
-    bare = all(_is_number(t) for t in texts)
+    bare = all(is_number(t) for t in texts)
     big = max(abs(v) for v in values)
     if bare and kind == "angle" and big > 4 * math.pi:
         click.echo(
@@ -201,7 +201,8 @@ def _hint_bare(texts: list[str], values: tuple[float, float], kind: str, what: s
         )
 
 
-def _is_number(text: str) -> bool:
+def is_number(text: str) -> bool:
+    """Whether ``text`` reads as a plain float."""
     try:
         float(text)
     except ValueError:

@@ -245,15 +245,8 @@ def _numbers(column: Any, path: str, name: str) -> F:
 
 def _units_row(batch: Any) -> bool:
     """A first row of unit names (as ``--units-row`` writes), not of numbers."""
+    from excavkin.cli.common import is_number
     from excavkin.units import is_unit_text
 
     cells = [str(col[0].as_py()) for col in batch.columns]
-    return not any(_is_number(c) for c in cells) and all(is_unit_text(c) for c in cells)
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
+    return not any(is_number(c) for c in cells) and all(is_unit_text(c) for c in cells)

@@ -357,20 +357,7 @@ def _solve_chunks(
                 status[bad & (status == Code.OK)] = Code.BAD_DESIGN
                 q = q.copy()
                 q[:, bad] = np.nan
-        c = Chunk(
-            full.x[:, :, part],
-            full.v[:, :, part],
-            full.a[:, :, part],
-            q,
-            full.qd[:, part],
-            full.qdd[:, part],
-            full.trans[:, part],
-            full.status[part],
-            full.failed[part],
-            full.close_tol,
-            full.singular_tol,
-            None if full.near is None else full.near[part],  # Newton groups' nearness
-        )
+        c = dataclasses.replace(_view(full, part), q=q)  # the inputs, unbuildable designs NaN
         near, near_step = nearest[0][part], nearest[1][part]
         if kernel is not None:
             body, element = derived.body[:, :, part], derived.element[:, :, part]
