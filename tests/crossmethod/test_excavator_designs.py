@@ -266,6 +266,9 @@ def test_a_machine_study_table_is_its_designs_evaluated_and_resumes(tmp_path, st
     assert "4,096 designs" in r.output and out.stat().st_size > 0
     r = CliRunner().invoke(main, ["excavator", "study", STUDY, "-o", str(out), "-q"])
     assert r.exit_code != 0 and "--force" in r.output and "Traceback" not in r.output
+    # a model's study given to the machine command: pointed to the right one
+    r = CliRunner().invoke(main, ["excavator", "study", "crank_rocker", "-q"])
+    assert r.exit_code == 2 and "`excavkin study`" in r.output and "crank_rocker" in r.output
 
 
 def test_design_ranges_equal_each_designs_own_working_ranges(machine) -> None:  # type: ignore[no-untyped-def]

@@ -264,6 +264,13 @@ def load_machine_study(path: str | Path) -> MachineStudy:
     r.keys(r.data, {"study", "units", "parameters", "poses", "metrics", "constraints", "optimize"},
            "the file")  # fmt: skip
     head = r.table("study", required=True)
+    if "model" in head and "machine" not in head:
+        raise r.err(
+            "a study of a model, not of a machine: run it with `excavkin study` or "
+            "`excavkin optimize`",
+            "study",
+            "model",
+        )
     r.keys(head, {"machine", "method", "samples", "seed"}, "study")
     machine, source = _machine(r, head.get("machine"), Path(path).parent)
     method, samples, seed = sf.read_sampling(r, head)
