@@ -166,8 +166,6 @@ class _Batch:
         k = stop - start
         n_in = len(plan.inputs)
         q = np.empty((n_in, k))
-        qd = np.empty((n_in, k))
-        qdd = np.empty((n_in, k))
         given = {name: part_of(v, start, stop) for name, v in self.params.items()}
         held: Any = np.asarray(plan.input_sketch)[:, None]
         here, unbuildable, batch = plan, None, None
@@ -179,15 +177,28 @@ class _Batch:
             batch = DesignBatch(plan, {name: np.broadcast_to(v, (k,)) for name, v in given.items()})
             if any(name not in self.values for name in plan.inputs):
                 held = batch.held(k)
+        rates, accels = [], []
         for i, name in enumerate(plan.inputs):
             val = self.values.get(name)
             swept = val is not None and val.ndim == 1
             q[i] = held[i] if val is None else part_of(val, start, stop)
             rate = self.rates.get(name)
-            qd[i] = (1.0 if swept else 0.0) if rate is None else part_of(rate, start, stop)
+            rates.append((1.0 if swept else 0.0) if rate is None else part_of(rate, start, stop))
             accel = self.accels.get(name)
-            qdd[i] = 0.0 if accel is None else part_of(accel, start, stop)
-        return Part(start, q, qd, qdd, here, unbuildable, batch)
+            accels.append(0.0 if accel is None else part_of(accel, start, stop))
+        return Part(start, q, _rows(rates, k), _rows(accels, k), here, unbuildable, batch)
+
+
+def _rows(values: list[Any], k: int) -> F:
+    """Rates or accelerations as (n_inputs, k): a read-only broadcast of one value per input
+    when none varies (nothing written per sample), else an array of their own."""
+    if all(np.ndim(v) == 0 for v in values):
+        column = np.array(values, dtype=np.float64).reshape(-1, 1)
+        return np.broadcast_to(column, (len(values), k))
+    out = np.empty((len(values), k))
+    for i, v in enumerate(values):
+        out[i] = v
+    return out
 
 
 class Mechanism:

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.kernels import Chunk, Code, F
 from excavkin.structure.plan import Attach, Dist, Dyad, Fixed, Rotate, SliderStep, SolvePlan
 
@@ -43,6 +44,8 @@ THRESHOLD = 1 << 17
 COMPILE_AT = 20_000_000
 
 Kernel = Callable[..., None]
+#: the generated code's arctangent: arithmetic, inlined (:mod:`excavkin.kinematics.fast_atan2`)
+ATAN2 = fast_atan2.NAME
 
 _lock = threading.Lock()
 _kernels: dict[str, Kernel] = {}
@@ -249,12 +252,14 @@ _HEAD = '''\
 import math
 
 import numba
+''' + fast_atan2.SOURCE + '''
 
-
-# one signature, arrays of any layout (the chunks are strided views): compiled once, at import
+# one signature, arrays of any layout (the chunks are strided views): compiled once, at import;
+# the inputs and constants are read only (a rate given once for every sample is a broadcast)
 A1, A2, A3 = numba.float64[:], numba.float64[:, :], numba.float64[:, :, :]
+R2 = numba.types.Array(numba.float64, 2, "A", readonly=True)
 SIGNATURE = numba.void(
-    A2, A2, A2, A2, numba.int64, A3, A3, A3, A2, A3, A3, numba.int8[:], numba.int16[:],
+    R2, R2, R2, R2, numba.int64, A3, A3, A3, A2, A3, A3, numba.int8[:], numba.int16[:],
     numba.float64, numba.float64, A1, numba.int16[:],
 )
 
@@ -327,7 +332,7 @@ class _Source:
         self.emit(f"r = {self.const()}", f"th = q[{i}, i]")
         if st.ref is not None:
             b0, b1 = st.ref
-            self.emit(f"rx = X{b1} - X{b0}", f"ry = Y{b1} - Y{b0}", "th = th + math.atan2(ry, rx)")
+            self.emit(f"rx = X{b1} - X{b0}", f"ry = Y{b1} - Y{b0}", f"th = th + {ATAN2}(ry, rx)")
         self.emit(
             "cs = math.cos(th)", "sn = math.sin(th)",
             f"X{p} = X{o} + r * cs", f"Y{p} = Y{o} + r * sn",
@@ -384,7 +389,7 @@ class _Source:
             f"r1x = X{p} - X{a}", f"r1y = Y{p} - Y{a}",
             f"r2x = X{p} - X{b}", f"r2y = Y{p} - Y{b}",
             "det = r1x * r2y - r1y * r2x",
-            f"T{st.index} = math.atan2(abs(det), r1x * r2x + r1y * r2y)",
+            f"T{st.index} = {ATAN2}(abs(det), r1x * r2x + r1y * r2y)",
             f"S{st.index} = abs(det) / abs(d1 * d2)",
             "if not (abs(det) > singular_tol * abs(d1 * d2)):",
         )  # fmt: skip
@@ -430,7 +435,7 @@ class _Source:
             f"X{p} = X{l1} + along * ex", f"Y{p} = Y{l1} + along * ey",
             f"r1x = X{p} - X{a}", f"r1y = Y{p} - Y{a}",
             "dot = ux * r1x + uy * r1y",
-            f"T{st.index} = math.atan2(abs(dot), abs(ux * r1y - uy * r1x))",
+            f"T{st.index} = {ATAN2}(abs(dot), abs(ux * r1y - uy * r1x))",
             f"S{st.index} = abs(dot) / (lu * abs(d))",
             "det = -dot",
             "if not (abs(det) > singular_tol * lu * abs(d)):",
@@ -488,7 +493,7 @@ class _Source:
             f"ax = AX{q} - AX{p}", f"ay = AY{q} - AY{p}",
             "r2 = rx * rx + ry * ry",
             "om = (rx * vy - ry * vx) / r2",
-            "ang = math.atan2(ry, rx)",
+            f"ang = {ATAN2}(ry, rx)",
         )  # fmt: skip
         if not lengths:
             self.emit("eps = (rx * ay - ry * ax) / r2")

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 
 from excavkin.kinematics import compiled as compiled_plan
+from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinematics.kernels import F
 from excavkin.kinematics.threads import over_chunks
@@ -274,12 +275,14 @@ edit."""
 import math
 
 import numba
+''' + fast_atan2.SOURCE + '''
 
-
-# arrays of any layout (the chunks are strided views): compiled once, at import
+# arrays of any layout (the chunks are strided views): compiled once, at import; the inputs
+# and constants are read only (a rate given once for every sample is a broadcast)
 A2, A3, A4 = numba.float64[:, :], numba.float64[:, :, :], numba.float64[:, :, :, :]
+R2, R3 = (numba.types.Array(numba.float64, d, "A", readonly=True) for d in (2, 3))
 SIGNATURE = numba.void(
-    A2, A2, A2, A2, A3, numba.int64, A2, A3, numba.int64, numba.float64, numba.float64,
+    R2, R2, R2, R2, R3, numba.int64, A2, A3, numba.int64, numba.float64, numba.float64,
     A4, A4, A4, A3, A3, A4, A4,
 )
 
@@ -543,7 +546,7 @@ class _Differ:
         if fn == "abs":
             sign = self.helper(f"(1.0 if {a} > 0.0 else -1.0 if {a} < 0.0 else 0.0)")
             return self.op(value, f"{sign} * {da}")
-        if fn == "math.atan2":  # atan2(y, x)' = (x·dy − y·dx) / (x² + y²)
+        if fn == fast_atan2.NAME:  # atan2(y, x)' = (x·dy − y·dx) / (x² + y²)
             (x, dx) = rest[0]
             inv = self.helper(f"1.0 / ({x} * {x} + {a} * {a})")
             terms = [f"{x} * {da}" if da else "", f"{a} * {dx}" if dx else ""]

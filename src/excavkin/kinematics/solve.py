@@ -161,13 +161,12 @@ def solve_part(
         trans = np.empty((len(plan.transmissions), n))
         derived = Derived.empty(plan, n)
     status = np.zeros(n, dtype=np.int8)
-    failed = np.full(n, -1, dtype=np.int16)
     q_given = q
-    q = _check_inputs(plan, q, qd, qdd, status)
-    if unbuildable is not None and unbuildable.any():
-        status[unbuildable & (status == Code.OK)] = Code.BAD_DESIGN
-        q = q.copy()
-        q[:, unbuildable] = np.nan
+    if plan.has_newton:  # the continuation needs every input checked before it starts
+        failed = np.full(n, -1, dtype=np.int16)
+        q = _check_inputs(plan, q, qd, qdd, status, unbuildable)
+    else:  # each chunk checks its own inputs, on its thread, while they are in cache
+        failed = np.empty(n, dtype=np.int16)
     report, fast = _Reporter(progress, n), compiled_plan.use(plan, n, compiled)
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
@@ -183,7 +182,7 @@ def solve_part(
                 )
         checked = assembly if plan.has_newton else None  # the Newton groups' branch
         _solve_chunks(plan, full, derived, (near, near_step), chunk, workers, report, designs,
-                      checked, fast)  # fmt: skip
+                      checked, fast, None if plan.has_newton else (unbuildable,))  # fmt: skip
     error, found, tail = _check_blocks(
         plan, (q_given, q, qd, qdd), precision.Arrays(x, v, a, trans, derived), status, failed,
         (near, near_step), tol, designs, carry, blocks,
@@ -213,7 +212,7 @@ def _check_blocks(
     ``inputs``: the inputs as given, and as solved (q, qd, qdd)."""
     q_given, q, qd, qdd = inputs
     x, v, a, trans, derived = out.x, out.v, out.a, out.trans, out.derived
-    error = np.full(q.shape[1], np.nan)
+    error = np.empty(q.shape[1])  # every block's estimates are written below
     found: list[ChangePoint] = []
     tail = carry.tail
     per_sample = take(plan, slice(0, 0)) is not plan  # (else every block's plan is the plan)
@@ -331,6 +330,7 @@ def _solve_chunks(
     designs: DesignBatch | None = None,
     assembly: Assembly | None = None,
     fast: bool = False,
+    unchecked: tuple[np.ndarray | None] | None = None,
 ) -> None:
     """The plan over chunks of samples, on a thread per core: each chunk runs the steps and
     then its derived quantities and nearness to dead positions while it is in cache (and, for
@@ -338,7 +338,9 @@ def _solve_chunks(
     found (:func:`_solve_newton`): here they get their rates, and their branch is checked
     against ``assembly``'s. ``fast``: a closed-form plan as its compiled loop. Fills
     ``nearest`` (each sample's nearness and nearest step, as
-    :func:`~excavkin.kinematics.precision.nearness`)."""
+    :func:`~excavkin.kinematics.precision.nearness`). ``unchecked``: the inputs are not
+    checked yet: each chunk checks its own (:func:`_check_inputs`, with the samples whose
+    design builds no mechanism, ``unchecked[0]``) and sets its ``failed`` to −1."""
     n = full.status.size
     kernel = compiled_plan.compile_plan(plan) if fast else None
     # the compiled loop's constants, made once: each chunk takes its columns
@@ -348,6 +350,12 @@ def _solve_chunks(
         e = min(s + chunk, n)
         part = slice(s, e)
         q = full.q[:, part]
+        if unchecked is not None:
+            full.failed[part] = -1
+            bad_design = None if unchecked[0] is None else unchecked[0][part]
+            q = _check_inputs(
+                plan, q, full.qd[:, part], full.qdd[:, part], full.status[part], bad_design
+            )
         if designs is None:
             here = plan if consts is not None else take(plan, part)  # per-sample constants
         else:
@@ -415,8 +423,12 @@ def _flag_not_finite(
     status[~finite & (status == Code.OK)] = Code.NOT_FINITE
 
 
-def _check_inputs(plan: SolvePlan, q: F, qd: F, qdd: F, status: np.ndarray) -> F:
-    """Mark non-finite inputs and non-positive driven lengths; those samples' q become NaN."""
+def _check_inputs(
+    plan: SolvePlan, q: F, qd: F, qdd: F, status: np.ndarray, unbuildable: np.ndarray | None
+) -> F:
+    """Mark non-finite inputs, non-positive driven lengths and then the samples whose design
+    builds no mechanism (``unbuildable``); the last two's q become NaN (a copy: the caller's
+    arrays are left as they are)."""
     bad_in = ~(
         np.isfinite(q).all(axis=0) & np.isfinite(qd).all(axis=0) & np.isfinite(qdd).all(axis=0)
     )
@@ -429,6 +441,10 @@ def _check_inputs(plan: SolvePlan, q: F, qd: F, qdd: F, status: np.ndarray) -> F
             status[bad_len] = Code.BAD_LENGTH
             q = q.copy()
             q[:, bad_len] = np.nan
+    if unbuildable is not None and unbuildable.any():
+        status[unbuildable & (status == Code.OK)] = Code.BAD_DESIGN
+        q = q.copy()
+        q[:, unbuildable] = np.nan
     return q
 
 
