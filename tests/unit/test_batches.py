@@ -42,3 +42,18 @@ def test_newton_groups_give_identical_results_on_any_number_of_threads() -> None
     np.testing.assert_array_equal(one.status.code, many.status.code)
     for name in ("positions", "velocities", "accelerations", "body_omega", "transmission"):
         np.testing.assert_array_equal(getattr(one, name), getattr(many, name))
+
+
+def test_a_rate_given_once_is_not_written_per_sample() -> None:
+    """A rate or acceleration given as one value is a read-only broadcast (no memory per
+    sample), equal to the same value given per sample; one that varies is an array."""
+    mech = excavkin.load(EXAMPLES / "fourbar.toml")
+    th = np.linspace(0.0, 2 * np.pi, 5000)
+    once = mech.solve({"crank": th}, rates={"crank": 3.0}, accels={"crank": -2.0})
+    every = mech.solve({"crank": th}, rates={"crank": np.full(th.size, 3.0)},
+                       accels={"crank": np.full(th.size, -2.0)})  # fmt: skip
+    assert once.input_rates.strides == (0, 0) and not once.input_rates.flags.writeable
+    assert every.input_rates.strides != (0, 0)
+    for name in ("positions", "velocities", "accelerations", "input_rates", "input_accels"):
+        np.testing.assert_array_equal(getattr(once, name), getattr(every, name), err_msg=name)
+    np.testing.assert_array_equal(once.to_frame().to_numpy(), every.to_frame().to_numpy())
