@@ -9,15 +9,18 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from excavkin.kinematics import compiled, fast_atan2
 
 numba = pytest.importorskip("numba")
+_scalar = fast_atan2.compiled()
 
 
 @pytest.fixture(scope="module")
 def batch() -> object:
-    f = fast_atan2.compiled()
+    f = _scalar
 
     @numba.njit
     def run(y: np.ndarray, x: np.ndarray) -> np.ndarray:  # pragma: no cover
@@ -81,3 +84,19 @@ def test_the_generated_kernel_calls_no_libm_arctangent() -> None:
     text = compiled.source(plan)
     assert "math.atan2" not in text
     assert text.count(f"{fast_atan2.NAME}(") == 1 + 12  # its definition, and twelve angles
+
+
+@settings(max_examples=3000, deadline=None)
+@given(
+    st.floats(allow_nan=True, allow_infinity=True), st.floats(allow_nan=True, allow_infinity=True)
+)
+def test_any_pair_of_doubles_as_math_atan2(y: float, x: float) -> None:
+    """Any two doubles, NaN and infinities included: NaN where math.atan2 gives NaN, else its
+    sign and within 2 units in the last place of it."""
+    got = _scalar(y, x)
+    want = math.atan2(y, x)
+    if math.isnan(want):
+        assert math.isnan(got)
+        return
+    assert math.copysign(1.0, got) == math.copysign(1.0, want)
+    assert abs(got - want) <= 2 * math.ulp(want) + 2 * 5e-324

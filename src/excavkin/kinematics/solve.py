@@ -182,7 +182,7 @@ def solve_part(
                 )
         checked = assembly if plan.has_newton else None  # the Newton groups' branch
         _solve_chunks(plan, full, derived, (near, near_step), chunk, workers, report, designs,
-                      checked, fast, None if plan.has_newton else (unbuildable,))  # fmt: skip
+                      checked, fast, unbuildable)  # fmt: skip
     error, found, tail = _check_blocks(
         plan, (q_given, q, qd, qdd), precision.Arrays(x, v, a, trans, derived), status, failed,
         (near, near_step), tol, designs, carry, blocks,
@@ -330,7 +330,7 @@ def _solve_chunks(
     designs: DesignBatch | None = None,
     assembly: Assembly | None = None,
     fast: bool = False,
-    unchecked: tuple[np.ndarray | None] | None = None,
+    unbuildable: np.ndarray | None = None,
 ) -> None:
     """The plan over chunks of samples, on a thread per core: each chunk runs the steps and
     then its derived quantities and nearness to dead positions while it is in cache (and, for
@@ -338,9 +338,10 @@ def _solve_chunks(
     found (:func:`_solve_newton`): here they get their rates, and their branch is checked
     against ``assembly``'s. ``fast``: a closed-form plan as its compiled loop. Fills
     ``nearest`` (each sample's nearness and nearest step, as
-    :func:`~excavkin.kinematics.precision.nearness`). ``unchecked``: the inputs are not
+    :func:`~excavkin.kinematics.precision.nearness`). A closed-form plan's inputs are not
     checked yet: each chunk checks its own (:func:`_check_inputs`, with the samples whose
-    design builds no mechanism, ``unchecked[0]``) and sets its ``failed`` to −1."""
+    design builds no mechanism, ``unbuildable``) and sets its ``failed`` to −1; a plan with
+    Newton groups had them checked before its continuation."""
     n = full.status.size
     kernel = compiled_plan.compile_plan(plan) if fast else None
     # the compiled loop's constants, made once: each chunk takes its columns
@@ -350,9 +351,9 @@ def _solve_chunks(
         e = min(s + chunk, n)
         part = slice(s, e)
         q = full.q[:, part]
-        if unchecked is not None:
+        if not plan.has_newton:
             full.failed[part] = -1
-            bad_design = None if unchecked[0] is None else unchecked[0][part]
+            bad_design = None if unbuildable is None else unbuildable[part]
             q = _check_inputs(
                 plan, q, full.qd[:, part], full.qdd[:, part], full.status[part], bad_design
             )
