@@ -35,12 +35,14 @@ import numpy as np
 
 from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.kernels import Chunk, Code, F
+from excavkin.kinematics.vectorise import vectorised
 from excavkin.structure.plan import Attach, Dist, Dyad, Fixed, Rotate, SliderStep, SolvePlan
 
 #: below this many samples the NumPy path is used: a compiled call saves little there
 THRESHOLD = 1 << 17
-#: a kernel not yet compiled costs 2–6 s to compile; it is compiled unasked only for a batch
-#: this large, where it pays for itself (it saves 0.1–0.2 µs a sample)
+#: a kernel not yet compiled costs 5–20 s to compile (the four-bar's, the excavator's); it is
+#: compiled unasked only for a batch this large, where it saves about as much (0.05–0.15 µs a
+#: sample), and it is kept on disk for every later solve
 COMPILE_AT = 20_000_000
 
 Kernel = Callable[..., None]
@@ -68,14 +70,15 @@ def supports(plan: SolvePlan) -> bool:
     return all(isinstance(st, Fixed | Rotate | Attach | Dyad | SliderStep) for st in plan.steps)
 
 
-def use(plan: SolvePlan, n: int, compiled: bool | None) -> bool:
+def use(plan: SolvePlan, n: int, compiled: bool | None, per_sample: bool = False) -> bool:
     """Whether a solve of ``n`` samples takes the compiled path (``compiled`` None: when numba
     is installed and the batch is large — :data:`THRESHOLD` for a kernel already compiled,
-    :data:`COMPILE_AT` for one to compile)."""
+    :data:`COMPILE_AT` for one to compile); ``per_sample``: the kernel for a constants table
+    of a column per sample (:func:`compile_plan`)."""
     if compiled is None:
         if n < THRESHOLD or not supports(plan) or not available():
             return False
-        return n >= COMPILE_AT or is_compiled(plan)
+        return n >= COMPILE_AT or is_compiled(plan, per_sample)
     if compiled and not (supports(plan) and importlib.util.find_spec("numba") is not None):
         from excavkin.errors import InputError
 
@@ -106,6 +109,11 @@ def constants(plan: SolvePlan) -> list[Any]:
     return out
 
 
+def per_sample(plan: SolvePlan) -> bool:
+    """Whether the plan's constants differ from sample to sample (a family of designs)."""
+    return any(np.ndim(v) for v in constants(plan))
+
+
 def _fixed(d: Dist) -> Any:
     return d.value if d.kind == "fixed" else 0.0
 
@@ -122,18 +130,26 @@ def table(values: list[Any], n: int) -> tuple[F, int]:
 
 
 def run(
-    kernel: Kernel, plan: SolvePlan, c: Chunk, body: F, element: F, near: F, near_step: np.ndarray
+    kernel: Kernel,
+    plan: SolvePlan,
+    c: Chunk,
+    body: F,
+    element: F,
+    near: F,
+    near_step: np.ndarray,
+    start: int = 0,
 ) -> None:
-    """Solve the chunk ``c`` with the ``kernel`` of ``plan``'s structure, at full order, and
-    fill its derived quantities (``body`` and ``element``: the chunk's slices of
-    :class:`~excavkin.kinematics.result.Derived`) and each
-    sample's nearness to a dead position and nearest step (``near``, ``near_step``, as
-    :func:`~excavkin.kinematics.precision.nearness`).
+    """Solve a chunk with the ``kernel`` of ``plan``'s structure (:func:`compile_plan`), at full
+    order: its inputs are ``c.q``, ``c.qd`` and ``c.qdd``; it fills ``c``'s outputs, the derived
+    quantities (``body`` and ``element``: :class:`~excavkin.kinematics.result.Derived`'s
+    arrays) and each sample's nearness to a dead position and nearest step (``near``,
+    ``near_step``, as :func:`~excavkin.kinematics.precision.nearness`). The outputs are the
+    whole solve's arrays, in C order; the chunk's samples start at ``start``.
 
     Bytes not written are bytes not paged in: ``c.v`` and ``c.a`` come zeroed (fresh
     ``np.zeros`` pages cost nothing until written), and a fixed point's rows are left so."""
-    k, stride = table(constants(plan), c.status.size)
-    run_table(kernel, (k, stride), c, body, element, near, near_step)
+    k, stride = table(constants(plan), c.q.shape[1])
+    run_table(kernel, (k, stride), c, body, element, near, near_step, start)
 
 
 def run_table(
@@ -144,20 +160,29 @@ def run_table(
     element: F,
     near: F,
     near_step: np.ndarray,
+    start: int = 0,
 ) -> None:
     """:func:`run` with the chunk's constants table and stride (:func:`table`) given: a
     whole solve's table is made once, and each chunk takes its columns."""
     k, stride = consts
     kernel(
         c.q, c.qd, c.qdd, k, stride, c.x, c.v, c.a, c.trans, body, element,
-        c.status, c.failed, c.close_tol, c.singular_tol, near, near_step,
+        c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, start,
     )  # fmt: skip
 
 
-def compile_plan(plan: SolvePlan) -> Kernel:
+def compile_plan(plan: SolvePlan, per_sample: bool = False) -> Kernel:
     """The plan's compiled kernel: made once per structure, kept in memory and on disk (numba
-    compiles it at its first call, for the argument types of that call)."""
-    return kernel_of(source(plan, write_at_rest=False))
+    compiles it at its first call). It is the generated loop (:func:`source`) rewritten over
+    blocks of samples, branch-free, so that the compiler vectorises it
+    (:mod:`excavkin.kinematics.vectorise`); ``per_sample``: for a constants table with a
+    column per sample (:func:`table`'s stride 1), else for one column."""
+    return kernel_of(vectorised(source(plan, write_at_rest=False), per_sample))
+
+
+def is_compiled(plan: SolvePlan, per_sample: bool = False) -> bool:
+    """Whether the plan's kernel has been compiled, in this process or an earlier one."""
+    return source_compiled(vectorised(source(plan, write_at_rest=False), per_sample))
 
 
 def kernel_of(text: str) -> Kernel:
@@ -172,11 +197,6 @@ def kernel_of(text: str) -> Kernel:
             with contextlib.suppress(OSError):  # what a later process's is_compiled reads
                 (cache_dir() / f"excavkin_kernel_{key}.compiled").touch()
     return kernel
-
-
-def is_compiled(plan: SolvePlan) -> bool:
-    """Whether the plan's kernel has been compiled, in this process or an earlier one."""
-    return source_compiled(source(plan, write_at_rest=False))
 
 
 def source_compiled(text: str) -> bool:
@@ -247,12 +267,15 @@ def source(plan: SolvePlan, *, write_at_rest: bool = True) -> str:
     return g.text()
 
 
-_HEAD = '''\
+_HEAD = (
+    '''\
 """Generated by excavkin.kinematics.compiled from a solve plan's structure; do not edit."""
 import math
 
 import numba
-''' + fast_atan2.SOURCE + '''
+'''
+    + fast_atan2.SOURCE
+    + """
 
 # one signature, arrays of any layout (the chunks are strided views): compiled once, at import;
 # the inputs and constants are read only (a rate given once for every sample is a broadcast)
@@ -272,7 +295,8 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
         j = i * ks
         st = status[i]
         fk = failed[i]
-'''
+"""
+)
 
 
 #: independent sums in the finiteness check

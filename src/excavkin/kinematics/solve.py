@@ -167,7 +167,8 @@ def solve_part(
         q = _check_inputs(plan, q, qd, qdd, status, unbuildable)
     else:  # each chunk checks its own inputs, on its thread, while they are in cache
         failed = np.empty(n, dtype=np.int16)
-    report, fast = _Reporter(progress, n), compiled_plan.use(plan, n, compiled)
+    each = designs is not None or compiled_plan.per_sample(plan)  # the kernel's constants
+    report, fast = _Reporter(progress, n), compiled_plan.use(plan, n, compiled, each)
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     blocks = _blocks(carry.start, n)
@@ -343,9 +344,10 @@ def _solve_chunks(
     design builds no mechanism, ``unbuildable``) and sets its ``failed`` to −1; a plan with
     Newton groups had them checked before its continuation."""
     n = full.status.size
-    kernel = compiled_plan.compile_plan(plan) if fast else None
     # the compiled loop's constants, made once: each chunk takes its columns
     consts = compiled_plan.table(compiled_plan.constants(plan), n) if fast else None
+    each = designs is not None or (consts is not None and consts[1] == 1)
+    kernel = compiled_plan.compile_plan(plan, each) if fast else None
 
     def one(s: int) -> None:
         e = min(s + chunk, n)
@@ -366,17 +368,18 @@ def _solve_chunks(
                 status[bad & (status == Code.OK)] = Code.BAD_DESIGN
                 q = q.copy()
                 q[:, bad] = np.nan
-        c = dataclasses.replace(_view(full, part), q=q)  # the inputs, unbuildable designs NaN
-        near, near_step = nearest[0][part], nearest[1][part]
-        if kernel is not None:
-            body, element = derived.body[:, :, part], derived.element[:, :, part]
+        if kernel is not None:  # the chunk's inputs; the whole solve's outputs, from s on
+            c = dataclasses.replace(full, q=q, qd=full.qd[:, part], qdd=full.qdd[:, part])
+            out = (derived.body, derived.element, *nearest)
             if designs is None and consts is not None:
                 k, stride = consts
                 table = (k[:, part] if stride else k, stride)
-                compiled_plan.run_table(kernel, table, c, body, element, near, near_step)
+                compiled_plan.run_table(kernel, table, c, *out, s)
             else:
-                compiled_plan.run(kernel, here, c, body, element, near, near_step)
+                compiled_plan.run(kernel, here, c, *out, s)
         else:
+            c = dataclasses.replace(_view(full, part), q=q)  # the inputs, unbuildable designs NaN
+            near, near_step = nearest[0][part], nearest[1][part]
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
                 signs = run_steps(here, c, 2, newton=False)
                 if assembly is not None:

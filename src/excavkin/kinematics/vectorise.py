@@ -1,0 +1,227 @@
+"""The compiled plan's loop rewritten so that the compiler can vectorise it (SIMD).
+
+The compiled plan (:mod:`excavkin.kinematics.compiled`) is one scalar loop over samples. Its
+arrays are strided views of any layout and it stores a hundred rows that the compiler cannot
+prove apart, and its statuses are set in branches: so the compiler keeps it scalar, one sample
+at a time. Here the same statements are rewritten, mechanically, to run over blocks of
+:data:`WIDTH` samples held in one contiguous scratch array:
+
+- every array the loop reads (inputs, constants, statuses) is copied into a row of the scratch,
+  and every array it writes is a row of it, copied out to the result after the block; each
+  row is at a constant offset in the source, so the rows are provably apart;
+- every ``if`` becomes selects: a name assigned under a condition takes
+  ``value if condition else name``, ``and``/``or`` of conditions become ``&``/``|``.
+
+So the block's loop is straight-line arithmetic over one array, which LLVM vectorises (with
+the loop's own arctangent, :mod:`excavkin.kinematics.fast_atan2`, and no libm call but the
+rotations' sine and cosine). The arithmetic, its order and every status are the scalar loop's:
+the two give the same numbers to the bit (tested), and the scalar source stays the one that
+the sensitivities differentiate.
+"""
+
+from __future__ import annotations
+
+import ast
+import hashlib
+from pathlib import Path
+
+#: samples a block: its scratch (a few hundred rows at most) stays in the core's L2 cache
+WIDTH = 256
+
+#: the streaming stores' source, hashed into each kernel's text: numba's cache of a kernel
+#: is keyed by the kernel's own file, and an intrinsic is compiled into it
+_STREAMING = hashlib.sha256(Path(__file__).with_name("streaming.py").read_bytes()).hexdigest()[:16]
+
+#: the arrays the scalar loop reads per sample, and those it writes
+_READ = {"q", "qd", "qdd", "K", "status", "failed"}
+_WRITTEN = {"x", "v", "a", "trans", "body", "element", "status", "failed", "near", "near_step"}
+
+
+_HEAD = """
+# the inputs and constants: the chunk's samples, arrays of any layout, read only; the outputs:
+# the whole solve's arrays (C order, so that a row's samples are provably contiguous), the
+# chunk's samples from s0 on
+R2 = numba.types.Array(numba.float64, 2, "A", readonly=True)
+A1, A2, A3 = numba.float64[::1], numba.float64[:, ::1], numba.float64[:, :, ::1]
+SIGNATURE = numba.void(
+    R2, R2, R2, R2, numba.int64, A3, A3, A3, A2, A3, A3, numba.int8[::1], numba.int16[::1],
+    numba.float64, numba.float64, A1, numba.int16[::1], numba.int64,
+)
+
+
+@numba.njit(SIGNATURE, nogil=True, cache=True, error_model="numpy")
+def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, close_tol,
+           singular_tol, near, near_step, s0):
+    nan = math.nan
+"""
+
+
+def vectorised(text: str, per_sample: bool) -> str:
+    """The compiled plan's source ``text`` (its loop over samples) rewritten over blocks of
+    :data:`WIDTH` samples in a contiguous scratch, branch-free. The kernel's inputs (``q``,
+    ``qd``, ``qdd``, ``K``) are a chunk's samples; its outputs are the whole solve's arrays,
+    the chunk's samples starting at its last argument, ``s0``. ``per_sample``: the constants
+    table has a column per sample (a family of designs), else one column, whose values are
+    read once, before the loop."""
+    tree = ast.parse(text)
+    fn = next(f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel")
+    loop = next(s for s in fn.body if isinstance(s, ast.For))
+    prelude = text[: text.index("\n# one signature")]
+    r = _Rewriter(per_sample)
+    body: list[str] = []
+    for st in loop.body:
+        if isinstance(st, ast.Assign) and _name(st.targets[0]) == "j":
+            continue  # the constants' column: read in the copy-in loop
+        r.statement(st, None, body)
+    reads, writes = _tables(r.reads), _tables(r.writes)
+    imports = "import math\n\nimport numpy as np\n"
+    stores = f"from excavkin.kinematics.streaming import fence, stream  # {_STREAMING}\n"
+    prelude = prelude.replace("import math\n", imports, 1)
+    out = [prelude.replace("import numba\n", "import numba\n" + stores, 1), ""]
+    # each array's rows: its indices before the sample's, and the scratch row (constants)
+    tables = {**reads, **writes}  # (status and failed are both: one row each)
+    out += [f"T_{name} = np.array({rows!r}, dtype=np.int64)" for name, rows in tables.items()]
+    out += [
+        _HEAD.rstrip("\n"),
+        *([] if per_sample else _ONE_DESIGN),
+        *(f"    {name} = K[{c}, 0]" for name, c in r.hoisted.items()),
+        f"    S = np.empty({len(r.rows) * WIDTH})",
+        "    n = q.shape[1]",
+        f"    for b0 in range(0, n, {WIDTH}):",
+        f"        m = min({WIDTH}, n - b0)",
+    ]
+    for name, rows in reads.items():
+        out += _copy(name, rows, into_scratch=True)
+    out += ["        for l in range(m):", *(f"            {line}" for line in body)]
+    for name, rows in writes.items():
+        out += _copy(name, rows, into_scratch=False)
+    out.append("    fence()")
+    return "\n".join(out) + "\n"
+
+
+#: a kernel for one design reads its constants once: it refuses a table of one per sample
+_ONE_DESIGN = [
+    "    if ks != 0:",
+    '        raise ValueError("a kernel for one design, given a family")',
+]
+
+
+def _tables(elements: dict[str, int]) -> dict[str, list[list[int]]]:
+    """Array elements of the scalar loop (``x[3, 0, i]``) → each array's rows: its indices
+    before the sample's and the scratch row (``[3, 0, row]``)."""
+    out: dict[str, list[list[int]]] = {}
+    for text, row in elements.items():
+        node = ast.parse(text, mode="eval").body
+        assert isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name)
+        idx = node.slice.elts if isinstance(node.slice, ast.Tuple) else [node.slice]
+        lead = [ast.literal_eval(e) for e in idx[:-1]]
+        out.setdefault(node.value.id, []).append([*lead, row])
+    return out
+
+
+def _copy(name: str, rows: list[list[int]], into_scratch: bool) -> list[str]:
+    """A loop over an array's rows, each copied between the array and its scratch row: the
+    inputs chunk-relative (the constants at column ``(b0 + l)·ks``), the outputs into the
+    whole solve's arrays from ``s0``, by streaming stores (:mod:`~excavkin.kinematics.streaming`:
+    they read no line they write)."""
+    lead = len(rows[0]) - 1
+    row = f"{name}[{', '.join(f'T_{name}[t, {k}]' for k in range(lead))}]" if lead else name
+    scratch = f"S[T_{name}[t, {lead}] * {WIDTH} + l]"
+    if into_scratch:
+        sample = {"K": "(b0 + l) * ks"}.get(name, "s0 + b0 + l" if name in _WRITTEN else "b0 + l")
+        copy = f"{scratch} = {row}[{sample}]"
+    else:
+        copy = f"stream(row, s0 + b0 + l, {scratch})"
+    return [
+        f"        for t in range({len(rows)}):",
+        f"            row = {row}",
+        "            for l in range(m):",
+        f"                {copy}",
+    ]
+
+
+def _name(node: ast.expr) -> str | None:
+    return node.id if isinstance(node, ast.Name) else None
+
+
+class _Rewriter(ast.NodeTransformer):
+    """Array reads and writes to scratch rows; ``if`` blocks to selects."""
+
+    def __init__(self, per_sample: bool) -> None:
+        self.per_sample = per_sample
+        self.rows: dict[str, int] = {}  # an array element's text → its row
+        self.reads: dict[str, int] = {}  # copied in: source text → row
+        self.writes: dict[str, int] = {}  # copied out: destination text → row
+        self.hoisted: dict[str, int] = {}  # one design's constants: name → column of K
+        self.defined: set[str] = {"nan", "close_tol", "singular_tol"}
+        self.conditions = 0
+
+    def row(self, node: ast.Subscript) -> str:
+        text = ast.unparse(node)
+        if text not in self.rows:
+            self.rows[text] = len(self.rows)
+        return f"S[{self.rows[text] * WIDTH} + l]"
+
+    def visit_Subscript(self, node: ast.Subscript) -> ast.AST:
+        array = _name(node.value)
+        if array == "K" and not self.per_sample:  # one value for every sample: a scalar
+            assert isinstance(node.slice, ast.Tuple)
+            row = ast.literal_eval(node.slice.elts[0])
+            self.hoisted[f"K_{row}"] = row
+            return ast.Name(f"K_{row}", ast.Load())
+        if array in _READ | _WRITTEN:
+            text = ast.unparse(node)
+            if array in _READ and text not in self.rows:
+                self.reads[text] = len(self.rows)
+            out: ast.AST = ast.parse(self.row(node), mode="eval").body
+            return out
+        return self.generic_visit(node)
+
+    def visit_BoolOp(self, node: ast.BoolOp) -> ast.AST:
+        op: ast.operator = ast.BitAnd() if isinstance(node.op, ast.And) else ast.BitOr()
+        values: list[ast.expr] = [self.visit(v) for v in node.values]
+        out = values[0]
+        for v in values[1:]:
+            out = ast.BinOp(out, op, v)
+        return out
+
+    def expr(self, node: ast.expr) -> str:
+        return ast.unparse(self.visit(node))
+
+    def statement(self, st: ast.stmt, cond: str | None, out: list[str]) -> None:
+        if isinstance(st, ast.If):
+            test = self.expr(st.test)
+            self.conditions += 1
+            here = f"c{self.conditions}_"
+            out.append(f"{here} = {test}" if cond is None else f"{here} = {cond} & ({test})")
+            for s in st.body:
+                self.statement(s, here, out)
+            if st.orelse:
+                self.conditions += 1
+                other = f"c{self.conditions}_"
+                neg = f"not ({test})"
+                out.append(f"{other} = {neg}" if cond is None else f"{other} = {cond} & ({neg})")
+                for s in st.orelse:
+                    self.statement(s, other, out)
+            return
+        if isinstance(st, ast.AugAssign) and cond is None:
+            out.append(ast.unparse(self.visit(st)))
+            return
+        if isinstance(st, ast.Assign) and len(st.targets) == 1:
+            target = st.targets[0]
+            value = self.expr(st.value)
+            if isinstance(target, ast.Name):
+                name = target.id
+                if cond is None or name not in self.defined:
+                    out.append(f"{name} = {value}")
+                else:
+                    out.append(f"{name} = ({value}) if {cond} else {name}")
+                self.defined.add(name)
+                return
+            if isinstance(target, ast.Subscript) and cond is None:
+                text = ast.unparse(target)
+                slot = self.row(target)
+                self.writes[text] = self.rows[text]
+                out.append(f"{slot} = {value}")
+                return
+        raise NotImplementedError(f"cannot vectorise: {ast.unparse(st)}")
