@@ -22,6 +22,7 @@ the sensitivities differentiate.
 from __future__ import annotations
 
 import ast
+import functools
 import hashlib
 from pathlib import Path
 
@@ -56,6 +57,7 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
 """
 
 
+@functools.lru_cache(maxsize=64)
 def vectorised(text: str, per_sample: bool) -> str:
     """The compiled plan's source ``text`` (its loop over samples) rewritten over blocks of
     :data:`WIDTH` samples in a contiguous scratch, branch-free. The kernel's inputs (``q``,
