@@ -57,3 +57,25 @@ def test_a_rate_given_once_is_not_written_per_sample() -> None:
     for name in ("positions", "velocities", "accelerations", "input_rates", "input_accels"):
         np.testing.assert_array_equal(getattr(once, name), getattr(every, name), err_msg=name)
     np.testing.assert_array_equal(once.to_frame().to_numpy(), every.to_frame().to_numpy())
+
+
+def test_free_memory_in_huge_pieces_from_buddyinfo() -> None:
+    """Free blocks of a huge page's order (2 MiB: 9 with 4 KiB pages) or more are counted,
+    smaller ones not, over every zone; text that cannot be read counts nothing."""
+    import os
+    from pathlib import Path
+
+    from excavkin.kinematics.solve import free_in_huge_pieces
+
+    hpage = Path("/sys/kernel/mm/transparent_hugepage/hpage_pmd_size")
+    huge = int(hpage.read_text()) if hpage.exists() else 2**21
+    assert os.sysconf("SC_PAGE_SIZE") == 4096 and huge == 2**21, "the orders below assume it"
+    text = (
+        "Node 0, zone      DMA      0      0      0      0      0      0      0      0      1"
+        "      1      3\n"
+        "Node 0, zone   Normal  84706  65091  33763   9595   1189    217     95     68     27"
+        "    225   2124\n"
+    )
+    assert free_in_huge_pieces(text) == (1 + 225) * huge + (3 + 2124) * 2 * huge
+    assert free_in_huge_pieces("") == 0
+    assert free_in_huge_pieces("Node 0, zone Normal 1 2 x") == 0

@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+import os
 import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -238,19 +240,22 @@ def _check_blocks(
     return error, found, tail
 
 
-#: a result at least this large (bytes) is made of ordinary pages (:func:`_small_pages`)
+#: a result at least this large (bytes) is made of ordinary pages (:func:`_small_pages`),
+#: unless free memory holds it twice over in pieces a huge page can take
 LARGE_RESULT = 2**30
 
 
 @contextmanager
 def _small_pages(nbytes: int) -> Iterator[None]:
-    """Arrays made here get ordinary pages when they add up to :data:`LARGE_RESULT` or more.
-    NumPy advises the kernel to back a large array with huge pages, each found (compacted,
-    zeroed) when first touched: fewer faults than ordinary pages (a result of 10⁶ samples is
-    made 10–15 % faster), but the threads writing a fresh result of 10⁷ samples (≈ 3 GB) were
-    seen to stall on them, 5× slower, where memory had to be compacted. The setting is
-    NumPy's, process-wide: it is put back as it was at once."""
-    if nbytes < LARGE_RESULT:
+    """Arrays made here get ordinary pages when they add up to :data:`LARGE_RESULT` or more
+    and free memory in pieces of a huge page or more (:func:`free_in_huge_pieces`) is less
+    than twice that. NumPy advises the kernel to back a large array with huge pages, each
+    found (zeroed, and compacted if memory is in small pieces) when first touched: far fewer
+    faults than ordinary pages (a solve of 10⁷ four-bar samples is twice as fast with them),
+    but the threads writing a fresh result of 10⁷ samples (≈ 3 GB) were seen to stall on
+    them, 5× slower, where memory had to be compacted first. The setting is NumPy's,
+    process-wide: it is put back as it was at once."""
+    if nbytes < LARGE_RESULT or free_in_huge_pieces() >= 2 * nbytes:
         yield
         return
     try:
@@ -262,6 +267,27 @@ def _small_pages(nbytes: int) -> Iterator[None]:
         yield
     finally:
         advise(previous)
+
+
+def free_in_huge_pieces(buddyinfo: str | None = None) -> int:
+    """Bytes of free memory in pieces a huge page can take without compaction, from Linux's
+    ``/proc/buddyinfo`` (free blocks of each order, per zone) or the text given; 0 where it
+    cannot be read (then large results take ordinary pages)."""
+    try:
+        text = Path("/proc/buddyinfo").read_text() if buddyinfo is None else buddyinfo
+        page = os.sysconf("SC_PAGE_SIZE")
+        hpage = Path("/sys/kernel/mm/transparent_hugepage/hpage_pmd_size")
+        huge = int(hpage.read_text()) if hpage.exists() else 2**21
+    except (OSError, ValueError):
+        return 0
+    least = max((huge // page).bit_length() - 1, 0)  # the order of a huge page
+    total = 0
+    for line in text.splitlines():
+        counts = line.split()[4:]  # "Node 0, zone Normal" then one count per order
+        for order, count in enumerate(counts):
+            if order >= least and count.isdigit():
+                total += int(count) * page << order
+    return total
 
 
 def _blocks(start: int, n: int) -> list[slice]:
