@@ -87,14 +87,14 @@ def vectorised(text: str, per_sample: bool) -> str:
         _HEAD.rstrip("\n"),
         *([] if per_sample else _ONE_DESIGN),
         *(f"    {name} = K[{c}, 0]" for name, c in r.hoisted.items()),
-        f"    S = np.empty({len(r.rows) * WIDTH})",
-        "    n = q.shape[1]",
-        f"    for b0 in range(0, n, {WIDTH}):",
-        f"        m = min({WIDTH}, n - b0)",
+        f"    S_ = np.empty({len(r.rows) * WIDTH})",
+        "    n_ = q.shape[1]",
+        f"    for b0_ in range(0, n_, {WIDTH}):",
+        f"        nb_ = min({WIDTH}, n_ - b0_)",
     ]
     for name, rows in reads.items():
         out += _copy(name, rows, into_scratch=True)
-    out += ["        for l in range(m):", *(f"            {line}" for line in body)]
+    out += ["        for l_ in range(nb_):", *(f"            {line}" for line in body)]
     for name, rows in writes.items():
         out += _copy(name, rows, into_scratch=False)
     out.append("    fence()")
@@ -123,21 +123,24 @@ def _tables(elements: dict[str, int]) -> dict[str, list[list[int]]]:
 
 def _copy(name: str, rows: list[list[int]], into_scratch: bool) -> list[str]:
     """A loop over an array's rows, each copied between the array and its scratch row: the
-    inputs chunk-relative (the constants at column ``(b0 + l)·ks``), the outputs into the
+    inputs chunk-relative (the constants at column ``(b0_ + l_)·ks``), the outputs into the
     whole solve's arrays from ``s0``, by streaming stores (:mod:`~excavkin.kinematics.streaming`:
-    they read no line they write)."""
+    they read no line they write). (The loop's own names end in ``_``: the generated loop's
+    never do.)"""
     lead = len(rows[0]) - 1
-    row = f"{name}[{', '.join(f'T_{name}[t, {k}]' for k in range(lead))}]" if lead else name
-    scratch = f"S[T_{name}[t, {lead}] * {WIDTH} + l]"
-    if into_scratch:
-        sample = {"K": "(b0 + l) * ks"}.get(name, "s0 + b0 + l" if name in _WRITTEN else "b0 + l")
+    row = f"{name}[{', '.join(f'T_{name}[k_, {k}]' for k in range(lead))}]" if lead else name
+    scratch = f"S_[T_{name}[k_, {lead}] * {WIDTH} + l_]"
+    if into_scratch:  # the element read whole (a row's view made here slowed the loop 4×)
+        inputs = "s0 + b0_ + l_" if name in _WRITTEN else "b0_ + l_"
+        sample = "(b0_ + l_) * ks" if name == "K" else inputs
         copy = f"{scratch} = {row}[{sample}]"
     else:
-        copy = f"stream(row, s0 + b0 + l, {scratch})"
+        copy = f"stream(row_, s0 + b0_ + l_, {scratch})"
+    view = [] if into_scratch else [f"            row_ = {row}"]
     return [
-        f"        for t in range({len(rows)}):",
-        f"            row = {row}",
-        "            for l in range(m):",
+        f"        for k_ in range({len(rows)}):",
+        *view,
+        "            for l_ in range(nb_):",
         f"                {copy}",
     ]
 
@@ -162,7 +165,7 @@ class _Rewriter(ast.NodeTransformer):
         text = ast.unparse(node)
         if text not in self.rows:
             self.rows[text] = len(self.rows)
-        return f"S[{self.rows[text] * WIDTH} + l]"
+        return f"S_[{self.rows[text] * WIDTH} + l_]"
 
     def visit_Subscript(self, node: ast.Subscript) -> ast.AST:
         array = _name(node.value)
