@@ -1,9 +1,21 @@
 #!/usr/bin/env bash
 # The whole check, as CI runs it: install, lint, types, layering, tests.
 # Usage: bash scripts/test.sh [extra pytest arguments]
+#
+# It installs the project and its test extras into a fresh virtual environment of its own, so
+# that a dependency missing from pyproject.toml fails here as it fails on a new machine
+# (packages installed by hand elsewhere are not seen). EXCAVKIN_TEST_VENV=DIR reuses (or makes)
+# the environment DIR instead, for quicker runs while developing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+venv=${EXCAVKIN_TEST_VENV:-$work/test-venv}
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+export PATH="$venv/bin:$PATH" VIRTUAL_ENV="$venv"
+hash -r
+echo "== install into $venv"
 python -m pip install --quiet --disable-pip-version-check -e ".[test,docs]"
 
 # The report's browser test drives Debian's Chromium (no browser download is possible here).
@@ -24,8 +36,6 @@ echo "== docs";        NO_MKDOCS_2_WARNING=1 mkdocs build --strict --quiet -d "$
 # A newcomer's plain install: the wheel, non-editable, in a fresh virtual environment, runs the
 # demo on the built-in model and reproduces a paper (the examples travel in the wheel).
 echo "== wheel"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 python -m pip wheel --quiet --disable-pip-version-check --no-deps -w "$work/dist" .
 python -m venv "$work/venv"
 "$work/venv/bin/pip" install --quiet --disable-pip-version-check "$work"/dist/*.whl

@@ -4,7 +4,7 @@ Describe a mechanism once (TOML or Python, with units); solve positions, velocit
 accelerations, transmission angles, and forces over millions of samples.
 
 >>> import excavkin
->>> mech = excavkin.load(excavkin.example_path("fourbar"))
+>>> mech = excavkin.load("fourbar")
 >>> mech.inputs
 ('crank',)
 """
@@ -95,6 +95,7 @@ __all__ = [
     "UnitError",
     "example_path",
     "examples",
+    "source_file",
     "load",
     "loads",
     "tolerance_bands",
@@ -104,15 +105,32 @@ __all__ = [
 def load(path: str | Path) -> Mechanism:
     """Read, validate and compile a mechanism file (TOML).
 
+    Parameters
+    ----------
+    path : str or Path
+        The file, or the name of a built-in example (``"fourbar"``; :func:`examples` lists
+        them).
+
+    Returns
+    -------
+    Mechanism
+
     Raises
     ------
     ModelError
-        Naming the file, table and entry of the problem.
+        Naming the file, table and entry of the problem; for a file that does not exist, the
+        nearest built-in example.
+
+    Examples
+    --------
+    >>> import excavkin
+    >>> excavkin.load("fourbar").inputs
+    ('crank',)
     """
     from excavkin.io.toml_model import load_model
     from excavkin.mechanism import Mechanism
 
-    return Mechanism(load_model(path))
+    return Mechanism(load_model(source_file(path)))
 
 
 def loads(text: str, source: str | None = None) -> Mechanism:
@@ -172,3 +190,48 @@ def example_path(name: str) -> Path:
     known = examples()
     hint = did_you_mean(name, known)
     raise ModelError(f"no built-in example {name!r}{hint} (known: {', '.join(known)})")
+
+
+def source_file(name: str | Path, kind: str = "model") -> Path:
+    """The file a user names: a path, or a built-in example's name.
+
+    A name with no folder and no suffix that is not a file here is a built-in example of
+    ``kind`` (``"fourbar"``); anything else is a path.
+
+    Parameters
+    ----------
+    name : str or Path
+        A path to a ``.toml`` file, or the name of a built-in example.
+    kind : {"model", "machine", "study"}
+        Which built-in examples a bare name may name.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ModelError
+        Neither an existing file nor a built-in example: the message names the closest
+        built-in examples (a tutorial's ``examples/fourbar.toml`` run outside the repository
+        is the built-in ``fourbar``).
+    """
+    from excavkin.errors import ModelError, did_you_mean
+
+    path = Path(name)
+    if path.exists():
+        return path
+    known = examples(kind)
+    bare = not path.suffix and len(path.parts) == 1
+    if bare and str(name) in known:
+        return example_path(str(name))
+    hint = did_you_mean(path.stem, known)
+    if path.stem in known and not bare:
+        hint = f"; the built-in {kind} {path.stem!r} is read by its name alone"
+    if not bare:
+        raise ModelError(f"no such file{hint}", source=str(name))
+    listing = ", ".join(known)
+    raise ModelError(
+        f"no such file, and no built-in example of that name{hint} (built-in {kind}s: {listing})",
+        source=str(name),
+    )

@@ -157,6 +157,17 @@ class _Batch:
     time: Any
     params: dict[str, Any]
     continuation: str
+    #: forces are asked for: a swept driver given no rate is at rest (rate 0), not at rate 1
+    forces: bool = False
+
+    @property
+    def unrated(self) -> tuple[str, ...]:
+        """The swept drivers given no rate, in plan order."""
+        return tuple(
+            name
+            for name in self.mech.plan.inputs
+            if name in self.values and self.values[name].ndim == 1 and name not in self.rates
+        )
 
     def part(self, start: int, stop: int) -> Part:
         """Samples ``start`` … ``stop − 1``: their inputs in plan order and their plan."""
@@ -178,12 +189,13 @@ class _Batch:
             if any(name not in self.values for name in plan.inputs):
                 held = batch.held(k)
         rates, accels = [], []
+        unit = 0.0 if self.forces else 1.0
         for i, name in enumerate(plan.inputs):
             val = self.values.get(name)
             swept = val is not None and val.ndim == 1
             q[i] = held[i] if val is None else part_of(val, start, stop)
             rate = self.rates.get(name)
-            rates.append((1.0 if swept else 0.0) if rate is None else part_of(rate, start, stop))
+            rates.append((unit if swept else 0.0) if rate is None else part_of(rate, start, stop))
             accel = self.accels.get(name)
             accels.append(0.0 if accel is None else part_of(accel, start, stop))
         return Part(start, q, _rows(rates, k), _rows(accels, k), here, unbuildable, batch)
@@ -389,10 +401,11 @@ class Mechanism:
         values : mapping of str to array_like, shape (n,) or scalar
             Driver values in SI (rad, m). A driver not given is held at its sketch value.
         rates, accels : mapping of str to array_like, optional
-            First and second time derivatives of the driver values. Defaults: rate 1 and
-            acceleration 0 for a driver given as an array — which makes the velocities the
-            first-order transfer functions d(·)/dq and the accelerations the second-order ones —
-            and rate 0 for a driver held at a scalar.
+            First and second time derivatives of the driver values. Defaults: acceleration 0;
+            rate 0 for a driver held at a scalar; for a driver given as an array, rate 1 —
+            which makes the velocities the first-order transfer functions d(·)/dq and the
+            accelerations the second-order ones (``result.unit_rates`` names these drivers) —
+            except with ``loads``, where it is 0: forces without given rates are static.
         time : array_like, shape (n,), optional
             Sample times; adds a ``t`` column.
         strict : bool
@@ -418,7 +431,8 @@ class Mechanism:
             kernel of their own (:mod:`excavkin.kinematics.compiled_tangents`).
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
-            model's own loads and gravity; an empty list: inertia only).
+            model's own loads and gravity; an empty list: inertia only). A swept driver given
+            no rate is then at rest (rate 0): without any rates the forces are static.
         params : mapping of str to array_like, optional
             Dimensions per sample: a parameter name of :attr:`parameters` → a scalar or an
             array of shape (n,), SI or with units. Each sample is solved with its own geometry
@@ -447,7 +461,9 @@ class Mechanism:
                 "sensitivity_columns selects kinematic columns of sensitivities: give it with "
                 "sensitivities and without loads (the forces' derivatives need all of them)"
             )
-        batch = self._batch(values, rates, accels, time, params, continuation, lazy=False)
+        batch = self._batch(
+            values, rates, accels, time, params, continuation, lazy=False, forces=loads is not None
+        )
         whole = batch.part(0, batch.n)
         result = next(
             iter(
@@ -473,7 +489,7 @@ class Mechanism:
         if loads is None:
             return result
         given = None if isinstance(loads, str) and loads == "model" else loads
-        return self.forces(result, given, compiled=compiled)
+        return self._forces(result, given, compiled, batch.unrated)
 
     def solve_stream(
         self,
@@ -531,7 +547,9 @@ class Mechanism:
         """
         from excavkin.kinematics.solve import BLOCK
 
-        batch = self._batch(values, rates, accels, time, params, continuation, lazy=True)
+        batch = self._batch(
+            values, rates, accels, time, params, continuation, lazy=True, forces=loads is not None
+        )
         if isinstance(sensitivities, str):
             sensitivities = [sensitivities]
         if size is None:
@@ -583,7 +601,7 @@ class Mechanism:
                 )
                 out: KinematicResult | ForceResult = result
                 if loads is not None:
-                    out = self.forces(result, given, compiled=compiled)
+                    out = self._forces(result, given, compiled, batch.unrated)
                 yield SolvedPart(s + first, out, n)
 
     def _finish(
@@ -601,6 +619,8 @@ class Mechanism:
         given = {k: part_of(v, start, stop) for k, v in batch.params.items()}
         if given:
             result = dataclasses.replace(result, parameters=given)
+        if batch.unrated and not batch.forces:
+            result = dataclasses.replace(result, unit_rates=batch.unrated)
         if isinstance(sensitivities, str):  # one name, not its letters
             sensitivities = [sensitivities]
         if sensitivities:
@@ -630,6 +650,7 @@ class Mechanism:
         params: Mapping[str, Any] | None,
         continuation: str,
         lazy: bool,
+        forces: bool = False,
     ) -> _Batch:
         """The inputs checked and in SI, to be made part by part (``lazy``: columns made on
         demand stay so; otherwise every input is an array)."""
@@ -671,7 +692,7 @@ class Mechanism:
             listing = ", ".join(f"{k}: {v}" for k, v in sizes.items())
             raise InputError(f"input arrays have different lengths ({listing})")
         n = distinct.pop() if distinct else 1
-        return _Batch(self, n, arrays, orders[0], orders[1], time, given, continuation)
+        return _Batch(self, n, arrays, orders[0], orders[1], time, given, continuation, forces)
 
     @property
     def loads(self) -> tuple[Load, ...]:
@@ -707,6 +728,13 @@ class Mechanism:
         d'Alembert inertia (from the result's accelerations) plus ``loads``, in equilibrium
         with the pin forces and the drivers' efforts (``docs/kinetostatics.md``).
 
+        Forces without given rates are static: a driver the result swept without a rate
+        (``result.unit_rates``, whose velocities are transfer functions) is taken at rest,
+        rate 0, its acceleration as given. When no driver then moves the forces are those of
+        the poses at rest; otherwise the motion is solved again with those rates 0. The
+        force result's ``kinematics`` is the motion the forces belong to, and its
+        ``motion_note`` says which it is.
+
         Parameters
         ----------
         result : KinematicResult
@@ -726,6 +754,45 @@ class Mechanism:
         -------
         ForceResult
         """
+        if result.plan.model is not self.plan.model:  # (a family of designs has its own plan)
+            raise InputError("the kinematic result belongs to another mechanism")
+        rest = result.unit_rates
+        if rest:
+            result = self._at_rest(result, rest)
+        return self._forces(result, loads, compiled, rest)
+
+    def _at_rest(self, result: KinematicResult, rest: tuple[str, ...]) -> KinematicResult:
+        """``result``'s poses with the drivers ``rest`` at rate 0 (their accelerations and the
+        other drivers' rates as they were)."""
+        inputs = self.plan.inputs
+        moving = [i for i, name in enumerate(inputs) if name not in rest]
+        if not np.any(result.input_rates[:, moving]) and not np.any(result.input_accels):
+            return result.at_rest()  # nothing moves: the poses at rest, no solve needed
+        rates = result.input_rates.copy()
+        rates[:, [inputs.index(name) for name in rest]] = 0.0
+        smooth = any(c.continued == "smooth" for c in result.change_points)
+        return self.solve(
+            {name: result.inputs[:, i] for i, name in enumerate(inputs)},
+            {name: rates[:, i] for i, name in enumerate(inputs)},
+            {name: result.input_accels[:, i] for i, name in enumerate(inputs)},
+            time=result.time,
+            params=result.parameters,
+            continuation="smooth" if smooth else "side",
+            sensitivities=list(result.tangents) if result.tangents else None,
+            sensitivity_columns=None if result.tangent_columns is None else [
+                *result.tangent_columns
+            ],
+        )
+
+    def _forces(
+        self,
+        result: KinematicResult,
+        loads: Iterable[Load] | None,
+        compiled: bool | None,
+        rest: tuple[str, ...],
+    ) -> ForceResult:
+        """:meth:`forces` of a result already at rest in the drivers ``rest`` (those swept
+        without a rate, named in the result)."""
         from excavkin.kinetostatics import solve_forces
 
         if result.plan.model is not self.plan.model:  # (a family of designs has its own plan)
@@ -734,6 +801,8 @@ class Mechanism:
         if result.parameters:
             given = _loads_of_designs(given, result.parameters, len(result))
         forces = solve_forces(result, given, system=self.statics, compiled=compiled)
+        if rest:
+            forces = dataclasses.replace(forces, at_rest=rest)
         if result.tangents:
             from excavkin.kinetostatics.sensitivity import force_tangents
 

@@ -12,6 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 import excavkin
+from excavkin import Gravity
 from excavkin.cli import main
 from excavkin.errors import InputError
 from excavkin.studies.tolerance import parse_tolerance, tolerance_bands
@@ -159,17 +160,18 @@ def test_the_command_writes_bands_and_a_plot(tmp_path) -> None:  # type: ignore[
 
 def test_force_bands_follow_the_linear_theory_too() -> None:
     """The excavator's bucket-cylinder force with its bucket linkage's pins and the bucket's
-    mass toleranced: the Monte Carlo σ equals the linear prediction from the exact force
-    sensitivities (to 3 % with 20 000 draws), within the worst case."""
+    mass toleranced, under gravity (static: no rate is given): the Monte Carlo σ equals the
+    linear prediction from the exact force sensitivities (to 3 % with 20 000 draws), within the
+    worst case."""
     mech = excavkin.load(excavkin.example_path("excavator"))
     sk = mech.sketch_values()
     values = {"bucket_cyl": np.linspace(0.95, 1.05, 5) * sk["bucket_cyl"]}
     tols = {"K.x": 5e-4, "F.y": 5e-4, "bucket.mass": 20.0}
     col = "bucket_cyl.force"
     bands = tolerance_bands(
-        mech, values, tolerances=tols, loads="model", draws=20_000, columns=[col], seed=3
+        mech, values, tolerances=tols, loads=[Gravity()], draws=20_000, columns=[col], seed=3
     )
-    res = mech.solve(values, loads="model", sensitivities=list(tols))
+    res = mech.solve(values, loads=[Gravity()], sensitivities=list(tols))
     sigma = np.sqrt(sum((res.sensitivity(col, p) * t * 0.986579 / 3) ** 2 for p, t in tols.items()))
     np.testing.assert_allclose(bands.mc_std[:, 0], sigma, rtol=0.03)
     reach = np.maximum(bands.mc_max - bands.nominal, bands.nominal - bands.mc_min)[:, 0]

@@ -90,7 +90,7 @@ def test_bad_model_file(tmp_path: Path) -> None:
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert str(bad) in r.stderr and "cannot be assembled" in r.stderr
     r = run("check", str(tmp_path / "missing.toml"))
-    assert r.returncode == 2 and "cannot read the file" in r.stderr
+    assert r.returncode == 2 and "missing.toml: no such file" in r.stderr
 
 
 def test_failing_samples_stop_unless_keep_going(tmp_path: Path) -> None:

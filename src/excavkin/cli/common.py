@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
-from excavkin.errors import ExcavkinError, UnitError, did_you_mean
+from excavkin.errors import ExcavkinError, UnitError
 
 if TYPE_CHECKING:
     pass
@@ -81,7 +81,8 @@ def si_value(text: str, kind: str, what: str, *, hint: bool = True) -> float:
 
 
 def model_path(text: str, kind: str = "model") -> Path:
-    """A model (or machine) file given on the command line: a path, or a built-in example's name.
+    """A model (or machine) file given on the command line: a path, or a built-in example's name
+    (:func:`excavkin.source_file`).
 
     Parameters
     ----------
@@ -90,24 +91,18 @@ def model_path(text: str, kind: str = "model") -> Path:
     kind : {"model", "machine", "study"}
         Which built-in examples a bare name may name.
 
+    Returns
+    -------
+    Path
+
     Raises
     ------
-    ExcavkinError
+    ModelError
         Neither a file nor a built-in example, with the closest names.
     """
     import excavkin
 
-    path = Path(text)
-    if path.exists() or path.suffix or len(path.parts) > 1:
-        return path  # a path: the reader says what is wrong with it
-    known = excavkin.examples(kind)
-    if text in known:
-        return excavkin.example_path(text)
-    hint = did_you_mean(path.stem, known)
-    raise ExcavkinError(
-        f"{text}: no such file, and no built-in example of that name{hint} "
-        f"(built-in {kind}s: {', '.join(known)})"
-    )
+    return excavkin.source_file(text, kind)
 
 
 def parse_assignment(text: str, option: str) -> tuple[str, str]:

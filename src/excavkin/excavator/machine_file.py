@@ -88,6 +88,8 @@ def load_machine(path: str | Path) -> Machine:
     Parameters
     ----------
     path : str or Path
+        The file, or the name of a built-in machine (``"excavator_machine"``;
+        ``excavkin.examples("machine")`` lists them).
 
     Returns
     -------
@@ -99,6 +101,9 @@ def load_machine(path: str | Path) -> Machine:
         Naming the file, the table and the entry of the first problem found (in the machine
         file or in the model it refers to).
     """
+    import excavkin
+
+    path = excavkin.source_file(path, "machine")
     return loads_machine(read_text_file(path), str(path))
 
 

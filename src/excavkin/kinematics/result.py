@@ -197,6 +197,11 @@ class KinematicResult:
         derivatives of these columns with respect to it: read them with :meth:`sensitivity`.
     tangent_columns : frozenset of str, optional
         The columns whose derivatives were asked for (``sensitivity_columns``); None: all.
+    unit_rates : tuple of str
+        The swept drivers given no rate: each moves at rate 1 (acceleration as given, default
+        0), so that the velocities and accelerations are transfer functions with respect to
+        them, not a motion in time. Forces from such a result are taken at rest in these
+        drivers (:meth:`excavkin.Mechanism.forces`).
     """
 
     plan: SolvePlan
@@ -223,6 +228,7 @@ class KinematicResult:
     parameters: dict[str, F] | None = None
     tangents: dict[str, KinematicResult] | None = None
     tangent_columns: frozenset[str] | None = None
+    unit_rates: tuple[str, ...] = ()
 
     @classmethod
     def build(
@@ -422,7 +428,43 @@ class KinematicResult:
         # the columns are views of the solver's arrays: no copy
         frame = pd.DataFrame(data, copy=False)
         frame.attrs.update(table_attrs(self.plan.model.name, [c for c, _ in cols]))
+        if self.unit_rates:
+            frame.attrs["excavkin.motion"] = self.motion_note
         return frame
+
+    @property
+    def motion_note(self) -> str:
+        """What the velocities and accelerations are, in one line: transfer functions of the
+        swept drivers given no rate, or the motion of the given rates."""
+        if not self.unit_rates:
+            return "velocities and accelerations of the given driver rates"
+        names = ", ".join(self.unit_rates)
+        return (
+            f"velocities and accelerations are transfer functions d(·)/dq of {names} "
+            "(no rate given: rate 1), not a motion in time"
+        )
+
+    def at_rest(self) -> KinematicResult:
+        """The same poses at rest: every velocity, rate and acceleration zero (NaN where the
+        sample did not solve), the sensitivities' too.
+
+        Returns
+        -------
+        KinematicResult
+        """
+        import dataclasses
+
+        def rest(value: F) -> Any:
+            return np.where(np.isnan(value), value, 0.0)
+
+        return dataclasses.replace(
+            self,
+            **{name: rest(getattr(self, name)) for name in _RATE_ARRAYS},
+            unit_rates=(),
+            tangents=None
+            if self.tangents is None
+            else {k: t.at_rest() for k, t in self.tangents.items()},
+        )
 
     def rows(self, start: int, stop: int, origin: int = 0) -> KinematicResult:
         """Samples ``start`` … ``stop − 1`` as a result of their own (views, no copies).
@@ -478,6 +520,20 @@ def describe_inputs(plan: SolvePlan, q: F, held: np.ndarray, t: float | None, i:
 
 
 #: a result's arrays with one row per sample
+#: the arrays of rates and accelerations (zero at rest)
+_RATE_ARRAYS = (
+    "velocities",
+    "accelerations",
+    "body_omega",
+    "body_epsilon",
+    "input_rates",
+    "input_accels",
+    "element_rate",
+    "element_accel",
+    "element_omega",
+    "element_epsilon",
+)
+
 _ROW_ARRAYS = (
     "positions",
     "velocities",

@@ -107,6 +107,9 @@ class ForceResult:
     tangents : dict, optional
         Per parameter (``solve(..., sensitivities=)``), the derivative of every force column:
         read them with :meth:`sensitivity`.
+    at_rest : tuple of str
+        The swept drivers given no rate, taken at rest (rate 0) for these forces: forces
+        without given rates are static (:attr:`static`, :attr:`motion_note`).
     """
 
     kinematics: KinematicResult
@@ -120,6 +123,25 @@ class ForceResult:
     evaluated: EvaluatedLoads
     mass: MassProperties
     tangents: dict[str, dict[str, F]] | None = None
+    at_rest: tuple[str, ...] = ()
+
+    @property
+    def static(self) -> bool:
+        """Whether these are static forces: no driver moves (every rate and acceleration is
+        zero), so there is no inertia."""
+        k = self.kinematics
+        solved = k.status.solved
+        return not (np.any(k.input_rates[solved]) or np.any(k.input_accels[solved]))
+
+    @property
+    def motion_note(self) -> str:
+        """Whether the forces are static or include the inertia of a motion, and why, in one
+        line (the tables' ``attrs["excavkin.motion"]``, the report, the command line)."""
+        rest = ", ".join(self.at_rest)
+        why = f" (no rate given for {rest}: taken as 0)" if rest else ""
+        if self.static:
+            return f"static forces, no inertia{why}"
+        return f"forces with the inertia of the given driver rates and accelerations{why}"
 
     def __len__(self) -> int:
         return int(self.pin_force.shape[0])
@@ -280,6 +302,7 @@ class ForceResult:
         if not kinematics:
             forces = pd.DataFrame({c.name: arr for c, arr in described}, copy=False)
             forces.attrs.update(table_attrs(model, force_cols))
+            forces.attrs["excavkin.motion"] = self.motion_note
             return forces
         kin = self.kinematics._columns()
         # one frame from all the columns at once, each a view of its result's array: no
@@ -292,6 +315,7 @@ class ForceResult:
             data["status"] = status.categorical()
         frame = pd.DataFrame(data, copy=False)
         frame.attrs.update(table_attrs(model, [*(c for c, _ in kin), *force_cols]))
+        frame.attrs["excavkin.motion"] = self.motion_note
         return frame
 
     # ---- checks

@@ -47,7 +47,8 @@ def write_table(
     reads back to the same double (a whole number with ``.0``, so that readers take the
     column as floats), NaN as an empty field, infinities as ``inf`` and ``-inf``. A Parquet
     file keeps each column's unit and kind and the model's name in its schema metadata
-    (``excavkin.units``, ``excavkin.kinds``, ``excavkin.model``); a CSV file may carry the
+    (``excavkin.units``, ``excavkin.kinds``, ``excavkin.model``, and ``excavkin.motion``:
+    static forces or transfer functions, where the table says so); a CSV file may carry the
     units as a second header row (``units_row``).
     """
     return write_tables([frame], path, force=force, units_row=units_row)
@@ -160,6 +161,11 @@ class TableWriter:
                 b"excavkin.units": json.dumps(units).encode(),
                 b"excavkin.kinds": json.dumps(frame.attrs.get("excavkin.kinds", {})).encode(),
                 b"excavkin.model": str(frame.attrs.get("excavkin.model", "")).encode(),
+                **(
+                    {b"excavkin.motion": str(frame.attrs["excavkin.motion"]).encode()}
+                    if "excavkin.motion" in frame.attrs
+                    else {}
+                ),
             },
         )
         # dictionaries only for text: tried on every float column they cost 3× the time

@@ -64,6 +64,9 @@ class ToleranceBands:
         Monte Carlo draws per sample.
     failed : ndarray of int, shape (n,)
         Draws per sample that did not solve (a design that does not close there).
+    motion : str
+        What the nominal velocities or forces are (``ForceResult.motion_note``: static forces
+        when no rate is given), or ``""`` for a plain motion.
     """
 
     columns: tuple[str, ...]
@@ -77,6 +80,7 @@ class ToleranceBands:
     contributions: dict[str, F]
     draws: int
     failed: NDArray[np.int64]
+    motion: str = ""
 
     def index(self, column: str) -> int:
         """The position of a column (with the nearest names when unknown)."""
@@ -114,6 +118,8 @@ class ToleranceBands:
             }
         )
         frame.attrs["excavkin.draws"] = self.draws
+        if self.motion:
+            frame.attrs["excavkin.motion"] = self.motion
         return frame
 
 
@@ -208,8 +214,9 @@ def tolerance_bands(
     low, high, mean, std, failed = _monte_carlo(
         mech, values, rates, accels, tols, pins, cols, n, draws, seed, distribution, loads
     )
+    motion = nominal.motion_note if loads is not None or nominal.unit_rates else ""
     return ToleranceBands(
-        tuple(cols), nom, worst, rss, low, high, mean, std, contributions, draws, failed
+        tuple(cols), nom, worst, rss, low, high, mean, std, contributions, draws, failed, motion
     )
 
 

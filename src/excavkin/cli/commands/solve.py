@@ -36,6 +36,8 @@ from excavkin.sweeps import grid as sweep_grid
 if TYPE_CHECKING:
     import pandas as pd
 
+    from excavkin.kinetostatics import ForceResult
+
 
 def build_inputs(
     mech: Mechanism,
@@ -319,6 +321,7 @@ def command(
         loads = model_loads(mech.model, gravity=gravity)
     tally = Tally(mech.plan)
     shape = [0]
+    motion = [""]
 
     def frames() -> Iterator[pd.DataFrame]:
         """The table part by part; at its end, the checks that decide whether it is kept."""
@@ -334,6 +337,7 @@ def command(
                 sensitivities=list(sensitivities) or None,
             ):
                 tally.add(part.start, part.result)
+                motion[0] = motion[0] or _motion_note(part.result)
                 frame = part.result.to_frame()
                 shape[0] = frame.shape[1]
                 advance(len(frame))
@@ -353,6 +357,18 @@ def command(
 
     write_tables(frames(), target, force=force, units_row=units_row)
     click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")
+    if motion[0]:
+        click.echo(f"excavkin: note: {motion[0]}", err=True)
+
+
+def _motion_note(result: KinematicResult | ForceResult) -> str:
+    """What the velocities or forces of a table are, when it is not a plain motion: static
+    forces, or transfer functions of the drivers swept without ``--rate``."""
+    if isinstance(result, KinematicResult):
+        note = result.motion_note if result.unit_rates else ""
+    else:
+        note = result.motion_note
+    return note.replace("no rate given", "no --rate given")
 
 
 def check_disk(target: Path, n: int, columns: int) -> None:

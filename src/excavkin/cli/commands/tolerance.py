@@ -133,6 +133,8 @@ def command(
     widths = [max(len(r[i]) for r in rows) for i in range(len(head))]
     for r in rows:
         click.echo("  ".join(cell.ljust(w) for cell, w in zip(r, widths, strict=True)).rstrip())
+    if bands.motion:
+        click.echo(f"excavkin: note: {bands.motion.replace('no rate', 'no --rate')}", err=True)
     if bands.failed.any():
         click.echo(
             f"excavkin: warning: {int(bands.failed.sum()):,} Monte Carlo designs did not solve "
