@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, SolveFailure, did_you_mean
 from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble
 from excavkin.kinematics.sweep import Part, solve_parts
@@ -28,8 +29,6 @@ from excavkin.sweeps import Lazy, part_of
 
 if TYPE_CHECKING:
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
-
-F = np.ndarray
 
 
 #: the kinds of a driver's value, rate and acceleration, by the kind of its value

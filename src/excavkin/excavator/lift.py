@@ -40,12 +40,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import BoolArray as B
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, ModelError
 from excavkin.excavator.forces import gravity_terms
 from excavkin.excavator.machine import (
     ROLES,
-    B,
-    F,
     Machine,
     _circle,
     as_lengths,

@@ -43,6 +43,8 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import BoolArray as B
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, ModelError
 from excavkin.excavator.base import BaseMachine
 from excavkin.kinematics import KinematicResult
@@ -54,8 +56,6 @@ from excavkin.structure.plan import Dyad
 if TYPE_CHECKING:
     from excavkin.excavator.hydraulics import Hydraulics
 
-F = NDArray[np.float64]
-B = NDArray[np.bool_]
 
 #: The three cylinders of a backhoe front, in the order of every ``(n, 3)`` array.
 ROLES: tuple[str, str, str] = ("boom", "arm", "bucket")

@@ -10,8 +10,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.excavator.lift import LiftTable, lift_poses
-from excavkin.excavator.machine import F, Machine
+from excavkin.excavator.machine import Machine
 from excavkin.excavator.plots import ExcavatorPlot, _axes, draw_front
 
 if TYPE_CHECKING:

@@ -28,10 +28,10 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.dual import Dual, seed
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.threads import over_chunks
 from excavkin.structure.design import take, vary
 from excavkin.structure.plan import SolvePlan

@@ -27,8 +27,8 @@ from typing import Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import compiled as kernels
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.threads import over_chunks
 from excavkin.kinetostatics.equilibrium import (
     StaticsSystem,

@@ -46,8 +46,8 @@ from typing import Literal, TypeAlias, cast
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import MobilityError
-from excavkin.kinematics.kernels import F
 from excavkin.model.entities import Model
 
 __all__ = [

@@ -19,8 +19,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.dual import Dual, seed
-from excavkin.kinematics.kernels import F
 from excavkin.kinetostatics.equilibrium import solve_system
 from excavkin.structure.design import mass_items
 

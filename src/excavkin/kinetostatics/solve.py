@@ -12,9 +12,9 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.kinematics.compiled import THRESHOLD, available
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import (
     StaticsSystem,

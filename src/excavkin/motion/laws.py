@@ -44,6 +44,8 @@ from typing import Any, ClassVar, NamedTuple
 import numpy as np
 import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
+
 __all__ = [
     "LAW_NAMES",
     "AccelerationJump",
@@ -66,7 +68,6 @@ __all__ = [
     "get_law",
 ]
 
-FloatArray = npt.NDArray[np.float64]
 _Shape = tuple[FloatArray, FloatArray, FloatArray, FloatArray]
 
 _PI = math.pi
