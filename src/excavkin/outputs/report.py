@@ -49,6 +49,7 @@ from excavkin.outputs.style import (
     GROUND_COLOR,
     PATH_COLOR,
     ROD_COLOR,
+    SLIDER_FILL,
 )
 
 #: samples in a default sweep of a rotary input (a full turn in 2° steps)
@@ -426,7 +427,7 @@ def _slider_traces(scene: Scene, i: int) -> list[Any]:
                 scene.slider_block(sl, i),
                 mode="lines",
                 fill="toself",
-                fillcolor="#dddddd",
+                fillcolor=SLIDER_FILL,
                 name=sl[0],
                 showlegend=False,
                 line={"color": GROUND_COLOR, "width": 1.5},

@@ -1,8 +1,9 @@
 """The look of every figure, in one place: colours of bodies, cylinders, ground and warnings, and
 the check of matplotlib line-style keywords.
 
-Both renderers (matplotlib in :mod:`~excavkin.outputs.drawing` and :mod:`~excavkin.outputs.plots`,
-plotly in :mod:`~excavkin.outputs.report`) take their colours from here.
+Every renderer (matplotlib in :mod:`~excavkin.outputs.drawing` and :mod:`~excavkin.outputs.plots`,
+plotly in :mod:`~excavkin.outputs.report`, SVG in :mod:`~excavkin.outputs.sketch`) takes its
+colours from here.
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ ROD_COLOR = "#a8a8a8"
 GROUND_COLOR = "#333333"
 FAIL_COLOR = "#d62728"
 DEAD_COLOR = "#9467bd"
+#: the block of a slider
+SLIDER_FILL = "#dddddd"
 
 
 #: dotted paths of moving points
