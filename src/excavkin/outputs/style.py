@@ -36,6 +36,25 @@ SLIDER_FILL = "#dddddd"
 PATH_COLOR = "#8a94a6"
 
 
+def rgba(hex_color: str, alpha: float) -> str:
+    """A colour (``"#rrggbb"``) with an opacity, as Plotly writes it: ``"rgba(r,g,b,a)"``.
+
+    Parameters
+    ----------
+    hex_color : str
+        One of this module's colours.
+    alpha : float
+        Opacity, 0 to 1.
+
+    Returns
+    -------
+    str
+    """
+    h = hex_color.lstrip("#")
+    r, g, b = (int(h[k : k + 2], 16) for k in (0, 2, 4))
+    return f"rgba({r},{g},{b},{alpha})"
+
+
 def check_line_style(style: Mapping[str, Any]) -> dict[str, Any]:
     """Normalise matplotlib ``Line2D`` keywords (``lw`` → ``linewidth``) and reject others.
 
