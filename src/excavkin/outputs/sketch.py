@@ -15,15 +15,12 @@ displays delegate to the outputs they draw with.
 from __future__ import annotations
 
 import html
-from typing import TYPE_CHECKING
 
 import numpy as np
 
+from excavkin.outputs.protocols import MechanismLike
 from excavkin.outputs.scene import Scene, scene_of
 from excavkin.outputs.style import CYLINDER_COLOR, GROUND_COLOR, ROD_COLOR, SLIDER_FILL
-
-if TYPE_CHECKING:
-    from excavkin.mechanism import Mechanism
 
 __all__ = ["mechanism_html", "scene_svg", "sketch_svg"]
 
@@ -133,7 +130,7 @@ def scene_svg(scene: Scene, sample: int = 0, *, size: int = 240, labels: bool = 
     )
 
 
-def sketch_svg(mechanism: Mechanism, size: int = 240) -> str:
+def sketch_svg(mechanism: MechanismLike, size: int = 240) -> str:
     """The mechanism assembled at its sketch, as an SVG drawing.
 
     Parameters
@@ -152,7 +149,7 @@ def sketch_svg(mechanism: Mechanism, size: int = 240) -> str:
     return scene_svg(scene, 0, size=size)
 
 
-def mechanism_html(mechanism: Mechanism) -> str:
+def mechanism_html(mechanism: MechanismLike) -> str:
     """The mechanism's notebook display: its sketch beside its description and solve plan.
 
     Parameters
