@@ -50,20 +50,20 @@ def curves_figure(
 
     from excavkin.outputs.plots import main_columns
 
-    ctx = ReportData(result, units)
-    cols = list(y) if y is not None else main_columns(ctx.table)
+    data = ReportData(result, units)
+    cols = list(y) if y is not None else main_columns(data.table)
     groups: dict[tuple[str, str], list[str]] = {}
-    for d in ctx.units.all(cols):
+    for d in data.units.all(cols):
         groups.setdefault((d.kind, d.unit), []).append(d.column)
     rows = max(len(groups), 1)
     fig = make_subplots(rows=rows, cols=1, shared_xaxes=True, vertical_spacing=0.035)
-    keep = thin(len(ctx.xv), max_points)
-    xs = [float(v) if np.isfinite(v) else None for v in ctx.xv[keep]]
+    keep = thin(len(data.xv), max_points)
+    xs = [float(v) if np.isfinite(v) else None for v in data.xv[keep]]
     palette = BODY_COLORS
     for r, ((kind, unit), group) in enumerate(groups.items(), start=1):
         for k, c in enumerate(group):
-            d = ctx.units(c)
-            v = d.values(ctx.table.frame[c].to_numpy(dtype=np.float64))[keep]
+            d = data.units(c)
+            v = d.values(data.table.frame[c].to_numpy(dtype=np.float64))[keep]
             fig.add_trace(
                 go.Scatter(
                     x=xs,
@@ -79,10 +79,10 @@ def curves_figure(
             )
         name = KIND_NAMES.get(kind, "Value")
         fig.update_yaxes(title_text=f"{name} [{pretty_unit(unit)}]" if unit else name, row=r, col=1)
-    step = float(np.nanmedian(np.abs(np.diff(ctx.xv)))) if ctx.xv.size > 1 else 0.0
+    step = float(np.nanmedian(np.abs(np.diff(data.xv)))) if data.xv.size > 1 else 0.0
     first = True
-    for a, b, _ in failed_runs(ctx.table):
-        seg = ctx.xv[a : b + 1]
+    for a, b, _ in failed_runs(data.table):
+        seg = data.xv[a : b + 1]
         fig.add_vrect(
             x0=float(np.nanmin(seg)) - step / 2,
             x1=float(np.nanmax(seg)) + step / 2,
@@ -104,10 +104,10 @@ def curves_figure(
                 )
             )
             first = False
-    dead = dead_samples(ctx.table)
+    dead = dead_samples(data.table)
     for i in dead:
         fig.add_vline(
-            x=float(ctx.xv[i]),
+            x=float(data.xv[i]),
             line={"color": DEAD_COLOR, "dash": "dash", "width": 1.5},
             row="all",
             col=1,
@@ -124,8 +124,8 @@ def curves_figure(
         )
     x_title = (
         "Time [s]"
-        if ctx.x == "t"
-        else ("Sample" if ctx.x == "sample" else f"{ctx.x_name()} [{pretty_unit(ctx.xd.unit)}]")
+        if data.x == "t"
+        else ("Sample" if data.x == "sample" else f"{data.x_name()} [{pretty_unit(data.xd.unit)}]")
     )
     fig.update_xaxes(title_text=x_title, row=rows, col=1)
     fig.update_xaxes(gridcolor="#ececec", zeroline=False)
@@ -141,7 +141,19 @@ def curves_figure(
 
 
 def curves_note(result: Solved, in_time: bool) -> str:
-    """How to read the rates: real ones, or per unit input rate (transfer functions)."""
+    """How to read the rates: real ones, or per unit input rate (transfer functions).
+
+    Parameters
+    ----------
+    result : result
+        The solved result.
+    in_time : bool
+        Whether the result is a run in time (it has a ``t`` column).
+
+    Returns
+    -------
+    str
+    """
     if in_time:
         return "Velocities and accelerations are in time, from the motion laws' rates."
     kin: Any = getattr(result, "kinematics", result)

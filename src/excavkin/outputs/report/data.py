@@ -18,6 +18,20 @@ __all__ = ["ReportData", "format_value", "sweep_text", "thin"]
 
 
 def format_value(v: float, unit: str) -> str:
+    """A value for a reader: four significant digits and its unit (``"35°"``, ``"1.2 kN"``).
+
+    Parameters
+    ----------
+    v : float
+        The value, in ``unit``.
+    unit : str
+        Its display unit.
+
+    Returns
+    -------
+    str
+        ``"—"`` for a value that is not finite.
+    """
     if not np.isfinite(v):
         return "—"
     pu = pretty_unit(unit)
@@ -25,13 +39,43 @@ def format_value(v: float, unit: str) -> str:
 
 
 def thin(n: int, most: int) -> np.ndarray:
+    """At most ``most`` sample indices out of ``n``, evenly spread, the first and last kept.
+
+    Parameters
+    ----------
+    n : int
+        Samples in the result.
+    most : int
+        Most samples to keep.
+
+    Returns
+    -------
+    ndarray of int, shape (min(n, most),)
+    """
     if n <= most:
         return np.arange(n)
     return np.unique(np.round(np.linspace(0, n - 1, most)).astype(np.int64))
 
 
 class ReportData:
-    """What the pieces of a report share: the table, display units, the x column."""
+    """What the sections of a report read: the result's table, its display units, the x axis.
+
+    Parameters
+    ----------
+    result : result or DataFrame
+        The solved result the report shows.
+    units : mapping of str to str or None
+        Display units by kind or column.
+
+    Attributes
+    ----------
+    table : Table
+        The result as a table with its columns described.
+    units : DisplayUnits
+    x : str
+        The x column (``"t"``, an input's value column or ``"sample"``); ``xv`` its values in
+        display units, ``xd`` its display unit.
+    """
 
     def __init__(self, result: TableData, units: Mapping[str, str] | None) -> None:
         from excavkin.outputs.plots import default_x
@@ -49,6 +93,7 @@ class ReportData:
             )
 
     def x_name(self) -> str:
+        """The x axis in words: ``"t"``, ``"sample"`` or the moving input's name."""
         if self.x == "t":
             return "t"
         if self.x == "sample":
@@ -90,16 +135,26 @@ class ReportData:
         return "<br>".join(parts)
 
 
-def sweep_text(ctx: ReportData) -> str:
-    plan = ctx.table.plan
-    frame = ctx.table.frame
+def sweep_text(data: ReportData) -> str:
+    """What the samples are, in one line: ``"181 samples: crank from 0° to 360°."``.
+
+    Parameters
+    ----------
+    data : ReportData
+
+    Returns
+    -------
+    str
+    """
+    plan = data.table.plan
+    frame = data.table.frame
     n = len(frame)
     if plan is None:
         return f"{n} samples."
     parts = []
     for name in plan.inputs:
         c = f"{name}.value"
-        d = ctx.units(c)
+        d = data.units(c)
         v = np.asarray(d.convert(frame[c].to_numpy(dtype=np.float64)))
         if varies(v):
             first, last = format_value(float(v[0]), d.unit), format_value(float(v[-1]), d.unit)

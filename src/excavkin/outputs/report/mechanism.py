@@ -69,13 +69,13 @@ def mechanism_figure(
     """
     import plotly.graph_objects as go
 
-    ctx = ReportData(result, units)
+    data = ReportData(result, units)
     plan, positions, _ = source(result)
     scene = Scene(plan, positions, tuple(ropes), length_unit)
-    show_cols = _shown_columns(ctx, show)
+    show_cols = _shown_columns(data, show)
     samples = thin(len(scene), max_frames)
     fig = go.Figure()
-    for tr in _static_traces(scene, overlays(scene, ctx.table)):
+    for tr in _static_traces(scene, overlays(scene, data.table)):
         fig.add_trace(tr)
     first_dynamic = len(fig.data)
     i0 = int(samples[0])
@@ -87,7 +87,7 @@ def mechanism_figure(
             data=_dynamic_traces(scene, int(i)),
             traces=idx,
             name=str(int(i)),
-            layout={"annotations": [_note(ctx, show_cols, int(i))]},
+            layout={"annotations": [_note(data, show_cols, int(i))]},
         )
         for i in samples
     ]
@@ -96,9 +96,9 @@ def mechanism_figure(
         plot_bgcolor="white",
         hovermode="closest",
         legend={"orientation": "h", "yanchor": "bottom", "y": 1.0, "x": 1.0, "xanchor": "right"},
-        annotations=[_note(ctx, show_cols, i0)],
+        annotations=[_note(data, show_cols, i0)],
         **_axes_layout(scene, length_unit),
-        **_player(ctx, samples),
+        **_player(data, samples),
     )
     # the values box stands right of the plot, so it never hides the mechanism
     fig.layout.height = 700
@@ -106,14 +106,14 @@ def mechanism_figure(
     return fig
 
 
-def _shown_columns(ctx: ReportData, show: Iterable[str] | None) -> list[str]:
+def _shown_columns(data: ReportData, show: Iterable[str] | None) -> list[str]:
     """The columns whose value the view shows: the moving inputs and transmission angles."""
-    frame = ctx.table.frame
+    frame = data.table.frame
     if show is None:
-        cols = ctx.moving_inputs()
+        cols = data.moving_inputs()
         if "t" in frame:
             cols.insert(0, "t")
-        return cols + ctx.table.of_quantity("transmission")[:4]
+        return cols + data.table.of_quantity("transmission")[:4]
     cols = list(show)
     for c in cols:
         if c not in frame:
@@ -302,12 +302,12 @@ def _point_traces(scene: Scene, i: int) -> list[Any]:
     ]
 
 
-def _note(ctx: ReportData, show_cols: list[str], i: int) -> dict[str, Any]:
+def _note(data: ReportData, show_cols: list[str], i: int) -> dict[str, Any]:
     """The values box at sample ``i``, beside the plot (right of it)."""
-    ok = bool(ctx.table.ok[i])
-    text = ctx.values(show_cols, i)
+    ok = bool(data.table.ok[i])
+    text = data.values(show_cols, i)
     if not ok:
-        text += ("<br>" if text else "") + f"<b>{html.escape(str(ctx.table.labels[i]))}</b>"
+        text += ("<br>" if text else "") + f"<b>{html.escape(str(data.table.labels[i]))}</b>"
     return {
         "text": text or " ",
         "xref": "paper",
@@ -352,12 +352,12 @@ def _axes_layout(scene: Scene, length_unit: str) -> dict[str, Any]:
     }
 
 
-def _player(ctx: ReportData, samples: np.ndarray) -> dict[str, Any]:
+def _player(data: ReportData, samples: np.ndarray) -> dict[str, Any]:
     """Play/pause buttons and a slider over the samples, labelled by the moving inputs."""
     still = {"duration": 0, "redraw": False}
     anim = {"mode": "immediate", "frame": still, "transition": {"duration": 0}}
     steps = [
-        {"method": "animate", "args": [[str(int(i))], anim], "label": ctx.name(int(i))}
+        {"method": "animate", "args": [[str(int(i))], anim], "label": data.name(int(i))}
         for i in samples
     ]
     play = {

@@ -41,18 +41,31 @@ def download(frame: Any, title: str) -> dict[str, Any]:
     }
 
 
-def extremes_html(ctx: ReportData, cols: list[str]) -> str:
+def extremes_html(data: ReportData, cols: list[str]) -> str:
+    """Each column's minimum and maximum with the sample where it occurs, as a table.
+
+    Parameters
+    ----------
+    data : ReportData
+    cols : list of str
+        The columns shown (the curves' columns).
+
+    Returns
+    -------
+    str
+        A ``<table>``, or a line saying no sample solved.
+    """
     rows = []
     for c in cols:
-        d = ctx.units(c)
-        v = d.values(ctx.table.frame[c].to_numpy(dtype=np.float64))
+        d = data.units(c)
+        v = d.values(data.table.frame[c].to_numpy(dtype=np.float64))
         if not np.isfinite(v).any():
             continue
         i, j = int(np.nanargmin(v)), int(np.nanargmax(v))
         rows.append(
             f"<tr><td>{html.escape(c)}</td><td>{html.escape(pretty_unit(d.unit))}</td>"
-            f'<td class="num">{v[i]:.5g}</td><td>{html.escape(ctx.name(i))}</td>'
-            f'<td class="num">{v[j]:.5g}</td><td>{html.escape(ctx.name(j))}</td></tr>'
+            f'<td class="num">{v[i]:.5g}</td><td>{html.escape(data.name(i))}</td>'
+            f'<td class="num">{v[j]:.5g}</td><td>{html.escape(data.name(j))}</td></tr>'
         )
     if not rows:
         return '<p class="muted">No solved samples.</p>'

@@ -14,6 +14,18 @@ __all__ = ["warnings_html"]
 
 
 def warnings_html(events: list[Event]) -> str:
+    """The warnings list's items, one per event, or an OK line when there are none.
+
+    Parameters
+    ----------
+    events : list of Event
+        From :func:`excavkin.outputs.events.find_events`.
+
+    Returns
+    -------
+    str
+        ``<li>`` elements.
+    """
     if not events:
         return (
             '<li class="ok"><span class="tag">OK</span>No dead positions, non-closure, shocks '
