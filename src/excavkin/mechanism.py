@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, Literal, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, SolveFailure, did_you_mean
 from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble
 from excavkin.kinematics.sweep import Part, solve_parts
@@ -28,8 +29,6 @@ from excavkin.sweeps import Lazy, part_of
 
 if TYPE_CHECKING:
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
-
-F = np.ndarray
 
 
 #: the kinds of a driver's value, rate and acceleration, by the kind of its value
@@ -861,50 +860,23 @@ class Mechanism:
 
     def _repr_html_(self) -> str:
         """The mechanism at its sketch as a small drawing, with its description and plan."""
-        import html
+        from excavkin.outputs.sketch import mechanism_html
 
-        return (
-            f"<div style='display:flex;gap:1em;align-items:flex-start'>{self.sketch_svg()}"
-            f"<pre style='margin:0'>{html.escape(self.describe())}</pre></div>"
-        )
+        return mechanism_html(self)
 
     def sketch_svg(self, size: int = 240) -> str:
-        """The assembled sketch as an SVG line drawing: bodies as lines, pins as circles."""
-        xy = self.assembly.positions
-        lo, hi = xy.min(axis=0), xy.max(axis=0)
-        span = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-12))
-        pad = 0.08 * span
+        """The assembled sketch as an SVG drawing (:func:`excavkin.outputs.sketch.sketch_svg`).
 
-        def at(i: int) -> tuple[float, float]:
-            x = (xy[i, 0] - lo[0] + pad) / (span + 2 * pad) * size
-            y = size - (xy[i, 1] - lo[1] + pad) / (span + 2 * pad) * size
-            return x, y
+        Parameters
+        ----------
+        size : int
+            Width and height of the drawing, pixels.
 
-        index = {p: i for i, p in enumerate(self.plan.points)}
-        parts = []
-        for b in self.model.bodies:
-            ids = [index[p] for p in b.points]
-            color = "#555555" if b.ground else "#1f77b4"
-            for k, i in enumerate(ids):
-                for j in ids[k + 1 :]:
-                    (x1, y1), (x2, y2) = at(i), at(j)
-                    parts.append(
-                        f"<line x1='{x1:.1f}' y1='{y1:.1f}' x2='{x2:.1f}' y2='{y2:.1f}' "
-                        f"stroke='{color}' stroke-width='2'/>"
-                    )
-        for e in self.plan.elements:
-            (x1, y1), (x2, y2) = at(e.p), at(e.q)
-            parts.append(
-                f"<line x1='{x1:.1f}' y1='{y1:.1f}' x2='{x2:.1f}' y2='{y2:.1f}' "
-                "stroke='#4d4d4d' stroke-width='5'/>"
-            )
-        for i, name in enumerate(self.plan.points):
-            x, y = at(i)
-            parts.append(
-                f"<circle cx='{x:.1f}' cy='{y:.1f}' r='3.5' fill='white' stroke='black'/>"
-                f"<text x='{x + 5:.1f}' y='{y - 5:.1f}' font-size='11'>{name}</text>"
-            )
-        return (
-            f"<svg xmlns='http://www.w3.org/2000/svg' width='{size}' height='{size}' "
-            f"viewBox='0 0 {size} {size}'>{''.join(parts)}</svg>"
-        )
+        Returns
+        -------
+        str
+            An ``<svg>`` element.
+        """
+        from excavkin.outputs.sketch import sketch_svg
+
+        return sketch_svg(self, size)

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-F = NDArray[np.float64]
+from excavkin.arrays import FloatArray as F
 
 
 class Lazy(ABC):

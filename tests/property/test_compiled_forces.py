@@ -110,15 +110,15 @@ def test_a_singular_pose_is_flagged_alike() -> None:
     pts = mech.plan.points
     ia, ib, io = pts.index("A"), pts.index("B"), pts.index("O4")
     x[ib, :, ::7] = x[ia, :, ::7] + 0.4 * (x[io, :, ::7] - x[ia, :, ::7])
+    from excavkin.kinetostatics.body_loads import body_loads
     from excavkin.kinetostatics.equilibrium import solve_system
     from excavkin.kinetostatics.inertia import MassProperties
     from excavkin.kinetostatics.loads import evaluate_loads
-    from excavkin.kinetostatics.solve import _body_loads
 
     mp, sy = MassProperties.of(kin), mech.statics
     ev = evaluate_loads(mech.model, [Gravity()], kin)
     with np.errstate(all="ignore"):
-        sol, singular = solve_system(sy, x, _body_loads(sy, mp, ev, x, a, eps, slice(None)))
+        sol, singular = solve_system(sy, x, body_loads(sy, mp, ev, x, a, eps, slice(None)))
     text, values = compiled.source(sy, mp, ev, inertia=True)
     out, flags = np.empty((sy.size, 400)), np.zeros(400, dtype=bool)
     compiled.solve(text, values, x, a, eps, out, flags)

@@ -14,12 +14,11 @@ from typing import Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, did_you_mean
 from excavkin.mechanism import Mechanism
 from excavkin.outputs.tables import TABLE_SUFFIXES
 from excavkin.sweeps import Lazy
-
-F = np.ndarray
 
 #: rows read at a time
 BATCH = 1 << 16

@@ -29,11 +29,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import ModelError
-
-F = NDArray[np.float64]
 
 
 @dataclass(frozen=True, slots=True)

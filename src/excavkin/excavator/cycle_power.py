@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.excavator.hydraulics import (
     Hydraulics,
     Power,
@@ -33,7 +34,7 @@ from excavkin.excavator.hydraulics import (
     motion_power,
     strokes,
 )
-from excavkin.excavator.machine import ROLES, F, Machine
+from excavkin.excavator.machine import ROLES, Machine
 
 #: the cycle's phases in order: (label, cylinder role or None for a swing, dig direction?)
 PHASES: tuple[tuple[str, str | None, bool], ...] = (

@@ -30,8 +30,10 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from excavkin.excavator.designs import B, check_designs, cylinder_arrays, within_strokes
-from excavkin.excavator.machine import ROLES, F, Machine
+from excavkin.arrays import BoolArray as B
+from excavkin.arrays import FloatArray as F
+from excavkin.excavator.designs import check_designs, cylinder_arrays, within_strokes
+from excavkin.excavator.machine import ROLES, Machine
 from excavkin.excavator.search import maximize_strokes
 
 #: figure → (sign of the tip's coordinate it maximises, coordinate index)

@@ -33,12 +33,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import BoolArray as B
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.excavator.forces import At, Working, capped_force
-from excavkin.excavator.machine import ROLES, F, Machine, as_lengths, direction_angle, wrap_angle
+from excavkin.excavator.machine import ROLES, Machine, as_lengths, direction_angle, wrap_angle
 from excavkin.kinematics import KinematicResult
-
-B = NDArray[np.bool_]
 
 #: the cylinder entries that are parameters
 CYLINDER_KEYS: tuple[str, ...] = ("bore", "rod", "retracted", "stroke")

@@ -27,9 +27,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.excavator.forces import At, directed_force
-from excavkin.excavator.machine import F, FrontPose, Machine, as_lengths, pose_of, transfer
+from excavkin.excavator.machine import FrontPose, Machine, as_lengths, pose_of, transfer
 from excavkin.excavator.soil import Resistance, Soil, Tool, resistance
 from excavkin.excavator.stability import SWING, Over, equilibrium
 from excavkin.kinematics.summary import batch_repr

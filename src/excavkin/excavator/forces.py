@@ -32,10 +32,10 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.excavator.machine import (
     ROLES,
-    F,
     FrontPose,
     Machine,
     as_lengths,

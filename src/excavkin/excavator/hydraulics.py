@@ -51,8 +51,9 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
-from excavkin.excavator.machine import ROLES, Cylinder, F, Machine, as_lengths
+from excavkin.excavator.machine import ROLES, Cylinder, Machine, as_lengths
 
 #: steel defaults of the buckling check: Young's modulus and the rod's yield stress (Pa), a
 #: quenched and tempered C45-class rod steel

@@ -40,15 +40,15 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import BoolArray as B
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, ModelError
 from excavkin.excavator.forces import gravity_terms
 from excavkin.excavator.machine import (
     ROLES,
-    B,
-    F,
     Machine,
-    _circle,
     as_lengths,
+    circle_point,
     direction_angle,
     forward,
     inverse,
@@ -134,7 +134,7 @@ def lift_poses(machine: Machine, points: ArrayLike) -> tuple[F, B]:
     out = np.full((n, 3), np.nan)
     found = np.zeros(n, dtype=bool)
     for side in (1.0, -1.0):  # the stick pivot above the line foot → load point first
-        fp, ok = _circle(a, l_boom, P, r_fp, side)
+        fp, ok = circle_point(a, l_boom, P, r_fp, side)
         q = _from_frame(fp, P, np.broadcast_to(q_st, (n, 2)))
         t = _from_frame(fp, P, np.broadcast_to(t_st, (n, 2)))
         beta = direction_angle(t - q)

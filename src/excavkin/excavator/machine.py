@@ -43,6 +43,8 @@ from typing import TYPE_CHECKING, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import BoolArray as B
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, ModelError
 from excavkin.excavator.base import BaseMachine
 from excavkin.kinematics import KinematicResult
@@ -54,8 +56,6 @@ from excavkin.structure.plan import Dyad
 if TYPE_CHECKING:
     from excavkin.excavator.hydraulics import Hydraulics
 
-F = NDArray[np.float64]
-B = NDArray[np.bool_]
 
 #: The three cylinders of a backhoe front, in the order of every ``(n, 3)`` array.
 ROLES: tuple[str, str, str] = ("boom", "arm", "bucket")
@@ -892,8 +892,25 @@ class InverseSolution:
         return out, np.asarray(has)
 
 
-def _circle(a: F, ra: float, b: F, rb: float, side: float) -> tuple[F, B]:
-    """Point P with |PA| = ra, |PB| = rb, on side ``side`` = sign cross(B − A, P − A)."""
+def circle_point(a: F, ra: float, b: F, rb: float, side: float) -> tuple[F, B]:
+    """Point P with |PA| = ra, |PB| = rb, on side ``side`` = sign cross(B − A, P − A).
+
+    Parameters
+    ----------
+    a, b : ndarray, shape (..., 2)
+        The two centres.
+    ra, rb : float
+        The distances from a and from b.
+    side : float
+        +1 or −1: which of the two intersections.
+
+    Returns
+    -------
+    p : ndarray, shape (..., 2)
+        The point (NaN where the circles do not meet).
+    ok : ndarray of bool, shape (...)
+        Where they meet.
+    """
     d = b - a
     dd = np.sqrt(np.sum(d * d, axis=-1))
     x = (ra * ra - rb * rb + dd * dd) / (2.0 * dd)
@@ -963,11 +980,11 @@ def inverse(machine: Machine, tip: ArrayLike, bucket_angle: ArrayLike) -> Invers
         pts[p.bucket_pin] = q
         pts[f.tip] = T
         _frame(machine, f.bucket, p.bucket_pin, f.tip, q, T, pts)
-        fp, ok1 = _circle(a, l_boom, q, l_stick, s1)
+        fp, ok1 = circle_point(a, l_boom, q, l_stick, s1)
         pts[p.stick_pivot] = fp
         _frame(machine, f.boom, p.foot, p.stick_pivot, a, fp, pts)
         _frame(machine, f.stick, p.stick_pivot, p.bucket_pin, fp, q, pts)
-        kp, ok2 = _circle(pts[p.link_pivot], l_side, pts[p.link_pin], l_h, s2)
+        kp, ok2 = circle_point(pts[p.link_pivot], l_side, pts[p.link_pin], l_h, s2)
         pts[p.junction] = kp
         _frame(machine, f.side_link, p.link_pivot, p.junction, pts[p.link_pivot], kp, pts)
         _frame(machine, f.h_link, p.junction, p.link_pin, kp, pts[p.link_pin], pts)

@@ -39,10 +39,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
+from excavkin.arrays import BoolArray as B
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.excavator.forces import At, tool_forces
 from excavkin.excavator.lift import hydraulic_lift
-from excavkin.excavator.machine import ROLES, B, F, Machine, as_lengths
+from excavkin.excavator.machine import ROLES, Machine, as_lengths
 from excavkin.kinematics.summary import batch_repr
 from excavkin.kinetostatics import ForceResult, PointForce
 

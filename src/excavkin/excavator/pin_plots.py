@@ -13,8 +13,8 @@ import numpy as np
 
 from excavkin.excavator.machine import Machine
 from excavkin.excavator.pin_loads import CASES, LoadMaximum, PinLoads
-from excavkin.excavator.plots import ExcavatorPlot, _axes
-from excavkin.excavator.stability_plots import _bins
+from excavkin.excavator.plots import ExcavatorPlot, figure_axes
+from excavkin.excavator.stability_plots import map_cells
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -76,7 +76,7 @@ def plot_pin_maps(
     axes = fig.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
     good = loads.held & np.all(np.isfinite(loads.tool_point), axis=1)
     pts = loads.tool_point[good]
-    xe, ye, ix, iy, nx, ny = _bins(pts, cell)
+    xe, ye, ix, iy, nx, ny = map_cells(pts, cell)
     values = loads.load[good] / 1e3
     cols = [loads.pins.index(p) for p in names]
     norm = Normalize(0.0, float(np.max(values[:, cols])))
@@ -131,7 +131,7 @@ def plot_load_maxima(
     -------
     ExcavatorPlot
     """
-    fig, ax = _axes(ax, (8.0, 0.42 * len(maxima) + 1.6))
+    fig, ax = figure_axes(ax, (8.0, 0.42 * len(maxima) + 1.6))
     cases: list[str] = [c for c in CASES if any(c in m.by_case for m in maxima)]
     height = 0.8 / len(cases)
     y = np.arange(len(maxima))

@@ -36,7 +36,21 @@ class ExcavatorPlot:
     artists: dict[str, Any]
 
 
-def _axes(ax: Axes | None, size: tuple[float, float]) -> tuple[Figure, Axes]:
+def figure_axes(ax: Axes | None, size: tuple[float, float]) -> tuple[Figure, Axes]:
+    """The figure and axes to draw on: ``ax`` and its figure, or a new figure of ``size``
+    (inches) when ``ax`` is None.
+
+    Parameters
+    ----------
+    ax : Axes or None
+        The caller's axes.
+    size : (float, float)
+        Width and height of a new figure, in inches.
+
+    Returns
+    -------
+    (Figure, Axes)
+    """
     import matplotlib.pyplot as plt
 
     if ax is None:
@@ -97,7 +111,7 @@ def plot_working_range(
     -------
     ExcavatorPlot
     """
-    fig, ax = _axes(ax, (8.5, 8.0))
+    fig, ax = figure_axes(ax, (8.5, 8.0))
     env = np.vstack([ranges.envelope, ranges.envelope[:1]])
     art: dict[str, Any] = {}
     art["envelope"] = ax.fill(env[:, 0], env[:, 1], color="tab:blue", alpha=0.12, lw=0)
@@ -194,7 +208,7 @@ def plot_force_map(
     -------
     ExcavatorPlot
     """
-    fig, ax = _axes(ax, (7.5, 6.5))
+    fig, ax = figure_axes(ax, (7.5, 6.5))
     pts = forces.pose.lip if forces.at == "lip" else forces.pose.tip
     f = forces.force
     good = np.isfinite(f) & np.all(np.isfinite(pts), axis=1)

@@ -35,13 +35,12 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from numpy.typing import NDArray
 from scipy.optimize import brentq
 from shapely.geometry.polygon import orient
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import ExcavkinWarning, ModelError
 from excavkin.excavator.machine import (
-    F,
     FrontPose,
     Machine,
     direction_angle,
@@ -50,8 +49,6 @@ from excavkin.excavator.machine import (
     wrap_angle,
 )
 from excavkin.excavator.search import Evaluate, maximize_strokes
-
-B = NDArray[np.bool_]
 
 
 @dataclass(frozen=True, slots=True)

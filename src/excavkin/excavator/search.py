@@ -11,7 +11,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from excavkin.excavator.machine import F, Machine
+from excavkin.arrays import FloatArray as F
+from excavkin.excavator.machine import Machine
 
 #: ``evaluate(L)`` → (objective, lengths it scored), both batched over (problems, k).
 Evaluate = Callable[[F], tuple[F, F]]

@@ -65,11 +65,11 @@ from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 
-F = NDArray[np.float64]
 Model = Literal["zelenin", "balovnev", "mckyes"]
 MODELS: tuple[str, ...] = ("zelenin", "balovnev", "mckyes")
 

@@ -39,10 +39,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import BoolArray as B
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, ModelError
 from excavkin.excavator.base import BaseMachine, TippingLine
 from excavkin.excavator.forces import At, RatedForce, ToolForces, Working, rated_force, tool_forces
-from excavkin.excavator.machine import B, F, Machine, as_lengths
+from excavkin.excavator.machine import Machine, as_lengths
 from excavkin.kinematics.summary import batch_repr
 
 #: where the machine's front points: over the front (idler) end of the tracks, or over the side

@@ -10,9 +10,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.excavator.lift import LiftTable, lift_poses
-from excavkin.excavator.machine import F, Machine
-from excavkin.excavator.plots import ExcavatorPlot, _axes, draw_front
+from excavkin.excavator.machine import Machine
+from excavkin.excavator.plots import ExcavatorPlot, draw_front, figure_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -50,7 +51,7 @@ def plot_lift_chart(machine: Machine, table: LiftTable, *, ax: Axes | None = Non
     -------
     ExcavatorPlot
     """
-    fig, ax = _axes(ax, (10.0, 8.0))
+    fig, ax = figure_axes(ax, (10.0, 8.0))
     g = machine.gravity
     x0, y0 = machine.swing_axis, machine.ground_line
     R, H = table.radii, table.heights
@@ -161,8 +162,22 @@ def _draw_base(machine: Machine, ax: Axes) -> None:
     )
 
 
-def _bins(points: F, cell: float) -> tuple[F, F, Any, Any, int, int]:
-    """Cell edges and each point's cell index for a map of ``cell``-sized squares."""
+def map_cells(points: F, cell: float) -> tuple[F, F, Any, Any, int, int]:
+    """Cell edges and each point's cell index for a map of ``cell``-sized squares.
+
+    Parameters
+    ----------
+    points : ndarray, shape (n, 2)
+        The mapped points.
+    cell : float
+        The square's side.
+
+    Returns
+    -------
+    (x_edges, y_edges, ix, iy, nx, ny)
+        Edges, shape (nx + 1,) and (ny + 1,); each point's column and row, shape (n,); the
+        number of columns and rows.
+    """
     x0, y0 = points.min(axis=0) - cell
     nx = int(np.ceil((points[:, 0].max() - x0) / cell)) + 2
     ny = int(np.ceil((points[:, 1].max() - y0) / cell)) + 2
@@ -205,12 +220,12 @@ def plot_value_map(
     """
     from matplotlib.colors import LogNorm
 
-    fig, ax = _axes(ax, (7.5, 6.5))
+    fig, ax = figure_axes(ax, (7.5, 6.5))
     good = np.isfinite(values) & np.all(np.isfinite(points), axis=1)
     if log:
         good &= values > 0.0
     pts, v = points[good], values[good]
-    xe, ye, ix, iy, nx, ny = _bins(pts, cell)
+    xe, ye, ix, iy, nx, ny = map_cells(pts, cell)
     grid = np.full((ny, nx), np.inf)
     np.minimum.at(grid, (iy, ix), v)
     grid[~np.isfinite(grid)] = np.nan
@@ -265,12 +280,12 @@ def plot_limit_map(
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
-    fig, ax = _axes(ax, (7.5, 6.5))
+    fig, ax = figure_axes(ax, (7.5, 6.5))
     good = np.isfinite(force) & np.all(np.isfinite(points), axis=1)
     pts, f = points[good], force[good]
     kinds = list(LIMIT_COLOURS)
     kind = np.array([kinds.index(str(s).split(" ")[0]) for s in limiting[good]])
-    xe, ye, ix, iy, nx, ny = _bins(pts, cell)
+    xe, ye, ix, iy, nx, ny = map_cells(pts, cell)
     flat = iy * nx + ix
     order = np.lexsort((f, flat))  # per cell, the largest force last
     last = np.r_[flat[order][1:] != flat[order][:-1], True]

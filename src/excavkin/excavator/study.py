@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import ExcavkinError, InputError
 from excavkin.excavator.designs import (
     bucket_angle_to_stick,
@@ -50,7 +51,7 @@ from excavkin.excavator.designs import (
     within_strokes,
 )
 from excavkin.excavator.forces import Working
-from excavkin.excavator.machine import F, Machine, as_lengths
+from excavkin.excavator.machine import Machine, as_lengths
 from excavkin.studies.metrics import Constraint, Metric, Poses, tabulate
 from excavkin.studies.optimize import Optimum, Problem, run
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from excavkin.kinematics.kernels import F
+from excavkin.arrays import FloatArray as F
 from excavkin.structure.plan import Dyad, SolvePlan
 
 #: the mirror image must be this much closer to the previous sample than the point itself

@@ -33,8 +33,9 @@ from typing import Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import fast_atan2
-from excavkin.kinematics.kernels import Chunk, Code, F
+from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.vectorise import vectorised
 from excavkin.structure.plan import Attach, Dist, Dyad, Fixed, Rotate, SliderStep, SolvePlan
 

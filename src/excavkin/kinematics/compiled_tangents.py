@@ -21,17 +21,16 @@ closed-form plan is compiled; Newton groups' tangents run in NumPy.
 from __future__ import annotations
 
 import ast
-import contextlib
 import functools
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.dual import Dual, seed
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.threads import over_chunks
 from excavkin.structure.design import take, vary
 from excavkin.structure.plan import SolvePlan
@@ -73,24 +72,13 @@ def use(plan: SolvePlan, n: int, compiled: bool | None, keep: Keep | None = None
 
 def is_compiled(plan: SolvePlan, keep: Keep | None = None) -> bool:
     """Whether the plan's tangent kernel has been compiled, in this process or an earlier one."""
-    key = compiled_plan._key(source(plan, keep))
-    marker = compiled_plan.cache_dir() / f"excavkin_kernel_{key}.compiled"
-    return key in compiled_plan._kernels or marker.exists()
+    return compiled_plan.source_compiled(source(plan, keep))
 
 
 def compile_tangents(plan: SolvePlan, keep: Keep | None = None) -> Kernel:
     """The plan's tangent kernel (of the entries ``keep``, default all): made once per
     structure, kept in memory and on disk."""
-    text = source(plan, keep)
-    key = compiled_plan._key(text)
-    with compiled_plan._lock:
-        kernel = compiled_plan._kernels.get(key)
-        if kernel is None:
-            kernel = compiled_plan._load(text, key)
-            compiled_plan._kernels[key] = kernel
-            with contextlib.suppress(OSError):
-                (compiled_plan.cache_dir() / f"excavkin_kernel_{key}.compiled").touch()
-    return kernel
+    return compiled_plan.kernel_of(source(plan, keep))
 
 
 def fill(

@@ -14,9 +14,6 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
-
-F = NDArray[np.float64]
 
 
 def _parts(x: Any) -> tuple[Any, Any]:

@@ -23,9 +23,8 @@ from enum import IntEnum
 import numpy as np
 from numpy.typing import NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.structure.plan import Attach, Dist, Dyad, Fixed, Rotate, SliderStep
-
-F = NDArray[np.float64]
 
 
 class Code(IntEnum):

@@ -25,7 +25,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from excavkin.kinematics.kernels import Chunk, Code, F, dist, flag
+from excavkin.arrays import FloatArray as F
+from excavkin.kinematics.kernels import Chunk, Code, dist, flag
 from excavkin.kinematics.small_systems import Factors
 from excavkin.structure.design import take_step
 from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, NewtonGroup

@@ -29,7 +29,8 @@ from collections.abc import Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from excavkin.kinematics.kernels import Chunk, Code, F
+from excavkin.arrays import FloatArray as F
+from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.result import Derived
 from excavkin.kinematics.steps import run_steps
 from excavkin.structure.design import take

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import unknown_name
 from excavkin.kinematics import summary
 from excavkin.kinematics.change_points import ChangePoint
@@ -22,7 +23,7 @@ from excavkin.kinematics.columns import (
     driver_columns,
     table_attrs,
 )
-from excavkin.kinematics.kernels import Code, F
+from excavkin.kinematics.kernels import Code
 from excavkin.structure.design import parameter_kind
 from excavkin.structure.plan import Dyad, NewtonGroup, SliderStep, SolvePlan
 

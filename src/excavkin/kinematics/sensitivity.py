@@ -22,9 +22,10 @@ from typing import Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import compiled_tangents, newton
 from excavkin.kinematics.dual import Dual, seed, zeros
-from excavkin.kinematics.kernels import Chunk, F
+from excavkin.kinematics.kernels import Chunk
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
 from excavkin.structure.design import joint_offsets, parameters, take, vary

@@ -24,12 +24,10 @@ caller masks it by the ratio.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 from numpy.typing import NDArray
 
-F = NDArray[Any]
+from excavkin.arrays import RealArray as F
 
 
 class Factors:

@@ -20,11 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import AssemblyError
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import kernels, precision
 from excavkin.kinematics.change_points import ChangePoint, Tail, find_change_points
-from excavkin.kinematics.kernels import Chunk, Code, F
+from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.newton import rotary_branch_ok
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps

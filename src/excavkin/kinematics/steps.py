@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import kernels
-from excavkin.kinematics.kernels import Chunk, F
+from excavkin.kinematics.kernels import Chunk
 from excavkin.kinematics.newton import newton_positions, newton_rates
 from excavkin.structure.plan import Attach, Dyad, Fixed, NewtonGroup, Rotate, SliderStep, SolvePlan
 

@@ -23,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.kinematics.change_points import ChangePoint, Tail, find_change_points
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinematics.solve import (
     Assembly,

@@ -7,10 +7,11 @@ chunk of samples. Here those same steps are *traced*: they run once on symbols i
 arrays, and every arithmetic operation they do is written down as one line of straight-line
 source. numba compiles the loop over samples of that source (as
 :mod:`excavkin.kinematics.compiled` does for a solve plan), so a sample's equations stay in
-registers. Because the trace runs the NumPy path's own functions (:func:`_body_loads`,
-:func:`_assemble`, :func:`_eliminate_one`, :func:`_mul` …), the operations and their order are
-the NumPy path's; only the dense block's row swaps, which NumPy makes with ``where``, become a
-branch. Tests hold the two to 1e-15 of each column's scale.
+registers. Because the trace runs the NumPy path's own functions
+(:func:`~excavkin.kinetostatics.body_loads.body_loads`, :func:`assemble_rows`,
+:func:`eliminate_one`, :func:`mul_entry` …), the operations and their order are the NumPy
+path's; only the dense block's row swaps, which NumPy makes with ``where``, become a branch.
+Tests hold the two to 1e-15 of each column's scale.
 
 The source depends on the equilibrium system's structure, which bodies have a mass (and a
 moment of inertia), which loads act where, and whether inertia and gravity are on; every value —
@@ -27,17 +28,18 @@ from typing import Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import compiled as kernels
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.threads import over_chunks
+from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
     StaticsSystem,
-    _assemble,
-    _div,
-    _eliminate_one,
-    _mul,
-    _neg,
-    _sub,
+    assemble_rows,
+    div_entry,
+    eliminate_one,
+    mul_entry,
+    neg_entry,
+    sub_entry,
 )
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads
@@ -171,7 +173,7 @@ class _Points:
 
 
 class _Masses:
-    """The mass properties as the traced :func:`_body_loads` reads them: each value a row of the
+    """The mass properties as the traced :func:`body_loads` reads them: each value a row of the
     constants table, the bodies with a mass and their base points as they are."""
 
     def __init__(self, g: _Source, mp: MassProperties) -> None:
@@ -256,18 +258,16 @@ def source(
 
 def _trace(g: _Source, sy: StaticsSystem, masses: Any, loads: EvaluatedLoads, inertia: bool) -> str:
     """Run the NumPy path's elimination on the symbols of ``g``: the kernel's source."""
-    from excavkin.kinetostatics.solve import _body_loads
-
     x = _Points(g, "x")
     acc = _Points(g, "a") if inertia else None
     eps = _Points(g, "eps") if inertia else None
-    rhs_body = _body_loads(sy, masses, loads, x, acc, eps, slice(None))  # type: ignore[arg-type]
-    rows = _assemble(sy, x)  # type: ignore[arg-type]
+    rhs_body = body_loads(sy, masses, loads, x, acc, eps, slice(None))  # type: ignore[arg-type]
+    rows = assemble_rows(sy, x)  # type: ignore[arg-type]
     rhs: list[Any] = [0.0] * (2 * len(sy.nodes))
     for fx, fy, mz in rhs_body:
-        rhs += [_neg(fx), _neg(fy), _neg(mz)]
+        rhs += [neg_entry(fx), neg_entry(fy), neg_entry(mz)]
     for p in sy.pivots:
-        _eliminate_one(rows, rhs, p.row, p.col, p.value, p.targets)
+        eliminate_one(rows, rhs, p.row, p.col, p.value, p.targets)
     sol: list[Any] = [0.0] * sy.size
     g.emit("sg = False")
     if sy.residual_cols:
@@ -279,8 +279,8 @@ def _trace(g: _Source, sy: StaticsSystem, masses: Any, loads: EvaluatedLoads, in
         s = rhs[p.row]
         for j, w in rows[p.row].items():
             if j != p.col:
-                s = _sub(s, _mul(w, sol[j]))
-        sol[p.col] = _div(s, p.value)
+                s = sub_entry(s, mul_entry(w, sol[j]))
+        sol[p.col] = div_entry(s, p.value)
     for col, val in enumerate(sol):
         g.emit(f"out[{col}, i] = {_text(val)}")
     g.emit("singular[i] = sg")

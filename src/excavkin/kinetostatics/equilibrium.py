@@ -46,8 +46,8 @@ from typing import Literal, TypeAlias, cast
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import MobilityError
-from excavkin.kinematics.kernels import F
 from excavkin.model.entities import Model
 
 __all__ = [
@@ -79,7 +79,9 @@ Entry: TypeAlias = "float | F | _Var"
 Value: TypeAlias = "float | F"
 
 
-def _mul(a: Entry, b: Entry) -> Entry:
+def mul_entry(a: Entry, b: Entry) -> Entry:
+    """``a · b`` of two entries, skipping the product by 0 and ±1 (a float), or ``VAR`` where
+    either is unknown until the samples come; :mod:`excavkin.kinetostatics.compiled` traces it."""
     if isinstance(a, float):
         if a == 0.0:
             return 0.0
@@ -99,7 +101,8 @@ def _mul(a: Entry, b: Entry) -> Entry:
     return a * b
 
 
-def _sub(a: Entry, b: Entry) -> Entry:
+def sub_entry(a: Entry, b: Entry) -> Entry:
+    """``a − b`` of two entries, skipping a zero float (``VAR`` where either is unknown)."""
     if isinstance(b, float) and b == 0.0:
         return a
     if isinstance(a, _Var) or isinstance(b, _Var):
@@ -109,7 +112,8 @@ def _sub(a: Entry, b: Entry) -> Entry:
     return a - b
 
 
-def _div(a: Entry, piv: float) -> Entry:
+def div_entry(a: Entry, piv: float) -> Entry:
+    """``a / piv`` of an entry by a pivot, skipping ±1 (``VAR`` where ``a`` is unknown)."""
     if piv == 1.0:
         return a
     if isinstance(a, _Var):
@@ -292,8 +296,22 @@ def _structure(model: Model) -> StaticsSystem:
     )
 
 
-def _assemble(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
-    """The coefficient rows; ``x`` is (n_points, 2, c), or None for the structure only."""
+def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
+    """The coefficient rows of the equilibrium equations, one dict of column → entry per row.
+
+    Parameters
+    ----------
+    sy : StaticsSystem
+        The system's rows and unknowns.
+    x : ndarray, shape (n_points, 2, c), or None
+        Point positions of a chunk of c samples; None for the structure only (unknown
+        entries are ``VAR``).
+
+    Returns
+    -------
+    list of dict
+        Row k's entries by column.
+    """
     rows: list[dict[int, Entry]] = [{} for _ in sy.rows]
     node_row = {i: 2 * k for k, i in enumerate(sy.nodes)}
     body_row = {j: 2 * len(sy.nodes) + 3 * m for m, j in enumerate(sy.moving)}
@@ -363,7 +381,7 @@ def _assemble(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
 
 def _plan_pivots(sy: StaticsSystem) -> tuple[tuple[_Pivot, ...], tuple[int, ...], tuple[int, ...]]:
     """Choose constant pivots greedily, fewest per-sample operations first."""
-    rows = _assemble(sy, None)
+    rows = assemble_rows(sy, None)
     rhs: list[Entry] = [0.0] * (2 * len(sy.nodes))
     rhs += [VAR] * (3 * len(sy.moving))
     active = set(range(len(rows)))
@@ -395,7 +413,7 @@ def _plan_pivots(sy: StaticsSystem) -> tuple[tuple[_Pivot, ...], tuple[int, ...]
         _, r, c, targets = best
         piv = rows[r][c]
         assert isinstance(piv, float)
-        _eliminate_one(rows, rhs, r, c, piv, targets)
+        eliminate_one(rows, rhs, r, c, piv, targets)
         pivots.append(_Pivot(r, c, piv, targets))
         active.discard(r)
     used = {p.col for p in pivots}
@@ -403,7 +421,7 @@ def _plan_pivots(sy: StaticsSystem) -> tuple[tuple[_Pivot, ...], tuple[int, ...]
     return tuple(pivots), tuple(sorted(active)), res_cols
 
 
-def _eliminate_one(
+def eliminate_one(
     rows: list[dict[int, Entry]],
     rhs: list[Entry],
     r: int,
@@ -411,19 +429,22 @@ def _eliminate_one(
     piv: float,
     targets: tuple[int, ...],
 ) -> None:
+    """Eliminate column ``c`` from the rows ``targets`` by pivot row ``r`` (pivot value
+    ``piv``), in place in ``rows`` and ``rhs``: one step of the elimination, shared with the
+    compiled path's trace."""
     prow = rows[r]
     for i in targets:
         row = rows[i]
-        f = _div(row.pop(c), piv)
+        f = div_entry(row.pop(c), piv)
         for j, w in prow.items():
             if j == c:
                 continue
-            new = _sub(row.get(j, 0.0), _mul(f, w))
+            new = sub_entry(row.get(j, 0.0), mul_entry(f, w))
             if isinstance(new, float) and new == 0.0:
                 row.pop(j, None)
             else:
                 row[j] = new
-        rhs[i] = _sub(rhs[i], _mul(f, rhs[r]))
+        rhs[i] = sub_entry(rhs[i], mul_entry(f, rhs[r]))
 
 
 def compile_statics(model: Model, *, seed: int = 20240601) -> StaticsSystem:
@@ -486,7 +507,7 @@ def dense_matrix(sy: StaticsSystem, x: F) -> F:
         Point positions.
     """
     n = x.shape[-1]
-    rows = _assemble(sy, x)
+    rows = assemble_rows(sy, x)
     out = np.zeros((n, len(sy.rows), len(sy.unknowns)))
     for r, row in enumerate(rows):
         for c, v in row.items():
@@ -614,12 +635,12 @@ def solve_system(
     singular : ndarray of bool, shape (c,)
     """
     c = x.shape[-1]
-    rows = _assemble(sy, x)
+    rows = assemble_rows(sy, x)
     rhs: list[Entry] = [0.0] * (2 * len(sy.nodes))
     for fx, fy, mz in rhs_body:
-        rhs += [_neg(fx), _neg(fy), _neg(mz)]
+        rhs += [neg_entry(fx), neg_entry(fy), neg_entry(mz)]
     for p in sy.pivots:
-        _eliminate_one(rows, rhs, p.row, p.col, p.value, p.targets)
+        eliminate_one(rows, rhs, p.row, p.col, p.value, p.targets)
     sol: list[Entry] = [0.0] * len(sy.unknowns)
     singular = np.zeros(c, dtype=bool)
     if sy.residual_cols:
@@ -632,12 +653,13 @@ def solve_system(
         acc = rhs[p.row]
         for j, w in rows[p.row].items():
             if j != p.col:
-                acc = _sub(acc, _mul(w, sol[j]))
-        sol[p.col] = _div(acc, p.value)
+                acc = sub_entry(acc, mul_entry(w, sol[j]))
+        sol[p.col] = div_entry(acc, p.value)
     return cast("list[Value]", sol), singular
 
 
-def _neg(v: Entry) -> Entry:
+def neg_entry(v: Entry) -> Entry:
+    """``−v`` of an entry, keeping a float zero positive and ``VAR`` as it is."""
     if isinstance(v, float):
         return -v if v != 0.0 else 0.0
     if isinstance(v, _Var):

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from excavkin.kinematics.kernels import F
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.structure.design import design_masses
 from excavkin.structure.plan import SolvePlan

@@ -34,8 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, ModelError
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.model.entities import (
     STANDARD_GRAVITY,

@@ -23,10 +23,10 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import unknown_name
 from excavkin.kinematics import summary
 from excavkin.kinematics.columns import Column, column, derivative_column, table_attrs
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import StaticsSystem
 from excavkin.kinetostatics.inertia import MassProperties, centre_of_mass, kinetic_energy_rate

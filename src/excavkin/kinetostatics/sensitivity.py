@@ -19,8 +19,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.dual import Dual, seed
-from excavkin.kinematics.kernels import F
+from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import solve_system
 from excavkin.structure.design import mass_items
 
@@ -61,8 +62,6 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
     ``forces.kinematics`` must carry the kinematic tangents of ``names``
     (``solve(..., sensitivities=names)``).
     """
-    from excavkin.kinetostatics.solve import _body_loads
-
     kin = forces.kinematics
     assert kin.tangents is not None
     tangents = [kin.tangents[p] for p in names]
@@ -81,7 +80,7 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
         part = slice(s, min(s + CHUNK, n))
         xd = Dual(x[..., part], x_t[..., part])
         with np.errstate(divide="ignore", invalid="ignore"):
-            rhs = _body_loads(
+            rhs = body_loads(
                 sy,
                 masses.at(part),  # type: ignore[arg-type]
                 ev,

@@ -12,13 +12,13 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.kinematics.compiled import THRESHOLD, available
-from excavkin.kinematics.kernels import F
 from excavkin.kinematics.result import KinematicResult
+from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
     StaticsSystem,
-    Value,
     compile_statics,
     dense_matrix,
     solve_system,
@@ -28,74 +28,6 @@ from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, eval
 from excavkin.kinetostatics.result import ForceResult
 
 __all__ = ["solve_forces"]
-
-
-def _add(a: Value, b: Value) -> Value:
-    if isinstance(a, float) and a == 0.0:
-        return b
-    if isinstance(b, float) and b == 0.0:
-        return a
-    return a + b
-
-
-def _body_loads(
-    sy: StaticsSystem,
-    mp: MassProperties,
-    ev: EvaluatedLoads,
-    x: F,
-    a: F | None,
-    eps: F | None,
-    sl: slice,
-) -> list[tuple[Value, Value, Value]]:
-    """Known force (x, y) and moment about p0 of each moving body over one chunk."""
-    out: list[tuple[Value, Value, Value]] = []
-    g = ev.gravity
-    by_body: dict[int, list[tuple[int, Value, Value]]] = {}
-    for body, point, px, py in ev.forces:
-        by_body.setdefault(body, []).append((point, px, py))
-    couples: dict[int, Value] = {}
-    for body, reaction, tau in ev.torques:
-        t = tau if isinstance(tau, float) else tau[sl]
-        couples[body] = _add(couples.get(body, 0.0), t)
-        if reaction >= 0:
-            couples[reaction] = _add(couples.get(reaction, 0.0), -t)
-    massive = set(mp.massive)
-    for j in sy.moving:
-        fx: Value = 0.0
-        fy: Value = 0.0
-        mz: Value = couples.get(j, 0.0)
-        i0, i1 = mp.base[j]
-        m = mp.mass[j]
-        if j in massive:
-            s, t = mp.com[j]
-            wx = x[i1, 0] - x[i0, 0]
-            wy = x[i1, 1] - x[i0, 1]
-            dx = s * wx - t * wy  # S − p0
-            dy = s * wy + t * wx
-            gx, gy = (0.0, 0.0) if g is None else g
-            sx: Value = m * gx
-            sy_: Value = m * gy
-            if a is not None:
-                awx = a[i1, 0] - a[i0, 0]
-                awy = a[i1, 1] - a[i0, 1]
-                sx = m * (gx - (a[i0, 0] + s * awx - t * awy))
-                sy_ = m * (gy - (a[i0, 1] + s * awy + t * awx))
-            fx, fy = sx, sy_
-            if a is not None or g is not None:
-                mz = _add(mz, dx * sy_ - dy * sx)
-            if eps is not None and np.any(mp.inertia[j] != 0.0):
-                mz = _add(mz, -mp.inertia[j] * eps[j])
-        for point, px, py in by_body.get(j, ()):
-            px_ = px if isinstance(px, float) else px[sl]
-            py_ = py if isinstance(py, float) else py[sl]
-            fx = _add(fx, px_)
-            fy = _add(fy, py_)
-            if point != i0:
-                lx = x[point, 0] - x[i0, 0]
-                ly = x[point, 1] - x[i0, 1]
-                mz = _add(mz, lx * py_ - ly * px_)
-        out.append((fx, fy, mz))
-    return out
 
 
 def solve_forces(
@@ -204,7 +136,7 @@ def _solve_sparse(
     for s in range(0, out.shape[1], chunk):
         sl = slice(s, min(s + chunk, out.shape[1]))
         xc = x[:, :, sl]
-        rhs = _body_loads(
+        rhs = body_loads(
             sy,
             mp.at(sl),
             ev,
@@ -255,7 +187,7 @@ def _solve_dense(
     mat = dense_matrix(sy, x)
     rhs = np.zeros((n, len(sy.rows)))
     r0 = 2 * len(sy.nodes)
-    for m, (fx, fy, mz) in enumerate(_body_loads(sy, mp, ev, x, a, eps, slice(None))):
+    for m, (fx, fy, mz) in enumerate(body_loads(sy, mp, ev, x, a, eps, slice(None))):
         rhs[:, r0 + 3 * m] = -np.asarray(fx)
         rhs[:, r0 + 3 * m + 1] = -np.asarray(fy)
         rhs[:, r0 + 3 * m + 2] = -np.asarray(mz)

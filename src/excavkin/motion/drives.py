@@ -32,7 +32,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from excavkin.motion.laws import FloatArray, MotionLaw, MotionState
+from excavkin.arrays import FloatArray
+from excavkin.motion.laws import MotionLaw, MotionState
 
 __all__ = ["ConstantSpeedCrank", "RopeWinch", "rope_speed"]
 

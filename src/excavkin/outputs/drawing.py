@@ -22,6 +22,7 @@ from excavkin.outputs.style import (
     FAIL_COLOR,
     GROUND_COLOR,
     ROD_COLOR,
+    SLIDER_FILL,
     check_line_style,
 )
 
@@ -109,7 +110,7 @@ class MechanismDrawing:
             block = Polygon(
                 scene.slider_block(sl, sample),
                 closed=True,
-                facecolor="#dddddd",
+                facecolor=SLIDER_FILL,
                 edgecolor=GROUND_COLOR,
                 lw=1.3,
                 zorder=z + 3,

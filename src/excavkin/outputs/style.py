@@ -1,8 +1,9 @@
 """The look of every figure, in one place: colours of bodies, cylinders, ground and warnings, and
 the check of matplotlib line-style keywords.
 
-Both renderers (matplotlib in :mod:`~excavkin.outputs.drawing` and :mod:`~excavkin.outputs.plots`,
-plotly in :mod:`~excavkin.outputs.report`) take their colours from here.
+Every renderer (matplotlib in :mod:`~excavkin.outputs.drawing` and :mod:`~excavkin.outputs.plots`,
+plotly in :mod:`~excavkin.outputs.report`, SVG in :mod:`~excavkin.outputs.sketch`) takes its
+colours from here.
 """
 
 from __future__ import annotations
@@ -27,10 +28,31 @@ ROD_COLOR = "#a8a8a8"
 GROUND_COLOR = "#333333"
 FAIL_COLOR = "#d62728"
 DEAD_COLOR = "#9467bd"
+#: the block of a slider
+SLIDER_FILL = "#dddddd"
 
 
 #: dotted paths of moving points
 PATH_COLOR = "#8a94a6"
+
+
+def rgba(hex_color: str, alpha: float) -> str:
+    """A colour (``"#rrggbb"``) with an opacity, as Plotly writes it: ``"rgba(r,g,b,a)"``.
+
+    Parameters
+    ----------
+    hex_color : str
+        One of this module's colours.
+    alpha : float
+        Opacity, 0 to 1.
+
+    Returns
+    -------
+    str
+    """
+    h = hex_color.lstrip("#")
+    r, g, b = (int(h[k : k + 2], 16) for k in (0, 2, 4))
+    return f"rgba({r},{g},{b},{alpha})"
 
 
 def check_line_style(style: Mapping[str, Any]) -> dict[str, Any]:

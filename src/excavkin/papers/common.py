@@ -13,12 +13,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.mechanism import Mechanism
 
 if TYPE_CHECKING:
     from excavkin.kinematics.result import KinematicResult
-
-FloatArray = npt.NDArray[np.float64]
 
 
 @dataclass(frozen=True, slots=True)

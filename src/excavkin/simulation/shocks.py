@@ -44,8 +44,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
-import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.errors import InputError
 from excavkin.kinematics import KinematicResult
 from excavkin.mechanism import Mechanism
@@ -63,7 +63,6 @@ if TYPE_CHECKING:
 
 __all__ = ["Column", "Peak", "Shock", "ShockReport", "shock_report", "tracked_columns"]
 
-FloatArray = npt.NDArray[np.float64]
 ShockKind = Literal["hard", "soft"]
 
 _REFINE_ROUNDS = 4

@@ -42,6 +42,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.errors import InputError
 from excavkin.kinematics import KinematicResult
 from excavkin.mechanism import Mechanism
@@ -58,7 +59,6 @@ __all__ = [
     "time_grid",
 ]
 
-FloatArray = npt.NDArray[np.float64]
 DriveLaw = MotionLaw | Profile | ConstantSpeedCrank | RopeWinch
 """Anything that can move a driver in time."""
 Side = Literal["left", "right"]

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import unknown_name
 from excavkin.model.entities import Model
 from excavkin.structure.plan import (
@@ -49,7 +50,6 @@ from excavkin.structure.plan import (
 )
 from excavkin.structure.shapes import LocalFrame, com_coords, local_frame
 
-F = NDArray[np.float64]
 Num = Any  # a float, or an array of one value per design
 
 #: the kind of value of each parameter suffix (for units at the edges)

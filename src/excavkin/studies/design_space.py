@@ -6,11 +6,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
-from numpy.typing import NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
-
-F = NDArray[np.float64]
 
 METHODS = ("sobol", "halton", "lhs", "grid")
 

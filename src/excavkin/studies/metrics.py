@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 
 if TYPE_CHECKING:
@@ -18,7 +19,6 @@ if TYPE_CHECKING:
 
     from excavkin.mechanism import Mechanism
 
-F = NDArray[np.float64]
 
 Reduce = Literal[
     "min", "max", "absmax", "mean", "sumsq", "change", "argmin", "argmax", "first", "last"

@@ -26,8 +26,8 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.studies.metrics import (
     Constraint,
@@ -44,7 +44,6 @@ if TYPE_CHECKING:
 
     from excavkin.mechanism import Mechanism
 
-F = NDArray[np.float64]
 
 Method = Literal["slsqp", "differential-evolution"]
 #: reductions that are smooth functions of the design (no epigraph needed)

@@ -33,11 +33,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.mechanism import Mechanism, as_si
 from excavkin.structure.design import joint_offsets, parameter_kind
-
-F = NDArray[np.float64]
 
 #: Monte Carlo samples solved in one batch (draws × poses)
 BATCH = 200_000

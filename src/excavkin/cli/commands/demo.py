@@ -35,7 +35,8 @@ DEFAULT_MODEL = "fourbar"
 def command(out_dir: str, model_name: str, list_models: bool) -> None:
     """Analyse a built-in model (the four-bar, a full crank turn at 300 rpm) and write its
     table (CSV) and its self-contained HTML report into OUT_DIR."""
-    from excavkin.outputs.report import default_sweep, write_report
+    from excavkin.default_sweep import default_sweep
+    from excavkin.outputs.report import write_report
 
     if list_models:
         click.echo("\n".join(excavkin.examples("model")))

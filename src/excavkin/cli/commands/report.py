@@ -64,7 +64,8 @@ def command(
     import shlex
 
     from excavkin.cli.progress import progress, solve_with_progress
-    from excavkin.outputs.report import default_sweep, write_report
+    from excavkin.default_sweep import default_sweep
+    from excavkin.outputs.report import write_report
     from excavkin.outputs.tables import check_target
 
     target = Path(out) if out else Path(f"{Path(model).stem}.html")

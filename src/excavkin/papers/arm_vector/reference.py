@@ -61,6 +61,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from excavkin.arrays import FloatArray
+
 __all__ = [
     "EXCAVATOR_20T",
     "ArmDimensions",
@@ -84,8 +86,6 @@ __all__ = [
     "printed_cylinder_phi_z",
     "printed_eq4_omega2",
 ]
-
-FloatArray = NDArray[np.float64]
 
 
 def _arr(x: ArrayLike) -> FloatArray:

@@ -15,13 +15,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.mechanism import Mechanism
 from excavkin.model.entities import Body, LinearDriver, Model, RotaryDriver, Slider
 
 if TYPE_CHECKING:
     from excavkin.kinematics.result import KinematicResult
 
-from excavkin.papers.common import FloatArray, PaperRun, load_paper_model, rel_error, wrap
+from excavkin.papers.common import PaperRun, load_paper_model, rel_error, wrap
 
 #: Quantity kind of every arm column (``<cyl>_`` prefixed for the cylinders).
 ARM_KINDS: dict[str, str] = {

@@ -93,6 +93,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.papers.errors import ReferenceAssemblyError
 
 __all__ = [
@@ -118,7 +119,6 @@ __all__ = [
     "transfer_functions",
 ]
 
-FloatArray = npt.NDArray[np.float64]
 ImpactSide = Literal["auto", "before", "after"]
 
 _TWO_PI = 2.0 * math.pi

@@ -70,6 +70,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.kinetostatics import inertia_loads as dalembert_loads
 from excavkin.motion import ConstantSpeedCrank
 from excavkin.papers.mo100 import reference as ref
@@ -102,7 +103,6 @@ __all__ = [
     "to_housing_axes",
 ]
 
-FloatArray = npt.NDArray[np.float64]
 
 #: The paper's crank speed ω1 [rad/s] (5 Hz; period 0.2 s).
 MO100_OMEGA1 = 31.416

@@ -46,8 +46,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.errors import InputError
 from excavkin.mechanism import Mechanism
 from excavkin.model.entities import Body, LinearDriver, Model
@@ -69,7 +69,6 @@ __all__ = [
     "pasika_module",
 ]
 
-FloatArray = npt.NDArray[np.float64]
 
 PASIKA_STROKE = 0.5
 """The paper's stroke H [m]."""

@@ -86,6 +86,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.papers.errors import ReferenceAssemblyError, ReferenceSingularityError
 
 __all__ = [
@@ -110,7 +111,6 @@ __all__ = [
     "velocities",
 ]
 
-FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int8]
 OnFailure = Literal["raise", "nan"]
 

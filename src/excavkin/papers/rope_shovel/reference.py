@@ -69,7 +69,9 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
+
+from excavkin.arrays import FloatArray
 
 __all__ = [
     "EO4112_DRIVE",
@@ -100,8 +102,6 @@ __all__ = [
     "rope_triangle",
     "stick_rate_from_rope",
 ]
-
-FloatArray = NDArray[np.float64]
 
 
 def _arr(x: ArrayLike) -> FloatArray:

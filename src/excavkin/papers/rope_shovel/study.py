@@ -14,13 +14,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
+from excavkin.arrays import FloatArray
 from excavkin.mechanism import Mechanism
 from excavkin.motion.drives import RopeWinch
 
 if TYPE_CHECKING:
     from excavkin.kinematics.result import KinematicResult
 
-from excavkin.papers.common import FloatArray, PaperRun, load_paper_model, rel_error, wrap
+from excavkin.papers.common import PaperRun, load_paper_model, rel_error, wrap
 
 #: The EO-4112 drag winch assumed for the rope shovel (the paper gives no numbers; same values
 #: as :data:`excavkin.papers.rope_shovel.reference.EO4112_DRIVE`): motor 750 rpm, drum radius
