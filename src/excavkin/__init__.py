@@ -116,7 +116,7 @@ def load(path: str | Path) -> Mechanism:
 
 
 def loads(text: str, source: str | None = None) -> Mechanism:
-    """Like :func:`load`, from TOML text."""
+    """Like [`load`][excavkin.load], from TOML text."""
     from excavkin.io.toml_model import loads_model
     from excavkin.mechanism import Mechanism
 
@@ -137,8 +137,8 @@ def examples(kind: str | None = None) -> list[str]:
     Parameters
     ----------
     kind : {"model", "machine", "study"}, optional
-        Only mechanism models (for :func:`load`), only excavator machine files (for
-        :func:`excavkin.excavator.machine_file.load_machine`) or only design studies (for
+        Only mechanism models (for [`load`][excavkin.load]), only excavator machine files (for
+        [`excavkin.excavator.machine_file.load_machine`][]) or only design studies (for
         ``excavkin study``, in ``examples/studies/``); default all.
 
     Returns

@@ -96,15 +96,16 @@ def solve_with_progress(
 ) -> Any:
     """``mech.solve(values, rates, accels, time=time)`` with a progress bar on long sweeps.
 
-    The engine reports each chunk it finishes (:meth:`Mechanism.solve`'s ``progress``); a
-    sweep of at least :data:`MIN_SAMPLES_FOR_BAR` samples (or any with ``chunk`` given) shows
+    The engine reports each chunk it finishes
+    ([`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]'s ``progress``); a
+    sweep of at least `MIN_SAMPLES_FOR_BAR` samples (or any with ``chunk`` given) shows
     them as a bar. The result is the engine's own, whatever is shown.
 
     Parameters
     ----------
     mech : Mechanism
     values, rates, accels : mapping of str to array_like, optional
-        As for :meth:`Mechanism.solve`.
+        As for [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
     time : array_like, optional
     quiet : bool
     chunk : int, optional
@@ -112,7 +113,8 @@ def solve_with_progress(
     description : str
     stream : file, optional
     **more
-        Passed on to :meth:`Mechanism.solve` (``params``, ``sensitivities``).
+        Passed on to [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve] (``params``,
+        ``sensitivities``).
 
     Returns
     -------

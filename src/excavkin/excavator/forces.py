@@ -16,7 +16,7 @@ when w digs, u = ±J_w/|J_w|, so P = −F·u and::
 Each **holding** cylinder h must then carry f_h = F·(u·J_h) + G_h, which its port relief bounds
 to −p_relief·A_annulus ≤ f_h ≤ p_relief·A_bore; where it would not, F is capped there and that
 cylinder is named as the limit (ISO 6015 "hydraulic limit"). The tipping and slipping limits of
-the base machine cap these forces in :mod:`excavkin.excavator.stability`. With
+the base machine cap these forces in `excavkin.excavator.stability`. With
 ``gravity=False`` every G term is zero (the front weightless); the masses are the model's bodies
 and the cylinders' (``Cylinder.mass``, half at each end pin).
 
@@ -356,7 +356,7 @@ def rated_force(
         The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
     limits : callable, optional
         Further caps of the force beyond the cylinders' (the base machine's tipping and
-        slipping, :func:`excavkin.excavator.stability.base_rated_force`): the free strokes are
+        slipping, [`excavkin.excavator.stability.base_rated_force`][]): the free strokes are
         then put where the force capped by them too is largest, and a cap reached there is
         named.
 
@@ -461,11 +461,12 @@ def directed_force(
     """Largest force F the tool exerts along ``direction`` while the cylinders move at ``rates``.
 
     The soil's force on the tool is −F·e (e the unit direction), so cylinder c carries
-    ``f_c = F·(e·J_c) + G_c`` (virtual work, as :func:`tool_forces`). A cylinder moving so
+    ``f_c = F·(e·J_c) + G_c`` (virtual work, as
+    [`tool_forces`][excavkin.excavator.forces.tool_forces]). A cylinder moving so
     that it does work against the load (``(e·J_c)·rate_c > 0``) is limited by its circuit's
     working pressure; the others, held or pushed back, by their port relief. F is the least of
     those caps. With e along the working cylinder's own motion and only that cylinder moving,
-    this is :func:`tool_forces`.
+    this is [`tool_forces`][excavkin.excavator.forces.tool_forces].
 
     Parameters
     ----------

@@ -1,11 +1,13 @@
 r"""Pin loads and cylinder forces of an excavator front over its working range.
 
 At each pose (a set of cylinder lengths) one **load case** acts on the front at rest, with its
-weight (the model's bodies and the cylinders, as :meth:`Machine.weight_loads` puts them) unless
+weight (the model's bodies and the cylinders, as
+[`Machine.weight_loads`][excavkin.excavator.machine.Machine.weight_loads] puts them) unless
 ``gravity=False``:
 
 * ``"bucket"``, ``"arm"`` — the tool force of that working cylinder as
-  :func:`~excavkin.excavator.forces.tool_forces` gives it at that pose: the working cylinder at
+  [`tool_forces`][excavkin.excavator.forces.tool_forces] gives it at that pose: the working cylinder
+  at
   its working pressure, the force capped where a holding cylinder reaches its port relief; the
   soil pushes back on the bucket at the tool point (the lip, ISO 6015; or the tooth tip).
 * ``"lift"`` — a load hanging straight down from the lift point (``[lift] point`` of the machine
@@ -15,7 +17,8 @@ weight (the model's bodies and the cylinders, as :meth:`Machine.weight_loads` pu
   The load hangs from the bucket where the lift point is the bucket's, else from the first of
   the H-link, the side link and the stick that holds it.
 
-The general kinetostatics (:meth:`Mechanism.forces`) then gives the force of every pin on every
+The general kinetostatics ([`Mechanism.forces`][excavkin.mechanism.Mechanism.forces]) then gives the
+force of every pin on every
 member it joins and every cylinder's force. The **load of a pin** is the largest force it passes
 to any one of its members — the bodies pinned there and, at a cylinder's end, the cylinder's
 eye (whose force is the cylinder's) — so that for a pin of two members it is the force between
@@ -352,16 +355,17 @@ def largest_pin_loads(
     at: At = "lip",
     gravity: bool = True,
 ) -> tuple[tuple[PinLoads, ...], tuple[LoadMaximum, ...]]:
-    """:func:`pin_loads` of each case at the poses, and :func:`load_maxima` over them.
+    """[`pin_loads`][excavkin.excavator.pin_loads.pin_loads] of each case at the poses, and
+    `load_maxima` over them.
 
     Parameters
     ----------
     machine : Machine
     lengths : array_like, shape (n, 3)
-        E.g. :func:`~excavkin.excavator.ranges.stroke_grid`.
+        E.g. `stroke_grid`.
     cases : sequence of {"bucket", "arm", "lift"}
     load, at, gravity
-        As :func:`pin_loads` (``load`` for the lift case).
+        As [`pin_loads`][excavkin.excavator.pin_loads.pin_loads] (``load`` for the lift case).
 
     Returns
     -------

@@ -3,7 +3,7 @@ r"""Working range of an excavator front: the tip's side-view envelope and the st
 Every figure is a constrained optimum over the three strokes, found by a vectorised pattern
 search (a coarse grid over the free strokes, then a shrinking grid around the best few points,
 to ~1e-9 m), with the constraints its definition imposes solved exactly by the closed-form
-:func:`~excavkin.excavator.machine.inverse`; the reported pose is re-solved by the general
+[`inverse`][excavkin.excavator.machine.inverse]; the reported pose is re-solved by the general
 engine. Definitions (heights from the ground line, reaches from the swing axis, to the tooth
 tip; SAE J1193 double-letter codes where known):
 
@@ -23,7 +23,7 @@ level-bottom depth                 any; deepest level tip path of ``level_bottom
 ===========================  ====  ===========================================================
 
 The envelope is the union, over the boom's swing, of the region the tip covers with the boom
-held (:func:`envelope`); its boundary follows the true one (stroke limits and the arm–bucket
+held (`envelope`); its boundary follows the true one (stroke limits and the arm–bucket
 fold) to about 0.1 mm.
 """
 
@@ -135,7 +135,7 @@ def sweep(machine: Machine, n: int | tuple[int, int, int] = 41) -> FrontPose:
 
 
 def stroke_grid(machine: Machine, n: int | tuple[int, int, int] = 41) -> F:
-    """The cylinder lengths of :func:`sweep`: a full 3-D grid of strokes, shape
+    """The cylinder lengths of `sweep`: a full 3-D grid of strokes, shape
     (n_boom · n_arm · n_bucket, 3), ends included, bucket length varying fastest."""
     counts = (n, n, n) if isinstance(n, int) else n
     axes = [
@@ -241,8 +241,8 @@ def envelope(machine: Machine, n: int = 161) -> F:
     the union, over the boom's swing, of the region W the tip covers with the boom held. W is
     the union of the images of the cells of an (arm, bucket) grid, split into triangles; the
     grid is even in the stick's and bucket's angles and contains the fold strokes exactly
-    (:func:`_fold_strokes`), so its boundary is sampled on the true boundary. W is then swept
-    through the boom's range exactly (:func:`_swept`). Chords leave the polygon within about
+    (`_fold_strokes`), so its boundary is sampled on the true boundary. W is then swept
+    through the boom's range exactly (`_swept`). Chords leave the polygon within about
     0.1 mm of the true boundary for a 20 t front.
 
     Parameters
@@ -400,7 +400,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
     ----------
     machine : Machine
     envelope_samples : int
-        ``n`` of :func:`envelope`.
+        ``n`` of `envelope`.
 
     Returns
     -------

@@ -143,7 +143,7 @@ SOILS: dict[str, Soil] = {
 
 
 def soil(name: str, **overrides: Any) -> Soil:
-    """A soil of :data:`SOILS` by name, with some properties replaced (SI)."""
+    """A soil of `SOILS` by name, with some properties replaced (SI)."""
     if name not in SOILS:
         raise InputError(f"unknown soil {name!r}; known soils: {', '.join(SOILS)}")
     unknown = (set(overrides) - set(Soil.__dataclass_fields__)) | ({"name"} & set(overrides))

@@ -1,5 +1,6 @@
 """Design studies and optimisation of an excavator machine: a study file that names a machine
-file, whose parameters are the machine's (:func:`~excavkin.excavator.designs.machine_parameters`)
+file, whose parameters are the machine's
+([`machine_parameters`][excavkin.excavator.designs.machine_parameters])
 and whose metrics read the machine's columns at a set of cylinder lengths.
 
 ::
@@ -22,7 +23,7 @@ and whose metrics read the machine's columns at a set of cylinder lengths.
 A design's pose fails where the front does not assemble or a cylinder length lies outside that
 design's stroke; a design whose cylinders or circuits are impossible fails at every pose.
 
-The machine columns (:data:`COLUMNS`) come from the engine's transfer functions, which have no
+The machine columns (`COLUMNS`) come from the engine's transfer functions, which have no
 parameter sensitivities of their own here: the local method takes the gradient of every column
 at every pose by central differences in the scaled parameters, all 2n + 1 designs of one
 gradient solved as one batch. Differential evolution solves its whole population as one batch.
@@ -61,9 +62,9 @@ if TYPE_CHECKING:
 #: or arm cylinder at the lip, at working pressure, capped by the holding cylinders' reliefs,
 #: without the front's weight (as rated forces are given); ``force.*``: the same with the
 #: weight; ``bucket.angle_to_stick``: the bucket's angle relative to the stick
-#: (:func:`~excavkin.excavator.designs.bucket_angle_to_stick`); ``tip.x``, ``tip.y``: the
+#: (`bucket_angle_to_stick`); ``tip.x``, ``tip.y``: the
 #: tooth tip; ``range.*``: the design's working-range figure
-#: (:mod:`~excavkin.excavator.design_ranges`), the same at every pose.
+#: (`design_ranges`), the same at every pose.
 COLUMNS: dict[str, str] = {
     "rated.bucket": "force",
     "rated.arm": "force",
@@ -86,7 +87,7 @@ def machine_columns(
     params: Mapping[str, ArrayLike],
     names: Sequence[str],
 ) -> tuple[dict[str, F], NDArray[np.bool_]]:
-    """The columns ``names`` (of :data:`COLUMNS`) at cylinder ``lengths`` (shape (n, 3)),
+    """The columns ``names`` (of `COLUMNS`) at cylinder ``lengths`` (shape (n, 3)),
     sample i the design ``params[name][i]``, and which samples are valid (assembled, within
     their design's strokes, possible cylinders and circuits), shape (n,)."""
     L = as_lengths(lengths)
@@ -152,7 +153,7 @@ def evaluate_machine(
 ) -> pd.DataFrame:
     """Every design at every pose (cylinder lengths, shape (p, 3)), as one batch of
     designs × poses samples; one row per design (columns as
-    :func:`excavkin.studies.metrics.evaluate`'s)."""
+    [`excavkin.studies.metrics.evaluate`][]'s)."""
     check_parameters(machine, designs)
     L = as_lengths(lengths)
     d = len(next(iter(designs.values())))
@@ -174,11 +175,12 @@ class MachineStudy:
     ----------
     machine : Machine
     bounds : dict of str to (float, float)
-        Design parameters (names of :func:`machine_parameters`) and their bounds.
+        Design parameters (names of
+        [`machine_parameters`][excavkin.excavator.designs.machine_parameters]) and their bounds.
     lengths : ndarray, shape (p, 3)
         The poses: boom, arm and bucket cylinder lengths.
     metrics : tuple of Metric
-        Of :data:`COLUMNS`.
+        Of `COLUMNS`.
     constraints : tuple of Constraint
     optimize : dict
         The ``[optimize]`` settings (empty if the file has none).

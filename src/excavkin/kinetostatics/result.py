@@ -1,6 +1,7 @@
 """Kinetostatic results: joint forces, driver forces and torques, batch axis first.
 
-Columns of :meth:`ForceResult.to_frame` (SI: N, N·m)::
+Columns of [`ForceResult.to_frame`][excavkin.kinetostatics.result.ForceResult.to_frame] (SI: N,
+N·m)::
 
     <point>.<body>.Fx, .Fy   the force the pin at <point> exerts on <body> (every body at the
                              pin, the ground included; at a pin of one body where a cylinder
@@ -106,7 +107,7 @@ class ForceResult:
         The loads applied.
     tangents : dict, optional
         Per parameter (``solve(..., sensitivities=)``), the derivative of every force column:
-        read them with :meth:`sensitivity`.
+        read them with `sensitivity`.
     """
 
     kinematics: KinematicResult
@@ -214,12 +215,12 @@ class ForceResult:
 
     @property
     def columns(self) -> tuple[Column, ...]:
-        """What each column of :meth:`to_frame` holds (``status`` aside), in table order."""
+        """What each column of `to_frame` holds (``status`` aside), in table order."""
         ground = self.system.bodies[self.system.ground]
         return self.kinematics.columns + tuple(c for c, _ in self._columns((ground,)))
 
     def column(self, name: str) -> F:
-        """One force column of :meth:`to_frame` by name (any body's ``.Rx``/``.Ry`` too)."""
+        """One force column of `to_frame` by name (any body's ``.Rx``/``.Ry`` too)."""
         owner, _, qty = name.rpartition(".")
         if qty in ("Rx", "Ry") and owner in self.system.bodies:
             return self.resultant(owner)[:, 0 if qty == "Rx" else 1]

@@ -7,7 +7,8 @@ Every law is written in normalised form, ``u = (t - t0) / T`` in ``[0, 1]``::
 
 with ``f(0) = 0``, ``f(1) = 1`` and ``f'(0) = f'(1) = 0``. The peak coefficients
 ``C_v = max|f'|``, ``C_a = max|f''|`` and ``C_j = max|f'''|`` are exact (see
-:attr:`MotionLaw.coefficients` and ``docs/motion-laws.md``).
+[`MotionLaw.coefficients`][excavkin.motion.laws.MotionLaw.coefficients] and
+``docs/motion-laws.md``).
 
 Conventions
 -----------
@@ -18,7 +19,8 @@ Conventions
   ``a`` just before ``t0`` is 0.
 * Jerk is the analytic derivative of ``a`` inside each piece. Where ``a`` jumps (the ends of
   the cubic and harmonic laws, the corners of the trapezoidal law) the Dirac part of the jerk
-  is **not** represented; the jumps are reported by :meth:`MotionLaw.acceleration_jumps` and
+  is **not** represented; the jumps are reported by
+  [`MotionLaw.acceleration_jumps`][excavkin.motion.laws.MotionLaw.acceleration_jumps] and
   by the values of ``a`` at the ends.
 * Piecewise laws use left-closed pieces ``[u_k, u_k+1)``; the last piece is closed. At an
   interior breakpoint the value of the right piece is returned.
@@ -414,7 +416,7 @@ class HarmonicLaw(MotionLaw):
 
 @dataclass(frozen=True, slots=True)
 class Dwell(MotionLaw):
-    """A dwell: ``s = 0`` over ``[t0, t0 + T]``; ``stroke`` must be 0 (see :func:`dwell`)."""
+    """A dwell: ``s = 0`` over ``[t0, t0 + T]``; ``stroke`` must be 0 (see `dwell`)."""
 
     name: ClassVar[str] = "dwell"
 
@@ -432,7 +434,7 @@ class Dwell(MotionLaw):
 
 
 def dwell(duration: float, *, start: float = 0.0) -> Dwell:
-    """A :class:`Dwell` of the given ``duration`` [s] starting at ``start`` [s]."""
+    """A `Dwell` of the given ``duration`` [s] starting at ``start`` [s]."""
     return Dwell(0.0, duration, start=start)
 
 
@@ -581,7 +583,7 @@ class TrapezoidalLaw(MotionLaw):
     Parameters
     ----------
     stroke, duration, start
-        See :class:`MotionLaw`.
+        See [`MotionLaw`][excavkin.motion.laws.MotionLaw].
     accel_fraction : float
         Fraction of ``T`` spent accelerating (and, equally, decelerating). Default 1/3.
     """
@@ -652,13 +654,13 @@ class SCurveLaw(MotionLaw):
     ``C_v = V``, ``C_a = A``, ``C_j = J``. ``Tc = 0`` when ``β = 1/2`` (``a_max`` not
     reached); ``Tv = 0`` when ``α = 1/2`` (``v_max`` not reached).
 
-    Use :meth:`from_limits` to get the time-optimal law for limits ``v_max, a_max, j_max``
+    Use `from_limits` to get the time-optimal law for limits ``v_max, a_max, j_max``
     (then ``T`` is an output).
 
     Parameters
     ----------
     stroke, duration, start
-        See :class:`MotionLaw`.
+        See [`MotionLaw`][excavkin.motion.laws.MotionLaw].
     accel_fraction : float
         ``α = Ta/T`` in ``(0, 1/2]``. Default 1/2 (no cruise).
     jerk_fraction : float
@@ -821,7 +823,7 @@ class SCurveLaw(MotionLaw):
 
 @dataclass(frozen=True, slots=True)
 class Segment:
-    """One segment of a :class:`Profile`.
+    """One segment of a `Profile`.
 
     Parameters
     ----------
@@ -859,7 +861,7 @@ class Profile:
     are ``s⁻ = offset[k−1] + s_{k−1}(end)``, ``s⁺ = offset[k] + s_k(start)``, and likewise
     for ``v``. Continuity requires ``|s⁺ − s⁻| <= rtol · max(|offset|, |H|)`` and
     ``|v⁺ − v⁻| <= rtol · max(|H|/T)`` over the segments. Jumps of ``a`` (soft shocks) are
-    allowed and listed by :meth:`acceleration_jumps`. Before the first segment the profile
+    allowed and listed by `acceleration_jumps`. Before the first segment the profile
     holds its initial position, after the last its final one (``v = a = j = 0``). At a join
     the values of the later segment are returned.
 
@@ -936,7 +938,7 @@ class Profile:
         t0 : float
             Start time of the first segment [s].
         rtol : float
-            See :class:`Profile`.
+            See `Profile`.
         """
         segs: list[Segment] = []
         t, s = t0, s0
@@ -1002,7 +1004,8 @@ class Profile:
         """Jumps of acceleration at the joins, at the start and at the end (rest outside).
 
         Jumps inside a segment (e.g. the corners of a trapezoidal law) are listed by that
-        law's :meth:`MotionLaw.acceleration_jumps`, not here.
+        law's [`MotionLaw.acceleration_jumps`][excavkin.motion.laws.MotionLaw.acceleration_jumps],
+        not here.
 
         Parameters
         ----------
@@ -1048,7 +1051,7 @@ _LAWS: dict[str, type[MotionLaw]] = {
 }
 
 LAW_NAMES: tuple[str, ...] = tuple(_LAWS)
-"""Names accepted by :func:`get_law`."""
+"""Names accepted by [`get_law`][excavkin.motion.laws.get_law]."""
 
 
 def _shape_params(cls: type[MotionLaw]) -> set[str]:
@@ -1061,7 +1064,7 @@ def get_law(name: str, stroke: float, duration: float | None, **params: float) -
     Parameters
     ----------
     name : str
-        One of :data:`LAW_NAMES`: ``"cubic"``, ``"345"``, ``"4567"``, ``"cycloidal"``,
+        One of `LAW_NAMES`: ``"cubic"``, ``"345"``, ``"4567"``, ``"cycloidal"``,
         ``"harmonic"``, ``"modified-trapezoid"``, ``"modified-sine"``, ``"trapezoidal"``,
         ``"s-curve"``.
     stroke : float

@@ -1,6 +1,6 @@
 """Draw a mechanism with matplotlib: bodies, pins, ground hatching, cylinders, labels, paths.
 
-The geometry comes from :class:`~excavkin.outputs.scene.Scene` (which draws what each part
+The geometry comes from `Scene` (which draws what each part
 looks like), computed once with NumPy and shared with the HTML report's plotly renderer, so
 every view of a mechanism looks the same; this module only translates its primitives into
 matplotlib artists, imported inside the drawing functions.
@@ -35,7 +35,7 @@ if TYPE_CHECKING:
 
 
 class MechanismDrawing:
-    """The artists of a mechanism drawn at one sample; :meth:`set_sample` moves them.
+    """The artists of a mechanism drawn at one sample; `set_sample` moves them.
 
     Attributes
     ----------
@@ -379,7 +379,7 @@ def draw_mechanism(
 
 @dataclass
 class TracedPaths:
-    """The artists of :func:`trace_paths`.
+    """The artists of [`trace_paths`][excavkin.outputs.drawing.trace_paths].
 
     Attributes
     ----------

@@ -112,7 +112,7 @@ def default_sweep(mech: MechanismLike, n: int | None = None) -> dict[str, np.nda
       otherwise it sweeps the range around the sketch over which it closes (found by probing
       720 positions), from one dead position to the other.
     * A linear input (a cylinder, a rope) sweeps its ``stroke`` when the model gives one,
-      else from 0.8 to 1.25 times its sketch length (:data:`STROKE`), cut to the range around
+      else from 0.8 to 1.25 times its sketch length (`STROKE`), cut to the range around
       the sketch over which the mechanism closes.
 
     Each input's range is found with the others held at their sketch values.
@@ -126,7 +126,8 @@ def default_sweep(mech: MechanismLike, n: int | None = None) -> dict[str, np.nda
     Returns
     -------
     dict of str to ndarray, shape (n,)
-        Input values, SI, for :meth:`Mechanism.solve`. Empty for a mechanism without inputs.
+        Input values, SI, for [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]. Empty for a
+        mechanism without inputs.
     """
     names = list(mech.inputs)
     if not names:
@@ -274,7 +275,7 @@ def mechanism_figure(
     result : KinematicResult or a result with ``.kinematics`` and ``to_frame()``
     units : mapping of str to str, optional
         Display units of the shown values (see
-        :class:`~excavkin.outputs.display_units.DisplayUnits`).
+        `DisplayUnits`).
     show : iterable of str, optional
         Columns whose current value is shown in the corner; default the varying inputs and the
         transmission angles.
@@ -653,7 +654,7 @@ def curves_figure(
     ----------
     result : result or DataFrame
     y : iterable of str, optional
-        Default :func:`excavkin.outputs.plots.main_columns`.
+        Default `excavkin.outputs.plots.main_columns`.
     units : mapping of str to str, optional
     max_points : int
         Most samples per curve; longer results are thinned evenly.
@@ -835,9 +836,9 @@ def build_report(
     units : mapping of str to str, optional
         Display units by kind or column.
     show : iterable of str, optional
-        Columns whose current value the mechanism view shows (see :func:`mechanism_figure`).
+        Columns whose current value the mechanism view shows (see `mechanism_figure`).
     curves : iterable of str, optional
-        Columns plotted (default :func:`~excavkin.outputs.plots.main_columns`).
+        Columns plotted (default `main_columns`).
     ropes : iterable of str
         Linear elements drawn as lines rather than cylinders.
     length_unit : str
@@ -846,7 +847,7 @@ def build_report(
         The command line that made the report, for the record.
     shocks : sequence of Shock, optional
         For a run in time, the exact shock report's shocks
-        (:func:`excavkin.simulation.shocks.shock_report`), listed among the warnings.
+        ([`excavkin.simulation.shocks.shock_report`][]), listed among the warnings.
 
     Returns
     -------
@@ -942,7 +943,7 @@ def write_report(
     force : bool
         Replace an existing file.
     **options
-        Passed to :func:`build_report` (``title``, ``units``, ``show``, ``curves``, ``ropes``,
+        Passed to `build_report` (``title``, ``units``, ``show``, ``curves``, ``ropes``,
         ``length_unit``, ``max_frames``, ``command``, ``shocks``).
 
     Returns

@@ -1,8 +1,8 @@
 """The look of every figure, in one place: colours of bodies, cylinders, ground and warnings, and
 the check of matplotlib line-style keywords.
 
-Both renderers (matplotlib in :mod:`~excavkin.outputs.drawing` and :mod:`~excavkin.outputs.plots`,
-plotly in :mod:`~excavkin.outputs.report`) take their colours from here.
+Both renderers (matplotlib in `drawing` and `plots`,
+plotly in `report`) take their colours from here.
 """
 
 from __future__ import annotations

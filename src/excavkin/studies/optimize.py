@@ -156,7 +156,8 @@ def run(
     popsize: int = 32,
     tol: float = 1e-12,
 ) -> Optimum:
-    """Optimise ``problem`` (see :func:`optimize` for the arguments)."""
+    """Optimise ``problem`` (see [`optimize`][excavkin.studies.optimize.optimize] for the
+    arguments)."""
     if method == "differential-evolution":
         return problem.differential_evolution(seed, maxiter, popsize, tol)
     if method != "slsqp":
@@ -168,9 +169,9 @@ def run(
 class Problem:
     """The optimisation in scaled variables u ∈ [0, 1]ⁿ (and an epigraph variable t).
 
-    A subclass gives the designs' metrics: :meth:`columns_at` (each metric's column at every
-    pose and its gradient) and :meth:`table` (a table of designs, as
-    :func:`~excavkin.studies.metrics.evaluate` makes).
+    A subclass gives the designs' metrics: `columns_at` (each metric's column at every
+    pose and its gradient) and `table` (a table of designs, as
+    [`evaluate`][excavkin.studies.metrics.evaluate] makes).
     """
 
     def __init__(

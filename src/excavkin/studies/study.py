@@ -113,7 +113,8 @@ class Study:
 
 
 class Subject(Protocol):
-    """What :func:`run_study` runs: a :class:`Study` of a model, or a study of another
+    """What [`run_study`][excavkin.studies.study.run_study] runs: a
+    [`Study`][excavkin.studies.study.Study] of a model, or a study of another
     subject (a machine) with the same sampling, chunks and table."""
 
     @property

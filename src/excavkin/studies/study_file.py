@@ -283,7 +283,8 @@ def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
 
 
 def read_optimize(r: TomlReader, names: list[str]) -> dict[str, Any]:
-    """The ``[optimize]`` table's settings (see :func:`load_optimization`); ``names`` are the
+    """The ``[optimize]`` table's settings (see
+    [`load_optimization`][excavkin.studies.study_file.load_optimization]); ``names`` are the
     metrics'."""
     from excavkin.studies.optimize import METHODS as OPTIMIZERS
 

@@ -15,7 +15,7 @@ Three bands per column and sample, each about the nominal value:
 
 A pin clearance c at joint P lets each body's pin there sit anywhere within c of the joint's
 centre: a radial offset of any direction
-(:func:`~excavkin.structure.design.joint_offsets`). Its gradient ``∇_j c`` is the pair of
+([`joint_offsets`][excavkin.structure.design.joint_offsets]). Its gradient ``∇_j c`` is the pair of
 sensitivities to that offset's two components.
 
 For small tolerances the three agree as theory says: the Monte Carlo range lies within the
@@ -152,9 +152,10 @@ def tolerance_bands(
     ----------
     mech : Mechanism
     values, rates, accels : mapping
-        The sweep, as for :meth:`Mechanism.solve`.
+        The sweep, as for [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
     tolerances : mapping of str to float or str
-        Half-width per parameter (:attr:`Mechanism.parameters`): ``{"A-B": "±0.1 mm"}``.
+        Half-width per parameter
+        ([`Mechanism.parameters`][excavkin.mechanism.Mechanism.parameters]): ``{"A-B": "±0.1 mm"}``.
     clearance : float, str or mapping
         Radial pin clearance: one for every joint, or ``{point: clearance}`` per joint.
     columns : sequence of str, optional
@@ -168,7 +169,7 @@ def tolerance_bands(
         uniform.
     loads : iterable of loads or "model", optional
         Also band the forces (joint, cylinder, driver) under these loads, as for
-        :meth:`Mechanism.solve`.
+        [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
 
     Returns
     -------

@@ -71,7 +71,7 @@ def parse_drive(mech: Mechanism, text: str) -> tuple[str, MotionLaw | Drive]:
     name : str
     law_or_drive : MotionLaw or Drive
         A bare law (with its ``start``; ``from=`` is then returned as a Drive with the law) or a
-        crank / winch :class:`Drive`.
+        crank / winch [`Drive`][excavkin.simulation.timeline.Drive].
     """
     name, spec = parse_assignment(text, "--drive")
     what = f"--drive {name}"
