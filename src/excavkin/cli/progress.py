@@ -37,6 +37,7 @@ def progress(
     *,
     quiet: bool = False,
     stream: TextIO | None = None,
+    count: str | None = None,
 ) -> Iterator[Callable[[float], None]]:
     """A progress bar (or a spinner without ``total``) on stderr, removed when done.
 
@@ -49,6 +50,8 @@ def progress(
         Show nothing.
     stream : file, optional
         Default ``sys.stderr``; nothing is shown unless it is a terminal.
+    count : str, optional
+        Without ``total``: show the work done so far, so named (``"12 iterations"``).
 
     Yields
     ------
@@ -74,6 +77,8 @@ def progress(
     if total is not None:
         columns += [BarColumn(), MofNCompleteColumn(), TimeRemainingColumn()]
     else:
+        if count is not None:
+            columns.append(TextColumn(f"{{task.completed:.0f}} {count}"))
         columns.append(TimeElapsedColumn())
     with Progress(*columns, console=console, transient=True) as bar:
         task = bar.add_task(description, total=total)

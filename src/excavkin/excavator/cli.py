@@ -1254,14 +1254,15 @@ def study(
     help="Draw the convergence: the objective after each iteration (.png, .svg or .pdf).",
 )
 @click.option("--force", is_flag=True, help="Replace the output files if they exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def optimize(
-    study: str, method: str | None, output: str | None, plot: str | None, force: bool
+    study: str, method: str | None, output: str | None, plot: str | None, force: bool, quiet: bool
 ) -> None:
     """The best design of a STUDY file that names a machine (``machine = ...`` in [study]):
     its [optimize] objective over its parameter box under its constraints, every population or
     gradient solved as one batch of designs."""
-    from excavkin.cli.commands.optimize import report_optimum
+    from excavkin.cli.commands.optimize import optimizer_progress, report_optimum
     from excavkin.excavator.study import load_machine_study, optimize_machine
     from excavkin.io.files import check_target
 
@@ -1270,7 +1271,6 @@ def optimize(
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
     if plot is not None:
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
-    best = optimize_machine(spec, method=method)
-    how = method or spec.optimize.get("method", "slsqp")
-    sense, objective = spec.optimize["sense"], spec.optimize["objective"]
-    report_optimum(best, sense, objective, how, output, plot, force)
+    with optimizer_progress(quiet) as report:
+        best = optimize_machine(spec, method=method, progress=report)
+    report_optimum(best, output, plot, force)

@@ -31,8 +31,8 @@ gradient solved as one batch. Differential evolution solves its whole population
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -188,6 +188,9 @@ class MachineStudy:
         The design of experiments of ``excavkin excavator study`` (as a model's study).
     source : str
         The machine file's text (for the study's fingerprint).
+    units : dict of str to str
+        The units to show results in, of each parameter (``design.NAME``) and metric, as the
+        study file writes them; SI where absent.
     """
 
     machine: Machine
@@ -200,6 +203,7 @@ class MachineStudy:
     samples: int = 1024
     seed: int = 0
     source: str = ""
+    units: dict[str, str] = field(default_factory=dict)
 
     def evaluate(self, designs: Mapping[str, F]) -> pd.DataFrame:
         """The study's metrics of ``designs`` (parameter → values), one row per design."""
@@ -288,9 +292,12 @@ def load_machine_study(path: str | Path) -> MachineStudy:
              for m in metrics}  # fmt: skip
     constraints = sf.read_constraints(r, kinds)
     settings = sf.read_optimize(r, [m.name for m in metrics]) if "optimize" in r.data else {}
+    units = sf.study_units(
+        r, {f"design.{k}": machine_parameter_kind(k, machine) for k in bounds}, kinds
+    )
     study = MachineStudy(
         machine, bounds, pose_lengths(machine, poses), tuple(metrics), tuple(constraints),
-        settings, method, samples, seed, source,
+        settings, method, samples, seed, source, units,
     )  # fmt: skip
     sf.check_design_count(r, study.designs)
     return study
@@ -336,6 +343,11 @@ class _MachineProblem(Problem):
         )  # fmt: skip
         self.study = study
         self.angles = set(ANGLES)
+        self.kinds = {f"design.{k}": machine_parameter_kind(k, study.machine) for k in self.names}
+        for m in self.metrics:
+            self.kinds[m.name] = (
+                "dimensionless" if m.reduce.startswith("arg") else COLUMNS[m.column]
+            )
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
         return evaluate_machine(self.study.machine, designs, self.study.lengths, self.metrics)
@@ -372,10 +384,27 @@ def optimize_machine(
     maxiter: int | None = None,
     popsize: int | None = None,
     tol: float = 1e-12,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Optimum:
     """The best design of the study's box under its constraints (arguments left out come from
     its ``[optimize]`` table): differential evolution over whole populations solved as one
-    batch, then polished by SLSQP on central-difference gradients; or SLSQP alone.
+    batch, then polished by SLSQP on central-difference gradients; or SLSQP alone. The optimum
+    is shown in the study's units.
+
+    Parameters
+    ----------
+    study : MachineStudy
+    objective : str, optional
+        A metric's name.
+    sense : {"min", "max"}, optional
+    method : {"slsqp", "differential-evolution"}, optional
+    x0 : mapping, optional
+        Start of a local method (default: the machine's own values, clipped to the bounds).
+    seed : int
+    maxiter, popsize, tol
+        As for [`optimize`][excavkin.studies.optimize.optimize].
+    progress : callable, optional
+        ``progress(iterations, maxiter)`` after each iteration.
 
     Returns
     -------
@@ -397,7 +426,8 @@ def optimize_machine(
     how = method or s.get("method", "slsqp")
     if how not in ("slsqp", "differential-evolution"):
         raise InputError(f"unknown method {how!r} (known: slsqp, differential-evolution)")
-    return run(
+    best = run(
         problem, how, x0, seed=seed, maxiter=maxiter or s.get("maxiter", 200),
-        popsize=popsize or s.get("popsize", 32), tol=tol,
+        popsize=popsize or s.get("popsize", 32), tol=tol, progress=progress,
     )  # fmt: skip
+    return replace(best, units=dict(study.units))
