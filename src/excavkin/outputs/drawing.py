@@ -27,6 +27,7 @@ from excavkin.outputs.style import (
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Polygon
     from matplotlib.text import Annotation
@@ -40,6 +41,8 @@ class MechanismDrawing:
     Attributes
     ----------
     ax : matplotlib.axes.Axes
+    fig : matplotlib.figure.Figure
+        The figure of ``ax`` (to save or show it), as the other plots' handles have.
     scene : Scene
     sample : int
         The sample shown.
@@ -77,6 +80,9 @@ class MechanismDrawing:
         from matplotlib.patches import Polygon
 
         self.ax = ax
+        figure = ax.get_figure(root=True)
+        assert figure is not None  # an axes is always on a figure
+        self.fig: Figure = figure
         self.scene = scene
         self.sample = sample
         self.bodies: dict[str, Line2D | Polygon] = {}
