@@ -106,12 +106,19 @@ def command() -> None:
     help="The envelope polygon as a table (x_m, y_m).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def ranges(
-    machine: str, plot: str | None, output: str | None, envelope: str | None, force: bool
+    machine: str,
+    plot: str | None,
+    output: str | None,
+    envelope: str | None,
+    force: bool,
+    quiet: bool,
 ) -> None:
     """Print the working-range figures (mm) and the cylinder lengths where they occur."""
 
+    from excavkin.cli.progress import staged
     from excavkin.excavator.ranges import working_ranges
     from excavkin.outputs.tables import check_target, write_table
 
@@ -119,7 +126,8 @@ def ranges(
         if p:
             check_target(p, force=force, suffixes=(".csv", ".parquet"))
     m = _machine(machine)
-    wr = working_ranges(m)
+    with staged("working ranges", 1, quiet=quiet) as next_stage:
+        wr = working_ranges(m, progress=next_stage())
     click.echo(f"{m.name} — working ranges (tooth tip; mm)")
     click.echo(
         f"{'':4} {'figure':<38} {'value':>8}  {'x':>8} {'y':>8}  "
@@ -370,6 +378,7 @@ def _swing_option(text: str) -> float | str:
     "pin) and PREFIX-limits-arm.png, PREFIX-limits-bucket.png (which limit binds).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def stability(
     machine: str,
@@ -378,6 +387,7 @@ def stability(
     output: str | None,
     map_prefix: str | None,
     force: bool,
+    quiet: bool,
 ) -> None:
     """Print tipping lines, the rated tool forces capped by tipping and slipping (ISO 6015
     §4.5), and the stability over a sweep of the strokes."""
@@ -430,9 +440,17 @@ def stability(
         f"{'(line)':<12} {'slip':>7}  {'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
     )
     rows = []
+    from excavkin.cli.progress import staged
+
+    with staged("rated forces", 4, quiet=quiet) as next_stage:
+        rated = {
+            (at, working): base_rated_force(m, working, at=at, swing=sw, progress=next_stage())  # type: ignore[arg-type]
+            for at in ("lip", "tip")
+            for working in ("arm", "bucket")
+        }
     for at, std in (("lip", "ISO 6015"), ("tip", "SAE J1179")):
         for working in ("arm", "bucket"):
-            r = base_rated_force(m, working, at=at, swing=sw)  # type: ignore[arg-type]
+            r = rated[at, working]
             rf = r.rated
             click.echo(
                 f"{std:<10} {working:<8} {rf.force / 1e3:7.1f} {r.hydraulic / 1e3:7.1f} "

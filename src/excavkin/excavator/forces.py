@@ -42,7 +42,7 @@ from excavkin.excavator.machine import (
     pose_of,
     transfer,
 )
-from excavkin.excavator.search import Evaluate, maximize_strokes
+from excavkin.excavator.search import Evaluate, Progress, maximize_strokes, part
 from excavkin.kinematics.summary import batch_repr
 
 Working = Literal["arm", "bucket"]
@@ -337,6 +337,7 @@ def rated_force(
     *,
     at: At = "lip",
     limits: Limits | None = None,
+    progress: Progress | None = None,
 ) -> RatedForce:
     """The rated arm- or bucket-cylinder tool force (ISO 6015 §5.2, SAE J1179 §3.3).
 
@@ -359,6 +360,8 @@ def rated_force(
         slipping, [`excavkin.excavator.stability.base_rated_force`][]): the free strokes are
         then put where the force capped by them too is largest, and a cap reached there is
         named.
+    progress : callable, optional
+        ``progress(done, total)`` as the searches go on.
 
     Returns
     -------
@@ -382,13 +385,21 @@ def rated_force(
 
     # the working cylinder's own force depends on its own stroke alone (and, for the arm, on
     # the bucket's through the radius), so its largest moment is a 1-D search
-    _, pose = maximize_strokes(objective("bucket", False), machine, (2,), coarse=65)
+    n = 3 if working == "arm" else 2
+    _, pose = maximize_strokes(
+        objective("bucket", False), machine, (2,), coarse=65, progress=part(progress, 0, n)
+    )
     pivot = machine.pins.bucket_pin
     if working == "arm":
-        _, pose = maximize_strokes(objective("arm", False), machine, (1,), coarse=65, base=pose[0])
+        _, pose = maximize_strokes(
+            objective("arm", False), machine, (1,), coarse=65, base=pose[0],
+            progress=part(progress, 1, n),
+        )  # fmt: skip
         pivot = machine.pins.stick_pivot
     free = (0,) if working == "arm" else (0, 1)
-    _, pose = maximize_strokes(objective(working, True), machine, free, base=pose[0])
+    _, pose = maximize_strokes(
+        objective(working, True), machine, free, base=pose[0], progress=part(progress, n - 1, n)
+    )
     tf = tool_forces(machine, pose, working, at=at, gravity=False)
     force = float(tf.force[0])
     extra = [(str(names[0]), float(cap[0])) for names, cap in limits(tf)] if limits else []

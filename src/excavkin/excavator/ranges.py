@@ -49,7 +49,7 @@ from excavkin.excavator.machine import (
     inverse,
     wrap_angle,
 )
-from excavkin.excavator.search import Evaluate, maximize_strokes
+from excavkin.excavator.search import Evaluate, Progress, maximize_strokes, part
 
 B = NDArray[np.bool_]
 
@@ -393,7 +393,9 @@ def _bucket_held(machine: Machine, beta: float, sign: float) -> Evaluate:
 
 
 # ---------------------------------------------------------------------------- figures
-def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingRanges:
+def working_ranges(
+    machine: Machine, *, envelope_samples: int = 161, progress: Progress | None = None
+) -> WorkingRanges:
     """The standard working-range figures of the machine, and its envelope.
 
     Parameters
@@ -401,6 +403,8 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
     machine : Machine
     envelope_samples : int
         ``n`` of `envelope`.
+    progress : callable, optional
+        ``progress(done, total)`` as the figures' searches and the envelope are done.
 
     Returns
     -------
@@ -408,6 +412,18 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
     """
     g0, x0 = machine.ground_line, machine.swing_axis
     figs: list[RangeFigure] = []
+    # the searches (one more with a vertical wall), the least dumping height, the level
+    # bottom and the envelope
+    steps = 8 + int(machine.has_cutting_direction)
+    step = iter(range(steps))
+
+    def search(evaluate: Evaluate, free: tuple[int, ...]) -> F:
+        _, L = maximize_strokes(evaluate, machine, free, progress=part(progress, next(step), steps))
+        return L
+
+    def done() -> None:
+        if progress is not None:
+            progress(next(step) + 1, steps)
 
     def add(
         key: str,
@@ -433,7 +449,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         )
 
     all3 = (0, 1, 2)
-    _, L = maximize_strokes(_free_objective(machine, lambda p: p.tip[:, 0]), machine, all3)
+    L = search(_free_objective(machine, lambda p: p.tip[:, 0]), all3)
     add(
         "max_digging_reach",
         "",
@@ -442,7 +458,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[0] - x0,
         "any (farthest tip)",
     )
-    _, L = maximize_strokes(_at_height(machine, np.array([g0]), 1.0), machine, (1, 2))
+    L = search(_at_height(machine, np.array([g0]), 1.0), (1, 2))
     add(
         "max_reach_ground",
         "",
@@ -451,7 +467,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[0] - x0,
         "any, tip on the ground line",
     )
-    _, L = maximize_strokes(_free_objective(machine, lambda p: -p.tip[:, 1]), machine, all3)
+    L = search(_free_objective(machine, lambda p: -p.tip[:, 1]), all3)
     add(
         "max_digging_depth",
         "AC",
@@ -475,7 +491,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
     )
     if machine.has_cutting_direction:  # a bucket without teeth needs its floor point
         wall = machine.wall_bucket_angle
-        _, L = maximize_strokes(_bucket_held(machine, wall, -1.0), machine, (0, 1))
+        L = search(_bucket_held(machine, wall, -1.0), (0, 1))
         add(
             "max_vertical_wall_depth",
             "AF",
@@ -484,7 +500,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
             lambda t: g0 - t[1],
             f"teeth (lip → tip) vertical: pin → tip at {np.degrees(wall):.1f}°",
         )
-    _, L = maximize_strokes(_free_objective(machine, lambda p: p.tip[:, 1]), machine, all3)
+    L = search(_free_objective(machine, lambda p: p.tip[:, 1]), all3)
     add(
         "max_cutting_height",
         "",
@@ -493,7 +509,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[1] - g0,
         "any (highest tip)",
     )
-    _, L = maximize_strokes(_bucket_held(machine, -0.5 * np.pi, 1.0), machine, (0, 1))
+    L = search(_bucket_held(machine, -0.5 * np.pi, 1.0), (0, 1))
     add(
         "max_dumping_height",
         "",
@@ -506,6 +522,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
     crowd = hi[1] if machine.cylinders[1].dig == "extend" else lo[1]
     start = np.array([[[hi[0], crowd, 0.5 * (lo[2] + hi[2])]]])
     _, Lh = _bucket_held(machine, -0.5 * np.pi, 1.0)(start)
+    done()
     add(
         "min_dumping_height",
         "",
@@ -515,6 +532,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         "boom up, stick crowded, bucket hanging",
     )
     depth, ends, L = _level_bottom(machine, g0 - deep.value)
+    done()
     figs.append(
         RangeFigure(
             "level_bottom_depth",
@@ -527,7 +545,9 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
             "any; level tip path",
         )
     )
-    return WorkingRanges(tuple(figs), envelope(machine, envelope_samples), {"level_bottom": ends})
+    outline = envelope(machine, envelope_samples)
+    done()
+    return WorkingRanges(tuple(figs), outline, {"level_bottom": ends})
 
 
 def _x_extent(machine: Machine, ys: F) -> tuple[F, F, F, F]:

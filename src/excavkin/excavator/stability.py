@@ -46,6 +46,7 @@ from excavkin.errors import InputError, ModelError
 from excavkin.excavator.base import BaseMachine, TippingLine
 from excavkin.excavator.forces import At, RatedForce, ToolForces, Working, rated_force, tool_forces
 from excavkin.excavator.machine import B, F, Machine, as_lengths
+from excavkin.excavator.search import Progress, part
 from excavkin.kinematics.summary import batch_repr
 
 #: where the machine's front points: over the front (idler) end of the tracks, or over the side
@@ -395,6 +396,7 @@ def base_rated_force(
     *,
     at: At = "lip",
     swing: float | Over = "front",
+    progress: Progress | None = None,
 ) -> BaseRatedForce:
     """The rated tool force (ISO 6015 §5.2, SAE J1179 §3.3) capped by tipping and slipping.
 
@@ -411,6 +413,8 @@ def base_rated_force(
     working : {"arm", "bucket"}
     at : {"lip", "tip"}
     swing : float or {"front", "side"}
+    progress : callable, optional
+        ``progress(done, total)`` as the searches go on.
 
     Returns
     -------
@@ -422,7 +426,7 @@ def base_rated_force(
     def limits(tf: ToolForces) -> list[tuple[NDArray[np.str_], F]]:
         return base_limits(tf, _tool_stability(machine, tf, sw))
 
-    capped = rated_force(machine, working, at=at, limits=limits)
+    capped = rated_force(machine, working, at=at, limits=limits, progress=part(progress, 0, 2))
     tf = tool_forces(machine, capped.lengths[None, :], working, at=at, gravity=False)
     st = _tool_stability(machine, tf, sw)
     return BaseRatedForce(
@@ -431,5 +435,5 @@ def base_rated_force(
         float(st.tipping_load[0]),
         str(st.tipping_line[0]),
         float(st.slipping_load[0]),
-        rated_force(machine, working, at=at),
+        rated_force(machine, working, at=at, progress=part(progress, 1, 2)),
     )

@@ -1,0 +1,80 @@
+"""Progress on long analyses: the analyses report their own work (``progress=``) and the
+command line shows it on a terminal's stderr only, never with ``-q``."""
+
+from __future__ import annotations
+
+import io
+
+import pytest
+from click.testing import CliRunner
+
+import excavkin
+from excavkin.cli import main
+from excavkin.cli.progress import staged
+from excavkin.excavator.machine_file import load_machine
+from excavkin.excavator.search import part
+
+
+class Terminal(io.StringIO):
+    def isatty(self) -> bool:
+        return True
+
+
+@pytest.fixture(scope="module")
+def machine():  # type: ignore[no-untyped-def]
+    return load_machine(excavkin.example_path("excavator_machine"))
+
+
+def fractions(calls: list[tuple[int, int]]) -> list[float]:
+    return [d / t for d, t in calls]
+
+
+def test_working_ranges_report_their_work_and_give_the_same_figures(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.ranges import working_ranges
+
+    calls: list[tuple[int, int]] = []
+    with_progress = working_ranges(machine, progress=lambda d, t: calls.append((d, t)))
+    f = fractions(calls)
+    assert f == sorted(f) and f[-1] == 1.0 and 0 < f[0] < 0.05 and len(f) > 100
+    plain = working_ranges(machine)
+    assert [x.value for x in with_progress.figures] == [x.value for x in plain.figures]
+
+
+def test_rated_forces_report_their_searches(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.stability import base_rated_force
+
+    calls: list[tuple[int, int]] = []
+    r = base_rated_force(machine, "bucket", progress=lambda d, t: calls.append((d, t)))
+    f = fractions(calls)
+    assert f == sorted(f) and f[-1] == 1.0
+    assert r.rated.force == base_rated_force(machine, "bucket").rated.force
+
+
+def test_a_part_maps_its_own_count_into_the_tasks() -> None:
+    calls: list[tuple[int, int]] = []
+    second = part(lambda d, t: calls.append((d, t)), 1, 4)
+    assert second is not None
+    second(3, 10)
+    assert calls == [(13, 40)]
+    assert part(None, 1, 4) is None
+
+
+def test_stages_draw_a_bar_on_a_terminal_only_and_never_when_quiet() -> None:
+    for stream, quiet, drawn in ((Terminal(), False, True), (Terminal(), True, False),
+                                 (io.StringIO(), False, False)):  # fmt: skip
+        with staged("rated forces", 2, quiet=quiet, stream=stream) as next_stage:
+            for _ in range(2):
+                report = next_stage()
+                report(1, 2)
+                report(2, 2)
+        assert ("rated forces" in stream.getvalue()) is drawn
+
+
+def test_long_commands_take_quiet_and_print_no_bar_off_a_terminal() -> None:
+    for args in (
+        ["excavator", "ranges", "excavator_machine", "-q"],
+        ["optimize", "crank_rocker", "-q"],
+    ):
+        r = CliRunner().invoke(main, args)
+        assert r.exit_code == 0, r.output
+        assert "━" not in r.output and "optimising" not in r.output
