@@ -78,3 +78,43 @@ def test_long_commands_take_quiet_and_print_no_bar_off_a_terminal() -> None:
         r = CliRunner().invoke(main, args)
         assert r.exit_code == 0, r.output
         assert "━" not in r.output and "optimising" not in r.output
+
+
+def test_tolerance_bands_report_each_batch_of_draws() -> None:
+    import numpy as np
+
+    from excavkin.studies.tolerance import tolerance_bands
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    sweep = {"crank": np.radians(np.arange(0.0, 360.0, 10.0))}
+    calls: list[tuple[int, int]] = []
+    kw = {"tolerances": {"A-B": "±0.1 mm"}, "draws": 50_000, "columns": ["B.y"]}
+    bands = tolerance_bands(mech, sweep, progress=lambda d, t: calls.append((d, t)), **kw)
+    assert calls[-1] == (50_000, 50_000) and len(calls) > 1
+    assert [d for d, _ in calls] == sorted(d for d, _ in calls)
+    np.testing.assert_array_equal(bands.mc_max, tolerance_bands(mech, sweep, **kw).mc_max)
+
+
+def test_pin_loads_report_their_steps(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.pin_loads import pin_loads
+    from excavkin.excavator.ranges import stroke_grid
+
+    calls: list[tuple[int, int]] = []
+    pin_loads(machine, stroke_grid(machine, 5), "arm", progress=lambda d, t: calls.append((d, t)))
+    assert calls == [(1, 3), (2, 3), (3, 3)]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["excavator", "forces", "excavator_machine", "-q"],
+        ["excavator", "pins", "excavator_machine", "--samples", "5", "-q"],
+        ["excavator", "cycle", "excavator_machine", "-q"],
+        ["tolerance", "fourbar", "--sweep", "crank=0deg:360deg:7", "--tol", "A-B=±0.1mm",
+         "--draws", "1000", "-q"],
+    ],
+)  # fmt: skip
+def test_more_commands_take_quiet(args: list[str]) -> None:
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    assert "━" not in r.output

@@ -188,6 +188,7 @@ def ranges(
     help="Write force-map PNGs PREFIX-arm.png and PREFIX-bucket.png.",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def forces(
     machine: str,
@@ -196,6 +197,7 @@ def forces(
     output: str | None,
     map_prefix: str | None,
     force: bool,
+    quiet: bool,
 ) -> None:
     """Print the rated ISO 6015 (lip) and SAE J1179 (tooth tip) tool forces, and the largest
     over a sweep of the strokes."""
@@ -258,9 +260,16 @@ def forces(
         f"{'standard':<10} {'cylinder':<8} {'force':>7} {'own':>7}  {'x':>6} {'y':>6}  "
         f"{'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
     )
-    for at, std in kinds:
-        for working in ("arm", "bucket"):
-            row("rated", std, False, rated_force(m, working, at=at))  # type: ignore[arg-type]
+    from excavkin.cli.progress import staged
+
+    with staged("rated forces", 2 * len(kinds), quiet=quiet) as next_stage:
+        rated = [
+            (std, rated_force(m, working, at=at, progress=next_stage()))  # type: ignore[arg-type]
+            for at, std in kinds
+            for working in ("arm", "bucket")
+        ]
+    for std, r in rated:
+        row("rated", std, False, r)
     pose = sweep(m, samples)
     click.echo(
         f"Largest over a {samples}³ stroke sweep ({'with' if grav else 'without'} gravity "
@@ -708,6 +717,7 @@ def lift(
     help="The largest loads as a table (.csv or .parquet).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def pins(
     machine: str,
@@ -720,6 +730,7 @@ def pins(
     map_prefix: str | None,
     output: str | None,
     force: bool,
+    quiet: bool,
 ) -> None:
     """Print the largest load on each pin and in each cylinder over the working range, the load
     case and the pose where it occurs."""
@@ -750,17 +761,21 @@ def pins(
     # a lift load's point moves with the boom and the stick: a finer grid of those two, at
     # about the same count of poses, covers its map and its maxima better
     lift_grid = (2 * samples - 1, 2 * samples - 1, max(3, round(samples / 4)))
-    results = tuple(
-        pin_loads(
-            m,
-            stroke_grid(m, lift_grid if case == "lift" else samples),
-            case,
-            load=W if case == "lift" else None,
-            at=at,  # type: ignore[arg-type]
-            gravity=grav,
+    from excavkin.cli.progress import staged
+
+    with staged("pin loads", len(chosen), quiet=quiet) as next_stage:
+        results = tuple(
+            pin_loads(
+                m,
+                stroke_grid(m, lift_grid if case == "lift" else samples),
+                case,
+                load=W if case == "lift" else None,
+                at=at,  # type: ignore[arg-type]
+                gravity=grav,
+                progress=next_stage(),
+            )
+            for case in chosen
         )
-        for case in chosen
-    )
     maxima = load_maxima(results)
     grids = f"{samples}³ stroke sweep" if chosen != ["lift"] else ""
     if "lift" in chosen:
@@ -846,8 +861,9 @@ def pins(
     help="Power and inlet pressure along the cycle (.png, .svg or .pdf).",
 )
 @click.option("--force", is_flag=True, help="Replace an output file that exists.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
-def cycle(machine: str, output: str | None, plot: str | None, force: bool) -> None:
+def cycle(machine: str, output: str | None, plot: str | None, force: bool, quiet: bool) -> None:
     """Print cylinder speeds and stroke times from the pump flows, a dig–swing–dump cycle
     estimate with the hydraulic power of each phase, and the buckling check of each cylinder
     at the rated forces."""
@@ -941,8 +957,12 @@ def cycle(machine: str, output: str | None, plot: str | None, force: bool) -> No
             )
 
     show("relief, fully extended", relief_buckling(m))
+    from excavkin.cli.progress import staged
+
+    with staged("rated forces", 2, quiet=quiet) as next_stage:
+        rated = {w: rated_force(m, w, progress=next_stage()) for w in ("arm", "bucket")}  # type: ignore[arg-type]
     for working in ("arm", "bucket"):
-        r = rated_force(m, working)  # type: ignore[arg-type]
+        r = rated[working]
         tf = tool_forces(m, r.lengths[None, :], working, gravity=False)  # type: ignore[arg-type]
         show(f"ISO 6015 {working} force", pose_buckling(m, r.lengths[None, :], tf.cylinder_force))
     click.echo(f"(ISO 6015: rated poses, tool force at the lip, no gravity; {_BUCKLING_NOTE})")

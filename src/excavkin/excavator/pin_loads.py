@@ -35,7 +35,7 @@ capacity) and one static solve with the loads.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -160,6 +160,7 @@ def pin_loads(
     load: float | None = None,
     at: At = "lip",
     gravity: bool = True,
+    progress: Callable[[int, int], None] | None = None,
 ) -> PinLoads:
     """Every pin's load and every cylinder's force under one load case, at each pose.
 
@@ -177,6 +178,8 @@ def pin_loads(
         For the tool forces: the lip (ISO 6015) or the tooth tip (SAE J1179).
     gravity : bool
         Include the front's weight (in the tool force or capacity too).
+    progress : callable, optional
+        ``progress(done, 3)`` after the load, the poses and their forces are found.
 
     Returns
     -------
@@ -206,9 +209,17 @@ def pin_loads(
         magnitude = tf.force
         # a pose where the holding cylinders cannot even hold the front has no tool force
         held = np.asarray(tf.pose.ok & (tf.force > 0.0))
+
+    def tell(done: int) -> None:
+        if progress is not None:
+            progress(done, 3)
+
+    tell(1)
     res = machine.solve(L)  # at rest: no inertia
+    tell(2)
     loads = [*(machine.weight_loads() if gravity else []), PointForce("tool", body, where, P)]
     fr = machine.mechanism.forces(res, loads)
+    tell(3)
     held = np.asarray(held & fr.ok & machine.within_stroke(L))
     cyl = np.stack([fr.force(d) for d in machine.drivers], axis=1)
     labels = pin_labels(machine)
