@@ -35,8 +35,8 @@ if TYPE_CHECKING:
 def command(spec: str, plot: str | None, out: str | None, force: bool, quiet: bool) -> None:
     """Find the design in STUDY.toml's parameter box that minimises or maximises its
     [optimize] objective (a metric) under its constraints: SLSQP with exact sensitivities, or
-    differential evolution over whole populations solved as one batch; print the optimum (in
-    the study's units) and the constraints that bind.
+    differential evolution over whole populations solved as one batch; print the optimum and
+    the constraints that bind.
     """
     from excavkin.cli.common import model_path
     from excavkin.io.files import check_target
