@@ -118,3 +118,24 @@ def test_more_commands_take_quiet(args: list[str]) -> None:
     r = CliRunner().invoke(main, args)
     assert r.exit_code == 0, r.output
     assert "━" not in r.output
+
+
+def test_a_simulation_reports_its_solve(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    import numpy as np
+
+    from excavkin.motion import get_law
+    from excavkin.simulation.timeline import simulate
+
+    mech = excavkin.load(excavkin.example_path("pasika_module"))
+    calls: list[tuple[int, int]] = []
+    law = {"cyl": get_law("cubic", 0.5, 5.0)}
+    res = simulate(mech, law, samples=1001, progress=lambda d, t: calls.append((d, t)))
+    assert calls and calls[-1] == (1001, 1001)
+    np.testing.assert_array_equal(
+        res.column("rocker.epsilon"), simulate(mech, law, samples=1001).column("rocker.epsilon")
+    )
+    out = tmp_path / "run.csv"
+    args = ["simulate", str(excavkin.example_path("pasika_module")), "--drive",
+            "cyl=cubic:500mm:5s", "-o", str(out), "-q"]  # fmt: skip
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output

@@ -37,7 +37,7 @@ for all drivers at once. `excavkin.simulation.shocks` builds its report on them.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Literal
 
@@ -378,6 +378,7 @@ def simulate(
     side: Side | None = None,
     strict: bool = False,
     held: Mapping[str, float] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> KinematicResult:
     """Solve a mechanism in time, its drivers moved by motion laws.
 
@@ -401,6 +402,9 @@ def simulate(
         Raise [`SolveFailure`][excavkin.errors.SolveFailure] if a sample fails.
     held : mapping of str to float, optional
         Undriven drivers held at these values (SI) instead of their sketch values.
+    progress : callable, optional
+        ``progress(samples_done, samples)`` after each chunk of the solve
+        ([`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]'s).
 
     Returns
     -------
@@ -424,7 +428,7 @@ def simulate(
         if tt.ndim != 1 or tt.size == 0:
             raise InputError(f"t must have shape (n,) with n >= 1, got shape {tt.shape}")
     values, rates, accels = driver_inputs(mech, dd, tt, side, held)
-    return mech.solve(values, rates, accels, time=tt, strict=strict)
+    return mech.solve(values, rates, accels, time=tt, strict=strict, progress=progress)
 
 
 def merge_breakpoints(
