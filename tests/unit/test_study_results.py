@@ -205,3 +205,17 @@ def test_the_optimizers_progress_reports_each_iteration(study_path: Path) -> Non
     best = optimize_study(study_path, progress=lambda done, most: calls.append((done, most)))
     assert calls == [(k + 1, 200) for k in range(len(calls))]
     assert len(calls) >= len(best.history) > 0
+
+
+def test_a_study_without_a_feasible_design_says_so_and_gives_every_designs_range(
+    study_path: Path, tmp_path: Path
+) -> None:
+    text = STUDY.replace('gamma_min = { min = "0.5 rad" }', 'gamma_min = { min = "3 rad" }')
+    study_path.write_text(text, encoding="utf-8")
+    result = run_study(load_study(study_path), tmp_path / "none.parquet")
+    frame = result.to_frame()
+    assert not frame["feasible"].any()
+    summary = result.summary()
+    assert "0 feasible" in summary and "no design is feasible" in summary
+    v = frame["omega_max"].to_numpy()
+    assert f"{np.nanmin(v):.6g} … {np.nanmax(v):.6g} rad/s" in summary

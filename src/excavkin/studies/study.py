@@ -285,8 +285,8 @@ class StudyResult:
 
     def summary(self) -> str:
         """The study in a few lines: designs, feasible designs, and per metric its range over
-        the feasible designs and the design where it is least and greatest, in the study's
-        units.
+        the feasible designs (over every design where none is) and the design where it is
+        least and greatest, in the study's units.
 
         Returns
         -------
@@ -302,12 +302,14 @@ class StudyResult:
         failed = frame.loc[~ok, "status"].astype(str).value_counts()
         for why, count in failed.items():
             lines.append(f"  not feasible, {why}: {count:,}")
-        if not ok.any():
-            return "\n".join(lines)
         designs = frame["design"].to_numpy()
+        over = ok
+        if not ok.any():  # the ranges over every design then, said so
+            lines.append("  no design is feasible; the metrics over every design:")
+            over = np.ones_like(ok)
         for m in self._metrics(frame):
             v, unit = self._shown(frame, m)
-            v = np.where(ok, v, np.nan)
+            v = np.where(over, v, np.nan)
             if np.isnan(v).all():
                 continue
             lo, hi = int(np.nanargmin(v)), int(np.nanargmax(v))
