@@ -11,11 +11,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
 
 import excavkin  # noqa: E402
-from excavkin.outputs.convergence import plot_convergence  # noqa: E402
-from excavkin.studies.optimize import optimize  # noqa: E402
+from excavkin.studies.optimize import optimize, optimize_study  # noqa: E402
 from excavkin.studies.study import run_study  # noqa: E402
 from excavkin.studies.study_file import load_optimization  # noqa: E402
 
@@ -33,15 +31,9 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         spec = Path(tmp) / "crank_rocker.toml"
         spec.write_text(study_text(), encoding="utf-8")
-        study, settings = load_optimization(spec)
-        table = pd.read_parquet(run_study(study, Path(tmp) / "study.parquet"))
-    mech = excavkin.load(study.model)
-    by_name = {m.name: m for m in study.metrics}
-    best = optimize(
-        mech, study.bounds, study.poses, by_name[settings["objective"]], settings["sense"],
-        metrics=[m for m in study.metrics if m.name != settings["objective"]],
-        constraints=study.constraints, loads=study.loads,
-    )  # fmt: skip
+        study, _ = load_optimization(spec)
+        table = run_study(study, Path(tmp) / "study.parquet").to_frame()
+    best = optimize_study(study)
     ok = table["feasible"].to_numpy()
     fig, ax = plt.subplots(figsize=(7.5, 5))
     x, y = table["design.A-B"] * 1e3, table["design.O4-B"] * 1e3
@@ -62,12 +54,11 @@ def main() -> None:
     fig.tight_layout()
     fig.savefig(IMG / "studies-crank-rocker.png", dpi=110)
     plt.close(fig)
-    ax = plot_convergence(best.history, "torque_peak", unit="N·m")
-    fig = ax.get_figure(root=True)
+    fig = best.plot().get_figure(root=True)
     assert fig is not None
     fig.tight_layout()
     fig.savefig(IMG / "studies-convergence.png", dpi=110)
-    print(best)
+    print(best.summary())
     transmission_problem()
 
 

@@ -30,6 +30,9 @@ if TYPE_CHECKING:
     from excavkin.mechanism import Mechanism
     from excavkin.model import Body, LinearDriver, Model, RotaryDriver, Slider
     from excavkin.model.entities import Gravity, PointForce, Torque
+    from excavkin.studies.optimize import Optimum, optimize_study
+    from excavkin.studies.study import StudyResult, run_study
+    from excavkin.studies.study_file import load_study
     from excavkin.studies.tolerance import ToleranceBands, tolerance_bands
 
 #: where each public name lives; imported on first use, so that ``import excavkin`` (and the
@@ -53,6 +56,9 @@ _LAZY = {
     **dict.fromkeys(("Body", "LinearDriver", "Model", "RotaryDriver", "Slider"), "excavkin.model"),
     **dict.fromkeys(("Gravity", "PointForce", "Torque"), "excavkin.model.entities"),
     **dict.fromkeys(("ToleranceBands", "tolerance_bands"), "excavkin.studies.tolerance"),
+    **dict.fromkeys(("Optimum", "optimize_study"), "excavkin.studies.optimize"),
+    **dict.fromkeys(("StudyResult", "run_study"), "excavkin.studies.study"),
+    "load_study": "excavkin.studies.study_file",
 }
 
 
@@ -81,6 +87,7 @@ __all__ = [
     "LinearDriver",
     "Mechanism",
     "MobilityError",
+    "Optimum",
     "Model",
     "ModelError",
     "PointForce",
@@ -89,6 +96,7 @@ __all__ = [
     "Slider",
     "SolveFailure",
     "Status",
+    "StudyResult",
     "Torque",
     "ToleranceBands",
     "Tolerances",
@@ -97,7 +105,10 @@ __all__ = [
     "examples",
     "source_file",
     "load",
+    "load_study",
     "loads",
+    "optimize_study",
+    "run_study",
     "tolerance_bands",
 ]
 
@@ -134,7 +145,7 @@ def load(path: str | Path) -> Mechanism:
 
 
 def loads(text: str, source: str | None = None) -> Mechanism:
-    """Like :func:`load`, from TOML text."""
+    """Like [`load`][excavkin.load], from TOML text."""
     from excavkin.io.toml_model import loads_model
     from excavkin.mechanism import Mechanism
 
@@ -155,8 +166,8 @@ def examples(kind: str | None = None) -> list[str]:
     Parameters
     ----------
     kind : {"model", "machine", "study"}, optional
-        Only mechanism models (for :func:`load`), only excavator machine files (for
-        :func:`excavkin.excavator.machine_file.load_machine`) or only design studies (for
+        Only mechanism models (for [`load`][excavkin.load]), only excavator machine files (for
+        [`excavkin.excavator.machine_file.load_machine`][]) or only design studies (for
         ``excavkin study``, in ``examples/studies/``); default all.
 
     Returns

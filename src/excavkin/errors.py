@@ -100,7 +100,7 @@ class SingularityWarning(ExcavkinWarning):
 class UnknownNameError(InputError, KeyError):
     """A name (point, body, driver, column, ...) that the object does not have.
 
-    It is a :class:`KeyError` too, so ``except KeyError`` keeps working; its message lists the
+    It is a `KeyError` too, so ``except KeyError`` keeps working; its message lists the
     closest known names.
     """
 

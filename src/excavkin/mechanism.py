@@ -114,13 +114,15 @@ def _loads_of_designs(loads: Iterable[Load], params: Mapping[str, Any], n: int) 
     return out
 
 
-#: what a part of :meth:`Mechanism.solve_stream` may hold by default, bytes of its result
+#: what a part of [`Mechanism.solve_stream`][excavkin.mechanism.Mechanism.solve_stream] may hold by
+#: default, bytes of its result
 PART_BYTES = 64 * 2**20
 
 
 @dataclass(frozen=True, slots=True)
 class SolvedPart:
-    """Consecutive samples of a sweep, solved (:meth:`Mechanism.solve_stream`).
+    """Consecutive samples of a sweep, solved
+    ([`Mechanism.solve_stream`][excavkin.mechanism.Mechanism.solve_stream]).
 
     Attributes
     ----------
@@ -218,7 +220,7 @@ class Mechanism:
     Parameters
     ----------
     model : Model
-        From :func:`excavkin.load` or built in Python.
+        From [`excavkin.load`][] or built in Python.
     method : {"closed-form", "newton"}
         ``"newton"`` solves every moving point with the generic Newton–Raphson solver instead of
         the closed-form steps (slower; for cross-checking).
@@ -393,7 +395,7 @@ class Mechanism:
         What a sample's values depend on beyond its own inputs — the precision check's
         scales, the change points between neighbouring samples, a Newton group's continuation
         — is defined over blocks of 65 536 samples (``docs/streaming.md``), so that
-        :meth:`solve_stream` gives the same numbers part by part.
+        `solve_stream` gives the same numbers part by part.
 
         Parameters
         ----------
@@ -408,7 +410,8 @@ class Mechanism:
         time : array_like, shape (n,), optional
             Sample times; adds a ``t`` column.
         strict : bool
-            Raise :class:`~excavkin.errors.SolveFailure` if any sample fails (the default marks
+            Raise [`SolveFailure`][excavkin.errors.SolveFailure] if any sample fails (the default
+            marks
             the samples in ``result.status`` and leaves their values NaN).
         tol : Tolerances, optional
         workers : int, optional
@@ -427,13 +430,14 @@ class Mechanism:
             (needs numba: ``pip install 'excavkin[fast]'``; results equal the NumPy path's to
             round-off) or in NumPy. Default: compiled when numba is installed and the batch
             has at least 131 072 samples. The ``sensitivities`` follow the same rule with a
-            kernel of their own (:mod:`excavkin.kinematics.compiled_tangents`).
+            kernel of their own (`excavkin.kinematics.compiled_tangents`).
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only). A swept driver given
             no rate is then at rest (rate 0): without any rates the forces are static.
         params : mapping of str to array_like, optional
-            Dimensions per sample: a parameter name of :attr:`parameters` → a scalar or an
+            Dimensions per sample: a parameter name of
+            [`parameters`][excavkin.structure.design.parameters] → a scalar or an
             array of shape (n,), SI or with units. Each sample is solved with its own geometry
             (the plan and each dyad's sketch side are shared); a held driver keeps its own
             design's sketch value; a design that builds no mechanism is marked "the design's
@@ -508,26 +512,26 @@ class Mechanism:
         sensitivities: Sequence[str] | None = None,
         size: int | None = None,
     ) -> Iterator[SolvedPart]:
-        """:meth:`solve`, part by part: consecutive samples at a time, so that memory is
+        """`solve`, part by part: consecutive samples at a time, so that memory is
         bounded by a part whatever the sample count.
 
-        The parts put together are the result :meth:`solve` gives for the whole sweep, to the
+        The parts put together are the result `solve` gives for the whole sweep, to the
         bit, status and change points included (``docs/streaming.md``). The inputs are taken
         part by part too: arrays (a ``numpy.memmap`` is read as needed) or columns made on
-        demand, such as :class:`excavkin.sweeps.Linspace` and :func:`excavkin.sweeps.grid`.
+        demand, such as [`excavkin.sweeps.Linspace`][] and [`excavkin.sweeps.grid`][].
 
         Parameters
         ----------
         values, rates, accels, time, tol, workers, chunk, continuation, compiled, loads, params,
         sensitivities
-            As for :meth:`solve`; every array may also be an :class:`excavkin.sweeps.Lazy`
+            As for `solve`; every array may also be an [`excavkin.sweeps.Lazy`][]
             column.
         progress : callable, optional
             ``progress(done, total)`` over the whole sweep, after each solved chunk.
         size : int, optional
             Samples per part at most (default: as many as keep a part's result near
-            :data:`PART_BYTES`). A part never spans two blocks of
-            :data:`~excavkin.kinematics.solve.BLOCK` samples unless it holds whole ones.
+            `PART_BYTES`). A part never spans two blocks of
+            `BLOCK` samples unless it holds whole ones.
 
         Yields
         ------
@@ -584,7 +588,7 @@ class Mechanism:
         given: list[Load] | None,
         compiled: bool | None = None,
     ) -> Iterator[SolvedPart]:
-        """The parts of :meth:`solve_stream`: each span's kinematics cut into parts of
+        """The parts of `solve_stream`: each span's kinematics cut into parts of
         ``size`` samples, with their parameters, sensitivities, time and forces."""
         n = batch.n
         for s, whole in zip(range(0, n, span), kinematics, strict=True):
@@ -737,13 +741,14 @@ class Mechanism:
         Parameters
         ----------
         result : KinematicResult
-            From :meth:`solve` on this mechanism.
+            From `solve` on this mechanism.
         loads : iterable of PointForce, Torque, Gravity, optional
-            Default: the model's own (:attr:`loads`). Given, they replace the model's; pass
+            Default: the model's own ([`loads`][excavkin.loads]). Given, they replace the model's;
+            pass
             ``[*mech.loads, extra]`` to add to them. Values may carry units: a pint quantity
             (of any registry) or a string such as ``"5 kN"`` or ``("5 kN", "-2 kN")`` for a
             force, ``"300 N*m"`` for a torque, ``"9.81 m/s^2"`` for gravity; a wrong dimension
-            is a :class:`~excavkin.errors.UnitError` naming the load.
+            is a [`UnitError`][excavkin.errors.UnitError] naming the load.
         compiled : bool, optional
             Solve the equilibrium as one compiled loop over samples (needs numba; equal to the
             NumPy path's to round-off) or in NumPy. Default: compiled when numba is installed

@@ -1,9 +1,10 @@
 """Sweeps made on demand: input columns whose values are computed part by part, never whole.
 
-A sweep of 10⁹ samples is 8 GB per input; :meth:`Mechanism.solve_stream
-<excavkin.mechanism.Mechanism.solve_stream>` takes these columns and makes each part's values
+A sweep of 10⁹ samples is 8 GB per input;
+[`Mechanism.solve_stream`][excavkin.mechanism.Mechanism.solve_stream] takes these columns and makes
+each part's values
 as it solves that part, so memory stays bounded whatever the sample count. Given to
-:meth:`Mechanism.solve <excavkin.mechanism.Mechanism.solve>` (or to ``np.asarray``) they are
+[`Mechanism.solve`][excavkin.mechanism.Mechanism.solve] (or to ``np.asarray``) they are
 made whole, as the arrays they stand for.
 
 >>> import numpy as np
@@ -100,7 +101,7 @@ class Linspace(Lazy):
 
 
 class GridAxis(Lazy):
-    """One input of a grid (:func:`grid`): its axis' value at each combination."""
+    """One input of a grid ([`grid`][excavkin.sweeps.grid]): its axis' value at each combination."""
 
     def __init__(self, axes: Sequence[Linspace | F], k: int) -> None:
         self.axes = axes

@@ -20,7 +20,7 @@ from excavkin.errors import UnitError
 if TYPE_CHECKING:
     import pint
 
-    #: the registry, :func:`registry` (built when first imported from this module)
+    #: the registry, `registry` (built when first imported from this module)
     ureg: pint.UnitRegistry[Any]
 
 
@@ -76,7 +76,7 @@ def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str 
     value : float, int or str
         A bare number or a string such as ``"48 mm"``, ``"50 deg"``, ``"250 bar"``.
     kind : str
-        One of :data:`KINDS` (``"length"``, ``"angle"``, ...).
+        One of `KINDS` (``"length"``, ``"angle"``, ...).
     default_unit : str, optional
         The unit of a bare number. Without it a bare number is an error (angles included):
         a dimensional input is never given a silent default.

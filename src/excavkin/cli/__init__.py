@@ -1,7 +1,7 @@
 """The ``excavkin`` command: a thin layer that parses arguments, calls the library and writes
-files through :mod:`excavkin.outputs`.
+files through `excavkin.outputs`.
 
-The general commands live one per module in :mod:`excavkin.cli.commands`, each exposing a
+The general commands live one per module in `excavkin.cli.commands`, each exposing a
 ``click.Command`` named ``command``. A wing (a paper, a machine family) adds its own group by an
 entry point in the group ``excavkin.commands`` (see ``pyproject.toml``), so that the core never
 imports a wing. A general command is imported only when it is run; a wing's group module is

@@ -1,8 +1,8 @@
 """Shared pieces of the command line: value parsing, error reporting, progress.
 
-Every subcommand module of :mod:`excavkin.cli` exposes a ``click.Command`` named ``command``;
-:mod:`excavkin.cli` finds them itself. Errors are one clear paragraph on stderr and a non-zero
-exit, never a traceback: wrap a command's body in :func:`handle_errors`. NumPy is imported only
+Every subcommand module of `excavkin.cli` exposes a ``click.Command`` named ``command``;
+`excavkin.cli` finds them itself. Errors are one clear paragraph on stderr and a non-zero
+exit, never a traceback: wrap a command's body in `handle_errors`. NumPy is imported only
 inside the functions that need it: a wing's command group imports this module, and listing the
 groups (``excavkin --help``) must stay fast.
 """
@@ -115,7 +115,7 @@ def parse_assignment(text: str, option: str) -> tuple[str, str]:
 
 def parse_sweep(text: str, kind: str, what: str, lazy: bool = False) -> Any:
     """``START:STOP:N`` (each end may carry a unit) → N evenly spaced SI values: an array,
-    or (``lazy``) an :class:`excavkin.sweeps.Linspace` that makes them part by part."""
+    or (``lazy``) an [`excavkin.sweeps.Linspace`][] that makes them part by part."""
     parts = text.split(":")
     if len(parts) != 3:
         raise ExcavkinError(f"{what}: a sweep is START:STOP:N, got {text!r}")

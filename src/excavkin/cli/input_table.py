@@ -1,8 +1,8 @@
 """``--inputs``: a table of samples (CSV or Parquet) read in batches, never whole.
 
-Its columns become :class:`excavkin.sweeps.Lazy` columns: a streamed solve asks for samples in
+Its columns become [`excavkin.sweeps.Lazy`][] columns: a streamed solve asks for samples in
 order, and the table is read a batch at a time as it goes (again from the start when a pass of
-the smooth continuation asks for it). Read whole (:func:`read_inputs`), it gives the same
+the smooth continuation asks for it). Read whole (`read_inputs`), it gives the same
 numbers, batch by batch.
 """
 
@@ -172,7 +172,7 @@ class InputTable:
 
 
 class _Column(Lazy):
-    """One column of an :class:`InputTable`."""
+    """One column of an `InputTable`."""
 
     def __init__(self, table: InputTable, name: str) -> None:
         self.table = table

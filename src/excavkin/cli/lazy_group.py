@@ -42,7 +42,7 @@ def entry_point_targets(group: str) -> Mapping[str, str]:
 class LazyGroup(click.Group):
     """A click group whose subcommands are imported only when run.
 
-    ``lazy`` maps a subcommand's name to a :class:`Lazy` (its ``module:attribute`` and its help
+    ``lazy`` maps a subcommand's name to a `Lazy` (its ``module:attribute`` and its help
     line); ``entry_point_group`` adds the commands other packages register under that
     entry-point group (a wing of excavkin, or a package of the user's), in the same
     ``module:attribute`` form. Loading lazily keeps ``--help`` fast and lets the core name no

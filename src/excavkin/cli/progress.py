@@ -37,6 +37,8 @@ def progress(
     *,
     quiet: bool = False,
     stream: TextIO | None = None,
+    count: str | None = None,
+    percent: bool = False,
 ) -> Iterator[Callable[[float], None]]:
     """A progress bar (or a spinner without ``total``) on stderr, removed when done.
 
@@ -49,6 +51,10 @@ def progress(
         Show nothing.
     stream : file, optional
         Default ``sys.stderr``; nothing is shown unless it is a terminal.
+    count : str, optional
+        Without ``total``: show the work done so far, so named (``"12 iterations"``).
+    percent : bool
+        With ``total``: show the share done (``"37%"``) rather than ``done/total``.
 
     Yields
     ------
@@ -64,6 +70,7 @@ def progress(
         MofNCompleteColumn,
         Progress,
         SpinnerColumn,
+        TaskProgressColumn,
         TextColumn,
         TimeElapsedColumn,
         TimeRemainingColumn,
@@ -72,12 +79,56 @@ def progress(
     console = Console(file=stream or sys.stderr)
     columns: list[Any] = [SpinnerColumn(), TextColumn("[progress.description]{task.description}")]
     if total is not None:
-        columns += [BarColumn(), MofNCompleteColumn(), TimeRemainingColumn()]
+        done = TaskProgressColumn() if percent else MofNCompleteColumn()
+        columns += [BarColumn(), done, TimeRemainingColumn()]
     else:
+        if count is not None:
+            columns.append(TextColumn(f"{{task.completed:.0f}} {count}"))
         columns.append(TimeElapsedColumn())
     with Progress(*columns, console=console, transient=True) as bar:
         task = bar.add_task(description, total=total)
         yield lambda amount: bar.advance(task, amount)
+
+
+@contextmanager
+def staged(
+    description: str,
+    stages: int,
+    *,
+    quiet: bool = False,
+    stream: TextIO | None = None,
+) -> Iterator[Callable[[], Callable[[int, int], None]]]:
+    """A bar over ``stages`` analyses run one after another, each moving it by its own
+    ``progress(done, total)`` callback.
+
+    Yields
+    ------
+    callable
+        ``next_stage()`` → the next analysis's ``progress`` callback.
+
+    Examples
+    --------
+    ::
+
+        with staged("rated forces", 4, quiet=quiet) as next_stage:
+            for working in ("arm", "bucket"):
+                base_rated_force(machine, working, progress=next_stage())
+    """
+    with progress(description, float(stages), quiet=quiet, stream=stream, percent=True) as advance:
+        state = {"at": 0.0, "stage": -1}
+
+        def next_stage() -> Callable[[int, int], None]:
+            state["stage"] += 1
+            base = state["stage"]
+
+            def report(done: int, total: int) -> None:
+                at = base + (min(done / total, 1.0) if total > 0 else 1.0)
+                advance(at - state["at"])
+                state["at"] = at
+
+            return report
+
+        yield next_stage
 
 
 def solve_with_progress(
@@ -96,15 +147,16 @@ def solve_with_progress(
 ) -> Any:
     """``mech.solve(values, rates, accels, time=time)`` with a progress bar on long sweeps.
 
-    The engine reports each chunk it finishes (:meth:`Mechanism.solve`'s ``progress``); a
-    sweep of at least :data:`MIN_SAMPLES_FOR_BAR` samples (or any with ``chunk`` given) shows
+    The engine reports each chunk it finishes
+    ([`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]'s ``progress``); a
+    sweep of at least `MIN_SAMPLES_FOR_BAR` samples (or any with ``chunk`` given) shows
     them as a bar. The result is the engine's own, whatever is shown.
 
     Parameters
     ----------
     mech : Mechanism
     values, rates, accels : mapping of str to array_like, optional
-        As for :meth:`Mechanism.solve`.
+        As for [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
     time : array_like, optional
     quiet : bool
     chunk : int, optional
@@ -112,7 +164,8 @@ def solve_with_progress(
     description : str
     stream : file, optional
     **more
-        Passed on to :meth:`Mechanism.solve` (``params``, ``sensitivities``).
+        Passed on to [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve] (``params``,
+        ``sensitivities``).
 
     Returns
     -------

@@ -3,7 +3,8 @@
 A streamed solve decides only at its end whether the table may be written (failing samples,
 statically singular ones); by then its parts are gone. The tally keeps what the messages need
 — per reason, the count and the first samples with their inputs; which inputs vary over the
-sweep; the change points — and words them as :meth:`KinematicResult.summary` would for the
+sweep; the change points — and words them as
+[`KinematicResult.summary`][excavkin.kinematics.result.KinematicResult.summary] would for the
 whole sweep.
 """
 
@@ -78,7 +79,7 @@ class Tally:
 
     def summary(self) -> str:
         """The failing samples, grouped by reason, each named by its inputs: the whole
-        result's :meth:`~excavkin.kinematics.result.KinematicResult.summary`."""
+        result's [`summary`][excavkin.kinematics.result.KinematicResult.summary]."""
         held = (self.n > 1) & (self.low == self.high)
         groups = [
             (

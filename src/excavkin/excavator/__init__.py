@@ -5,7 +5,8 @@ module               what it holds
 ===================  ====================================================================
 ``machine``          the machine (front, cylinders, circuits), forward and inverse
                      kinematics, Jacobian, transmission angles
-``machine_file``     the machine-file reader (TOML → :class:`~excavkin.excavator.machine.Machine`)
+``machine_file``     the machine-file reader (TOML →
+[`Machine`][excavkin.excavator.machine.Machine])
 ``ranges``           working ranges (SAE J1193 / ISO 7135) and the envelope
 ``forces``           tool forces (ISO 6015 / SAE J1179) with relief capping, force maps
 ``base``             the base machine: masses, support polygon, tipping lines

@@ -43,7 +43,8 @@ _MAX_MASS, _MAX_X, _MAX_SIZE = 1e7, 1e3, 100.0
 
 
 def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> BaseMachine | None:
-    """The ``[base]`` table as a :class:`BaseMachine`, or None where the file has none."""
+    """The ``[base]`` table as a [`BaseMachine`][excavkin.excavator.base.BaseMachine], or None where
+    the file has none."""
     if "base" not in data:
         return None
     t = r.subtable(data, "base", "base")

@@ -106,12 +106,19 @@ def command() -> None:
     help="The envelope polygon as a table (x_m, y_m).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def ranges(
-    machine: str, plot: str | None, output: str | None, envelope: str | None, force: bool
+    machine: str,
+    plot: str | None,
+    output: str | None,
+    envelope: str | None,
+    force: bool,
+    quiet: bool,
 ) -> None:
     """Print the working-range figures (mm) and the cylinder lengths where they occur."""
 
+    from excavkin.cli.progress import staged
     from excavkin.excavator.ranges import working_ranges
     from excavkin.outputs.tables import check_target, write_table
 
@@ -119,7 +126,8 @@ def ranges(
         if p:
             check_target(p, force=force, suffixes=(".csv", ".parquet"))
     m = _machine(machine)
-    wr = working_ranges(m)
+    with staged("working ranges", 1, quiet=quiet) as next_stage:
+        wr = working_ranges(m, progress=next_stage())
     click.echo(f"{m.name} — working ranges (tooth tip; mm)")
     click.echo(
         f"{'':4} {'figure':<38} {'value':>8}  {'x':>8} {'y':>8}  "
@@ -180,6 +188,7 @@ def ranges(
     help="Write force-map PNGs PREFIX-arm.png and PREFIX-bucket.png.",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def forces(
     machine: str,
@@ -188,6 +197,7 @@ def forces(
     output: str | None,
     map_prefix: str | None,
     force: bool,
+    quiet: bool,
 ) -> None:
     """Print the rated ISO 6015 (lip) and SAE J1179 (tooth tip) tool forces, and the largest
     over a sweep of the strokes."""
@@ -250,9 +260,16 @@ def forces(
         f"{'standard':<10} {'cylinder':<8} {'force':>7} {'own':>7}  {'x':>6} {'y':>6}  "
         f"{'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
     )
-    for at, std in kinds:
-        for working in ("arm", "bucket"):
-            row("rated", std, False, rated_force(m, working, at=at))  # type: ignore[arg-type]
+    from excavkin.cli.progress import staged
+
+    with staged("rated forces", 2 * len(kinds), quiet=quiet) as next_stage:
+        rated = [
+            (std, rated_force(m, working, at=at, progress=next_stage()))  # type: ignore[arg-type]
+            for at, std in kinds
+            for working in ("arm", "bucket")
+        ]
+    for std, r in rated:
+        row("rated", std, False, r)
     pose = sweep(m, samples)
     click.echo(
         f"Largest over a {samples}³ stroke sweep ({'with' if grav else 'without'} gravity "
@@ -370,6 +387,7 @@ def _swing_option(text: str) -> float | str:
     "pin) and PREFIX-limits-arm.png, PREFIX-limits-bucket.png (which limit binds).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def stability(
     machine: str,
@@ -378,6 +396,7 @@ def stability(
     output: str | None,
     map_prefix: str | None,
     force: bool,
+    quiet: bool,
 ) -> None:
     """Print tipping lines, the rated tool forces capped by tipping and slipping (ISO 6015
     §4.5), and the stability over a sweep of the strokes."""
@@ -430,9 +449,17 @@ def stability(
         f"{'(line)':<12} {'slip':>7}  {'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
     )
     rows = []
+    from excavkin.cli.progress import staged
+
+    with staged("rated forces", 4, quiet=quiet) as next_stage:
+        rated = {
+            (at, working): base_rated_force(m, working, at=at, swing=sw, progress=next_stage())  # type: ignore[arg-type]
+            for at in ("lip", "tip")
+            for working in ("arm", "bucket")
+        }
     for at, std in (("lip", "ISO 6015"), ("tip", "SAE J1179")):
         for working in ("arm", "bucket"):
-            r = base_rated_force(m, working, at=at, swing=sw)  # type: ignore[arg-type]
+            r = rated[at, working]
             rf = r.rated
             click.echo(
                 f"{std:<10} {working:<8} {rf.force / 1e3:7.1f} {r.hydraulic / 1e3:7.1f} "
@@ -690,6 +717,7 @@ def lift(
     help="The largest loads as a table (.csv or .parquet).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def pins(
     machine: str,
@@ -702,6 +730,7 @@ def pins(
     map_prefix: str | None,
     output: str | None,
     force: bool,
+    quiet: bool,
 ) -> None:
     """Print the largest load on each pin and in each cylinder over the working range, the load
     case and the pose where it occurs."""
@@ -732,17 +761,21 @@ def pins(
     # a lift load's point moves with the boom and the stick: a finer grid of those two, at
     # about the same count of poses, covers its map and its maxima better
     lift_grid = (2 * samples - 1, 2 * samples - 1, max(3, round(samples / 4)))
-    results = tuple(
-        pin_loads(
-            m,
-            stroke_grid(m, lift_grid if case == "lift" else samples),
-            case,
-            load=W if case == "lift" else None,
-            at=at,  # type: ignore[arg-type]
-            gravity=grav,
+    from excavkin.cli.progress import staged
+
+    with staged("pin loads", len(chosen), quiet=quiet) as next_stage:
+        results = tuple(
+            pin_loads(
+                m,
+                stroke_grid(m, lift_grid if case == "lift" else samples),
+                case,
+                load=W if case == "lift" else None,
+                at=at,  # type: ignore[arg-type]
+                gravity=grav,
+                progress=next_stage(),
+            )
+            for case in chosen
         )
-        for case in chosen
-    )
     maxima = load_maxima(results)
     grids = f"{samples}³ stroke sweep" if chosen != ["lift"] else ""
     if "lift" in chosen:
@@ -828,8 +861,9 @@ def pins(
     help="Power and inlet pressure along the cycle (.png, .svg or .pdf).",
 )
 @click.option("--force", is_flag=True, help="Replace an output file that exists.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
-def cycle(machine: str, output: str | None, plot: str | None, force: bool) -> None:
+def cycle(machine: str, output: str | None, plot: str | None, force: bool, quiet: bool) -> None:
     """Print cylinder speeds and stroke times from the pump flows, a dig–swing–dump cycle
     estimate with the hydraulic power of each phase, and the buckling check of each cylinder
     at the rated forces."""
@@ -923,8 +957,12 @@ def cycle(machine: str, output: str | None, plot: str | None, force: bool) -> No
             )
 
     show("relief, fully extended", relief_buckling(m))
+    from excavkin.cli.progress import staged
+
+    with staged("rated forces", 2, quiet=quiet) as next_stage:
+        rated = {w: rated_force(m, w, progress=next_stage()) for w in ("arm", "bucket")}  # type: ignore[arg-type]
     for working in ("arm", "bucket"):
-        r = rated_force(m, working)  # type: ignore[arg-type]
+        r = rated[working]
         tf = tool_forces(m, r.lengths[None, :], working, gravity=False)  # type: ignore[arg-type]
         show(f"ISO 6015 {working} force", pose_buckling(m, r.lengths[None, :], tf.cylinder_force))
     click.echo(f"(ISO 6015: rated poses, tool force at the lip, no gravity; {_BUCKLING_NOTE})")
@@ -1254,14 +1292,15 @@ def study(
     help="Draw the convergence: the objective after each iteration (.png, .svg or .pdf).",
 )
 @click.option("--force", is_flag=True, help="Replace the output files if they exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def optimize(
-    study: str, method: str | None, output: str | None, plot: str | None, force: bool
+    study: str, method: str | None, output: str | None, plot: str | None, force: bool, quiet: bool
 ) -> None:
     """The best design of a STUDY file that names a machine (``machine = ...`` in [study]):
     its [optimize] objective over its parameter box under its constraints, every population or
     gradient solved as one batch of designs."""
-    from excavkin.cli.commands.optimize import report_optimum
+    from excavkin.cli.commands.optimize import optimizer_progress, report_optimum
     from excavkin.excavator.study import load_machine_study, optimize_machine
     from excavkin.io.files import check_target
 
@@ -1270,7 +1309,6 @@ def optimize(
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
     if plot is not None:
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
-    best = optimize_machine(spec, method=method)
-    how = method or spec.optimize.get("method", "slsqp")
-    sense, objective = spec.optimize["sense"], spec.optimize["objective"]
-    report_optimum(best, sense, objective, how, output, plot, force)
+    with optimizer_progress(quiet) as report:
+        best = optimize_machine(spec, method=method, progress=report)
+    report_optimum(best, output, plot, force)

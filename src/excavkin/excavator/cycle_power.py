@@ -1,14 +1,14 @@
 r"""Hydraulic power along the dig–swing–dump cycle of
-:func:`~excavkin.excavator.hydraulics.cycle_time`.
+[`cycle_time`][excavkin.excavator.hydraulics.cycle_time].
 
 The cycle is played one motion at a time, each cylinder over its full stroke at its no-load,
-full-flow speed (:func:`~excavkin.excavator.hydraulics.strokes`), from a start with the boom
+full-flow speed ([`strokes`][excavkin.excavator.hydraulics.strokes]), from a start with the boom
 down and the arm and bucket at the ends they dig from::
 
     dig: arm → dig: bucket → boom up → swing → dump: arm → dump: bucket → swing back → boom down
 
 so that its duration is the ``sequential`` cycle time. Along it the power of each function
-comes from :func:`~excavkin.excavator.hydraulics.motion_power`: the front's weight and the
+comes from [`motion_power`][excavkin.excavator.hydraulics.motion_power]: the front's weight and the
 inertia of the motion (a cylinder at constant speed still swings its links at varying speeds),
 no soil force. Speed steps between phases are taken as instantaneous. The swing motor is not
 modelled: its phases carry no cylinder power.

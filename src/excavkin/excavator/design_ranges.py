@@ -2,9 +2,10 @@
 
 The figures that are optima of the tooth tip over the whole stroke box, with no posture
 imposed, are found for every design together: the pattern search of
-:func:`~excavkin.excavator.search.maximize_strokes` runs one problem per design, each within its
+`maximize_strokes` runs one problem per design, each within its
 own strokes, every trial of every design one batch solve with the designs' own geometry. The
-figures are those of :func:`~excavkin.excavator.ranges.working_ranges` of each design built as a
+figures are those of [`working_ranges`][excavkin.excavator.ranges.working_ranges] of each design
+built as a
 machine of its own (tested), to the search's ~1e-9 m.
 
 =====================  ===========================================================
@@ -16,11 +17,13 @@ figure                 definition (heights from the ground line, reaches from th
 =====================  ===========================================================
 
 A design whose front does not assemble everywhere in its stroke box (on a 9-level grid) gives
-NaN, as :func:`~excavkin.excavator.ranges.working_ranges` refuses such a machine: its figures
+NaN, as [`working_ranges`][excavkin.excavator.ranges.working_ranges] refuses such a machine: its
+figures
 would sit at the edge of assembly.
 
 The other figures impose a posture (the tip on the ground line, the bucket hanging, teeth
-vertical) and are left to :func:`~excavkin.excavator.ranges.working_ranges` of one design.
+vertical) and are left to [`working_ranges`][excavkin.excavator.ranges.working_ranges] of one
+design.
 """
 
 from __future__ import annotations
@@ -56,9 +59,9 @@ def design_ranges(
     machine : Machine
     params : mapping of str to array_like, shape (d,)
         Each design's parameters (names of
-        :func:`~excavkin.excavator.designs.machine_parameters`); others nominal.
+        [`machine_parameters`][excavkin.excavator.designs.machine_parameters]); others nominal.
     figures : sequence of str
-        Keys of :data:`FIGURES`.
+        Keys of `FIGURES`.
 
     Returns
     -------

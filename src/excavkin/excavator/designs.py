@@ -1,7 +1,8 @@
 r"""A family of machine designs in one batch: the machine's parameters, and its tool forces
 with each design's own geometry, cylinders and pressures.
 
-The parameters of a machine are its mechanism's (:attr:`Mechanism.parameters`: every point's
+The parameters of a machine are its mechanism's
+([`Mechanism.parameters`][excavkin.mechanism.Mechanism.parameters]: every point's
 ``P.x``, ``P.y``, the bodies' masses, …) and, named after the machine file's tables,
 
 =================================  ============================================
@@ -13,11 +14,12 @@ The parameters of a machine are its mechanism's (:attr:`Mechanism.parameters`: e
 ``circuits.NAME.relief``           port relief pressure (Pa)
 =================================  ============================================
 
-:func:`design_tool_forces` is :func:`~excavkin.excavator.forces.tool_forces` for one design
+[`design_tool_forces`][excavkin.excavator.designs.design_tool_forces] is
+[`tool_forces`][excavkin.excavator.forces.tool_forces] for one design
 per sample: the transfer functions come from the general engine's solve with ``params=`` (one
 solve per cylinder with unit rate), the cylinder areas and pressures are arrays, and the
 gravity terms use each design's mass properties. What a moved pin carries with it follows the
-engine's convention for designs (:mod:`excavkin.structure.design`): a body's centre of mass
+engine's convention for designs (`excavkin.structure.design`): a body's centre of mass
 stays at its sketch coordinates (``BODY.center_of_mass.x``/``.y``, parameters themselves) and
 its other points stay where the sketch puts them, so moving the H-link pin of the bucket moves
 neither the tooth tip nor the bucket's centre of mass; half of each cylinder's mass sits at
@@ -204,7 +206,7 @@ class DesignForces:
     Attributes
     ----------
     force, uncapped : ndarray, shape (n,)
-        As :class:`~excavkin.excavator.forces.ToolForces` (N).
+        As `ToolForces` (N).
     limiting : ndarray of str, shape (n,)
     cylinder_force : ndarray, shape (n, 3)
     within_stroke : ndarray of bool, shape (n,)
@@ -230,8 +232,10 @@ def design_tool_forces(
 ) -> DesignForces:
     """ISO 6015 (``at="lip"``) or SAE J1179 (``at="tip"``) tool force of the arm or bucket
     cylinder at cylinder ``lengths`` (shape (n, 3)), sample i being the design
-    ``params[name][i]`` (names of :func:`machine_parameters`; scalars or arrays broadcasting to
-    (n,); the others nominal). ``transfer``, if given, is :func:`design_transfer` of the same
+    ``params[name][i]`` (names of
+    [`machine_parameters`][excavkin.excavator.designs.machine_parameters]; scalars or arrays
+    broadcasting to
+    (n,); the others nominal). ``transfer``, if given, is `design_transfer` of the same
     lengths and parameters (to share it between forces)."""
     if working not in ("arm", "bucket"):
         raise InputError(f"working must be 'arm' or 'bucket', not {working!r}")
@@ -271,7 +275,8 @@ def bucket_angle_to_stick(machine: Machine, tr: DesignTransfer) -> F:
 def design_machine(machine: Machine, params: Mapping[str, float]) -> Machine:
     """One design as a machine of its own: the model rebuilt with the points, bodies' masses
     and centres of mass, cylinders and circuits of ``params`` (names of
-    :func:`machine_parameters`; others nominal). For checking a design with the machine's own
+    [`machine_parameters`][excavkin.excavator.designs.machine_parameters]; others nominal). For
+    checking a design with the machine's own
     functions (working ranges, rated forces)."""
     import dataclasses
 

@@ -12,9 +12,10 @@ spaced by a motion law). At each point:
   (tip → lip), or along the floor of a bucket without teeth — and the path behind the edge,
   on the side of the free surface (the cut frame's normal n: the unit normal to t pointing
   up);
-- the soil resistance of the chosen model (:mod:`excavkin.excavator.soil`): ``along`` against
+- the soil resistance of the chosen model (`excavkin.excavator.soil`): ``along`` against
   t, ``normal`` along −n, so the tool must exert R = along·t + normal·n on the soil;
-- the available force along R's direction (:func:`~excavkin.excavator.forces.directed_force`:
+- the available force along R's direction
+([`directed_force`][excavkin.excavator.forces.directed_force]:
   the cylinders doing the work at working pressure, the others at their port relief, the
   front's weight counted), capped by tipping and slipping where the machine has a base;
 - the margin, available − |R|: the dig stalls at the first point where it is negative.
@@ -104,7 +105,7 @@ def dig_path(
     """Cylinder lengths from ``start`` to ``end`` (each shape (3,), m): shape (samples, 3).
 
     The path is the straight line between the poses in cylinder space. Without a ``law`` the
-    samples are evenly spaced along it; with one (a name of :func:`excavkin.motion.get_law`)
+    samples are evenly spaced along it; with one (a name of [`excavkin.motion.get_law`][])
     every cylinder follows that rest-to-rest law and the samples are at equal time steps.
     """
     a = as_lengths(np.asarray(start, dtype=np.float64).reshape(1, 3))[0]

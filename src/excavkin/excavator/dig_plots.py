@@ -26,7 +26,7 @@ def plot_dig(machine: Machine, d: Dig) -> ExcavatorPlot:
     ----------
     machine : Machine
     d : Dig
-        From :func:`~excavkin.excavator.dig.dig`.
+        From [`dig`][excavkin.excavator.dig.dig].
 
     Returns
     -------

@@ -16,7 +16,7 @@ when w digs, u = ±J_w/|J_w|, so P = −F·u and::
 Each **holding** cylinder h must then carry f_h = F·(u·J_h) + G_h, which its port relief bounds
 to −p_relief·A_annulus ≤ f_h ≤ p_relief·A_bore; where it would not, F is capped there and that
 cylinder is named as the limit (ISO 6015 "hydraulic limit"). The tipping and slipping limits of
-the base machine cap these forces in :mod:`excavkin.excavator.stability`. With
+the base machine cap these forces in `excavkin.excavator.stability`. With
 ``gravity=False`` every G term is zero (the front weightless); the masses are the model's bodies
 and the cylinders' (``Cylinder.mass``, half at each end pin).
 
@@ -42,7 +42,7 @@ from excavkin.excavator.machine import (
     pose_of,
     transfer,
 )
-from excavkin.excavator.search import Evaluate, maximize_strokes
+from excavkin.excavator.search import Evaluate, Progress, maximize_strokes, part
 from excavkin.kinematics.summary import batch_repr
 
 Working = Literal["arm", "bucket"]
@@ -337,6 +337,7 @@ def rated_force(
     *,
     at: At = "lip",
     limits: Limits | None = None,
+    progress: Progress | None = None,
 ) -> RatedForce:
     """The rated arm- or bucket-cylinder tool force (ISO 6015 §5.2, SAE J1179 §3.3).
 
@@ -356,9 +357,11 @@ def rated_force(
         The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
     limits : callable, optional
         Further caps of the force beyond the cylinders' (the base machine's tipping and
-        slipping, :func:`excavkin.excavator.stability.base_rated_force`): the free strokes are
+        slipping, [`excavkin.excavator.stability.base_rated_force`][]): the free strokes are
         then put where the force capped by them too is largest, and a cap reached there is
         named.
+    progress : callable, optional
+        ``progress(done, total)`` as the searches go on.
 
     Returns
     -------
@@ -382,13 +385,21 @@ def rated_force(
 
     # the working cylinder's own force depends on its own stroke alone (and, for the arm, on
     # the bucket's through the radius), so its largest moment is a 1-D search
-    _, pose = maximize_strokes(objective("bucket", False), machine, (2,), coarse=65)
+    n = 3 if working == "arm" else 2
+    _, pose = maximize_strokes(
+        objective("bucket", False), machine, (2,), coarse=65, progress=part(progress, 0, n)
+    )
     pivot = machine.pins.bucket_pin
     if working == "arm":
-        _, pose = maximize_strokes(objective("arm", False), machine, (1,), coarse=65, base=pose[0])
+        _, pose = maximize_strokes(
+            objective("arm", False), machine, (1,), coarse=65, base=pose[0],
+            progress=part(progress, 1, n),
+        )  # fmt: skip
         pivot = machine.pins.stick_pivot
     free = (0,) if working == "arm" else (0, 1)
-    _, pose = maximize_strokes(objective(working, True), machine, free, base=pose[0])
+    _, pose = maximize_strokes(
+        objective(working, True), machine, free, base=pose[0], progress=part(progress, n - 1, n)
+    )
     tf = tool_forces(machine, pose, working, at=at, gravity=False)
     force = float(tf.force[0])
     extra = [(str(names[0]), float(cap[0])) for names, cap in limits(tf)] if limits else []
@@ -461,11 +472,12 @@ def directed_force(
     """Largest force F the tool exerts along ``direction`` while the cylinders move at ``rates``.
 
     The soil's force on the tool is −F·e (e the unit direction), so cylinder c carries
-    ``f_c = F·(e·J_c) + G_c`` (virtual work, as :func:`tool_forces`). A cylinder moving so
+    ``f_c = F·(e·J_c) + G_c`` (virtual work, as
+    [`tool_forces`][excavkin.excavator.forces.tool_forces]). A cylinder moving so
     that it does work against the load (``(e·J_c)·rate_c > 0``) is limited by its circuit's
     working pressure; the others, held or pushed back, by their port relief. F is the least of
     those caps. With e along the working cylinder's own motion and only that cylinder moving,
-    this is :func:`tool_forces`.
+    this is [`tool_forces`][excavkin.excavator.forces.tool_forces].
 
     Parameters
     ----------

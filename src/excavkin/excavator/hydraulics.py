@@ -3,7 +3,7 @@ hydraulic power along a motion, and the buckling check of each cylinder.
 
 **Speeds.** Each function (boom, arm, bucket) moved alone receives the summed flow ``Q`` of every
 pump that feeds it (the pumps' confluence); with ``count`` cylinders acting together the areas
-are those of all of them (:attr:`Cylinder.bore_area`, :attr:`Cylinder.annulus_area`)::
+are those of all of them (`Cylinder.bore_area`, `Cylinder.annulus_area`)::
 
     v_extend = Q / A_bore        v_retract = Q / A_annulus        t = stroke / v
 
@@ -23,7 +23,8 @@ angle (acceleration and braking left out)::
 overlap the boom in the raise and return phases, ``max(t_boom, t_swing)``, as operators do.
 
 **Power.** Along a motion the power of cylinder c is ``f_c·L̇_c`` with ``f_c`` the cylinder force
-of the kinetostatics (:meth:`Mechanism.forces`) and ``L̇_c`` its rate from the kinematics. With
+of the kinetostatics ([`Mechanism.forces`][excavkin.mechanism.Mechanism.forces]) and ``L̇_c`` its
+rate from the kinematics. With
 the outlet side drained, the inlet pressure is ``p = f/A_bore`` extending and ``−f/A_annulus``
 retracting, the inlet flow ``Q = A·|L̇|``, and the pump's hydraulic power ``p·Q = f·L̇``. A
 negative ``p`` means an overrunning load: the load drives the cylinder and the outlet (meter-out)
@@ -261,7 +262,8 @@ def motion_power(
     lengths, rates : array_like, shape (n, 3)
         Cylinder lengths (m) and their rates (m/s); accelerations are taken as zero.
     gravity : bool
-        Include the front's weight (:meth:`Machine.weight_loads`).
+        Include the front's weight
+        ([`Machine.weight_loads`][excavkin.excavator.machine.Machine.weight_loads]).
 
     Returns
     -------
@@ -277,7 +279,7 @@ def motion_power(
 
 
 def power_of(machine: Machine, force: ArrayLike, rates: ArrayLike) -> Power:
-    """:class:`Power` from cylinder forces (N) and rates (m/s), both shape (n, 3)."""
+    """`Power` from cylinder forces (N) and rates (m/s), both shape (n, 3)."""
     f = np.asarray(force, dtype=np.float64)
     R = np.broadcast_to(np.asarray(rates, dtype=np.float64), f.shape)
     bore = np.array([c.bore_area for c in machine.cylinders])
@@ -386,7 +388,7 @@ def pose_buckling(
 ) -> tuple[Buckling, ...]:
     """Each cylinder's check at poses ``lengths`` (shape (n, 3)) under the forces of all
     ``count`` cylinders ``cylinder_force`` (shape (n, 3), N, > 0 pushing), e.g. those of
-    :func:`~excavkin.excavator.forces.tool_forces` at the rated poses."""
+    [`tool_forces`][excavkin.excavator.forces.tool_forces] at the rated poses."""
     h = hydraulics_of(machine, hydraulics)
     L = as_lengths(lengths)
     f = np.broadcast_to(np.asarray(cylinder_force, dtype=np.float64), L.shape)

@@ -34,7 +34,8 @@ _MAX_FLOW, _MAX_SWING = 1.0, 2.0 * math.pi
 
 
 def read_hydraulics(r: MachineReader, data: dict[str, Any]) -> Hydraulics | None:
-    """The ``[hydraulics]`` table as :class:`Hydraulics`, or None where the file has none."""
+    """The ``[hydraulics]`` table as [`Hydraulics`][excavkin.excavator.hydraulics.Hydraulics], or
+    None where the file has none."""
     if "hydraulics" not in data:
         return None
     table = "hydraulics"

@@ -9,7 +9,7 @@ stick pivot and the load point form a triangle of known sides); the bucket is **
 (its cylinder at the end of its digging stroke), the reading of the usual lift-chart
 conditions. Of the triangle's two sides the stick pivot is taken above the line boom foot →
 load point (the backhoe's posture), or below it where only that one lies within the strokes.
-The cylinder lengths come from the closed-form :func:`~excavkin.excavator.machine.inverse`.
+The cylinder lengths come from the closed-form [`inverse`][excavkin.excavator.machine.inverse].
 
 **Hydraulic lift capacity** — the largest load at the load point that the front holds with the
 **lifting cylinder (the boom's) at the working pressure** of its circuit (the main relief: what
@@ -23,7 +23,7 @@ and the capacity is the least W at which one of them reaches its limit, which is
 ``pressure="relief"`` puts the lifting cylinder at its relief pressure instead.
 
 **Tipping load** — the load at the load point that tips the whole machine
-(:mod:`~excavkin.excavator.stability`), over the front (upper structure along the tracks, the
+(`stability`), over the front (upper structure along the tracks, the
 idler axis the tipping line) or over the side (swung 90°, the track's outer edge).
 
 **Rated lift capacity** (ISO 10567) — the lesser of 75 % of the tipping load and 87 % of the
@@ -279,7 +279,7 @@ def lift_capacity(
         With a base.
     lengths : array_like, shape (n, 3)
     lifting, pressure
-        As :func:`hydraulic_lift`.
+        As [`hydraulic_lift`][excavkin.excavator.lift.hydraulic_lift].
 
     Returns
     -------
@@ -421,11 +421,11 @@ def lift_table(
         With a base.
     radii, heights : array_like, optional
         Load radius from the swing axis and height above the ground line (m); default every
-        ``step`` within reach (:func:`default_grid`).
+        ``step`` within reach (`default_grid`).
     step : float
         Grid step of the default (m).
     lifting, pressure
-        As :func:`hydraulic_lift`.
+        As [`hydraulic_lift`][excavkin.excavator.lift.hydraulic_lift].
 
     Returns
     -------

@@ -1,10 +1,12 @@
 r"""Hydraulic excavator working equipment: the machine, forward and inverse kinematics.
 
-A :class:`Machine` is a general :class:`~excavkin.mechanism.Mechanism` (any model whose bodies
+A [`Machine`][excavkin.excavator.machine.Machine] is a general
+[`Mechanism`][excavkin.mechanism.Mechanism] (any model whose bodies
 and pins form a backhoe front) plus what an excavator designer adds: which bodies are the boom,
 stick, bucket and the bucket's two links, the three cylinders (stroke limits, bore, rod, count),
 the pressures of their circuits, and the tooth-tip and lip points. Every position, velocity and
-transfer function comes from the general engine (:meth:`Mechanism.solve`, vectorised over
+transfer function comes from the general engine
+([`Mechanism.solve`][excavkin.mechanism.Mechanism.solve], vectorised over
 samples); this module only arranges its inputs and reads its outputs.
 
 Conventions (SI; side view, x forward, y up, angles CCW from +x)::
@@ -94,7 +96,7 @@ class Cylinder:
     bore, rod : float
         Piston and rod diameters (m).
     circuit : str
-        Name of its :class:`Circuit`.
+        Name of its `Circuit`.
     count : int
         Identical cylinders in parallel (two boom cylinders on most crawler excavators).
     dig : {"extend", "retract"}
@@ -156,7 +158,8 @@ class Front:
 
 @dataclass(frozen=True, slots=True)
 class Pins:
-    """Point names of the pins, found from the model's topology (see :class:`Machine`)."""
+    """Point names of the pins, found from the model's topology (see
+    [`Machine`][excavkin.excavator.machine.Machine])."""
 
     foot: str  # ground–boom
     stick_pivot: str  # boom–stick
@@ -190,13 +193,13 @@ class Machine:
         g (m/s²), acting along −y on the bodies' masses.
     base : BaseMachine, optional
         Upper structure, counterweight, undercarriage and ground support, for tipping,
-        slipping and lift capacity (:mod:`excavkin.excavator.stability`).
+        slipping and lift capacity (`excavkin.excavator.stability`).
     lift_point : str, optional
         The load point of lift capacity (ISO 10567): a point of the stick, the bucket or a
         bucket link, such as a lifting hook; default the bucket pin.
     hydraulics : Hydraulics, optional
         Pump flows, swing and rod material, for speeds, cycle time and buckling
-        (:mod:`excavkin.excavator.hydraulics`).
+        (`excavkin.excavator.hydraulics`).
     name, source : str
         For messages.
 
@@ -409,7 +412,7 @@ class Machine:
     @property
     def parameters(self) -> dict[str, float]:
         """Every parameter of the machine and its nominal value (SI): the mechanism's and its
-        cylinders' and circuits' (:func:`excavkin.excavator.designs.machine_parameters`)."""
+        cylinders' and circuits' ([`excavkin.excavator.designs.machine_parameters`][])."""
         from excavkin.excavator.designs import machine_parameters
 
         return machine_parameters(self)
@@ -462,7 +465,7 @@ class Machine:
     @property
     def mass_points(self) -> MassPoints:
         """The front's masses as points: each body's centre of mass (the engine's own, from
-        :class:`~excavkin.kinetostatics.inertia.MassProperties`) and each cylinder's mass,
+        `MassProperties`) and each cylinder's mass,
         half at either end pin."""
         if self._mass_points is None:
             self._mass_points = _mass_points(self)
@@ -470,8 +473,9 @@ class Machine:
 
     def weight_loads(self) -> list[Load]:
         """The front's weight as loads of the general kinetostatics: the model's bodies
-        (:class:`~excavkin.kinetostatics.Gravity`) and half of each cylinder's mass at each end
-        pin that moves (a :class:`~excavkin.kinetostatics.PointForce` on a body holding it)."""
+        ([`Gravity`][excavkin.kinetostatics.Gravity]) and half of each cylinder's mass at each end
+        pin that moves (a [`PointForce`][excavkin.kinetostatics.PointForce] on a body holding
+        it)."""
         from excavkin.kinetostatics import Gravity, PointForce
 
         loads: list[Load] = [Gravity(self.gravity)]
@@ -855,7 +859,7 @@ class InverseSolution:
     Attributes
     ----------
     lengths : ndarray, shape (n, 4, 3)
-        Per target, one row per :data:`BRANCHES` entry; NaN where that branch does not close.
+        Per target, one row per `BRANCHES` entry; NaN where that branch does not close.
     reachable : ndarray of bool, shape (n, 4)
         The geometry closes (the stick pivot and the link junction exist).
     within_stroke : ndarray of bool, shape (n, 4)

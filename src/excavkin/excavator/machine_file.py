@@ -23,8 +23,8 @@ relative to the machine file) or inline (a ``[model]`` table holding the model's
 Masses, inertias and centres of mass of the front are the model's (``[bodies]``), plus each
 cylinder's optional ``mass``. The optional ``[base]`` (upper structure, counterweight,
 undercarriage, ground support) and ``[lift]`` tables are read by
-:mod:`excavkin.excavator.base_file`, the optional ``[hydraulics]`` (pumps, swing, rod material)
-by :mod:`excavkin.excavator.hydraulics_file`.
+`excavkin.excavator.base_file`, the optional ``[hydraulics]`` (pumps, swing, rod material)
+by `excavkin.excavator.hydraulics_file`.
 """
 
 from __future__ import annotations
@@ -78,7 +78,8 @@ _CYL = {"driver", "retracted", "stroke", "bore", "rod", "circuit", "count", "dig
 
 
 def loads_machine(text: str, source: str | None = None) -> Machine:
-    """Parse a machine description from TOML text; see :func:`load_machine`."""
+    """Parse a machine description from TOML text; see
+    [`load_machine`][excavkin.excavator.machine_file.load_machine]."""
     return _machine(read_toml(text, source), source)
 
 

@@ -1,11 +1,13 @@
 r"""Pin loads and cylinder forces of an excavator front over its working range.
 
 At each pose (a set of cylinder lengths) one **load case** acts on the front at rest, with its
-weight (the model's bodies and the cylinders, as :meth:`Machine.weight_loads` puts them) unless
+weight (the model's bodies and the cylinders, as
+[`Machine.weight_loads`][excavkin.excavator.machine.Machine.weight_loads] puts them) unless
 ``gravity=False``:
 
 * ``"bucket"``, ``"arm"`` — the tool force of that working cylinder as
-  :func:`~excavkin.excavator.forces.tool_forces` gives it at that pose: the working cylinder at
+  [`tool_forces`][excavkin.excavator.forces.tool_forces] gives it at that pose: the working cylinder
+  at
   its working pressure, the force capped where a holding cylinder reaches its port relief; the
   soil pushes back on the bucket at the tool point (the lip, ISO 6015; or the tooth tip).
 * ``"lift"`` — a load hanging straight down from the lift point (``[lift] point`` of the machine
@@ -15,7 +17,8 @@ weight (the model's bodies and the cylinders, as :meth:`Machine.weight_loads` pu
   The load hangs from the bucket where the lift point is the bucket's, else from the first of
   the H-link, the side link and the stick that holds it.
 
-The general kinetostatics (:meth:`Mechanism.forces`) then gives the force of every pin on every
+The general kinetostatics ([`Mechanism.forces`][excavkin.mechanism.Mechanism.forces]) then gives the
+force of every pin on every
 member it joins and every cylinder's force. The **load of a pin** is the largest force it passes
 to any one of its members — the bodies pinned there and, at a cylinder's end, the cylinder's
 eye (whose force is the cylinder's) — so that for a pin of two members it is the force between
@@ -32,7 +35,7 @@ capacity) and one static solve with the loads.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -159,6 +162,7 @@ def pin_loads(
     load: float | None = None,
     at: At = "lip",
     gravity: bool = True,
+    progress: Callable[[int, int], None] | None = None,
 ) -> PinLoads:
     """Every pin's load and every cylinder's force under one load case, at each pose.
 
@@ -176,6 +180,8 @@ def pin_loads(
         For the tool forces: the lip (ISO 6015) or the tooth tip (SAE J1179).
     gravity : bool
         Include the front's weight (in the tool force or capacity too).
+    progress : callable, optional
+        ``progress(done, 3)`` after the load, the poses and their forces are found.
 
     Returns
     -------
@@ -205,9 +211,17 @@ def pin_loads(
         magnitude = tf.force
         # a pose where the holding cylinders cannot even hold the front has no tool force
         held = np.asarray(tf.pose.ok & (tf.force > 0.0))
+
+    def tell(done: int) -> None:
+        if progress is not None:
+            progress(done, 3)
+
+    tell(1)
     res = machine.solve(L)  # at rest: no inertia
+    tell(2)
     loads = [*(machine.weight_loads() if gravity else []), PointForce("tool", body, where, P)]
     fr = machine.mechanism.forces(res, loads)
+    tell(3)
     held = np.asarray(held & fr.ok & machine.within_stroke(L))
     cyl = np.stack([fr.force(d) for d in machine.drivers], axis=1)
     labels = pin_labels(machine)
@@ -354,16 +368,17 @@ def largest_pin_loads(
     at: At = "lip",
     gravity: bool = True,
 ) -> tuple[tuple[PinLoads, ...], tuple[LoadMaximum, ...]]:
-    """:func:`pin_loads` of each case at the poses, and :func:`load_maxima` over them.
+    """[`pin_loads`][excavkin.excavator.pin_loads.pin_loads] of each case at the poses, and
+    `load_maxima` over them.
 
     Parameters
     ----------
     machine : Machine
     lengths : array_like, shape (n, 3)
-        E.g. :func:`~excavkin.excavator.ranges.stroke_grid`.
+        E.g. `stroke_grid`.
     cases : sequence of {"bucket", "arm", "lift"}
     load, at, gravity
-        As :func:`pin_loads` (``load`` for the lift case).
+        As [`pin_loads`][excavkin.excavator.pin_loads.pin_loads] (``load`` for the lift case).
 
     Returns
     -------

@@ -49,7 +49,7 @@ def plot_pin_maps(
     ----------
     machine : Machine
     loads : PinLoads
-        Over a stroke grid (:func:`~excavkin.excavator.ranges.stroke_grid`).
+        Over a stroke grid (`stroke_grid`).
     pins : sequence of str, optional
         Point names of the pins to show (default all).
     cell : float
@@ -124,7 +124,7 @@ def plot_load_maxima(
     ----------
     machine : Machine
     maxima : sequence of LoadMaximum
-        From :func:`~excavkin.excavator.pin_loads.load_maxima`.
+        From `load_maxima`.
     ax : matplotlib Axes, optional
 
     Returns

@@ -102,7 +102,7 @@ def plot_working_range(
     ----------
     machine : Machine
     ranges : WorkingRanges
-        From :func:`~excavkin.excavator.ranges.working_ranges`.
+        From [`working_ranges`][excavkin.excavator.ranges.working_ranges].
     ax : matplotlib Axes, optional
     show_front : bool
         Also draw the front at the maximum-reach pose, faintly.
@@ -197,7 +197,7 @@ def plot_force_map(
     ----------
     machine : Machine
     forces : ToolForces
-        Over a dense sweep (:func:`~excavkin.excavator.ranges.sweep`).
+        Over a dense sweep (`sweep`).
     ranges : WorkingRanges, optional
         Overlays the envelope.
     cell : float

@@ -3,7 +3,7 @@ r"""Working range of an excavator front: the tip's side-view envelope and the st
 Every figure is a constrained optimum over the three strokes, found by a vectorised pattern
 search (a coarse grid over the free strokes, then a shrinking grid around the best few points,
 to ~1e-9 m), with the constraints its definition imposes solved exactly by the closed-form
-:func:`~excavkin.excavator.machine.inverse`; the reported pose is re-solved by the general
+[`inverse`][excavkin.excavator.machine.inverse]; the reported pose is re-solved by the general
 engine. Definitions (heights from the ground line, reaches from the swing axis, to the tooth
 tip; SAE J1193 double-letter codes where known):
 
@@ -23,7 +23,7 @@ level-bottom depth                 any; deepest level tip path of ``level_bottom
 ===========================  ====  ===========================================================
 
 The envelope is the union, over the boom's swing, of the region the tip covers with the boom
-held (:func:`envelope`); its boundary follows the true one (stroke limits and the arm–bucket
+held (`envelope`); its boundary follows the true one (stroke limits and the arm–bucket
 fold) to about 0.1 mm.
 """
 
@@ -48,7 +48,7 @@ from excavkin.excavator.machine import (
     inverse,
     wrap_angle,
 )
-from excavkin.excavator.search import Evaluate, maximize_strokes
+from excavkin.excavator.search import Evaluate, Progress, maximize_strokes, part
 
 
 @dataclass(frozen=True, slots=True)
@@ -132,7 +132,7 @@ def sweep(machine: Machine, n: int | tuple[int, int, int] = 41) -> FrontPose:
 
 
 def stroke_grid(machine: Machine, n: int | tuple[int, int, int] = 41) -> F:
-    """The cylinder lengths of :func:`sweep`: a full 3-D grid of strokes, shape
+    """The cylinder lengths of `sweep`: a full 3-D grid of strokes, shape
     (n_boom · n_arm · n_bucket, 3), ends included, bucket length varying fastest."""
     counts = (n, n, n) if isinstance(n, int) else n
     axes = [
@@ -238,8 +238,8 @@ def envelope(machine: Machine, n: int = 161) -> F:
     the union, over the boom's swing, of the region W the tip covers with the boom held. W is
     the union of the images of the cells of an (arm, bucket) grid, split into triangles; the
     grid is even in the stick's and bucket's angles and contains the fold strokes exactly
-    (:func:`_fold_strokes`), so its boundary is sampled on the true boundary. W is then swept
-    through the boom's range exactly (:func:`_swept`). Chords leave the polygon within about
+    (`_fold_strokes`), so its boundary is sampled on the true boundary. W is then swept
+    through the boom's range exactly (`_swept`). Chords leave the polygon within about
     0.1 mm of the true boundary for a 20 t front.
 
     Parameters
@@ -390,14 +390,18 @@ def _bucket_held(machine: Machine, beta: float, sign: float) -> Evaluate:
 
 
 # ---------------------------------------------------------------------------- figures
-def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingRanges:
+def working_ranges(
+    machine: Machine, *, envelope_samples: int = 161, progress: Progress | None = None
+) -> WorkingRanges:
     """The standard working-range figures of the machine, and its envelope.
 
     Parameters
     ----------
     machine : Machine
     envelope_samples : int
-        ``n`` of :func:`envelope`.
+        ``n`` of `envelope`.
+    progress : callable, optional
+        ``progress(done, total)`` as the figures' searches and the envelope are done.
 
     Returns
     -------
@@ -405,6 +409,18 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
     """
     g0, x0 = machine.ground_line, machine.swing_axis
     figs: list[RangeFigure] = []
+    # the searches (one more with a vertical wall), the least dumping height, the level
+    # bottom and the envelope
+    steps = 8 + int(machine.has_cutting_direction)
+    step = iter(range(steps))
+
+    def search(evaluate: Evaluate, free: tuple[int, ...]) -> F:
+        _, L = maximize_strokes(evaluate, machine, free, progress=part(progress, next(step), steps))
+        return L
+
+    def done() -> None:
+        if progress is not None:
+            progress(next(step) + 1, steps)
 
     def add(
         key: str,
@@ -430,7 +446,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         )
 
     all3 = (0, 1, 2)
-    _, L = maximize_strokes(_free_objective(machine, lambda p: p.tip[:, 0]), machine, all3)
+    L = search(_free_objective(machine, lambda p: p.tip[:, 0]), all3)
     add(
         "max_digging_reach",
         "",
@@ -439,7 +455,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[0] - x0,
         "any (farthest tip)",
     )
-    _, L = maximize_strokes(_at_height(machine, np.array([g0]), 1.0), machine, (1, 2))
+    L = search(_at_height(machine, np.array([g0]), 1.0), (1, 2))
     add(
         "max_reach_ground",
         "",
@@ -448,7 +464,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[0] - x0,
         "any, tip on the ground line",
     )
-    _, L = maximize_strokes(_free_objective(machine, lambda p: -p.tip[:, 1]), machine, all3)
+    L = search(_free_objective(machine, lambda p: -p.tip[:, 1]), all3)
     add(
         "max_digging_depth",
         "AC",
@@ -472,7 +488,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
     )
     if machine.has_cutting_direction:  # a bucket without teeth needs its floor point
         wall = machine.wall_bucket_angle
-        _, L = maximize_strokes(_bucket_held(machine, wall, -1.0), machine, (0, 1))
+        L = search(_bucket_held(machine, wall, -1.0), (0, 1))
         add(
             "max_vertical_wall_depth",
             "AF",
@@ -481,7 +497,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
             lambda t: g0 - t[1],
             f"teeth (lip → tip) vertical: pin → tip at {np.degrees(wall):.1f}°",
         )
-    _, L = maximize_strokes(_free_objective(machine, lambda p: p.tip[:, 1]), machine, all3)
+    L = search(_free_objective(machine, lambda p: p.tip[:, 1]), all3)
     add(
         "max_cutting_height",
         "",
@@ -490,7 +506,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         lambda t: t[1] - g0,
         "any (highest tip)",
     )
-    _, L = maximize_strokes(_bucket_held(machine, -0.5 * np.pi, 1.0), machine, (0, 1))
+    L = search(_bucket_held(machine, -0.5 * np.pi, 1.0), (0, 1))
     add(
         "max_dumping_height",
         "",
@@ -503,6 +519,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
     crowd = hi[1] if machine.cylinders[1].dig == "extend" else lo[1]
     start = np.array([[[hi[0], crowd, 0.5 * (lo[2] + hi[2])]]])
     _, Lh = _bucket_held(machine, -0.5 * np.pi, 1.0)(start)
+    done()
     add(
         "min_dumping_height",
         "",
@@ -512,6 +529,7 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
         "boom up, stick crowded, bucket hanging",
     )
     depth, ends, L = _level_bottom(machine, g0 - deep.value)
+    done()
     figs.append(
         RangeFigure(
             "level_bottom_depth",
@@ -524,7 +542,9 @@ def working_ranges(machine: Machine, *, envelope_samples: int = 161) -> WorkingR
             "any; level tip path",
         )
     )
-    return WorkingRanges(tuple(figs), envelope(machine, envelope_samples), {"level_bottom": ends})
+    outline = envelope(machine, envelope_samples)
+    done()
+    return WorkingRanges(tuple(figs), outline, {"level_bottom": ends})
 
 
 def _x_extent(machine: Machine, ys: F) -> tuple[F, F, F, F]:

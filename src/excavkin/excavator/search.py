@@ -18,6 +18,18 @@ from excavkin.excavator.machine import Machine
 Evaluate = Callable[[F], tuple[F, F]]
 
 
+#: ``progress(done, total)``: an analysis's report of the work done so far
+Progress = Callable[[int, int], None]
+
+
+def part(progress: Progress | None, k: int, n: int) -> Progress | None:
+    """The ``k``-th of ``n`` equal parts of a task reported to ``progress``: a part's own
+    ``(done, total)`` becomes the task's ``(k·total + done, n·total)``."""
+    if progress is None:
+        return None
+    return lambda done, total: progress(k * total + done, n * total)
+
+
 def maximize_strokes(
     evaluate: Evaluate,
     machine: Machine,
@@ -30,6 +42,7 @@ def maximize_strokes(
     m: int = 5,
     base: F | None = None,
     strokes: tuple[F, F] | None = None,
+    progress: Progress | None = None,
 ) -> tuple[F, F]:
     """Maximise ``evaluate`` over the free strokes, for ``problems`` independent problems.
 
@@ -38,6 +51,7 @@ def maximize_strokes(
     infeasible) and the full lengths of the pose it scored (problems, k, 3). ``strokes``: each
     problem's shortest and longest lengths, shape (problems, 3) each (a family of designs);
     default the machine's. Returns the best objective (problems,) and lengths (problems, 3).
+    ``progress(done, rounds + 1)`` is called after the coarse grid and after each round.
     """
     if strokes is None:
         lo = np.broadcast_to(machine.lengths_min, (problems, 3))
@@ -53,6 +67,8 @@ def maximize_strokes(
     L = np.broadcast_to(mid[:, None, :], (problems, len(unit), 3)).copy()
     L[:, :, fr] = lo[:, None, fr] + unit * (hi - lo)[:, None, fr]
     obj, full = evaluate(L)
+    if progress is not None:
+        progress(1, rounds + 1)
     full = np.where(np.isfinite(full), full, L)
     top = np.argsort(-obj, axis=1)[:, :keep]
     centre = np.take_along_axis(full, top[:, :, None], axis=1)  # (P, keep, 3)
@@ -62,7 +78,7 @@ def maximize_strokes(
     )  # (m^nf, nf)
     best_obj = np.take_along_axis(obj, top, axis=1)
     best_L = centre.copy()
-    for _ in range(rounds):
+    for r in range(rounds):
         trial = np.broadcast_to(best_L[:, :, None, :], (problems, keep, len(offs), 3)).copy()
         trial[..., fr] = np.clip(
             best_L[:, :, None, fr] + offs * w, lo[:, None, None, fr], hi[:, None, None, fr]
@@ -83,5 +99,7 @@ def maximize_strokes(
             np.isfinite(best_L[..., free]), best_L[..., free], centre[..., free]
         )
         w = w / 2.0
+        if progress is not None:
+            progress(r + 2, rounds + 1)
     k = np.argmax(best_obj, axis=1)
     return best_obj[np.arange(problems), k], best_L[np.arange(problems), k]

@@ -143,7 +143,7 @@ SOILS: dict[str, Soil] = {
 
 
 def soil(name: str, **overrides: Any) -> Soil:
-    """A soil of :data:`SOILS` by name, with some properties replaced (SI)."""
+    """A soil of `SOILS` by name, with some properties replaced (SI)."""
     if name not in SOILS:
         raise InputError(f"unknown soil {name!r}; known soils: {', '.join(SOILS)}")
     unknown = (set(overrides) - set(Soil.__dataclass_fields__)) | ({"name"} & set(overrides))
@@ -393,6 +393,101 @@ def mckyes(
     return Resistance(
         np.where(out, along, 0.0), np.where(out, normal, 0.0), np.asarray(beta, dtype=np.float64)
     )
+
+
+@dataclass(frozen=True, slots=True)
+class ShearPlane:
+    """The stresses on McKyes's failure plane at the least force, each shape (n,).
+
+    Attributes
+    ----------
+    angle : ndarray
+        The failure (shear) angle β (rad).
+    normal_stress : ndarray
+        σ, the intact soil's normal stress on the wedge across the plane (Pa, > 0 pressing).
+    shear_stress : ndarray
+        τ, its shear stress opposing the wedge's slip (Pa); τ = c + σ·tan φ (Mohr–Coulomb at
+        failure).
+    """
+
+    angle: F
+    normal_stress: F
+    shear_stress: F
+
+
+def mckyes_shear_plane(
+    depth: ArrayLike, rake: ArrayLike, s: Soil, tool: Tool, *, g: float = STANDARD_GRAVITY
+) -> ShearPlane:
+    """The normal and shear stress on McKyes's failure plane (mean over the plane).
+
+    The wedge between the face and the plane is in equilibrium under the tool's force on it
+    (P at δ from the face's normal, and the adhesion c_a·d·w/sin α along the face), its weight
+    γ·w·d²·(cot α + cot β)/2, the surcharge q·w·d·(cot α + cot β) and the intact soil's force
+    across the plane, whose components on the plane's normal and along it, over the plane's
+    area w·d/sin β, are σ and τ.
+
+    Parameters
+    ----------
+    depth : array_like, shape (n,)
+        Depth of the edge below the free surface (m); > 0.
+    rake : array_like, shape (n,)
+        Rake angle α (rad), in (0, π).
+    s : Soil
+    tool : Tool
+    g : float
+        Gravity (m/s²); 0 for a cut where the soil's weight is left out (rock).
+
+    Returns
+    -------
+    ShearPlane
+    """
+    d = np.atleast_1d(np.asarray(depth, dtype=np.float64))
+    a = np.atleast_1d(np.asarray(rake, dtype=np.float64))
+    d, a = np.broadcast_arrays(d, a)
+    if not (d > 0.0).all():
+        raise InputError("the stresses on the failure plane need a depth > 0")
+    b = mckyes_failure_angle(d, a, s, tool, g=g)
+    phi, delta, w = s.friction_angle, s.metal_friction, tool.width
+    P = _mckyes_p(a, b, d, s, w, s.unit_weight(g), phi, delta)
+    # the tool's force on the wedge, in x along the motion and y up: P along the face's
+    # normal (sin α, cos α) turned by δ towards the edge, and the adhesion down the face
+    adh = s.adhesion * d * w / np.sin(a)
+    tx = P * np.sin(a + delta) + adh * np.cos(a)
+    ty = P * np.cos(a + delta) - adh * np.sin(a)
+    top = d * (1.0 / np.tan(a) + 1.0 / np.tan(b))
+    down = 0.5 * s.unit_weight(g) * w * d * top + s.surcharge * w * top
+    fx, fy = -tx, -(ty - down)  # the intact soil's force on the wedge balances the rest
+    area = d * w / np.sin(b)
+    normal = (-fx * np.sin(b) + fy * np.cos(b)) / area
+    shear = -(fx * np.cos(b) + fy * np.sin(b)) / area
+    return ShearPlane(np.asarray(b), np.asarray(normal), np.asarray(shear))
+
+
+def cohesion_from_ucs(ucs: float, friction_angle: float) -> float:
+    """The Mohr–Coulomb cohesion of a material of unconfined compressive strength ``ucs``
+    (Pa) and internal friction φ (rad): c = UCS·(1 − sin φ)/(2·cos φ).
+
+    The uniaxial test's Mohr circle (σ₃ = 0, σ₁ = UCS; centre UCS/2, radius UCS/2) touches
+    the failure line τ = c + σ·tan φ: the centre's distance to the line,
+    (c + (UCS/2)·tan φ)·cos φ, equals the radius.
+
+    Parameters
+    ----------
+    ucs : float
+        Pa, > 0.
+    friction_angle : float
+        φ (rad), in [0, π/2).
+
+    Returns
+    -------
+    float
+        c (Pa).
+    """
+    if not (np.isfinite(ucs) and ucs > 0.0):
+        raise InputError(f"the compressive strength must be finite and > 0, not {ucs!r}")
+    if not (np.isfinite(friction_angle) and 0.0 <= friction_angle < 0.5 * np.pi):
+        raise InputError(f"φ must be in [0°, 90°), not {friction_angle!r} rad")
+    return float(ucs * (1.0 - np.sin(friction_angle)) / (2.0 * np.cos(friction_angle)))
 
 
 def resistance(

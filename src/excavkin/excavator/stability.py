@@ -1,7 +1,7 @@
 r"""Tipping and slipping of an excavator: the whole machine in equilibrium on the ground.
 
 The machine (front at its pose, upper structure, counterweight, undercarriage; see
-:mod:`excavkin.excavator.base`) stands on its support polygon. A load of magnitude λ along a
+`excavkin.excavator.base`) stands on its support polygon. A load of magnitude λ along a
 unit direction f = (f_x, f_y) in the front's plane acts at a point P of the front (a tool force
 at the lip or tooth tip, a load hung at the bucket pin). With the upper structure swung by θ
 (d = (cos θ, sin θ) in plan), a point of the front's plane at model abscissa x lies in plan at
@@ -23,10 +23,13 @@ load: λ·|f_x| = μ·(W − λ·f_y), so λ_slip = μ·W / (|f_x| + μ·f_y) wh
 positive (inf otherwise); W is the whole machine's weight.
 
 Everything is vectorised over poses (and the few tipping lines); the front's weight at each pose
-comes from the engine's positions (:attr:`Machine.mass_points`).
+comes from the engine's positions
+([`Machine.mass_points`][excavkin.excavator.machine.Machine.mass_points]).
 
-Tool forces (ISO 6015) are then capped by these limits as well (:func:`capped_tool_forces`,
-:func:`base_rated_force`), with the limit that binds named, as ISO 6015 §3.17–3.19 and §4.5
+Tool forces (ISO 6015) are then capped by these limits as well
+([`capped_tool_forces`][excavkin.excavator.stability.capped_tool_forces],
+[`base_rated_force`][excavkin.excavator.stability.base_rated_force]), with the limit that binds
+named, as ISO 6015 §3.17–3.19 and §4.5
 name them: the hydraulic limit (a cylinder), the tipping limit, the slipping limit.
 """
 
@@ -45,6 +48,7 @@ from excavkin.errors import InputError, ModelError
 from excavkin.excavator.base import BaseMachine, TippingLine
 from excavkin.excavator.forces import At, RatedForce, ToolForces, Working, rated_force, tool_forces
 from excavkin.excavator.machine import Machine, as_lengths
+from excavkin.excavator.search import Progress, part
 from excavkin.kinematics.summary import batch_repr
 
 #: where the machine's front points: over the front (idler) end of the tracks, or over the side
@@ -80,7 +84,7 @@ class Stability:
         Magnitude of the load at which the machine begins to tip (N); 0 where it tips without
         the load, inf where the load never tips it, NaN where the pose does not assemble.
     tipping_line : ndarray of str, shape (n,)
-        The line it tips about (:class:`~excavkin.excavator.base.TippingLine` name).
+        The line it tips about (`TippingLine` name).
     slipping_load : ndarray, shape (n,)
         Magnitude of the load at which the machine slides (N); inf where it never does.
     moment : ndarray, shape (n, n_lines)
@@ -140,9 +144,10 @@ def equilibrium(
     Parameters
     ----------
     machine : Machine
-        With a base (:attr:`Machine.base`).
+        With a base (`Machine.base`).
     positions : ndarray, shape (n, n_points, 2)
-        Every point of the model at each pose (a :class:`KinematicResult`'s ``positions``).
+        Every point of the model at each pose (a [`KinematicResult`][excavkin.KinematicResult]'s
+        ``positions``).
     point : ndarray, shape (n, 2)
         Where the load acts (m).
     direction : ndarray, shape (n, 2) or (2,)
@@ -277,7 +282,7 @@ class CappedToolForces:
         The cylinder of the hydraulic limit (``"arm"``, ``"boom"``, …), ``"tipping (<line>)"``
         or ``"slipping"``.
     hydraulic : ToolForces
-        The cylinders' limit (:func:`~excavkin.excavator.forces.tool_forces`).
+        The cylinders' limit ([`tool_forces`][excavkin.excavator.forces.tool_forces]).
     stability : Stability
         Tipping and slipping loads of the tool force (acting on the machine along
         ``−hydraulic.direction``).
@@ -332,7 +337,7 @@ def capped_tool_forces(
 ) -> CappedToolForces:
     """Tool forces at each pose, capped by the cylinders, tipping and slipping.
 
-    The hydraulic limit is :func:`~excavkin.excavator.forces.tool_forces` (its ``gravity``
+    The hydraulic limit is [`tool_forces`][excavkin.excavator.forces.tool_forces] (its ``gravity``
     switches the front's weight in the cylinders' balance); tipping and slipping always
     count every weight, the front's at its pose included.
 
@@ -376,7 +381,7 @@ class BaseRatedForce:
         Slipping load there (N); beyond it ISO 6015 §4.5 anchors the machine.
     cylinders_only : RatedForce
         The rated force without the base machine's limits
-        (:func:`~excavkin.excavator.forces.rated_force`).
+        ([`rated_force`][excavkin.excavator.forces.rated_force]).
     """
 
     rated: RatedForce
@@ -393,10 +398,11 @@ def base_rated_force(
     *,
     at: At = "lip",
     swing: float | Over = "front",
+    progress: Progress | None = None,
 ) -> BaseRatedForce:
     """The rated tool force (ISO 6015 §5.2, SAE J1179 §3.3) capped by tipping and slipping.
 
-    The standards' positions as in :func:`~excavkin.excavator.forces.rated_force`, and the
+    The standards' positions as in [`rated_force`][excavkin.excavator.forces.rated_force], and the
     positions they leave free (the boom; for the bucket force the stick too) put where the
     force capped by all three limits is largest — a test finds "the optimum position giving
     the maximum force" (ISO 6015 §4.4) on the machine, which tips and slides. The front's
@@ -409,6 +415,8 @@ def base_rated_force(
     working : {"arm", "bucket"}
     at : {"lip", "tip"}
     swing : float or {"front", "side"}
+    progress : callable, optional
+        ``progress(done, total)`` as the searches go on.
 
     Returns
     -------
@@ -420,7 +428,7 @@ def base_rated_force(
     def limits(tf: ToolForces) -> list[tuple[NDArray[np.str_], F]]:
         return base_limits(tf, _tool_stability(machine, tf, sw))
 
-    capped = rated_force(machine, working, at=at, limits=limits)
+    capped = rated_force(machine, working, at=at, limits=limits, progress=part(progress, 0, 2))
     tf = tool_forces(machine, capped.lengths[None, :], working, at=at, gravity=False)
     st = _tool_stability(machine, tf, sw)
     return BaseRatedForce(
@@ -429,5 +437,5 @@ def base_rated_force(
         float(st.tipping_load[0]),
         str(st.tipping_line[0]),
         float(st.slipping_load[0]),
-        rated_force(machine, working, at=at),
+        rated_force(machine, working, at=at, progress=part(progress, 1, 2)),
     )

@@ -44,7 +44,7 @@ def plot_lift_chart(machine: Machine, table: LiftTable, *, ax: Axes | None = Non
     ----------
     machine : Machine
     table : LiftTable
-        From :func:`~excavkin.excavator.lift.lift_table`.
+        From [`lift_table`][excavkin.excavator.lift.lift_table].
     ax : matplotlib Axes, optional
 
     Returns
@@ -268,7 +268,7 @@ def plot_limit_map(
     force : ndarray, shape (n,)
         The capped force (N).
     limiting : ndarray of str, shape (n,)
-        Its limit (:class:`~excavkin.excavator.stability.CappedToolForces`).
+        Its limit (`CappedToolForces`).
     title : str
     cell : float
     ax : matplotlib Axes, optional

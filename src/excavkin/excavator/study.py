@@ -1,5 +1,6 @@
 """Design studies and optimisation of an excavator machine: a study file that names a machine
-file, whose parameters are the machine's (:func:`~excavkin.excavator.designs.machine_parameters`)
+file, whose parameters are the machine's
+([`machine_parameters`][excavkin.excavator.designs.machine_parameters])
 and whose metrics read the machine's columns at a set of cylinder lengths.
 
 ::
@@ -22,7 +23,7 @@ and whose metrics read the machine's columns at a set of cylinder lengths.
 A design's pose fails where the front does not assemble or a cylinder length lies outside that
 design's stroke; a design whose cylinders or circuits are impossible fails at every pose.
 
-The machine columns (:data:`COLUMNS`) come from the engine's transfer functions, which have no
+The machine columns (`COLUMNS`) come from the engine's transfer functions, which have no
 parameter sensitivities of their own here: the local method takes the gradient of every column
 at every pose by central differences in the scaled parameters, all 2n + 1 designs of one
 gradient solved as one batch. Differential evolution solves its whole population as one batch.
@@ -30,8 +31,8 @@ gradient solved as one batch. Differential evolution solves its whole population
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -62,9 +63,9 @@ if TYPE_CHECKING:
 #: or arm cylinder at the lip, at working pressure, capped by the holding cylinders' reliefs,
 #: without the front's weight (as rated forces are given); ``force.*``: the same with the
 #: weight; ``bucket.angle_to_stick``: the bucket's angle relative to the stick
-#: (:func:`~excavkin.excavator.designs.bucket_angle_to_stick`); ``tip.x``, ``tip.y``: the
+#: (`bucket_angle_to_stick`); ``tip.x``, ``tip.y``: the
 #: tooth tip; ``range.*``: the design's working-range figure
-#: (:mod:`~excavkin.excavator.design_ranges`), the same at every pose.
+#: (`design_ranges`), the same at every pose.
 COLUMNS: dict[str, str] = {
     "rated.bucket": "force",
     "rated.arm": "force",
@@ -87,7 +88,7 @@ def machine_columns(
     params: Mapping[str, ArrayLike],
     names: Sequence[str],
 ) -> tuple[dict[str, F], NDArray[np.bool_]]:
-    """The columns ``names`` (of :data:`COLUMNS`) at cylinder ``lengths`` (shape (n, 3)),
+    """The columns ``names`` (of `COLUMNS`) at cylinder ``lengths`` (shape (n, 3)),
     sample i the design ``params[name][i]``, and which samples are valid (assembled, within
     their design's strokes, possible cylinders and circuits), shape (n,)."""
     L = as_lengths(lengths)
@@ -153,7 +154,7 @@ def evaluate_machine(
 ) -> pd.DataFrame:
     """Every design at every pose (cylinder lengths, shape (p, 3)), as one batch of
     designs × poses samples; one row per design (columns as
-    :func:`excavkin.studies.metrics.evaluate`'s)."""
+    [`excavkin.studies.metrics.evaluate`][]'s)."""
     check_parameters(machine, designs)
     L = as_lengths(lengths)
     d = len(next(iter(designs.values())))
@@ -175,11 +176,12 @@ class MachineStudy:
     ----------
     machine : Machine
     bounds : dict of str to (float, float)
-        Design parameters (names of :func:`machine_parameters`) and their bounds.
+        Design parameters (names of
+        [`machine_parameters`][excavkin.excavator.designs.machine_parameters]) and their bounds.
     lengths : ndarray, shape (p, 3)
         The poses: boom, arm and bucket cylinder lengths.
     metrics : tuple of Metric
-        Of :data:`COLUMNS`.
+        Of `COLUMNS`.
     constraints : tuple of Constraint
     optimize : dict
         The ``[optimize]`` settings (empty if the file has none).
@@ -187,6 +189,9 @@ class MachineStudy:
         The design of experiments of ``excavkin excavator study`` (as a model's study).
     source : str
         The machine file's text (for the study's fingerprint).
+    units : dict of str to str
+        The units to show results in, of each parameter (``design.NAME``) and metric, as the
+        study file writes them; SI where absent.
     """
 
     machine: Machine
@@ -199,6 +204,7 @@ class MachineStudy:
     samples: int = 1024
     seed: int = 0
     source: str = ""
+    units: dict[str, str] = field(default_factory=dict)
 
     def evaluate(self, designs: Mapping[str, F]) -> pd.DataFrame:
         """The study's metrics of ``designs`` (parameter → values), one row per design."""
@@ -287,9 +293,12 @@ def load_machine_study(path: str | Path) -> MachineStudy:
              for m in metrics}  # fmt: skip
     constraints = sf.read_constraints(r, kinds)
     settings = sf.read_optimize(r, [m.name for m in metrics]) if "optimize" in r.data else {}
+    units = sf.study_units(
+        r, {f"design.{k}": machine_parameter_kind(k, machine) for k in bounds}, kinds
+    )
     study = MachineStudy(
         machine, bounds, pose_lengths(machine, poses), tuple(metrics), tuple(constraints),
-        settings, method, samples, seed, source,
+        settings, method, samples, seed, source, units,
     )  # fmt: skip
     sf.check_design_count(r, study.designs)
     return study
@@ -335,6 +344,11 @@ class _MachineProblem(Problem):
         )  # fmt: skip
         self.study = study
         self.angles = set(ANGLES)
+        self.kinds = {f"design.{k}": machine_parameter_kind(k, study.machine) for k in self.names}
+        for m in self.metrics:
+            self.kinds[m.name] = (
+                "dimensionless" if m.reduce.startswith("arg") else COLUMNS[m.column]
+            )
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
         return evaluate_machine(self.study.machine, designs, self.study.lengths, self.metrics)
@@ -371,10 +385,27 @@ def optimize_machine(
     maxiter: int | None = None,
     popsize: int | None = None,
     tol: float = 1e-12,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Optimum:
     """The best design of the study's box under its constraints (arguments left out come from
     its ``[optimize]`` table): differential evolution over whole populations solved as one
-    batch, then polished by SLSQP on central-difference gradients; or SLSQP alone.
+    batch, then polished by SLSQP on central-difference gradients; or SLSQP alone. The optimum
+    is shown in the study's units.
+
+    Parameters
+    ----------
+    study : MachineStudy
+    objective : str, optional
+        A metric's name.
+    sense : {"min", "max"}, optional
+    method : {"slsqp", "differential-evolution"}, optional
+    x0 : mapping, optional
+        Start of a local method (default: the machine's own values, clipped to the bounds).
+    seed : int
+    maxiter, popsize, tol
+        As for [`optimize`][excavkin.studies.optimize.optimize].
+    progress : callable, optional
+        ``progress(iterations, maxiter)`` after each iteration.
 
     Returns
     -------
@@ -396,7 +427,8 @@ def optimize_machine(
     how = method or s.get("method", "slsqp")
     if how not in ("slsqp", "differential-evolution"):
         raise InputError(f"unknown method {how!r} (known: slsqp, differential-evolution)")
-    return run(
+    best = run(
         problem, how, x0, seed=seed, maxiter=maxiter or s.get("maxiter", 200),
-        popsize=popsize or s.get("popsize", 32), tol=tol,
+        popsize=popsize or s.get("popsize", 32), tol=tol, progress=progress,
     )  # fmt: skip
+    return replace(best, units=dict(study.units))

@@ -1,4 +1,4 @@
-"""Read a mechanism from TOML (``schema_version = 1``) into an SI :class:`Model`.
+"""Read a mechanism from TOML (``schema_version = 1``) into an SI [`Model`][excavkin.Model].
 
 Every number may carry its own unit (``"48 mm"``, ``"50 deg"``); a bare number takes the
 file's ``[units]`` default for its kind, and is an error without one.
@@ -183,7 +183,7 @@ MAX_DEPTH = 8
 
 def read_toml(text: str, source: str | None = None) -> dict[str, Any]:
     """Parse TOML text; a syntax error, an oversized or too deeply nested file becomes a
-    :class:`ModelError` naming the file."""
+    [`ModelError`][excavkin.ModelError] naming the file."""
     if len(text) > MAX_FILE_BYTES:
         raise ModelError(
             f"the file is {len(text):,} characters long; a model or machine file is at most "
@@ -229,7 +229,7 @@ def _nesting(text: str) -> int:
 
 def read_text_file(path: str | Path) -> str:
     """A model or machine file as text: size, encoding and file-system errors as one
-    :class:`ModelError` naming the file."""
+    [`ModelError`][excavkin.ModelError] naming the file."""
     p = Path(path)
     try:
         size = p.stat().st_size
@@ -250,7 +250,7 @@ def read_text_file(path: str | Path) -> str:
 
 
 def loads_model(text: str, source: str | None = None) -> Model:
-    """Parse a mechanism from TOML text; see :func:`load_model`."""
+    """Parse a mechanism from TOML text; see `load_model`."""
     return build_model(read_toml(text, source), source)
 
 

@@ -211,14 +211,14 @@ def find_change_points(
     the velocities and inputs are given).
 
     With the transmission angles ``trans`` (n_transmissions, n), a dyad whose triangle never
-    comes nearer flat than sin γ = :data:`NEVER_FLAT` is passed over: its triangle's height
+    comes nearer flat than sin γ = `NEVER_FLAT` is passed over: its triangle's height
     and base then stay above about a sixth of its shorter side, so a fold between two samples
     would need P to move more than half a link in one step — no sweep that can be read.
 
     The samples are numbered from ``offset``. With the ``tail`` of the samples just before
-    them (:meth:`Tail.of`), the change points between the two stretches are found too, so
+    them (`Tail.of`), the change points between the two stretches are found too, so
     that a sweep searched stretch by stretch finds what a search of the whole would (pairs
-    are neighbours across at most :data:`MAX_GAP` unsolved samples; ``trans`` then covers the
+    are neighbours across at most `MAX_GAP` unsolved samples; ``trans`` then covers the
     tail as well).
     """
     out = []
@@ -256,7 +256,7 @@ def _flattest(trans: F) -> float:
 @dataclass(frozen=True, slots=True)
 class Tail:
     """The last samples of a stretch of a sweep, as many as a change point can reach back
-    across (:data:`MAX_GAP` unsolved samples and one solved): x, v (n_points, 2, k), q, qd
+    across (`MAX_GAP` unsolved samples and one solved): x, v (n_points, 2, k), q, qd
     (n_inputs, k) and the transmission angles (n_transmissions, k), copied."""
 
     x: F

@@ -1,9 +1,11 @@
 """Typed columns: every result says what each of its table's columns is.
 
-A :class:`Column` names its owner (a point, body, driver, pin, slider or the time axis), the
+A [`Column`][excavkin.kinematics.columns.Column] names its owner (a point, body, driver, pin, slider
+or the time axis), the
 quantity and the physical kind (length, velocity, angle, force, ...). Outputs read these
 descriptions instead of parsing column names; a table read back from a file, which has only
-names, gets them from :func:`columns_from_names`, the one place that parses names.
+names, gets them from [`columns_from_names`][excavkin.kinematics.columns.columns_from_names], the
+one place that parses names.
 """
 
 from __future__ import annotations

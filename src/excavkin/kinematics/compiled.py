@@ -1,6 +1,6 @@
 """A closed-form plan compiled to one machine-code loop over samples (numba, optional).
 
-The NumPy kernels (:mod:`excavkin.kinematics.kernels`) run each step over a whole chunk, so a
+The NumPy kernels (`excavkin.kinematics.kernels`) run each step over a whole chunk, so a
 step's temporaries go to memory and come back for the next one. Here the plan is written out
 as the straight-line source of one function, every point's position, velocity and acceleration
 a local scalar, and numba compiles its loop over samples: a sample's whole state stays in
@@ -12,7 +12,7 @@ of a model, and it is cached on disk between runs.
 
 The generated code does the NumPy kernels' arithmetic in the same order, flags the same
 statuses at the same step (the first failure wins), and computes the derived body and element
-quantities and the finiteness check of :mod:`excavkin.kinematics.solve`. The NumPy path stays
+quantities and the finiteness check of `excavkin.kinematics.solve`. The NumPy path stays
 the reference: tests hold the two to 1e-15 of each column's scale.
 
 Only a closed-form plan at full order is compiled; Newton groups, the precision check's wider
@@ -47,7 +47,7 @@ THRESHOLD = 1 << 17
 COMPILE_AT = 20_000_000
 
 Kernel = Callable[..., None]
-#: the generated code's arctangent: arithmetic, inlined (:mod:`excavkin.kinematics.fast_atan2`)
+#: the generated code's arctangent: arithmetic, inlined (`excavkin.kinematics.fast_atan2`)
 ATAN2 = fast_atan2.NAME
 
 _lock = threading.Lock()
@@ -73,9 +73,9 @@ def supports(plan: SolvePlan) -> bool:
 
 def use(plan: SolvePlan, n: int, compiled: bool | None, per_sample: bool = False) -> bool:
     """Whether a solve of ``n`` samples takes the compiled path (``compiled`` None: when numba
-    is installed and the batch is large — :data:`THRESHOLD` for a kernel already compiled,
-    :data:`COMPILE_AT` for one to compile); ``per_sample``: the kernel for a constants table
-    of a column per sample (:func:`compile_plan`)."""
+    is installed and the batch is large — `THRESHOLD` for a kernel already compiled,
+    `COMPILE_AT` for one to compile); ``per_sample``: the kernel for a constants table
+    of a column per sample (`compile_plan`)."""
     if compiled is None:
         if n < THRESHOLD or not supports(plan) or not available():
             return False
@@ -140,11 +140,11 @@ def run(
     near_step: np.ndarray,
     start: int = 0,
 ) -> None:
-    """Solve a chunk with the ``kernel`` of ``plan``'s structure (:func:`compile_plan`), at full
+    """Solve a chunk with the ``kernel`` of ``plan``'s structure (`compile_plan`), at full
     order: its inputs are ``c.q``, ``c.qd`` and ``c.qdd``; it fills ``c``'s outputs, the derived
-    quantities (``body`` and ``element``: :class:`~excavkin.kinematics.result.Derived`'s
+    quantities (``body`` and ``element``: `Derived`'s
     arrays) and each sample's nearness to a dead position and nearest step (``near``,
-    ``near_step``, as :func:`~excavkin.kinematics.precision.nearness`). The outputs are the
+    ``near_step``, as `nearness`). The outputs are the
     whole solve's arrays, in C order; the chunk's samples start at ``start``.
 
     Bytes not written are bytes not paged in: ``c.v`` and ``c.a`` come zeroed (fresh
@@ -163,7 +163,7 @@ def run_table(
     near_step: np.ndarray,
     start: int = 0,
 ) -> None:
-    """:func:`run` with the chunk's constants table and stride (:func:`table`) given: a
+    """`run` with the chunk's constants table and stride (`table`) given: a
     whole solve's table is made once, and each chunk takes its columns."""
     k, stride = consts
     kernel(
@@ -174,10 +174,10 @@ def run_table(
 
 def compile_plan(plan: SolvePlan, per_sample: bool = False) -> Kernel:
     """The plan's compiled kernel: made once per structure, kept in memory and on disk (numba
-    compiles it at its first call). It is the generated loop (:func:`source`) rewritten over
+    compiles it at its first call). It is the generated loop (`source`) rewritten over
     blocks of samples, branch-free, so that the compiler vectorises it
-    (:mod:`excavkin.kinematics.vectorise`); ``per_sample``: for a constants table with a
-    column per sample (:func:`table`'s stride 1), else for one column."""
+    (`excavkin.kinematics.vectorise`); ``per_sample``: for a constants table with a
+    column per sample (`table`'s stride 1), else for one column."""
     return kernel_of(vectorised(source(plan, write_at_rest=False), per_sample))
 
 
@@ -248,7 +248,7 @@ def _load(text: str, key: str) -> Kernel:
 def source(plan: SolvePlan, *, write_at_rest: bool = True) -> str:
     """The kernel's Python source for ``plan`` (closed-form steps only). ``write_at_rest``
     False: a fixed point's velocity and acceleration rows are left as they come (the kernel
-    of :func:`compile_plan`, whose caller hands them in zeroed)."""
+    of `compile_plan`, whose caller hands them in zeroed)."""
     g = _Source(write_at_rest)
     for k, st in enumerate(plan.steps):
         if isinstance(st, Fixed):
@@ -496,7 +496,7 @@ class _Source:
 
     def derived(self, plan: SolvePlan) -> None:
         """Body angle, ω, ε and element length, rate, acceleration, angle, ω, ε
-        (:class:`~excavkin.kinematics.result.Derived`)."""
+        (`Derived`)."""
         for j, (p0, p1) in enumerate(plan.body_base):
             if j == plan.ground or p0 < 0:
                 continue

@@ -1,19 +1,19 @@
 """Design sensitivities as one compiled loop: the compiled plan's source differentiated forward.
 
-The compiled plan (:mod:`excavkin.kinematics.compiled`) is the straight-line source of one
+The compiled plan (`excavkin.kinematics.compiled`) is the straight-line source of one
 loop over samples, every dimension read from a constants table. Here that source is
 differentiated, statement by statement, in forward mode: each expression is cut into single
 operations (the same operations, in the same order), every value is computed once per sample,
 and then, for each of the k parameters in turn, a second straight-line pass carries one
 tangent per value by the chain rule — ``d(a·b) = da·b + a·db``, ``d√a = da / (2√a)``, … —
 from the seeds ``∂(constant)/∂(parameter)`` of the constants table and of a held driver's
-sketch value. The seeds are the tangents of :func:`~excavkin.structure.design.vary` run on
-dual numbers (:mod:`excavkin.kinematics.dual`), as the NumPy path has them: a sketch
+sketch value. The seeds are the tangents of `vary` run on
+dual numbers (`excavkin.kinematics.dual`), as the NumPy path has them: a sketch
 coordinate, a length, an attachment coefficient that depends on several sketch coordinates.
 A branch of the source (a dyad near its dead position, a singular step) is taken on the
 values, as the NumPy kernels' masks are.
 
-The NumPy path (:mod:`excavkin.kinematics.sensitivity`) stays the reference: the tests hold
+The NumPy path (`excavkin.kinematics.sensitivity`) stays the reference: the tests hold
 the two to 1e-13 of each column's scale. Rows that did not solve get NaN, as there. Only a
 closed-form plan is compiled; Newton groups' tangents run in NumPy.
 """
@@ -49,7 +49,7 @@ Keep = dict[str, set[tuple[int, ...]]]
 
 
 class Outputs(Protocol):
-    """The tangent arrays a solve fills (:class:`~excavkin.kinematics.sensitivity._Tangents`)."""
+    """The tangent arrays a solve fills (`_Tangents`)."""
 
     x: F
     v: F
@@ -62,7 +62,7 @@ class Outputs(Protocol):
 
 def use(plan: SolvePlan, n: int, compiled: bool | None, keep: Keep | None = None) -> bool:
     """Whether the sensitivities of a solve of ``n`` samples take the compiled path: by the
-    compiled plan's rule (:func:`~excavkin.kinematics.compiled.use`), and, left to choose,
+    compiled plan's rule (`use`), and, left to choose,
     only where the tangent kernel is compiled already or the batch is large enough to pay for
     compiling it."""
     if not compiled_plan.use(plan, n, compiled):
@@ -240,7 +240,7 @@ def source(plan: SolvePlan, keep: Keep | None = None) -> str:
 
 @functools.lru_cache(maxsize=64)
 def _source(text: str, inputs: int, frozen: tuple[tuple[str, tuple[Any, ...]], ...] | None) -> str:
-    """:func:`source` from the compiled plan's source (the same text: the same kernel)."""
+    """`source` from the compiled plan's source (the same text: the same kernel)."""
     keep = None if frozen is None else {k: set(v) for k, v in frozen}
     loop = _loop_body(text)
     d = _Differ(keep)

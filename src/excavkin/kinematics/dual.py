@@ -1,6 +1,6 @@
 """Dual numbers over NumPy arrays: forward-mode derivatives through the plan's own kernels.
 
-A :class:`Dual` holds a value array and, for m parameters at once, the derivative of every
+A `Dual` holds a value array and, for m parameters at once, the derivative of every
 element with respect to each: ``tan`` has shape ``(m, *value.shape)``. Arithmetic and the few
 functions the kernels use (``sqrt``, ``hypot``, ``arctan2``, ``cos``, ``sin``, ``abs``,
 ``maximum``, ``where``) carry the derivatives by the chain rule, so that running a solve plan on

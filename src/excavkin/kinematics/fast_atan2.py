@@ -14,8 +14,8 @@ as a sum of two doubles. Measured against 50-digit arithmetic: within 2 units in
 place (libm's is within 1), so the compiled path and the NumPy path agree to 1e-15 of each
 angle's scale. Signed zeros, infinities and NaN give what ``math.atan2`` gives (tested).
 
-:data:`SOURCE` is the function's text, embedded in each generated kernel's source (so that a
-change to it changes the kernel's cache key); :func:`compiled` gives it as a numba function.
+`SOURCE` is the function's text, embedded in each generated kernel's source (so that a
+change to it changes the kernel's cache key); `compiled` gives it as a numba function.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Batched Newton–Raphson for the points no closed-form step reaches.
 
 Unknowns are the group's point coordinates; equations are the constraints of
-:mod:`excavkin.structure.plan` (distances, rigid frames, point-on-line, driver angles). Each
+`excavkin.structure.plan` (distances, rigid frames, point-on-line, driver angles). Each
 iteration solves ``J·Δ = −Φ`` for every sample at once. Velocities and accelerations solve the
 same Jacobian with the differentiated constraints (DESIGN.md §4)::
 
@@ -12,7 +12,7 @@ where ``Φ̇|ẋ_group=0`` is the time derivative of Φ with the group's own vel
 
 Arrays keep the batch axis last, as the rest of the solve does: the residual is (m, n), the
 Jacobian (m, m, n), and every linear solve goes through
-:class:`~excavkin.kinematics.small_systems.Factors` (one factorisation gives the solution and
+`Factors` (one factorisation gives the solution and
 the distance from singular; the rates solve both orders with it).
 """
 
@@ -176,7 +176,7 @@ def _angle(
 
 def tangents(c: Chunk, g: NewtonGroup, values: tuple[F, F, F]) -> None:
     """The group's derivatives with respect to the parameters, by the implicit function
-    theorem, for a chunk of dual numbers (:mod:`excavkin.kinematics.dual`) whose known points
+    theorem, for a chunk of dual numbers (`excavkin.kinematics.dual`) whose known points
     already carry theirs.
 
     With the group's values (``values``: x, v, a of every point, plain arrays) and zero
@@ -257,7 +257,7 @@ def _system(
 
 
 #: once every sample's last Newton step is below this fraction of the size, later steps reuse
-#: the last factorisation (chord steps), as long as each shrinks by :data:`CHORD_RATE` or more
+#: the last factorisation (chord steps), as long as each shrinks by `CHORD_RATE` or more
 CHORD_FROM = 1e-4
 CHORD_RATE = 0.1
 #: the samples still moving are copied out (the others leave the iteration) once they are

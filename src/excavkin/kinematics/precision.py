@@ -5,18 +5,18 @@ singular) the rates are a ratio of two small numbers, and double precision loses
 triangle flattens: at the MO-100 hammer's change point the rocker's ε computed in double
 precision is off by about 1e-2·eps/θ³ (θ the crank angle from the change point).
 
-Every sample that comes within :data:`NEAR` of a dead position (the sine of a transmission
+Every sample that comes within `NEAR` of a dead position (the sine of a transmission
 angle, or the Newton Jacobian's determinant over the product of its rows' norms) is solved a
 second time, by the same plan, in extended precision (x87's 64-bit significand, 2¹¹ times finer
 than double; IEEE quad where ``long double`` is that). The difference measures the double
-evaluation's error directly. Where it exceeds :data:`SUBSTITUTE` of a quantity's scale, the
+evaluation's error directly. Where it exceeds `SUBSTITUTE` of a quantity's scale, the
 extended values are returned (rounded to double), with an error estimated as that difference
-scaled by the ratio of the two precisions and a margin of :data:`MARGIN`. A sample whose
-estimate still exceeds :data:`TOLERANCE` is marked ``IMPRECISE`` ("rates lose precision near a
+scaled by the ratio of the two precisions and a margin of `MARGIN`. A sample whose
+estimate still exceeds `TOLERANCE` is marked ``IMPRECISE`` ("rates lose precision near a
 dead position"), so that no row marked ``ok`` is off by more than that.
 
 The scale of a quantity is its largest magnitude over the solved samples checked together —
-a block of :data:`~excavkin.kinematics.solve.BLOCK` samples of the sweep, so that a sweep
+a block of `BLOCK` samples of the sweep, so that a sweep
 solved part by part is judged as the whole is — per kind: lengths (positions and element
 lengths), velocities, accelerations, angles, angular velocities and angular accelerations.
 """
@@ -104,7 +104,7 @@ def check(
 
     Returns the estimated error of each row relative to its quantities' scales: NaN where the
     sample was far from any dead position (not checked) or did not solve. ``nearest`` is each
-    sample's nearness and nearest step (from :func:`nearness`). ``plan_at`` gives
+    sample's nearness and nearest step (from `nearness`). ``plan_at`` gives
     the plan of a subset of samples (a family of designs'); default: the plan's own constants
     taken at them.
     """
@@ -168,7 +168,7 @@ def _solve_wide(
 ) -> _Wide:
     """The picked samples solved again in the wider type, by ``plan`` (already taken at them;
     Newton groups start from the double solution and refine it). ``nudge`` > 0 emulates
-    rounding: every step's cancelling difference and output move by :data:`NUDGE` units of the
+    rounding: every step's cancelling difference and output move by `NUDGE` units of the
     wide rounding, with a sign per sample drawn from that seed."""
     assert WIDE is not None
     k = pick.size

@@ -51,7 +51,7 @@ class Status:
     Attributes
     ----------
     code : ndarray of int8, shape (n,)
-        0 where the sample solved; otherwise a :class:`~excavkin.kinematics.kernels.Code`.
+        0 where the sample solved; otherwise a `Code`.
     step : ndarray of int16, shape (n,)
         Index of the plan step that failed first, −1 where none did.
     """
@@ -183,11 +183,11 @@ class KinematicResult:
     status : Status
     change_points : tuple of ChangePoint
         Dyads that fold between neighbouring samples, and how the engine went on
-        (:mod:`excavkin.kinematics.change_points`).
+        (`excavkin.kinematics.change_points`).
     error_estimate : ndarray, shape (n,), optional
         For the samples near a dead position, the estimated error of the row's values relative
         to their quantities' scales over the sweep (measured against an extended-precision
-        solve, :mod:`excavkin.kinematics.precision`); NaN for the samples far from one (not
+        solve, `excavkin.kinematics.precision`); NaN for the samples far from one (not
         checked, their rounding error is far below 1e-8) and for those that did not solve.
         Rows whose estimate exceeds 1e-8 are marked "rates lose precision".
     parameters : dict, optional
@@ -195,7 +195,7 @@ class KinematicResult:
         or shape (n,).
     tangents : dict, optional
         Per parameter asked for (``solve(..., sensitivities=)``), a result whose columns are the
-        derivatives of these columns with respect to it: read them with :meth:`sensitivity`.
+        derivatives of these columns with respect to it: read them with `sensitivity`.
     tangent_columns : frozenset of str, optional
         The columns whose derivatives were asked for (``sensitivity_columns``); None: all.
     unit_rates : tuple of str
@@ -325,7 +325,7 @@ class KinematicResult:
 
     @property
     def columns(self) -> tuple[Column, ...]:
-        """What each column of :meth:`to_frame` holds (``status`` aside), in table order."""
+        """What each column of `to_frame` holds (``status`` aside), in table order."""
         return tuple(c for c, _ in self._columns())
 
     def sensitivity(self, column: str, parameter: str) -> F:
@@ -351,7 +351,7 @@ class KinematicResult:
         return self.tangents[parameter].column(column)
 
     def column(self, name: str) -> F:
-        """One column of :meth:`to_frame` by name, without building the table."""
+        """One column of `to_frame` by name, without building the table."""
         cols = self._columns()
         for c, arr in cols:
             if c.name == name:

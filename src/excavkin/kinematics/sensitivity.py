@@ -2,7 +2,7 @@
 dimensions, by forward-mode differentiation through the plan.
 
 The plan's constants are recomputed from the parameters as dual numbers
-(:mod:`excavkin.kinematics.dual`), each carrying a unit tangent for its own parameter, and the
+(`excavkin.kinematics.dual`), each carrying a unit tangent for its own parameter, and the
 same closed-form kernels run on them: the tangents that come out are the derivatives of the
 closed forms — of positions, velocities, accelerations, transmission angles, body and driver
 quantities — to round-off, never difference quotients. A driver held at its sketch value moves
@@ -10,7 +10,7 @@ with the dimensions that set that value, and its derivative says so.
 
 The derivatives of the rows whose values are not solved (their status says why) are NaN. Near a
 dead position the derivatives lose precision as the values do (see
-:mod:`excavkin.kinematics.precision`). A Newton group's derivatives come from the implicit
+`excavkin.kinematics.precision`). A Newton group's derivatives come from the implicit
 function theorem at its solved values: J·dx = −dΦ, and likewise for the rates.
 """
 
@@ -50,13 +50,13 @@ def solve_tangents(
     result : KinematicResult
         A solve of the nominal model or of a family of designs (``params=``).
     names : sequence of str
-        Parameters of :func:`~excavkin.structure.design.parameters`.
+        Parameters of [`parameters`][excavkin.structure.design.parameters].
     values : mapping, optional
         The parameters given per sample (``result.parameters``); the rest are nominal.
     compiled : bool, optional
         Differentiate a closed-form plan in its compiled loop
-        (:mod:`excavkin.kinematics.compiled_tangents`) or in NumPy, chosen as for the
-        kinematics (:func:`excavkin.kinematics.compiled.use`).
+        (`excavkin.kinematics.compiled_tangents`) or in NumPy, chosen as for the
+        kinematics (`excavkin.kinematics.compiled.use`).
     columns : sequence of str, optional
         Only these columns' derivatives are needed: the compiled loop then writes (and
         computes) no others; the result must say so (``tangent_columns``), since theirs are

@@ -15,7 +15,7 @@ The factorisation, per sample:
 3. the determinant of the scaled matrix is the product of the pivots with the exchanges'
    signs. It equals det(a) over the product of a's row norms — the Hadamard ratio, 1 for
    orthogonal rows and 0 at a singular matrix: a scale-free distance from singular (the
-   measure :mod:`excavkin.kinematics.precision` calls ``near``), got for free from the pivots.
+   measure `excavkin.kinematics.precision` calls ``near``), got for free from the pivots.
 
 The arithmetic is that of the array's own type, so a long-double system is factored in long
 double. A singular sample (a zero pivot) gets inf or NaN in its solution and a ratio of 0; the

@@ -1,4 +1,4 @@
-"""Run a :class:`~excavkin.structure.plan.SolvePlan` over a batch of driver inputs.
+"""Run a `SolvePlan` over a batch of driver inputs.
 
 Inputs are arrays of shape (n,) per driver: values, rates and accelerations. The plan's steps
 run in order over cache-sized chunks of samples; there is no Python loop over samples. When the
@@ -85,7 +85,7 @@ class Carry:
     Attributes
     ----------
     start : int
-        The next part's first sample (a multiple of :data:`BLOCK`).
+        The next part's first sample (a multiple of `BLOCK`).
     tail : Tail, optional
         The last samples before it, for the change points between the two.
     reached : (ndarray, ndarray), optional
@@ -122,7 +122,7 @@ def solve_part(
     plan : SolvePlan
         The plan (with a family of designs' constants taken at these samples, if any).
     assembly : Assembly
-        From :func:`assemble`.
+        From `assemble`.
     q, qd, qdd : ndarray, shape (n_inputs, n)
         Driver values, rates and accelerations, SI, in ``plan.inputs`` order.
     tol : Tolerances
@@ -143,7 +143,7 @@ def solve_part(
     carry : Carry, optional
         What the part before handed on (none: these samples start the sweep).
     compiled : bool, optional
-        Run a closed-form plan as one compiled loop (:mod:`excavkin.kinematics.compiled`, needs
+        Run a closed-form plan as one compiled loop (`excavkin.kinematics.compiled`, needs
         numba) or in NumPy. Default: compiled when numba is installed and the batch is large.
 
     Returns
@@ -241,15 +241,15 @@ def _check_blocks(
     return error, found, tail
 
 
-#: a result at least this large (bytes) is made of ordinary pages (:func:`_small_pages`),
+#: a result at least this large (bytes) is made of ordinary pages (`_small_pages`),
 #: unless free memory holds it twice over in pieces a huge page can take
 LARGE_RESULT = 2**30
 
 
 @contextmanager
 def _small_pages(nbytes: int) -> Iterator[None]:
-    """Arrays made here get ordinary pages when they add up to :data:`LARGE_RESULT` or more
-    and free memory in pieces of a huge page or more (:func:`free_in_huge_pieces`) is less
+    """Arrays made here get ordinary pages when they add up to `LARGE_RESULT` or more
+    and free memory in pieces of a huge page or more (`free_in_huge_pieces`) is less
     than twice that. NumPy advises the kernel to back a large array with huge pages, each
     found (zeroed, and compacted if memory is in small pieces) when first touched: far fewer
     faults than ordinary pages (a solve of 10⁷ four-bar samples is twice as fast with them),
@@ -326,7 +326,7 @@ def _check_precision(
     designs: DesignBatch | None,
     offset: int = 0,
 ) -> F:
-    """The precision check near dead positions (:mod:`excavkin.kinematics.precision`), and
+    """The precision check near dead positions (`excavkin.kinematics.precision`), and
     the finiteness check again on the samples it may have given extended values; ``offset``
     is the first sample's place in ``designs``."""
     q, qd, qdd = inputs
@@ -363,11 +363,11 @@ def _solve_chunks(
     """The plan over chunks of samples, on a thread per core: each chunk runs the steps and
     then its derived quantities and nearness to dead positions while it is in cache (and, for
     a family of designs, makes its own constants first). Newton groups' positions are already
-    found (:func:`_solve_newton`): here they get their rates, and their branch is checked
+    found (`_solve_newton`): here they get their rates, and their branch is checked
     against ``assembly``'s. ``fast``: a closed-form plan as its compiled loop. Fills
     ``nearest`` (each sample's nearness and nearest step, as
-    :func:`~excavkin.kinematics.precision.nearness`). A closed-form plan's inputs are not
-    checked yet: each chunk checks its own (:func:`_check_inputs`, with the samples whose
+    `nearness`). A closed-form plan's inputs are not
+    checked yet: each chunk checks its own (`_check_inputs`, with the samples whose
     design builds no mechanism, ``unbuildable``) and sets its ``failed`` to −1; a plan with
     Newton groups had them checked before its continuation."""
     n = full.status.size

@@ -8,7 +8,7 @@ later, if at all: a non-temporal store goes straight to memory and reads nothing
 here, copying 0.9 GB of rows out of a cache-resident block: 171 ms with ordinary stores,
 45 ms with streaming ones (119 and 245 ms into fresh memory).
 
-Streaming stores are weakly ordered: :func:`fence` (a full fence) ends every kernel that
+Streaming stores are weakly ordered: `fence` (a full fence) ends every kernel that
 makes them, so that the thread that joins it sees them all.
 """
 

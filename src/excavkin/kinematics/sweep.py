@@ -1,10 +1,10 @@
 """A sweep solved whole or part by part, to the same numbers.
 
 A sweep too large for memory is solved in parts of consecutive samples, each handing the next
-what it needs (:class:`~excavkin.kinematics.solve.Carry`): the last few samples, for the change
+what it needs (`Carry`): the last few samples, for the change
 points between the two, and the last sample a Newton group reached. What a sample's result
 depends on beyond its own inputs is defined over its block of
-:data:`~excavkin.kinematics.solve.BLOCK` samples, so a sweep solved whole is the same as the
+`BLOCK` samples, so a sweep solved whole is the same as the
 sweep solved in parts of whole blocks: the in-memory solve is one part.
 
 ``continuation="smooth"`` needs the whole sweep before it can solve a sample: the side each
@@ -83,7 +83,7 @@ def solve_parts(
     continuation: str = "side",
     compiled: bool | None = None,
 ) -> Iterator[KinematicResult]:
-    """One kinematic result per part, as :func:`solve_kinematics` gives for the whole.
+    """One kinematic result per part, as `solve_kinematics` gives for the whole.
 
     Parameters
     ----------
@@ -95,12 +95,12 @@ def solve_parts(
     total : int
         Samples in the sweep (for ``progress``).
     tol, chunk, workers
-        As for :func:`solve_kinematics`.
+        As for `solve_kinematics`.
     progress : callable, optional
         ``progress(done, total)`` over the whole sweep.
     continuation : {"side", "smooth"}
     compiled : bool, optional
-        As for :func:`~excavkin.kinematics.solve.solve_part`.
+        As for `solve_part`.
 
     Yields
     ------
@@ -143,7 +143,7 @@ def solve_kinematics(
     ----------
     plan : SolvePlan
     assembly : Assembly
-        From :func:`~excavkin.kinematics.solve.assemble`.
+        From `assemble`.
     q, qd, qdd : ndarray, shape (n_inputs, n)
         Driver values, rates and accelerations, SI, in ``plan.inputs`` order.
     tol : Tolerances, optional
@@ -167,7 +167,7 @@ def solve_kinematics(
         A family of designs of ``plan`` (a closed-form one), one per sample: each chunk's
         constants are made as the chunk is solved.
     compiled : bool, optional
-        Run a closed-form plan as one compiled loop (:mod:`excavkin.kinematics.compiled`, needs
+        Run a closed-form plan as one compiled loop (`excavkin.kinematics.compiled`, needs
         numba) or in NumPy. Default: compiled when numba is installed and the batch is large.
 
     Returns

@@ -1,10 +1,10 @@
 """The compiled plan's loop rewritten so that the compiler can vectorise it (SIMD).
 
-The compiled plan (:mod:`excavkin.kinematics.compiled`) is one scalar loop over samples. Its
+The compiled plan (`excavkin.kinematics.compiled`) is one scalar loop over samples. Its
 arrays are strided views of any layout and it stores a hundred rows that the compiler cannot
 prove apart, and its statuses are set in branches: so the compiler keeps it scalar, one sample
 at a time. Here the same statements are rewritten, mechanically, to run over blocks of
-:data:`WIDTH` samples held in one contiguous scratch array:
+`WIDTH` samples held in one contiguous scratch array:
 
 - every array the loop reads (inputs, constants, statuses) is copied into a row of the scratch,
   and every array it writes is a row of it, copied out to the result after the block; each
@@ -13,7 +13,7 @@ at a time. Here the same statements are rewritten, mechanically, to run over blo
   ``value if condition else name``, ``and``/``or`` of conditions become ``&``/``|``.
 
 So the block's loop is straight-line arithmetic over one array, which LLVM vectorises (with
-the loop's own arctangent, :mod:`excavkin.kinematics.fast_atan2`, and no libm call but the
+the loop's own arctangent, `excavkin.kinematics.fast_atan2`, and no libm call but the
 rotations' sine and cosine). The arithmetic, its order and every status are the scalar loop's:
 the two give the same numbers to the bit (tested), and the scalar source stays the one that
 the sensitivities differentiate.
@@ -60,7 +60,7 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
 @functools.lru_cache(maxsize=64)
 def vectorised(text: str, per_sample: bool) -> str:
     """The compiled plan's source ``text`` (its loop over samples) rewritten over blocks of
-    :data:`WIDTH` samples in a contiguous scratch, branch-free. The kernel's inputs (``q``,
+    `WIDTH` samples in a contiguous scratch, branch-free. The kernel's inputs (``q``,
     ``qd``, ``qdd``, ``K``) are a chunk's samples; its outputs are the whole solve's arrays,
     the chunk's samples starting at its last argument, ``s0``. ``per_sample``: the constants
     table has a column per sample (a family of designs), else one column, whose values are
@@ -124,7 +124,7 @@ def _tables(elements: dict[str, int]) -> dict[str, list[list[int]]]:
 def _copy(name: str, rows: list[list[int]], into_scratch: bool) -> list[str]:
     """A loop over an array's rows, each copied between the array and its scratch row: the
     inputs chunk-relative (the constants at column ``(b0_ + l_)·ks``), the outputs into the
-    whole solve's arrays from ``s0``, by streaming stores (:mod:`~excavkin.kinematics.streaming`:
+    whole solve's arrays from ``s0``, by streaming stores (`streaming`:
     they read no line they write). (The loop's own names end in ``_``: the generated loop's
     never do.)"""
     lead = len(rows[0]) - 1

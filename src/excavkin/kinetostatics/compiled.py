@@ -1,6 +1,6 @@
 """The kinetostatic elimination compiled to one machine-code loop over samples (numba, optional).
 
-:func:`~excavkin.kinetostatics.solve.solve_forces` reduces each moving body's loads to a force
+`solve_forces` reduces each moving body's loads to a force
 and a moment, assembles the equilibrium rows, eliminates the constant pivots, solves the small
 dense block with partial pivoting and substitutes back — each step an array operation over a
 chunk of samples. Here those same steps are *traced*: they run once on symbols instead of
@@ -213,7 +213,7 @@ def kernel(x, a, eps, K, ks, out, singular, rel_tol):
 '''
 
 
-#: traced sources by what they depend on (:func:`_shape`); a few kept
+#: traced sources by what they depend on (`_shape`); a few kept
 _traced: dict[tuple[Any, ...], str] = {}
 _lock = threading.Lock()
 
@@ -241,7 +241,7 @@ def source(
 ) -> tuple[str, list[float | F]]:
     """The kernel's source for this system, masses and loads, and the values its constants
     table holds (in the order it reads them). The trace is made once for each
-    :func:`_shape`; the values are read anew each time."""
+    `_shape`; the values are read anew each time."""
     key = _shape(sy, mp, ev, inertia)
     g = _Source()
     masses: Any = _Masses(g, mp)
@@ -289,7 +289,7 @@ def _trace(g: _Source, sy: StaticsSystem, masses: Any, loads: EvaluatedLoads, in
 
 def _dense(g: _Source, a: list[list[Any]], b: list[Any]) -> list[_Sym]:
     """Gaussian elimination with partial pivoting of the dense block, as
-    :func:`~excavkin.kinetostatics.equilibrium._dense_solve` does it for each sample: the same
+    `_dense_solve` does it for each sample: the same
     operations, a row swap where its ``where`` swaps. Sets ``sg``: a pivot below ``rel_tol``
     times the block's largest entry."""
     r = len(b)
@@ -327,7 +327,7 @@ def _dense(g: _Source, a: list[list[Any]], b: list[Any]) -> list[_Sym]:
 
 def use(text: str, n: int, compiled: bool | None) -> bool:
     """Whether forces of ``n`` samples are solved by the compiled kernel of ``text``: the rule
-    of :func:`excavkin.kinematics.compiled.use` (``compiled`` None: numba installed and a large
+    of `excavkin.kinematics.compiled.use` (``compiled`` None: numba installed and a large
     batch; True: required)."""
     if compiled is None:
         if n < kernels.THRESHOLD or not kernels.available():

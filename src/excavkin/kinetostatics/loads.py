@@ -1,7 +1,7 @@
 """External loads: point forces, couples and gravity, evaluated over a batch of samples.
 
-The records themselves live with the model (:mod:`excavkin.model.entities`, so that a
-:class:`~excavkin.model.entities.Model` can carry them) and are re-exported here::
+The records themselves live with the model (`excavkin.model.entities`, so that a
+[`Model`][excavkin.model.entities.Model] can carry them) and are re-exported here::
 
     PointForce(name, body, point, value)      value: (Fx, Fy), shape (n, 2), or f(result)
     Torque(name, body, value, reaction=None)  value: scalar, shape (n,), or f(result)
@@ -16,7 +16,8 @@ Signs, in global axes::
           +------> x
 
 A value that is a function is called once with the whole
-:class:`~excavkin.kinematics.result.KinematicResult`; it returns a constant or one row per sample.
+[`KinematicResult`][excavkin.kinematics.result.KinematicResult]; it returns a constant or one row
+per sample.
 A digging resistance of 5 kN opposing the bucket tip's velocity::
 
     def resistance(res):
@@ -91,7 +92,8 @@ def check_loads(model: Model, loads: Iterable[object]) -> tuple[Load, ...]:
     ------
     ModelError
         A load names an unknown body or point, a point that is not on its body, a
-        non-finite or zero gravity direction, or there is more than one :class:`Gravity`.
+        non-finite or zero gravity direction, or there is more than one
+        [`Gravity`][excavkin.kinetostatics.loads.Gravity].
     InputError
         Something that is not a load record.
     """

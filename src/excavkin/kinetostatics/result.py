@@ -1,6 +1,7 @@
 """Kinetostatic results: joint forces, driver forces and torques, batch axis first.
 
-Columns of :meth:`ForceResult.to_frame` (SI: N, N·m)::
+Columns of [`ForceResult.to_frame`][excavkin.kinetostatics.result.ForceResult.to_frame] (SI: N,
+N·m)::
 
     <point>.<body>.Fx, .Fy   the force the pin at <point> exerts on <body> (every body at the
                              pin, the ground included; at a pin of one body where a cylinder
@@ -37,6 +38,14 @@ if TYPE_CHECKING:
     import pandas as pd
 
 __all__ = ["ForceResult", "PowerBalance"]
+
+
+def _with_unit(value: float, kind: str) -> str:
+    """A force (N) or torque (N·m) with its unit, in kN or kN·m from 1000 on."""
+    unit = "N" if kind == "force" else "N·m"
+    if abs(value) >= 1e3:
+        return f"{value / 1e3:.4g} k{unit}"
+    return f"{value:.4g} {unit}"
 
 
 @dataclass(frozen=True, slots=True)
@@ -153,6 +162,73 @@ class ForceResult:
         title = f"ForceResult of {self.kinematics.plan.model.name!r}"
         return summary.result_html(title, len(self), self.status_labels(), self.columns)
 
+    def summary(self, limit: int = 10) -> str:
+        """The statuses and the extreme forces, as a user reads them.
+
+        The first line lists the failing samples by reason, as
+        [`KinematicResult.summary`][excavkin.kinematics.result.KinematicResult.summary] does,
+        statically singular samples among them; then, over the samples that solved,
+        each driver's largest force or torque (signed) and the ``limit`` pins with the largest
+        force on a body (its magnitude), each with its unit and the sample where it occurs,
+        named by its inputs.
+
+        Parameters
+        ----------
+        limit : int
+            Failing samples listed per reason, and pins listed.
+
+        Returns
+        -------
+        str
+        """
+        kin = self.kinematics
+        labels = self.status_labels()
+        bad = np.flatnonzero(~self.ok)
+        groups = []
+        for lab in dict.fromkeys(labels[bad]):
+            idx = bad[labels[bad] == lab]
+            shown = [f"{int(i)} ({kin.describe_sample(int(i))})" for i in idx[:limit]]
+            groups.append((str(lab), int(idx.size), shown))
+        lines = [summary.failures(len(self), groups, limit)]
+        ok = self.ok
+        if not ok.any():
+            return lines[0]
+
+        def at(i: int) -> str:
+            return f"sample {i} ({kin.describe_sample(i)})"
+
+        efforts: list[tuple[str, F, str]] = [
+            *((f"{e[0]}.force", self.element_force[:, k], "force")
+              for k, e in enumerate(self.system.elements)),
+            *((f"{d[0]}.torque", self.driver_torque[:, k], "torque")
+              for k, d in enumerate(self.system.rotary)),
+            *((f"{sl[0]}.normal", self.slider_force[:, k], "force")
+              for k, sl in enumerate(self.system.sliders)),
+        ]  # fmt: skip
+        solved = int(ok.sum())
+        if efforts:
+            lines.append(f"largest driver efforts over the {solved} solved samples:")
+            for name, values, kind in efforts:
+                i = int(np.nanargmax(np.where(ok, np.abs(values), -np.inf)))
+                lines.append(f"  {name:<24} {_with_unit(float(values[i]), kind)} at {at(i)}")
+        if self.pins:
+            mag = np.hypot(self.pin_force[..., 0], self.pin_force[..., 1])
+            mag = np.where(ok[:, None], mag, -np.inf)
+            peak = mag.max(axis=0)
+            order = np.argsort(-peak, kind="stable")[:limit]
+            more = len(self.pins) - len(order)
+            lines.append(
+                f"largest pin forces over the {solved} solved samples"
+                + (f" ({len(order)} of {len(self.pins)} pins)" if more else "")
+                + ":"
+            )
+            for k in order:
+                p, b = self.pins[k]
+                i = int(np.argmax(mag[:, k]))
+                size = f"|F| {_with_unit(float(peak[k]), 'force')}"
+                lines.append(f"  {p} on {b:<{max(1, 20 - len(p))}} {size} at {at(i)}")
+        return "\n".join(lines)
+
     # ---- names
     @property
     def pins(self) -> tuple[tuple[str, str], ...]:
@@ -236,12 +312,12 @@ class ForceResult:
 
     @property
     def columns(self) -> tuple[Column, ...]:
-        """What each column of :meth:`to_frame` holds (``status`` aside), in table order."""
+        """What each column of `to_frame` holds (``status`` aside), in table order."""
         ground = self.system.bodies[self.system.ground]
         return self.kinematics.columns + tuple(c for c, _ in self._columns((ground,)))
 
     def column(self, name: str) -> F:
-        """One force column of :meth:`to_frame` by name (any body's ``.Rx``/``.Ry`` too)."""
+        """One force column of `to_frame` by name (any body's ``.Rx``/``.Ry`` too)."""
         owner, _, qty = name.rpartition(".")
         if qty in ("Rx", "Ry") and owner in self.system.bodies:
             return self.resultant(owner)[:, 0 if qty == "Rx" else 1]

@@ -2,7 +2,7 @@
 the dimensions and masses, by running the same elimination on dual numbers.
 
 The positions, accelerations and angular accelerations carry their tangents from the kinematic
-sensitivities (:mod:`excavkin.kinematics.sensitivity`); the masses, moments of inertia and
+sensitivities (`excavkin.kinematics.sensitivity`); the masses, moments of inertia and
 centres of mass carry theirs from the parameters. The equilibrium's own elimination and dense
 block solve run on them unchanged, so each force's tangent is the exact derivative of the
 solved forces. A load given as a function of the result (a spring, a damper) is evaluated

@@ -3,7 +3,7 @@
 For each cache-sized chunk of samples: the known load of every moving body (its applied forces
 and couples, its weight and its d'Alembert inertia, reduced to a force and a moment about the
 body's first point), then the compiled elimination of
-:mod:`excavkin.kinetostatics.equilibrium`. Samples whose kinematics failed stay NaN.
+`excavkin.kinetostatics.equilibrium`. Samples whose kinematics failed stay NaN.
 """
 
 from __future__ import annotations
@@ -48,9 +48,9 @@ def solve_forces(
         n samples of the mechanism's motion.
     loads : iterable of PointForce, Torque, Gravity
         Applied loads (the model's own are not added: see
-        :func:`~excavkin.kinetostatics.loads.model_loads`).
+        `model_loads`).
     system : StaticsSystem, optional
-        From :func:`~excavkin.kinetostatics.equilibrium.compile_statics` on the result's model
+        From `compile_statics` on the result's model
         (compiled here if not given).
     inertia : bool
         Include the d'Alembert inertia loads (default); ``False`` solves statics at each pose.
@@ -61,7 +61,7 @@ def solve_forces(
         Samples per pass.
     compiled : bool, optional
         Run the ``"sparse"`` elimination as one compiled loop over samples
-        (:mod:`excavkin.kinetostatics.compiled`, needs numba) or in NumPy. Default: compiled
+        (`excavkin.kinetostatics.compiled`, needs numba) or in NumPy. Default: compiled
         when numba is installed and the batch is large (the rule of the kinematics'
         ``compiled``).
 
@@ -159,7 +159,7 @@ def _solve_compiled(
     compiled: bool | None,
 ) -> bool:
     """The sparse elimination as its compiled kernel, if ``compiled`` (see
-    :func:`solve_forces`) asks for it here; whether it ran."""
+    `solve_forces`) asks for it here; whether it ran."""
     from excavkin.kinetostatics import compiled as kernel
 
     n = out.shape[1]

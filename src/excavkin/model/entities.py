@@ -19,7 +19,9 @@ Conventions (drawn in ``docs/conventions.md``)::
   rope); ``mode`` says whether it is an input (``driven``), a rigid strut at its sketch length
   (``locked``) or passive, its length following the mechanism (``free``).
 * A slider keeps a point on the line through two points of another body.
-* Loads (:class:`PointForce`, :class:`Torque`, :class:`Gravity`) act on bodies; a force acts at
+* Loads ([`PointForce`][excavkin.model.entities.PointForce],
+[`Torque`][excavkin.model.entities.Torque], [`Gravity`][excavkin.model.entities.Gravity]) act on
+bodies; a force acts at
   one of the body's points, in global axes. Gravity acts at each body's centre of mass, along
   ``direction`` (default −y), with ``g`` = 9.80665 m/s² unless given.
 """
@@ -38,7 +40,8 @@ if TYPE_CHECKING:
 LinearMode = Literal["driven", "locked", "free"]
 
 #: A load's value: a constant, an array with one row per sample, or a function of the
-#: kinematic result returning either (see :class:`PointForce` and :class:`Torque`).
+#: kinematic result returning either (see [`PointForce`][excavkin.model.entities.PointForce] and
+#: [`Torque`][excavkin.model.entities.Torque]).
 LoadValue: TypeAlias = "ArrayLike | Callable[[KinematicResult], ArrayLike]"
 
 #: Standard gravity, m/s².
@@ -216,7 +219,7 @@ class Model:
     source : str or None
         The file it was read from, for messages.
     loads : tuple of PointForce or Torque
-        External loads that :meth:`~excavkin.Mechanism.forces` applies by default.
+        External loads that `forces` applies by default.
     gravity : Gravity or None
         Gravity, when the model enables it (``None``: off).
     design : tuple of DesignVariable

@@ -1,6 +1,6 @@
-"""Checks on a :class:`~excavkin.model.entities.Model` that need no geometry solving.
+"""Checks on a [`Model`][excavkin.model.entities.Model] that need no geometry solving.
 
-Each problem raises :class:`~excavkin.errors.ModelError` naming the table and entry.
+Each problem raises [`ModelError`][excavkin.errors.ModelError] naming the table and entry.
 """
 
 from __future__ import annotations
@@ -257,7 +257,8 @@ def mobility(model: Model) -> Mobility:
 
 
 def mobility_check(model: Model) -> None:
-    """Raise :class:`MobilityError` unless the number of inputs equals the mobility."""
+    """Raise [`MobilityError`][excavkin.MobilityError] unless the number of inputs equals the
+    mobility."""
     m = mobility(model)
     if m.mobility == m.inputs:
         return

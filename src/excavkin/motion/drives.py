@@ -1,6 +1,6 @@
 """Drives used by the seed papers: a crank at constant speed and a rope winch.
 
-Both return a :class:`~excavkin.motion.laws.MotionState` (generalised coordinate and its
+Both return a `MotionState` (generalised coordinate and its
 first three time derivatives), so they can feed a kinematic solver like any motion law.
 
 Conventions
@@ -143,8 +143,8 @@ class RopeWinch:
         Time [s] at which the hauled length is 0 (constant-speed case). Default 0.
     motor_law : MotionLaw or None, keyword-only
         Law of the motor **angle** [rad]; its velocity is the motor speed ramp (for instance a
-        :class:`~excavkin.motion.laws.TrapezoidalLaw` gives ramp-up, constant speed,
-        ramp-down). Exclusive with ``motor_speed``; see :meth:`ramped`.
+        `TrapezoidalLaw` gives ramp-up, constant speed,
+        ramp-down). Exclusive with ``motor_speed``; see `ramped`.
 
     Notes
     -----

@@ -144,13 +144,13 @@ def animate(
     result : KinematicResult or a result with ``.kinematics`` and ``to_frame()``
     samples : sequence of int, optional
         The sample of each frame; default every sample, thinned evenly to at most
-        :data:`MAX_FRAMES`.
+        `MAX_FRAMES`.
     show : sequence of str, optional
         Columns whose current value is written in the corner (display units); default the
         inputs that vary, and ``t`` for a result in time.
     units : mapping of str to str, optional
         Display units of the shown values, by kind or column (see
-        :class:`~excavkin.outputs.display_units.DisplayUnits`).
+        `DisplayUnits`).
     trace : iterable of str
         Points whose whole path is drawn faintly underneath.
     ropes : iterable of str

@@ -1,34 +1,8 @@
-"""An optimisation's convergence: the best objective after each iteration."""
+"""An optimisation's convergence: the best objective after each iteration (drawn by
+[`excavkin.studies.plots.plot_convergence`][], which an `Optimum`'s ``plot`` uses too)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from excavkin.studies.plots import plot_convergence
 
-import numpy as np
-
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
-
-
-def plot_convergence(
-    history: Sequence[float], name: str, *, unit: str = "", ax: Axes | None = None
-) -> Axes:
-    """The objective ``name`` after each iteration; on a log scale of its distance to the last
-    value when it spans decades (a converging sum of squares), else plain."""
-    import matplotlib.pyplot as plt
-
-    if ax is None:
-        _, ax = plt.subplots(figsize=(7, 4))
-    h = np.asarray(history, dtype=np.float64)
-    it = np.arange(1, h.size + 1)
-    positive = h.size > 1 and (h > 0).all()
-    if positive and h.max() / h.min() > 1e3:
-        ax.semilogy(it, h, marker="o", ms=3, color="#1f4e79")
-    else:
-        ax.plot(it, h, marker="o", ms=3, color="#1f4e79")
-    ax.set_xlabel("iteration")
-    ax.set_ylabel(f"{name} [{unit}]" if unit else name)
-    ax.set_title(f"convergence of {name}")
-    ax.grid(True, alpha=0.3)
-    return ax
+__all__ = ["plot_convergence"]

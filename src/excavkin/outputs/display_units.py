@@ -2,7 +2,7 @@
 
 Result tables are in SI (m, rad, s, N, N·m). For display each column is given a *kind* from its
 name, and each kind a *display unit* (mm, deg, kN, ...), converted with the single registry of
-:mod:`excavkin.units`:
+`excavkin.units`:
 
 ==========================================  ======================  ===============
 column                                      kind                    default unit
@@ -20,7 +20,8 @@ column                                      kind                    default unit
 ``<x>.power``                               power                   kW
 ==========================================  ======================  ===============
 
-Every result describes its own columns (:attr:`KinematicResult.columns`), kinds included: a
+Every result describes its own columns
+([`KinematicResult.columns`][excavkin.kinematics.result.KinematicResult.columns]), kinds included: a
 driver's ``.value`` is an angle for a rotary driver and a length for a linear one. A table read
 back from a file keeps the kinds in its metadata, or has them guessed from the names alone.
 """
@@ -54,7 +55,7 @@ DEFAULT_UNITS: dict[str, str] = {
     "dimensionless": "",
 }
 
-#: SI units of the kinds :mod:`excavkin.units` does not list
+#: SI units of the kinds `excavkin.units` does not list
 _EXTRA_SI = {"power": "W"}
 
 #: words for axis labels
@@ -97,13 +98,13 @@ def kind_of(column: str, kinds: Mapping[str, str] | None = None) -> str:
     column : str
         A column name such as ``"B.vx"`` or ``"boom_cyl.force"``.
     kinds : mapping, optional
-        Known kinds by column (a result's own :class:`~excavkin.kinematics.columns.Column`
-        descriptions, through :func:`~excavkin.outputs.events.as_table`), consulted first.
+        Known kinds by column (a result's own [`Column`][excavkin.kinematics.columns.Column]
+        descriptions, through `as_table`), consulted first.
 
     Returns
     -------
     str
-        A kind of :data:`DEFAULT_UNITS`, or ``"unknown"`` (a driver's ``.value`` whose kind is
+        A kind of `DEFAULT_UNITS`, or ``"unknown"`` (a driver's ``.value`` whose kind is
         not known, or a column excavkin does not name).
     """
     if kinds and column in kinds:
@@ -260,7 +261,7 @@ class DisplayUnits:
             target[key] = unit
 
     def __call__(self, column: str) -> Display:
-        """The :class:`Display` of ``column``."""
+        """The `Display` of ``column``."""
         kind = kind_of(column, self.kinds)
         if column in self.by_column:
             unit = self.by_column[column]
@@ -271,5 +272,5 @@ class DisplayUnits:
         return Display(column, kind, unit)
 
     def all(self, columns: Iterable[str]) -> list[Display]:
-        """:class:`Display` of each column."""
+        """`Display` of each column."""
         return [self(c) for c in columns]

@@ -1,6 +1,6 @@
 """Draw a mechanism with matplotlib: bodies, pins, ground hatching, cylinders, labels, paths.
 
-The geometry comes from :class:`~excavkin.outputs.scene.Scene` (which draws what each part
+The geometry comes from `Scene` (which draws what each part
 looks like), computed once with NumPy and shared with the HTML report's plotly renderer, so
 every view of a mechanism looks the same; this module only translates its primitives into
 matplotlib artists, imported inside the drawing functions.
@@ -28,6 +28,7 @@ from excavkin.outputs.style import (
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
     from matplotlib.patches import Polygon
     from matplotlib.text import Annotation
@@ -36,11 +37,13 @@ if TYPE_CHECKING:
 
 
 class MechanismDrawing:
-    """The artists of a mechanism drawn at one sample; :meth:`set_sample` moves them.
+    """The artists of a mechanism drawn at one sample; `set_sample` moves them.
 
     Attributes
     ----------
     ax : matplotlib.axes.Axes
+    fig : matplotlib.figure.Figure
+        The figure of ``ax`` (to save or show it), as the other plots' handles have.
     scene : Scene
     sample : int
         The sample shown.
@@ -78,6 +81,9 @@ class MechanismDrawing:
         from matplotlib.patches import Polygon
 
         self.ax = ax
+        figure = ax.get_figure(root=True)
+        assert figure is not None  # an axes is always on a figure
+        self.fig: Figure = figure
         self.scene = scene
         self.sample = sample
         self.bodies: dict[str, Line2D | Polygon] = {}
@@ -380,7 +386,7 @@ def draw_mechanism(
 
 @dataclass
 class TracedPaths:
-    """The artists of :func:`trace_paths`.
+    """The artists of [`trace_paths`][excavkin.outputs.drawing.trace_paths].
 
     Attributes
     ----------

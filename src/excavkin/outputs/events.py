@@ -12,11 +12,11 @@ differences of samples:
 * **low transmission** — the worst transmission angle of each dyad and slider, when it drops below
   ``transmission_limit``;
 * **shock** — for runs in time, the jumps of velocity (hard) and acceleration (soft) that the
-  exact shock report (:func:`excavkin.simulation.shocks.shock_report`) found at the motion
+  exact shock report ([`excavkin.simulation.shocks.shock_report`][]) found at the motion
   laws' breakpoints, when it is given.
 
-All functions take a :class:`~excavkin.kinematics.KinematicResult`, a
-:class:`~excavkin.kinetostatics.ForceResult` or a DataFrame with the same columns.
+All functions take a [`KinematicResult`][excavkin.kinematics.KinematicResult], a
+[`ForceResult`][excavkin.kinetostatics.ForceResult] or a DataFrame with the same columns.
 """
 
 from __future__ import annotations
@@ -38,7 +38,7 @@ if TYPE_CHECKING:
 
 
 class ShockLike(Protocol):
-    """One exact shock of a run in time (:class:`excavkin.simulation.shocks.Shock`)."""
+    """One exact shock of a run in time (`excavkin.simulation.shocks.Shock`)."""
 
     @property
     def time(self) -> float: ...
@@ -88,7 +88,7 @@ class Table:
     columns : dict of str to Column
         Every column's description, by name.
     codes : ndarray of int8, shape (n,)
-        Status codes (:class:`~excavkin.kinematics.kernels.Code`).
+        Status codes (`Code`).
     plan : SolvePlan or None
     result : object or None
         The result the table came from, if any.
@@ -139,13 +139,14 @@ class Table:
 
 
 def as_table(data: TableData, kinds: Mapping[str, str] | None = None) -> Table:
-    """Wrap a result or a DataFrame as a :class:`Table`.
+    """Wrap a result or a DataFrame as a `Table`.
 
     Parameters
     ----------
     data : KinematicResult, ForceResult, Table or pandas.DataFrame
         A result describes its own columns and gives its status codes; a DataFrame's columns
-        are described by :func:`~excavkin.kinematics.columns.columns_from_names` (with the
+        are described by [`columns_from_names`][excavkin.kinematics.columns.columns_from_names]
+        (with the
         kinds its ``attrs`` keep) and its codes read from its status labels.
     kinds : mapping, optional
         Column kinds that win over the description.
@@ -267,7 +268,7 @@ def find_events(
     ----------
     data : result or DataFrame
     dead_tol : float
-        rad, see :func:`dead_samples`.
+        rad, see `dead_samples`.
     transmission_limit : float
         rad; a transmission angle closer than this to 0 or π is reported as a note.
     describe_sample : callable, optional
@@ -275,7 +276,7 @@ def find_events(
         the default is ``"sample i"``.
     shocks : sequence of Shock, optional
         For a run in time: the exact shock report's shocks (``report.shocks`` of
-        :func:`excavkin.simulation.shocks.shock_report`), listed as warnings.
+        [`excavkin.simulation.shocks.shock_report`][]), listed as warnings.
 
     Returns
     -------

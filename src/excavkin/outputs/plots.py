@@ -1,7 +1,8 @@
 """Curves of a result: any column against the input, time or another column, in display units.
 
 Thin matplotlib functions (``ax`` in, a handle out, unknown keywords rejected) that take any
-:class:`~excavkin.kinematics.KinematicResult`, any result with ``to_frame()`` (kinetostatic
+[`KinematicResult`][excavkin.kinematics.KinematicResult], any result with ``to_frame()``
+(kinetostatic
 results: ``<point>.<body>.Fx``, ``<driver>.force``, ``<driver>.torque``) or a DataFrame with such
 columns. matplotlib is imported inside the functions only.
 
@@ -13,8 +14,9 @@ columns. matplotlib is imported inside the functions only.
 >>> handle.ax.get_xlabel(), handle.ax.get_ylabel()
 ('crank [°]', 'rocker.angle [°]')
 
-The mechanism itself is drawn by :mod:`excavkin.outputs.drawing` (:func:`draw_mechanism`,
-:func:`trace_paths`, re-exported here).
+The mechanism itself is drawn by `excavkin.outputs.drawing`
+([`draw_mechanism`][excavkin.outputs.plots.draw_mechanism],
+[`trace_paths`][excavkin.outputs.plots.trace_paths], re-exported here).
 """
 
 from __future__ import annotations
@@ -97,7 +99,7 @@ def _x_label(d: Display) -> str:
 
 @dataclass
 class ColumnsPlot:
-    """The artists of :func:`plot_columns`.
+    """The artists of [`plot_columns`][excavkin.outputs.plots.plot_columns].
 
     Attributes
     ----------
@@ -169,7 +171,9 @@ def plot_columns(
     Parameters
     ----------
     data : KinematicResult, a result with ``to_frame()``, or pandas.DataFrame
-        Columns in SI, named as in :meth:`KinematicResult.to_frame` (and force columns
+        Columns in SI, named as in
+        [`KinematicResult.to_frame`][excavkin.kinematics.result.KinematicResult.to_frame] (and force
+        columns
         ``<point>.<body>.Fx``, ``<driver>.force``, ``<driver>.torque``).
     y : str or sequence of str
         Column(s) to plot; all of one kind (lengths, angles, forces, ...).
@@ -202,7 +206,7 @@ def plot_columns(
         On an unknown column.
     ValueError
         If the y columns are of different kinds (plot them on separate axes, or use
-        :func:`plot_curves`).
+        [`plot_curves`][excavkin.outputs.plots.plot_curves]).
     """
     style = check_line_style(style)
     table = as_table(data)
@@ -285,7 +289,7 @@ def main_columns(data: Any) -> list[str]:
 
 @dataclass
 class CurvesPlot:
-    """The artists of :func:`plot_curves`.
+    """The artists of [`plot_curves`][excavkin.outputs.plots.plot_curves].
 
     Attributes
     ----------
@@ -320,11 +324,11 @@ def plot_curves(
     ----------
     data : KinematicResult, a result with ``to_frame()``, or pandas.DataFrame
     y : sequence of str, optional
-        Columns; default :func:`main_columns`.
+        Columns; default `main_columns`.
     x : str, optional
-        As in :func:`plot_columns`.
+        As in [`plot_columns`][excavkin.outputs.plots.plot_columns].
     units : mapping of str to str, optional
-        As in :func:`plot_columns`.
+        As in [`plot_columns`][excavkin.outputs.plots.plot_columns].
     fig : matplotlib.figure.Figure, optional
         An empty figure to draw into; a new one without it.
     mark : bool

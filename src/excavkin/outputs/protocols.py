@@ -70,7 +70,7 @@ class MechanismLike(Protocol):
     def solve(self, values: Mapping[str, Any] | None = None, *args: Any, **kwargs: Any) -> Any: ...
 
 
-#: anything :func:`~excavkin.outputs.events.as_table` takes
+#: anything `as_table` takes
 TableData: TypeAlias = "TableSource | Table | pd.DataFrame"
 #: anything that can be drawn: a mechanism at its sketch, or a result over its samples
 Drawable: TypeAlias = "MechanismLike | TableSource"

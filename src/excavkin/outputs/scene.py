@@ -1,10 +1,10 @@
 """The drawable geometry of a mechanism, computed once with NumPy for both renderers.
 
-A :class:`Scene` holds, over every sample, the outlines of the bodies, the cylinders as barrel
+A `Scene` holds, over every sample, the outlines of the bodies, the cylinders as barrel
 and rod, the pins, the ground symbols and the sliders, in display length units; its
-:meth:`~Scene.overlays` say which points move and where the warnings go (dead positions, the
+`overlays` say which points move and where the warnings go (dead positions, the
 last solved sample before a run that does not close). The matplotlib renderer
-(:mod:`excavkin.outputs.drawing`) and the plotly one (:mod:`excavkin.outputs.report`) only
+(`excavkin.outputs.drawing`) and the plotly one (`excavkin.outputs.report`) only
 translate these primitives::
 
         cylinder (linear driver, barrel at its first point)      binary body   ternary body

@@ -61,7 +61,8 @@ def write_tables(
     force: bool = False,
     units_row: bool = False,
 ) -> Path:
-    """Write frames one after another as one table (:func:`write_table`), atomically: the
+    """Write frames one after another as one table
+    ([`write_table`][excavkin.outputs.tables.write_table]), atomically: the
     file appears when the last frame is written, and not at all if making a frame fails.
 
     Memory is bounded by a frame: a table of any length is written part by part, each
@@ -92,7 +93,7 @@ def write_tables(
 class TableWriter:
     """A table written part by part: ``write(frame)`` appends the frame's rows.
 
-    Use it on a temporary file inside :func:`write_atomic` (as :func:`write_tables` does),
+    Use it on a temporary file inside `write_atomic` (as `write_tables` does),
     so that a table stopped halfway is never left. The first frame fixes the columns, their
     units and kinds; the file is complete when the writer is closed.
 

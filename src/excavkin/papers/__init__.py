@@ -3,8 +3,8 @@
 Each package holds the paper's closed-form reference formulas (``reference``, its printed
 misprints corrected and documented; pure NumPy, independent of the engine), its study of the
 engine against the paper (``study``), its figures (``figures``) and its
-``excavkin reproduce`` command (``cli``). What they share is in :mod:`excavkin.papers.common`
-and :mod:`excavkin.papers.figures`.
+``excavkin reproduce`` command (``cli``). What they share is in `excavkin.papers.common`
+and `excavkin.papers.figures`.
 
 ==============  ==========================================================================
 package         paper

@@ -2,8 +2,8 @@
 a panel of curves, and writing a PNG.
 
 matplotlib is imported inside the functions only; figures are built on
-:class:`matplotlib.figure.Figure` without pyplot. Curves go through
-:func:`excavkin.outputs.plots.plot_columns` (display units on every axis).
+`matplotlib.figure.Figure` without pyplot. Curves go through
+[`excavkin.outputs.plots.plot_columns`][] (display units on every axis).
 """
 
 from __future__ import annotations

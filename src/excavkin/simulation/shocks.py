@@ -6,7 +6,7 @@ body's ε). Both can only happen where a motion law is not smooth: at its start,
 the joins of its pieces (its *breakpoints*). They are found exactly, never from differences of
 samples: at each breakpoint ``t_b`` the mechanism is solved twice, with the drivers' one-sided
 limits ``q(t_b⁻), q'(t_b⁻), q''(t_b⁻)`` and ``q(t_b⁺), q'(t_b⁺), q''(t_b⁺)``
-(:meth:`~excavkin.simulation.timeline.Drive.state`)::
+([`state`][excavkin.simulation.timeline.Drive.state])::
 
     Δω = ω(t_b⁺) − ω(t_b⁻)           Δε = ε(t_b⁺) − ε(t_b⁻)
 
@@ -24,7 +24,7 @@ the largest sample refined by local resampling) and, for bodies with a moment of
 ``J`` (about the centre of mass), the inertia torque ``J·ε`` at the peak and ``J·Δε`` of each
 soft shock.
 
-Quantities (columns of :meth:`~excavkin.kinematics.KinematicResult.to_frame`)
+Quantities (columns of `to_frame`)
 -------------------------------------------------------------------------------
 ===================  ==================  =======================================
 member               velocity level      acceleration level
@@ -223,7 +223,7 @@ class ShockReport:
     causes : tuple of tuple of str
         Per breakpoint, which drives' breakpoints meet there.
     columns : tuple of Column
-        The tracked quantities (see :func:`tracked_columns`).
+        The tracked quantities (see `tracked_columns`).
     before, after : ndarray, shape (n_breakpoints, n_columns)
         One-sided limits at each breakpoint (NaN where the solve failed).
     shocks : tuple of Shock
@@ -411,7 +411,7 @@ def shock_report(
     ----------
     mech : Mechanism
     drives : mapping of str to Drive or law
-        As for :func:`~excavkin.simulation.timeline.simulate`.
+        As for [`simulate`][excavkin.simulation.timeline.simulate].
     result : KinematicResult, optional
         A run of the same drives with a time column (for the peaks); default
         ``simulate(mech, drives, samples=samples)``.

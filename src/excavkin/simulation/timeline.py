@@ -1,13 +1,14 @@
 """Time-domain kinematics: drivers moved by motion laws, solved over a time grid.
 
-A :class:`Drive` moves one driver of a :class:`~excavkin.mechanism.Mechanism` from an initial
+A [`Drive`][excavkin.simulation.timeline.Drive] moves one driver of a
+[`Mechanism`][excavkin.mechanism.Mechanism] from an initial
 value (its sketch value unless given) by a law's displacement::
 
     q(t)   = q0 + σ·s(t)       q'(t) = σ·v(t)       q''(t) = σ·a(t)
 
-with ``σ = +1`` for a :class:`~excavkin.motion.MotionLaw`, a :class:`~excavkin.motion.Profile`
-and a :class:`~excavkin.motion.ConstantSpeedCrank`, and ``σ = −1`` for a
-:class:`~excavkin.motion.RopeWinch` (hauling in shortens the rope: ``L = L0 − hauled``).
+with ``σ = +1`` for a [`MotionLaw`][excavkin.motion.MotionLaw], a `Profile`
+and a `ConstantSpeedCrank`, and ``σ = −1`` for a
+`RopeWinch` (hauling in shortens the rope: ``L = L0 − hauled``).
 A law holds before its start and after its end, so a drive does too. Drivers without a drive
 stay at their sketch values (rate and acceleration 0).
 
@@ -27,15 +28,16 @@ One-sided limits
 ----------------
 At a breakpoint of a law (its start, its end, the joins of its pieces) the acceleration may
 jump (a *soft shock*) and in principle the velocity too (a *hard shock*).
-:meth:`Drive.state` with ``side="left"`` or ``"right"`` returns the exact one-sided limits
-``q(t⁻), q'(t⁻), q''(t⁻)`` or ``q(t⁺), …``; :func:`driver_inputs` passes them to the solver
-for all drivers at once. :mod:`excavkin.simulation.shocks` builds its report on them.
+[`Drive.state`][excavkin.simulation.timeline.Drive.state] with ``side="left"`` or ``"right"``
+returns the exact one-sided limits
+``q(t⁻), q'(t⁻), q''(t⁻)`` or ``q(t⁺), …``; `driver_inputs` passes them to the solver
+for all drivers at once. `excavkin.simulation.shocks` builds its report on them.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Literal
 
@@ -134,7 +136,7 @@ class Drive:
     ----------
     law : MotionLaw, Profile, ConstantSpeedCrank or RopeWinch
         What moves the driver. Its displacement is added to ``initial`` (subtracted for a
-        :class:`~excavkin.motion.RopeWinch`, whose displacement is the hauled-in length).
+        `RopeWinch`, whose displacement is the hauled-in length).
     initial : float or None
         Driver value the displacement starts from [m or rad]; ``None`` takes the driver's
         sketch value.
@@ -235,7 +237,8 @@ class Drive:
 
 
 def normalise_drives(mech: Mechanism, drives: Mapping[str, Drive | DriveLaw]) -> dict[str, Drive]:
-    """Check drives against the mechanism's inputs and wrap bare laws in :class:`Drive`.
+    """Check drives against the mechanism's inputs and wrap bare laws in
+    [`Drive`][excavkin.simulation.timeline.Drive].
 
     Parameters
     ----------
@@ -335,14 +338,14 @@ def driver_inputs(
     t : array_like, shape (n,)
         Times [s].
     side : {"left", "right"} or None
-        One-sided limits (see :meth:`Drive.state`).
+        One-sided limits (see [`Drive.state`][excavkin.simulation.timeline.Drive.state]).
     held : mapping of str to float, optional
         Drivers without a drive held at these values (SI) instead of their sketch values.
 
     Returns
     -------
     values, rates, accels : dict of str to ndarray, each shape (n,)
-        Ready for :meth:`Mechanism.solve`.
+        Ready for [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
     """
     dd = normalise_drives(mech, drives)
     sketch = mech.sketch_values()
@@ -375,6 +378,7 @@ def simulate(
     side: Side | None = None,
     strict: bool = False,
     held: Mapping[str, float] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> KinematicResult:
     """Solve a mechanism in time, its drivers moved by motion laws.
 
@@ -382,20 +386,25 @@ def simulate(
     ----------
     mech : Mechanism
     drives : mapping of str to Drive or law
-        Driver name → :class:`Drive` (or a bare law, moved from the sketch value). Drivers
+        Driver name → [`Drive`][excavkin.simulation.timeline.Drive] (or a bare law, moved from the
+        sketch value). Drivers
         not listed are held at their sketch values, or at ``held``.
     samples : int
-        Number of times of the grid built by :func:`time_grid` (ignored when ``t`` is given).
+        Number of times of the grid built by `time_grid` (ignored when ``t`` is given).
     t : array_like, shape (n,), optional
         Explicit sample times [s].
     start, duration : float, optional
-        Grid start and length [s]; see :func:`time_grid`.
+        Grid start and length [s]; see `time_grid`.
     side : {"left", "right"} or None
-        Solve at the one-sided limits of the inputs (see :meth:`Drive.state`).
+        Solve at the one-sided limits of the inputs (see
+        [`Drive.state`][excavkin.simulation.timeline.Drive.state]).
     strict : bool
-        Raise :class:`~excavkin.errors.SolveFailure` if a sample fails.
+        Raise [`SolveFailure`][excavkin.errors.SolveFailure] if a sample fails.
     held : mapping of str to float, optional
         Undriven drivers held at these values (SI) instead of their sketch values.
+    progress : callable, optional
+        ``progress(samples_done, samples)`` after each chunk of the solve
+        ([`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]'s).
 
     Returns
     -------
@@ -419,7 +428,7 @@ def simulate(
         if tt.ndim != 1 or tt.size == 0:
             raise InputError(f"t must have shape (n,) with n >= 1, got shape {tt.shape}")
     values, rates, accels = driver_inputs(mech, dd, tt, side, held)
-    return mech.solve(values, rates, accels, time=tt, strict=strict)
+    return mech.solve(values, rates, accels, time=tt, strict=strict, progress=progress)
 
 
 def merge_breakpoints(

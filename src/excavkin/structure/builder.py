@@ -1,15 +1,15 @@
-"""Compile a model into a :class:`~excavkin.structure.plan.SolvePlan`, once per model.
+"""Compile a model into a `SolvePlan`, once per model.
 
-:class:`PlanBuilder` holds what is known so far (points, used constraints) and has one method
-per step kind: :meth:`~PlanBuilder.attach`, :meth:`~PlanBuilder.rotate`,
-:meth:`~PlanBuilder.dyad`, :meth:`~PlanBuilder.slider` and, for what is left, one
-:meth:`~PlanBuilder.newton_group`. Each ``try`` method adds at most its own kind of step and
-says whether it did; :meth:`~PlanBuilder.build` tries them in a fixed order until no point is
+`PlanBuilder` holds what is known so far (points, used constraints) and has one method
+per step kind: `attach`, `rotate`,
+`dyad`, `slider` and, for what is left, one
+`newton_group`. Each ``try`` method adds at most its own kind of step and
+says whether it did; `build` tries them in a fixed order until no point is
 left. A new step kind (an RPR dyad, a gear pair, a cam) is one step record in
-:mod:`excavkin.structure.plan`, one method here and one entry in :attr:`PlanBuilder.ORDER`.
+`excavkin.structure.plan`, one method here and one entry in `PlanBuilder.ORDER`.
 
 Every constraint of the model is used by exactly one step; one left over means the model is
-over-constrained somewhere, and :meth:`~PlanBuilder.check_all_used` names it.
+over-constrained somewhere, and `check_all_used` names it.
 """
 
 from __future__ import annotations

@@ -2,7 +2,7 @@
 constants hold one value per design.
 
 Every dimension of a model is a parameter with a name and a nominal SI value
-(:func:`parameters`):
+([`parameters`][excavkin.structure.design.parameters]):
 
 =========================  ==========================================================
 ``P.x``, ``P.y``           the sketch coordinates of every point
@@ -14,10 +14,11 @@ Every dimension of a model is a parameter with a name and a nominal SI value
 ``LOAD.torque``            a constant couple of the model's ``[loads]``, N·m
 =========================  ==========================================================
 
-:func:`design_plan` recomputes the plan's constants (ground coordinates, radii, body
+[`design_plan`][excavkin.structure.design.design_plan] recomputes the plan's constants (ground
+coordinates, radii, body
 distances, attachment coefficients, locked lengths) for arrays of parameter values, with the
 same arithmetic as the plan builder, through the same body shapes
-(:func:`~excavkin.structure.shapes.local_frame`). The plan's structure and its branch rule (each
+(`local_frame`). The plan's structure and its branch rule (each
 dyad keeps its nominal sketch side) are shared by every design. A design that cannot be built
 (a body whose first two points coincide, distances that form no triangle) is marked, not
 raised.

@@ -1,6 +1,6 @@
 """What a solve plan is: ordered closed-form steps, and the mechanism's index tables.
 
-:func:`excavkin.structure.builder.compile_plan` makes a plan from a model, once. The unknowns
+`excavkin.structure.builder.compile_plan` makes a plan from a model, once. The unknowns
 are point positions. Starting from the ground's points, steps are chosen greedily, each needing
 only points already known (DESIGN.md §3):
 

@@ -31,7 +31,7 @@ def sample_designs(
         the first parameter varying slowest).
     method : {"sobol", "halton", "lhs", "grid"}
         Scrambled Sobol' and Halton sequences and Latin hypercubes come from
-        :mod:`scipy.stats.qmc`, seeded: the same arguments give the same designs. A Sobol'
+        `scipy.stats.qmc`, seeded: the same arguments give the same designs. A Sobol'
         count that is a power of two keeps the sequence's balance.
     seed : int
     part : (int, int), optional

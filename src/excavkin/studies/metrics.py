@@ -152,8 +152,9 @@ def tabulate(
 ) -> pd.DataFrame:
     """The study's table from each metric's column at every design and pose (shape
     (designs, poses)) and whether each pose solved (same shape): the metrics reduced over
-    the poses that solved, and each design's feasibility (see :func:`evaluate`). The
-    ``change`` of a column in ``angles`` is taken along the poses (:func:`angle_change`)."""
+    the poses that solved, and each design's feasibility (see
+    [`evaluate`][excavkin.studies.metrics.evaluate]). The
+    ``change`` of a column in ``angles`` is taken along the poses (`angle_change`)."""
     import pandas as pd
 
     d, p = ok.shape

@@ -21,11 +21,12 @@ alike.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
@@ -40,9 +41,13 @@ from excavkin.studies.metrics import (
 )
 
 if TYPE_CHECKING:
+    from os import PathLike
+
     import pandas as pd
+    from matplotlib.axes import Axes
 
     from excavkin.mechanism import Mechanism
+    from excavkin.studies.study import Study
 
 
 Method = Literal["slsqp", "differential-evolution"]
@@ -51,7 +56,7 @@ SMOOTH: tuple[str, ...] = ("mean", "sumsq", "change", "first", "last")
 METHODS: tuple[str, ...] = ("slsqp", "differential-evolution")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Optimum:
     """What an optimisation found.
 
@@ -73,9 +78,17 @@ class Optimum:
         The optimiser's own verdict.
     message : str
     history : tuple of float
-        The best objective after each iteration (for a convergence plot).
+        The best objective after each iteration (for a convergence plot), SI.
     evaluations : int
         Designs solved.
+    objective, sense, method : str
+        The objective metric's name, "min" or "max", and the optimiser.
+    bounds : dict of str to (float, float)
+        Each parameter's box, SI.
+    kinds : dict of str to str
+        The kind of each parameter (``design.NAME``) and metric (its name).
+    units : dict of str to str
+        The units to show them in (a study file's own); SI where absent.
     """
 
     params: dict[str, float]
@@ -88,6 +101,141 @@ class Optimum:
     message: str
     history: tuple[float, ...] = field(default=())
     evaluations: int = 0
+    objective: str = ""
+    sense: str = ""
+    method: str = ""
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    kinds: dict[str, str] = field(default_factory=dict)
+    units: dict[str, str] = field(default_factory=dict)
+
+    # ---- display, in the study's units
+    def unit(self, column: str) -> str:
+        """The unit ``column`` (``design.NAME`` or a metric's name) is shown in."""
+        from excavkin.kinematics.columns import si_unit
+
+        kind = self.kinds.get(column, "dimensionless")
+        return self.units.get(column) or si_unit(kind)
+
+    def shown(self, column: str, value: ArrayLike) -> Any:
+        """``value`` (SI) of ``column`` in its unit."""
+        kind = self.kinds.get(column)
+        unit = self.units.get(column)
+        if kind is None or kind == "dimensionless" or not unit:
+            return value
+        from excavkin.units import from_si
+
+        return from_si(value, kind, unit)
+
+    def _rows(self) -> list[tuple[str, float, str, str]]:
+        """(column, value in its unit, unit, note) of each parameter and metric."""
+        rows = []
+        for k, v in self.params.items():
+            col = f"design.{k}"
+            side = self.at_bounds.get(k)
+            rows.append((col, float(self.shown(col, v)), self.unit(col), f"at its {side} bound"
+                         if side else ""))  # fmt: skip
+        for k, v in self.metrics.items():
+            note = "objective" if k == self.objective else ""
+            if k in self.active:
+                note = "constraint active"
+            rows.append((k, float(self.shown(k, v)), self.unit(k), note))
+        return rows
+
+    def summary(self) -> str:
+        """The optimum as a user reads it: the objective, the verdict, each parameter and
+        metric in the study's units, the constraints that bind and the parameters at the box's
+        bounds."""
+        verdict = "feasible" if self.feasible else "NOT feasible"
+        head = f"{self.sense}imum of {self.objective}" if self.sense else "optimum"
+        how = f"{self.method}, " if self.method else ""
+        value = f"{self.shown(self.objective, self.value):.10g} {self.unit(self.objective)}"
+        lines = [f"{head} ({how}{self.evaluations:,} designs solved): {value.strip()} — {verdict}"]
+        for col, v, unit, _ in self._rows():
+            name = col.removeprefix("design.") if col.startswith("design.") else col
+            lines.append(f"  {name:<24} {v:.10g} {unit}".rstrip())
+        lines.append(f"  active constraints: {', '.join(self.active) or 'none'}")
+        bounds = ", ".join(f"{k} ({side})" for k, side in self.at_bounds.items())
+        lines.append(f"  at the box's bounds: {bounds or 'none'}")
+        if not self.success:
+            lines.append(f"  the optimiser says: {self.message}")
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        shown = ", ".join(f"{c} = {v:.6g} {u}".rstrip() for c, v, u, _ in self._rows())
+        verdict = "feasible" if self.feasible else "NOT feasible"
+        return f"Optimum({verdict}; {shown})"
+
+    def _repr_html_(self) -> str:
+        import html
+
+        from excavkin.kinematics.summary import html_table
+
+        e = html.escape
+        verdict = "feasible" if self.feasible else "<b>NOT feasible</b>"
+        head = e(f"{self.sense}imum of {self.objective}" if self.sense else "optimum")
+        rows = [[e(c), f"{v:.10g}", e(u), e(note)] for c, v, u, note in self._rows()]
+        return (
+            f"<p>{head} ({e(self.method)}, {self.evaluations:,} designs solved): {verdict}</p>"
+            + html_table(rows, ["", "value", "unit", ""])
+        )
+
+    def to_frame(self, units: Literal["study", "si"] = "study") -> pd.DataFrame:
+        """The optimum as a one-row table: ``design.NAME`` per parameter, one column per
+        metric, and ``feasible``.
+
+        Parameters
+        ----------
+        units : {"study", "si"}
+            In the study's units (``frame.attrs["excavkin.units"]`` names them), or in SI
+            (with each column's kind in ``frame.attrs["excavkin.kinds"]``, as a result's table,
+            ready for [`write_table`][excavkin.outputs.tables.write_table]).
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
+        import pandas as pd
+
+        from excavkin.kinematics.columns import si_unit
+
+        if units not in ("study", "si"):
+            raise InputError(f"units must be 'study' or 'si', not {units!r}")
+        si = {f"design.{k}": v for k, v in self.params.items()} | self.metrics
+        if units == "si":
+            row = {c: [v] for c, v in si.items()}
+            shown = {c: si_unit(self.kinds.get(c, "dimensionless")) for c in si}
+        else:
+            row = {c: [float(self.shown(c, v))] for c, v in si.items()}
+            shown = {c: self.unit(c) for c in si}
+        frame = pd.DataFrame({**row, "feasible": [self.feasible]})
+        frame.attrs["excavkin.units"] = {**shown, "feasible": ""}
+        if units == "si":
+            frame.attrs["excavkin.kinds"] = {c: self.kinds.get(c, "dimensionless") for c in si}
+        return frame
+
+    def plot(self, *, ax: Axes | None = None) -> Axes:
+        """The objective after each iteration, in its unit, if the optimiser recorded it; else
+        each parameter's place in its box.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        from excavkin.studies.plots import plot_convergence, plot_in_bounds
+
+        if self.history:
+            history = [float(self.shown(self.objective, v)) for v in self.history]
+            unit = self.unit(self.objective)
+            return plot_convergence(history, self.objective or "objective", unit=unit, ax=ax)
+        return plot_in_bounds(
+            {k: (v - self.bounds[k][0]) for k, v in self.params.items()},
+            {k: (0.0, hi - lo) for k, (lo, hi) in self.bounds.items()},
+            ax=ax,
+        )
 
 
 def optimize(
@@ -106,6 +254,8 @@ def optimize(
     maxiter: int = 200,
     popsize: int = 32,
     tol: float = 1e-12,
+    units: Mapping[str, str] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Optimum:
     """Minimise or maximise ``objective`` over designs within ``bounds``.
 
@@ -136,13 +286,23 @@ def optimize(
     maxiter, popsize, tol
         The optimisers' iteration limit, population size per parameter (differential
         evolution) and tolerance.
+    units : mapping of str to str, optional
+        The units to show the optimum in, by ``design.NAME`` and metric name (a study's
+        ``units``); SI where absent. Nothing computed depends on them.
+    progress : callable, optional
+        ``progress(iterations, maxiter)`` after each iteration (the optimiser may stop
+        before ``maxiter``).
 
     Returns
     -------
     Optimum
     """
     problem = _MechanismProblem(mech, bounds, poses, objective, sense, metrics, constraints, loads)
-    return run(problem, method, x0, seed=seed, maxiter=maxiter, popsize=popsize, tol=tol)
+    best = run(
+        problem, method, x0, seed=seed, maxiter=maxiter, popsize=popsize, tol=tol,
+        progress=progress,
+    )  # fmt: skip
+    return replace(best, units=dict(units or {}))
 
 
 def run(
@@ -154,22 +314,25 @@ def run(
     maxiter: int = 200,
     popsize: int = 32,
     tol: float = 1e-12,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Optimum:
-    """Optimise ``problem`` (see :func:`optimize` for the arguments)."""
+    """Optimise ``problem`` (see [`optimize`][excavkin.studies.optimize.optimize] for the
+    arguments)."""
+    problem.progress = progress
     if method == "differential-evolution":
-        return problem.differential_evolution(seed, maxiter, popsize, tol)
+        return replace(problem.differential_evolution(seed, maxiter, popsize, tol), method=method)
     if method != "slsqp":
         raise InputError(f"unknown method {method!r} (known: {', '.join(METHODS)})")
     start = problem.start(x0)
-    return problem.local(start, method, maxiter, tol)
+    return replace(problem.local(start, method, maxiter, tol), method=method)
 
 
 class Problem:
     """The optimisation in scaled variables u ∈ [0, 1]ⁿ (and an epigraph variable t).
 
-    A subclass gives the designs' metrics: :meth:`columns_at` (each metric's column at every
-    pose and its gradient) and :meth:`table` (a table of designs, as
-    :func:`~excavkin.studies.metrics.evaluate` makes).
+    A subclass gives the designs' metrics: `columns_at` (each metric's column at every
+    pose and its gradient) and `table` (a table of designs, as
+    [`evaluate`][excavkin.studies.metrics.evaluate] makes).
     """
 
     def __init__(
@@ -211,6 +374,11 @@ class Problem:
         #: the angle columns (their ``change`` is followed along the poses); a subclass's
         self.angles: set[str] = set()
         self.evaluations = 0
+        #: the kind of each parameter (``design.NAME``) and metric; a subclass's
+        self.kinds: dict[str, str] = {}
+        #: ``progress(iterations, maxiter)`` after each iteration, if given
+        self.progress: Callable[[int, int], None] | None = None
+        self.iterations = 0
         self._memo: dict[bytes, tuple[dict[str, F], dict[str, F], bool]] = {}
         # an epigraph variable when the objective is a least or greatest value over poses
         self.epigraph = objective.reduce in ("min", "max", "absmax")
@@ -232,6 +400,12 @@ class Problem:
             self._memo.clear()
         self._memo[u.tobytes()] = out
         return out
+
+    def tick(self, of: int) -> None:
+        """Report one more iteration (of at most ``of``) to ``progress``."""
+        self.iterations += 1
+        if self.progress is not None:
+            self.progress(self.iterations, of)
 
     # ---- designs
     def params_of(self, u: F) -> dict[str, float]:
@@ -313,6 +487,7 @@ class Problem:
             value = self.true_value(z[:n])  # the metric itself, not its epigraph bound
             if np.isfinite(value):
                 self.history.append(value)
+            self.tick(maxiter)
 
         lo = np.zeros(z0.size)
         hi = np.ones(z0.size)
@@ -339,6 +514,7 @@ class Problem:
             r, _ = self.column(m, u)
             if np.isfinite(r).all():
                 self.history.append(float(r @ r))
+            self.tick(10 * maxiter)
             return np.nan_to_num(r, nan=1e3)
 
         def jacobian(u: F) -> F:
@@ -443,6 +619,7 @@ class Problem:
 
         def record(xk: F, convergence: float = 0.0) -> None:
             self.history.append(self.sign * float(population(np.asarray(xk))[0]))
+            self.tick(maxiter)
 
         res = differential_evolution(
             population, [(0.0, 1.0)] * n, vectorized=True, updating="deferred", seed=seed,
@@ -493,6 +670,13 @@ class Problem:
             message=message,
             history=tuple(self.history),
             evaluations=self.evaluations,
+            objective=self.objective.name,
+            sense="min" if self.sign > 0 else "max",
+            bounds={
+                k: (float(a), float(b))
+                for k, a, b in zip(self.names, self.lo, self.hi, strict=True)
+            },
+            kinds=dict(self.kinds),
         )
 
 
@@ -516,6 +700,13 @@ class _MechanismProblem(Problem):
         self.wanted = list(dict.fromkeys(m.column for m in self.metrics))
         probe = mech.solve({}, loads=[]) if loads is not None else mech.solve({})
         self.angles = {c.name for c in probe.columns if c.kind == "angle"}
+        from excavkin.structure.design import parameter_kind
+
+        of = {c.name: c.kind for c in probe.columns}
+        self.kinds = {f"design.{k}": parameter_kind(k, mech.model) for k in self.names}
+        for m in self.metrics:
+            reduced = m.reduce in ("argmin", "argmax")
+            self.kinds[m.name] = "dimensionless" if reduced else of.get(m.column, "dimensionless")
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
         return evaluate(self.mech, designs, self.poses, self.metrics, (), self.loads)
@@ -551,3 +742,84 @@ class _MechanismProblem(Problem):
                 axis=-1,
             ).reshape(col.size, len(self.names))
         return self.remember(u, (values, grads, bool(np.all(ok))))
+
+
+def optimize_study(
+    study: str | PathLike[str] | Study,
+    objective: str | None = None,
+    sense: Literal["min", "max"] | None = None,
+    *,
+    method: Method | None = None,
+    x0: Mapping[str, float] | None = None,
+    maxiter: int | None = None,
+    popsize: int | None = None,
+    tol: float = 1e-12,
+    progress: Callable[[int, int], None] | None = None,
+) -> Optimum:
+    """The best design of a study's box under its constraints, in one call: what
+    ``excavkin optimize STUDY`` does. Arguments left out come from the study file's
+    ``[optimize]`` table; the optimum is shown in the study's units.
+
+    Parameters
+    ----------
+    study : path or Study
+        A study file (a path, or a built-in example's name) or a loaded
+        [`Study`][excavkin.studies.study.Study].
+    objective : str, optional
+        A metric's name (default: the ``[optimize]`` table's ``objective``).
+    sense : {"min", "max"}, optional
+        Default the table's, else "max".
+    method : {"slsqp", "differential-evolution"}, optional
+        Default the table's, else "slsqp".
+    x0 : mapping, optional
+        Start of a local method (default: the model's own values, clipped to the bounds).
+    maxiter, popsize : int, optional
+        Default the table's, else 200 and 32.
+    tol : float
+    progress : callable, optional
+        ``progress(iterations, maxiter)`` after each iteration.
+
+    Returns
+    -------
+    Optimum
+
+    Raises
+    ------
+    InputError
+        The study names no objective, or an unknown one.
+    """
+    from excavkin import load
+    from excavkin.studies.study import Study
+
+    if not isinstance(study, Study):
+        study = _load(study)
+    s = study.optimize
+    name = objective or s.get("objective")
+    if name is None:
+        raise InputError("the study has no [optimize] table naming its objective: give objective=")
+    by_name = {m.name: m for m in study.metrics}
+    if name not in by_name:
+        from excavkin.errors import unknown_name
+
+        raise unknown_name("metric (the objective)", str(name), list(by_name))
+    return optimize(
+        load(study.model), study.bounds, study.poses, by_name[name],
+        sense or s.get("sense", "max"),
+        metrics=[m for m in study.metrics if m.name != name],
+        constraints=study.constraints, method=method or s.get("method", "slsqp"), x0=x0,
+        loads=study.loads, seed=study.seed, maxiter=maxiter or s.get("maxiter", 200),
+        popsize=popsize or s.get("popsize", 32), tol=tol, units=study.units, progress=progress,
+    )  # fmt: skip
+
+
+def _load(path: str | PathLike[str]) -> Study:
+    """A study file: a path, or a built-in example's name."""
+    from pathlib import Path
+
+    import excavkin
+    from excavkin.studies.study_file import load_study
+
+    given = Path(path)
+    if not given.exists() and str(path) in excavkin.examples("study"):
+        given = excavkin.example_path(str(path))
+    return load_study(given)

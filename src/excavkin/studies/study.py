@@ -16,9 +16,9 @@ import itertools
 import json
 import shutil
 from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -28,8 +28,10 @@ from excavkin.studies.metrics import Constraint, Metric, Poses, evaluate, needs_
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
 
     from excavkin.mechanism import Mechanism
+    from excavkin.studies.plots import StudyPlot
 
 #: samples (designs × poses) solved at once: a chunk's arrays stay within a few hundred MB
 CHUNK_SAMPLES = 1 << 18
@@ -54,6 +56,9 @@ class Study:
     seed : int
     loads : "model" or None
         Solve the kinetostatics under the model's loads (needed by force metrics).
+    units : dict of str to str
+        The units to show results in (not part of what is computed): of each design parameter
+        (``design.NAME``) and metric, as the study file writes them; SI where absent.
     """
 
     model: Path
@@ -65,6 +70,8 @@ class Study:
     samples: int = 1024
     seed: int = 0
     loads: str | None = None
+    units: dict[str, str] = field(default_factory=dict)
+    optimize: dict[str, Any] = field(default_factory=dict)
 
     @property
     def designs(self) -> int:
@@ -113,7 +120,8 @@ class Study:
 
 
 class Subject(Protocol):
-    """What :func:`run_study` runs: a :class:`Study` of a model, or a study of another
+    """What [`run_study`][excavkin.studies.study.run_study] runs: a
+    [`Study`][excavkin.studies.study.Study] of a model, or a study of another
     subject (a machine) with the same sampling, chunks and table."""
 
     @property
@@ -150,7 +158,7 @@ def run_study(
     progress: Callable[[int, int], None] | None = None,
     scheduler: str | None = None,
     chunk_samples: int = CHUNK_SAMPLES,
-) -> Path:
+) -> StudyResult:
     """Evaluate the study and write its table (Parquet) to ``out``.
 
     Parameters
@@ -172,7 +180,9 @@ def run_study(
 
     Returns
     -------
-    Path
+    StudyResult
+        The table written (its ``path``; a path-like object, so that ``open(result)`` and
+        ``pd.read_parquet(result)`` read the file).
     """
     from excavkin.io.files import check_target
 
@@ -196,7 +206,168 @@ def run_study(
             progress(done, study.designs)
     _assemble(parts, target, study.fingerprint(), kinds, name)
     shutil.rmtree(parts)
-    return target
+    return StudyResult(target, getattr(study, "units", {}))
+
+
+@dataclass(frozen=True, repr=False)
+class StudyResult:
+    """A study's table, written: one row per design (``design``, ``design.NAME`` per parameter
+    in SI, one column per metric, ``poses_failed``, ``feasible``, ``status``).
+
+    It is path-like (``os.fspath(result)`` is the table's path), so that code that took the
+    path [`run_study`][excavkin.studies.study.run_study] used to return keeps working.
+
+    Attributes
+    ----------
+    path : Path
+        The Parquet table.
+    units : dict of str to str
+        The units to show columns in (the study file's own); SI where absent.
+    """
+
+    path: Path
+    units: dict[str, str] = field(default_factory=dict)
+
+    def __fspath__(self) -> str:
+        return str(self.path)
+
+    def to_frame(self) -> pd.DataFrame:
+        """The table, SI, with each column's kind (``frame.attrs["excavkin.kinds"]``), SI unit
+        (``"excavkin.units"``) and the model's name (``"excavkin.model"``) in its ``attrs``, as
+        a result's table.
+
+        Returns
+        -------
+        pandas.DataFrame
+        """
+        import pandas as pd
+
+        frame = pd.read_parquet(self.path)
+        meta = self.metadata()
+        frame.attrs["excavkin.model"] = meta["model"]
+        frame.attrs["excavkin.kinds"] = meta["kinds"]
+        frame.attrs["excavkin.units"] = {str(c): meta["units"].get(str(c), "") for c in frame}
+        return frame
+
+    def metadata(self) -> dict[str, Any]:
+        """The table's own metadata: ``model``, ``kinds`` and ``units`` (SI) of its columns."""
+        import pyarrow.parquet as pq
+
+        meta = pq.read_schema(self.path).metadata or {}
+
+        def read(key: bytes, default: Any) -> Any:
+            return json.loads(meta[key]) if key in meta else default
+
+        model = meta.get(b"excavkin.model", b"").decode()
+        return {
+            "model": model,
+            "kinds": read(b"excavkin.kinds", {}),
+            "units": read(b"excavkin.units", {}),
+        }
+
+    def _shown(self, frame: pd.DataFrame, column: str) -> tuple[np.ndarray, str]:
+        """A column's values in the study's unit, and that unit."""
+        from excavkin.kinematics.columns import si_unit
+
+        kind = frame.attrs["excavkin.kinds"].get(column, "dimensionless")
+        values = frame[column].to_numpy(dtype=np.float64)
+        unit = self.units.get(column, "")
+        if not unit or kind == "dimensionless":
+            return values, si_unit(kind)
+        from excavkin.units import from_si
+
+        return np.asarray(from_si(values, kind, unit)), unit
+
+    def _metrics(self, frame: pd.DataFrame) -> list[str]:
+        """The metrics' columns (those after the parameters, before the verdicts)."""
+        fixed = {"design", "poses_failed", "feasible", "status"}
+        return [c for c in frame.columns if c not in fixed and not c.startswith("design.")]
+
+    def summary(self) -> str:
+        """The study in a few lines: designs, feasible designs, and per metric its range over
+        the feasible designs (over every design where none is) and the design where it is
+        least and greatest, in the study's units.
+
+        Returns
+        -------
+        str
+        """
+        frame = self.to_frame()
+        ok = frame["feasible"].to_numpy(dtype=bool)
+        n = len(frame)
+        lines = [
+            f"study of {frame.attrs['excavkin.model']!r}: {n:,} designs, {int(ok.sum()):,} "
+            f"feasible — {self.path}"
+        ]
+        failed = frame.loc[~ok, "status"].astype(str).value_counts()
+        for why, count in failed.items():
+            lines.append(f"  not feasible, {why}: {count:,}")
+        designs = frame["design"].to_numpy()
+        over = ok
+        if not ok.any():  # the ranges over every design then, said so
+            lines.append("  no design is feasible; the metrics over every design:")
+            over = np.ones_like(ok)
+        for m in self._metrics(frame):
+            v, unit = self._shown(frame, m)
+            v = np.where(over, v, np.nan)
+            if np.isnan(v).all():
+                continue
+            lo, hi = int(np.nanargmin(v)), int(np.nanargmax(v))
+            lines.append(
+                f"  {m:<20} {v[lo]:.6g} … {v[hi]:.6g} {unit}".rstrip()
+                + f"  (least: design {designs[lo]}, greatest: design {designs[hi]})"
+            )
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return f"StudyResult({str(self.path)!r})"
+
+    def _repr_html_(self) -> str:
+        import html
+
+        from excavkin.kinematics.summary import html_table
+
+        lines = self.summary().splitlines()
+        rows = [[html.escape(line.strip())] for line in lines[1:]]
+        return f"<p>{html.escape(lines[0])}</p>" + html_table(rows, [""])
+
+    def plot(
+        self, metric: str | None = None, x: str | None = None, *, ax: Axes | None = None
+    ) -> StudyPlot:
+        """A metric against a design variable, one point per design, the infeasible grey; in
+        the study's units.
+
+        Parameters
+        ----------
+        metric : str, optional
+            A metric's name; default the first.
+        x : str, optional
+            A design parameter's name (or ``design.NAME``); default the first.
+        ax : matplotlib.axes.Axes, optional
+
+        Returns
+        -------
+        StudyPlot
+        """
+        from excavkin.errors import unknown_name
+        from excavkin.studies.plots import plot_study
+
+        frame = self.to_frame()
+        metrics = self._metrics(frame)
+        params = [c.removeprefix("design.") for c in frame.columns if c.startswith("design.")]
+        metric = metric if metric is not None else metrics[0]
+        if metric not in metrics:
+            raise unknown_name("metric", metric, metrics)
+        name = (x if x is not None else params[0]).removeprefix("design.")
+        if name not in params:
+            raise unknown_name("design parameter", name, params)
+        xs, xu = self._shown(frame, f"design.{name}")
+        ys, yu = self._shown(frame, metric)
+        return plot_study(
+            xs, ys, frame["feasible"].to_numpy(dtype=bool),
+            xlabel=f"{name} [{xu}]" if xu else name, ylabel=f"{metric} [{yu}]" if yu else metric,
+            ax=ax,
+        )  # fmt: skip
 
 
 def _check(study: Study) -> Mechanism:

@@ -43,10 +43,13 @@ from excavkin.io.toml_model import TomlReader, read_text_file, read_toml
 from excavkin.studies.design_space import METHODS
 from excavkin.studies.metrics import REDUCTIONS, Constraint, Metric, Poses
 from excavkin.studies.study import Study, metric_kinds
+from excavkin.units import KINDS
 
 #: rate and acceleration kinds of each driver kind
 _RATE = {"angle": "angular_velocity", "length": "velocity"}
 _ACCEL = {"angle": "angular_acceleration", "length": "acceleration"}
+#: the SI unit of each kind
+_SI = {**KINDS, "power": "W"}
 #: the most designs or poses a study file may ask for
 MAX_DESIGNS = 10**10
 MAX_POSES = 10**7
@@ -101,6 +104,7 @@ def load_study(path: str | Path) -> Study:
         raise r.err(str(exc), "metrics") from None
     kinds = metric_kinds(mech, {m.name: (m.column, m.reduce) for m in metrics})
     constraints = read_constraints(r, kinds)
+    units = study_units(r, {f"design.{k}": parameter_kind(k, mech.model) for k in bounds}, kinds)
     study = Study(
         model=model,
         bounds=bounds,
@@ -111,9 +115,47 @@ def load_study(path: str | Path) -> Study:
         samples=samples,
         seed=seed,
         loads=loads,
+        units=units,
+        optimize=read_optimize(r, [m.name for m in metrics]) if "optimize" in r.data else {},
     )
     check_design_count(r, study.designs)
     return study
+
+
+def study_units(
+    r: TomlReader, parameters: Mapping[str, str], metrics: Mapping[str, str]
+) -> dict[str, str]:
+    """The units the file writes its quantities in, to show its results in: of each parameter
+    (``design.NAME`` → kind) and metric (name → kind), the unit its bounds are written in, else
+    the ``[units]`` table's for its kind, else degrees for an angle and SI for the rest."""
+    given: dict[str, list[Any]] = {}
+    for name, bounds in dict(r.data.get("parameters", {})).items():
+        given[f"design.{name}"] = bounds if isinstance(bounds, list) else []
+    for name, spec in dict(r.data.get("constraints", {})).items():
+        given[name] = list(spec.values()) if isinstance(spec, dict) else []
+    out = {}
+    for column, kind in {**parameters, **metrics}.items():
+        written = [_unit_written(v) for v in given.get(column, [])]
+        out[column] = next(
+            (u for u in written if u), r.units.get(kind) or ("deg" if kind == "angle" else "")
+        )
+        if not out[column]:
+            out[column] = _SI.get(kind, "")
+    return out
+
+
+def _unit_written(value: Any) -> str | None:
+    """The unit of a quantity written as text (``"90 mm"`` → ``"mm"``), or None."""
+    if not isinstance(value, str):
+        return None
+    from excavkin.units import registry
+
+    try:
+        quantity: Any = registry().Quantity(value)
+    except Exception:  # not a quantity: the reader has refused it already
+        return None
+    unit = f"{quantity.units:~}"
+    return unit or None
 
 
 def read_sampling(r: TomlReader, head: Mapping[str, Any]) -> tuple[str, int, int]:
@@ -275,15 +317,19 @@ def _target(r: TomlReader, given: Any, kind: str, name: str) -> tuple[float, ...
 def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
     """A study file with an ``[optimize]`` table: the study, and the optimisation's settings
     (``objective``: a metric's name; ``sense``: "min" or "max"; ``method``: "slsqp" or
-    "differential-evolution"; ``maxiter``; ``popsize``)."""
+    "differential-evolution"; ``maxiter``; ``popsize``), which the study also keeps as its
+    ``optimize``."""
     study = load_study(path)
-    source = str(path)
-    r = TomlReader(read_toml(read_text_file(path), source), source)
-    return study, read_optimize(r, [m.name for m in study.metrics])
+    if not study.optimize:
+        source = str(path)
+        r = TomlReader(read_toml(read_text_file(path), source), source)
+        read_optimize(r, [m.name for m in study.metrics])  # raises: the table is required
+    return study, dict(study.optimize)
 
 
 def read_optimize(r: TomlReader, names: list[str]) -> dict[str, Any]:
-    """The ``[optimize]`` table's settings (see :func:`load_optimization`); ``names`` are the
+    """The ``[optimize]`` table's settings (see
+    [`load_optimization`][excavkin.studies.study_file.load_optimization]); ``names`` are the
     metrics'."""
     from excavkin.studies.optimize import METHODS as OPTIMIZERS
 

@@ -15,7 +15,7 @@ Three bands per column and sample, each about the nominal value:
 
 A pin clearance c at joint P lets each body's pin there sit anywhere within c of the joint's
 centre: a radial offset of any direction
-(:func:`~excavkin.structure.design.joint_offsets`). Its gradient ``∇_j c`` is the pair of
+([`joint_offsets`][excavkin.structure.design.joint_offsets]). Its gradient ``∇_j c`` is the pair of
 sensitivities to that offset's two components.
 
 For small tolerances the three agree as theory says: the Monte Carlo range lies within the
@@ -27,7 +27,7 @@ variance of each component of an offset uniform in a disc of radius c.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -150,6 +150,7 @@ def tolerance_bands(
     seed: int = 0,
     distribution: str = "normal",
     loads: Any = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> ToleranceBands:
     """Worst-case, root-sum-square and Monte Carlo bands of every kinematic column.
 
@@ -157,9 +158,10 @@ def tolerance_bands(
     ----------
     mech : Mechanism
     values, rates, accels : mapping
-        The sweep, as for :meth:`Mechanism.solve`.
+        The sweep, as for [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
     tolerances : mapping of str to float or str
-        Half-width per parameter (:attr:`Mechanism.parameters`): ``{"A-B": "±0.1 mm"}``.
+        Half-width per parameter
+        ([`Mechanism.parameters`][excavkin.mechanism.Mechanism.parameters]): ``{"A-B": "±0.1 mm"}``.
     clearance : float, str or mapping
         Radial pin clearance: one for every joint, or ``{point: clearance}`` per joint.
     columns : sequence of str, optional
@@ -173,7 +175,9 @@ def tolerance_bands(
         uniform.
     loads : iterable of loads or "model", optional
         Also band the forces (joint, cylinder, driver) under these loads, as for
-        :meth:`Mechanism.solve`.
+        [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
+    progress : callable, optional
+        ``progress(draws_done, draws)`` after each batch of Monte Carlo designs.
 
     Returns
     -------
@@ -211,8 +215,9 @@ def tolerance_bands(
     if distribution not in ("normal", "uniform"):
         raise InputError(f"distribution must be 'normal' or 'uniform', got {distribution!r}")
     low, high, mean, std, failed = _monte_carlo(
-        mech, values, rates, accels, tols, pins, cols, n, draws, seed, distribution, loads
-    )
+        mech, values, rates, accels, tols, pins, cols, n, draws, seed, distribution, loads,
+        progress,
+    )  # fmt: skip
     motion = nominal.motion_note if loads is not None or nominal.unit_rates else ""
     return ToleranceBands(
         tuple(cols), nom, worst, rss, low, high, mean, std, contributions, draws, failed, motion
@@ -264,6 +269,7 @@ def _monte_carlo(
     seed: int,
     distribution: str,
     loads: Any,
+    progress: Callable[[int, int], None] | None = None,
 ) -> tuple[F, F, F, F, NDArray[np.int64]]:
     """Min, max, mean and standard deviation of every column over the draws, per sample, and
     the draws per sample that failed; the designs are solved ``BATCH`` samples at a time."""
@@ -316,6 +322,8 @@ def _monte_carlo(
         square += (centred * centred).sum(axis=0)
         count += ok.sum(axis=0)
         failed += (~ok).sum(axis=0)
+        if progress is not None:
+            progress(start + d, draws)
     with np.errstate(invalid="ignore", divide="ignore"):
         many = count[:, None]
         m = total / many

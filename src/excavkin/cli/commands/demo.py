@@ -31,8 +31,9 @@ DEFAULT_MODEL = "fourbar"
     help="Built-in example model to analyse (see `excavkin demo --list`).",
 )
 @click.option("--list", "list_models", is_flag=True, help="List the built-in models and stop.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
-def command(out_dir: str, model_name: str, list_models: bool) -> None:
+def command(out_dir: str, model_name: str, list_models: bool, quiet: bool) -> None:
     """Analyse a built-in model (the four-bar, a full crank turn at 300 rpm) and write its
     table (CSV) and its self-contained HTML report into OUT_DIR."""
     from excavkin.default_sweep import default_sweep
@@ -57,7 +58,10 @@ def command(out_dir: str, model_name: str, list_models: bool) -> None:
     else:
         result = mech.solve(default_sweep(mech))
     table = write_table(result.to_frame(), folder / f"{path.stem}.csv", force=True)
-    report = write_report(mech, result, folder / f"{path.stem}-report.html", force=True)
+    from excavkin.cli.progress import progress
+
+    with progress("writing the report", quiet=quiet):
+        report = write_report(mech, result, folder / f"{path.stem}-report.html", force=True)
     click.echo(f"\n{result.summary()}")
     for k, p in enumerate(result.plan.transmissions):
         mu = np.degrees(result.transmission[:, k])

@@ -71,7 +71,7 @@ def parse_drive(mech: Mechanism, text: str) -> tuple[str, MotionLaw | Drive]:
     name : str
     law_or_drive : MotionLaw or Drive
         A bare law (with its ``start``; ``from=`` is then returned as a Drive with the law) or a
-        crank / winch :class:`Drive`.
+        crank / winch [`Drive`][excavkin.simulation.timeline.Drive].
     """
     name, spec = parse_assignment(text, "--drive")
     what = f"--drive {name}"
@@ -280,6 +280,7 @@ def build_drives(mech: Mechanism, texts: Sequence[str]) -> dict[str, Drive]:
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
 @units_row_option
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def command(
     model: str,
@@ -294,6 +295,7 @@ def command(
     keep_going: bool,
     force: bool,
     units_row: bool,
+    quiet: bool,
 ) -> None:
     """Solve MODEL.toml over time with drivers moved by motion laws; write one row per time.
 
@@ -319,17 +321,26 @@ def command(
         held[name] = si_value(spec, mech.input_kind(name), f"--set {name}")
     dur = si_value(duration, "time", "--duration") if duration is not None else None
     t0 = si_value(t_start, "time", "--start") if t_start is not None else None
-    result = simulate(mech, drives, samples=samples, duration=dur, start=t0, held=held)
+    from excavkin.cli.progress import MIN_SAMPLES_FOR_BAR, progress, staged
+
+    long = samples >= MIN_SAMPLES_FOR_BAR
+    with staged("solving", 1, quiet=quiet or not long) as next_stage:
+        result = simulate(
+            mech, drives, samples=samples, duration=dur, start=t0, held=held,
+            progress=next_stage(),
+        )  # fmt: skip
     report_failures(result, keep_going)
     frame = result.to_frame()
-    write_table(frame, target, force=force, units_row=units_row)
+    with progress("writing the table", quiet=quiet or not long):
+        write_table(frame, target, force=force, units_row=units_row)
     t = np.asarray(result.time)
     click.echo(
         f"wrote {len(result)} samples × {frame.shape[1]} columns "
         f"(t = {t[0]:g} … {t[-1]:g} s) to {target}"
     )
     if shocks or shock_target is not None:
-        rep = shock_report(mech, drives, result, held=held)
+        with progress("finding the shocks", quiet=quiet or not long):
+            rep = shock_report(mech, drives, result, held=held)
         if shocks:
             click.echo(rep.format())
         if shock_target is not None:

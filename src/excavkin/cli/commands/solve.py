@@ -55,8 +55,8 @@ def build_inputs(
     ``grid`` they form every combination instead (the first sweep varying slowest), N₁·N₂·…
     samples. A design parameter swept by ``--param NAME=START:STOP:N`` (or set by
     ``NAME=VALUE``) is one more such axis; the parameters come back in the values under
-    ``"design." + NAME`` (:func:`split_params` takes them out). With ``lazy`` the sweeps are
-    columns made part by part (:mod:`excavkin.sweeps`), never whole arrays, and no sample
+    ``"design." + NAME`` (`split_params` takes them out). With ``lazy`` the sweeps are
+    columns made part by part ([`excavkin.sweeps`][]), never whole arrays, and no sample
     count is refused for memory.
     """
     values: dict[str, Any] = {}

@@ -64,10 +64,10 @@ def run_with_progress(
             advance(done - seen[0])
             seen[0] = done
 
-        run_study(
+        result = run_study(
             study, target, force=force, resume=not restart, progress=report, scheduler=scheduler
         )
     import pyarrow.parquet as pq
 
-    feasible = pq.read_table(target, columns=["feasible"]).column(0).to_numpy()
-    click.echo(f"wrote {total:,} designs ({int(feasible.sum()):,} feasible) to {target}")
+    feasible = pq.read_table(result.path, columns=["feasible"]).column(0).to_numpy()
+    click.echo(f"wrote {total:,} designs ({int(feasible.sum()):,} feasible) to {result.path}")

@@ -69,6 +69,7 @@ TABLE_SUFFIXES = (".csv", ".parquet")
     help="Plot the first column's bands (.png, .svg, .pdf).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def command(
     model: str,
@@ -87,6 +88,7 @@ def command(
     out: str | None,
     plot_to: str | None,
     force: bool,
+    quiet: bool,
 ) -> None:
     """Bands of MODEL's columns over a sweep when its dimensions are made within --tol and its
     pins sit anywhere in their --clearance: the linear worst case and root-sum-square from
@@ -114,19 +116,23 @@ def command(
         )
         raise InputError(f"--tol is given more than once for {', '.join(twice)}")
     clearance = _clearances(mech, clearances)
-    bands = tolerance_bands(
-        mech,
-        values,
-        rate_v,
-        accel_v,
-        tolerances=tolerances,
-        clearance=clearance,
-        columns=list(columns) or None,
-        draws=draws,
-        seed=seed,
-        distribution=distribution,
-        loads="model" if with_forces else None,
-    )
+    from excavkin.cli.progress import staged
+
+    with staged("Monte Carlo draws", 1, quiet=quiet or draws == 0) as next_stage:
+        bands = tolerance_bands(
+            mech,
+            values,
+            rate_v,
+            accel_v,
+            tolerances=tolerances,
+            clearance=clearance,
+            columns=list(columns) or None,
+            draws=draws,
+            seed=seed,
+            distribution=distribution,
+            loads="model" if with_forces else None,
+            progress=next_stage(),
+        )
     shown = list(columns) or _widest(bands, 8)
     head = ["column (SI)", "worst case ±", "root-sum-square ±", "Monte Carlo ±", "matters most"]
     rows = [head, *summary_rows(bands, shown)]

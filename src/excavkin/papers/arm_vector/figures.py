@@ -1,8 +1,8 @@
 """Figures of ``excavkin reproduce arm``: the vector model and the cylinders' sweeps.
 
 matplotlib is imported inside the functions only; figures are built on
-:class:`matplotlib.figure.Figure` without pyplot. Curves go through
-:func:`excavkin.outputs.plots.plot_columns` (display units on every axis).
+`matplotlib.figure.Figure` without pyplot. Curves go through
+[`excavkin.outputs.plots.plot_columns`][] (display units on every axis).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ def arm_vector_figure(solutions: Sequence[PaperRun], sample: int = 0) -> PaperFi
     Parameters
     ----------
     solutions : sequence of PaperRun
-        From :func:`excavkin.papers.arm_vector.study.arm_inverse`, branch +1 then −1.
+        From `excavkin.papers.arm_vector.study.arm_inverse`, branch +1 then −1.
     sample : int
         Sample to draw.
 
@@ -108,7 +108,7 @@ def arm_cylinders_figure(sweeps: Mapping[str, PaperRun]) -> PaperFigure:
     ----------
     sweeps : mapping of str to PaperRun
         ``{"boom": ..., "stick": ..., "bucket": ...}`` from
-        :func:`excavkin.papers.arm_vector.study.arm_cylinder_sweep`.
+        `excavkin.papers.arm_vector.study.arm_cylinder_sweep`.
 
     Returns
     -------

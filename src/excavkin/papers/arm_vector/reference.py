@@ -29,7 +29,7 @@ Mechanism and conventions (spec §2; sketch not to scale)::
   the driven link's angle ``psi`` is measured in the frame of its parent: boom ``psi = phi1``
   (base frame), stick ``psi = phi2 - phi1`` (boom frame, x along l1), bucket
   ``psi = phi3 - phi2`` (stick frame, x along l2). The paper treats only the boom cylinder and
-  calls the other two "analogous"; :func:`arm_cylinder_kinematics` applies eqs. (7)-(12) in the
+  calls the other two "analogous"; `arm_cylinder_kinematics` applies eqs. (7)-(12) in the
   parent frames and adds the parent's motion to return absolute cylinder angles and rates.
   Direct-acting bucket cylinder: the paper's simplification (a real bucket cylinder acts
   through a four-bar linkage, spec §3.6).
@@ -139,7 +139,7 @@ class CylinderMount:
         Retracted and extended pin-to-pin cylinder lengths, m (engineering estimates: the paper
         gives none).
     branch : int
-        +1 or -1: assembly branch of :func:`cylinder_angle_from_length` that contains the
+        +1 or -1: assembly branch of `cylinder_angle_from_length` that contains the
         working range ``[z_min, z_max]``.
     """
 
@@ -369,7 +369,7 @@ def arm_acceleration(
 
 
 def arm_branch(phi1: ArrayLike, phi2: ArrayLike) -> NDArray[np.int8]:
-    """Elbow branch flag of a pose, as used by :func:`arm_inverse_position`.
+    """Elbow branch flag of a pose, as used by `arm_inverse_position`.
 
     ``branch = sign(sin(phi1 - phi2))``: +1 is the usual excavator assembly ("elbow up": the
     stick pivot lies counter-clockwise of the line from the boom foot to the bucket pin).
@@ -410,7 +410,7 @@ def arm_inverse_position(
     phi3 : array_like, shape (n,)
         Absolute bucket angle, rad.
     branch : int
-        +1 (default, "elbow up", the excavator assembly; see :func:`arm_branch`) or -1.
+        +1 (default, "elbow up", the excavator assembly; see `arm_branch`) or -1.
 
     Returns
     -------
@@ -521,7 +521,7 @@ def arm_accelerations_from_tool(
         Absolute link angles, rad.
     omega1, omega2, omega3 : array_like, shape (n,)
         Absolute angular velocities, rad/s (omega1, omega2 e.g. from
-        :func:`arm_rates_from_tool`).
+        `arm_rates_from_tool`).
     eps3 : array_like, shape (n,)
         Absolute bucket angular acceleration, rad/s^2.
     a_xa, a_ya : array_like, shape (n,)
@@ -559,7 +559,7 @@ def printed_eq4_omega2(
     ``omega2 = -(v_xA + l1 omega1 sin phi1 + l3 omega3 sin phi3) / (l2 sin phi2)``.
 
     Kept for review only: algebraically right, but singular at ``sin phi2 = 0`` (stick
-    horizontal), where :func:`arm_rates_from_tool` is regular (spec §5.3).
+    horizontal), where `arm_rates_from_tool` is regular (spec §5.3).
 
     Parameters
     ----------
@@ -675,7 +675,7 @@ def cylinder_velocity(
     omega : array_like, shape (n,)
         Link angular velocity relative to the parent, rad/s.
     root : int
-        Sign of the ``z`` root, see :func:`cylinder_position`.
+        Sign of the ``z`` root, see `cylinder_position`.
 
     Returns
     -------
@@ -716,7 +716,7 @@ def cylinder_acceleration(
     eps : array_like, shape (n,)
         Link angular acceleration relative to the parent, rad/s^2.
     root : int
-        Sign of the ``z`` root, see :func:`cylinder_position`.
+        Sign of the ``z`` root, see `cylinder_position`.
 
     Returns
     -------
@@ -758,7 +758,7 @@ def cylinder_kinematics(
     psi, omega, eps : array_like, shape (n,)
         Link angle, angular velocity and acceleration relative to the parent.
     root : int
-        Sign of the ``z`` root, see :func:`cylinder_position`.
+        Sign of the ``z`` root, see `cylinder_position`.
 
     Returns
     -------

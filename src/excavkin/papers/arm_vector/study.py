@@ -1,9 +1,9 @@
 r"""The excavator arm's vector model (seed 001), by the engine.
 
 The model ``arm_vector.toml`` is driven by its cylinder lengths; or, by
-:func:`arm_joint_mechanism`, by the link angles; or, by :func:`arm_inverse_mechanism`, by the
+`arm_joint_mechanism`, by the link angles; or, by `arm_inverse_mechanism`, by the
 tooth tip and the bucket angle. The closed-form reference
-(:mod:`excavkin.papers.arm_vector.reference`) is used only for the agreement check.
+(`excavkin.papers.arm_vector.reference`) is used only for the agreement check.
 """
 
 from __future__ import annotations
@@ -192,7 +192,7 @@ def arm_forward(
     """Forward problem, eqs. (2), (3), (5), and the cylinders, eqs. (8)-(12).
 
     Absolute link angles, rates and accelerations in; the engine (driven by the link angles
-    relative to their parents, :func:`arm_joint_mechanism`) gives the tooth tip A and the
+    relative to their parents, `arm_joint_mechanism`) gives the tooth tip A and the
     three floating cylinders.
 
     Parameters
@@ -200,7 +200,7 @@ def arm_forward(
     phi, omega, eps : tuple of 3 array_like, each shape (n,) or scalar
         φ1, φ2, φ3 [rad], ω1..ω3 [rad/s], ε1..ε3 [rad/s²], absolute.
     mech : Mechanism, optional
-        A mechanism from :func:`arm_joint_mechanism`; built from the example without one.
+        A mechanism from `arm_joint_mechanism`; built from the example without one.
 
     Returns
     -------
@@ -236,7 +236,7 @@ def arm_inverse(
     mixed rate problems (ω3, v_xA, v_yA → ω1, ω2; ε3, a_xA, a_yA → ε1, ε2).
 
     The tip's Cartesian motion is handed to the engine as polar coordinates about O (the
-    inputs of :func:`arm_inverse_mechanism`): ``r = |OA|``, ``θ = atan2(y, x)``,
+    inputs of `arm_inverse_mechanism`): ``r = |OA|``, ``θ = atan2(y, x)``,
     ``ṙ = (x vx + y vy)/r``, ``θ̇ = (x vy − y vx)/r²``,
     ``r̈ = (x ax + y ay + |v|²)/r − ṙ²/r``, ``θ̈ = (x ay − y ax)/r² − 2 ṙ θ̇ / r``.
 
@@ -247,18 +247,19 @@ def arm_inverse(
     phi3 : array_like, shape (n,)
         Absolute bucket angle [rad].
     branch : {1, -1}
-        Elbow assembly, see :func:`arm_inverse_mechanism`.
+        Elbow assembly, see `arm_inverse_mechanism`.
     tip_velocity, tip_acceleration : tuple of 2 array_like
         (v_xA, v_yA) [m/s] and (a_xA, a_yA) [m/s²].
     omega3, eps3 : array_like
         Bucket angular velocity and acceleration [rad/s, rad/s²].
     mech : Mechanism, optional
-        From :func:`arm_inverse_mechanism` with the same ``branch``.
+        From `arm_inverse_mechanism` with the same ``branch``.
 
     Returns
     -------
     PaperRun
-        The columns of :func:`arm_forward`; samples the arm cannot reach are NaN, with the
+        The columns of [`arm_forward`][excavkin.papers.arm_vector.study.arm_forward]; samples the
+        arm cannot reach are NaN, with the
         reason in ``result.status``.
     """
     mech = mech or arm_inverse_mechanism(branch=branch)
@@ -301,7 +302,7 @@ def arm_cylinder_sweep(link: str, n: int = 181, mech: Mechanism | None = None) -
     Returns
     -------
     PaperRun
-        The columns of :func:`arm_forward`.
+        The columns of [`arm_forward`][excavkin.papers.arm_vector.study.arm_forward].
     """
     mech = mech or load_paper_model("arm_vector")
     cyl = {lk: c for lk, c, _, _ in _ARM_LINKS}[link]
@@ -315,12 +316,13 @@ _ARM_STROKES = {"boom": (2.00, 3.40), "stick": (2.00, 3.25), "bucket": (2.00, 2.
 
 
 def arm_reference_agreement(n: int = 400, seed: int = 1) -> dict[str, float]:
-    """Engine against :mod:`~excavkin.papers.arm_vector.reference` over the whole working range.
+    """Engine against `reference` over the whole working range.
 
     ``n`` poses drawn (seeded) uniformly from the three cylinders' link-angle ranges of
     ``EXCAVATOR_20T``, with random link rates and accelerations, are solved three ways:
-    forward (link angles in, :func:`arm_forward`), inverse (tooth tip and φ3 in, both
-    branches, :func:`arm_inverse`) and cylinder-driven (the model file itself, the reference's
+    forward (link angles in, [`arm_forward`][excavkin.papers.arm_vector.study.arm_forward]), inverse
+    (tooth tip and φ3 in, both
+    branches, `arm_inverse`) and cylinder-driven (the model file itself, the reference's
     lengths in).
 
     Parameters

@@ -1,12 +1,12 @@
 """Figures of ``excavkin reproduce mo100``: the MO-100 hammer paper's Fig. 3 and Fig. 5, redrawn.
 
-Both take the engine's quantities (:class:`~excavkin.papers.mo100.study.MO100Run` on an open
+Both take the engine's quantities (`MO100Run` on an open
 grid of one crank turn) and return a
-:class:`~excavkin.papers.figures.PaperFigure`; curves go through
-:func:`excavkin.outputs.plots.plot_columns` (display units on every axis). The change point
+`PaperFigure`; curves go through
+[`excavkin.outputs.plots.plot_columns`][] (display units on every axis). The change point
 (the blow, φ = 0 ≡ 360°) is drawn as a vertical line, with the engine's one-sided limits as
 markers at 0° (after the blow) and 360° (before it). matplotlib is imported inside the
-functions only; write the figures with :func:`excavkin.papers.figures.save_png`.
+functions only; write the figures with `excavkin.papers.figures.save_png`.
 """
 
 from __future__ import annotations
@@ -90,8 +90,8 @@ def mo100_fig3(
     Parameters
     ----------
     run : MO100Run
-        The engine over an open grid of one turn (:func:`~excavkin.papers.mo100.study.mo100_run`
-        on :func:`~excavkin.papers.mo100.study.cycle_grid`).
+        The engine over an open grid of one turn (`mo100_run`
+        on `cycle_grid`).
     limits : OneSided, optional
         One-sided limits at the change point, drawn at 360° (filled, before the blow) and 0°
         (open, after it).

@@ -65,9 +65,9 @@ Departures from the print (each proved by a test in
    precision at the change point (test: ``test_eq2_eq3_literal_form_agrees``).
 3. Kinetostatic angle sense (spec §5 item 1): with psi, beta from (2)-(3) inserted unchanged,
    the printed chain (9)-(14) gives Ry(350 deg) = 11 769 N instead of H; the Fig. 4 angles have
-   the opposite rotational sense. :func:`group_reactions` therefore uses
+   the opposite rotational sense. `group_reactions` therefore uses
    ``psi_K = -psi, beta_K = -beta`` by default (``angle_sense="fig4"``); the printed chain then
-   returns exactly minus the housing force of :func:`housing_force`
+   returns exactly minus the housing force of `housing_force`
    (tests: ``test_printed_angle_sense_misprint``, ``test_printed_chain_equals_minus_dalembert``).
 4. Sign of R12 in (11) and "R10 = R12" in (12) (spec §5 item 2): solving the printed (6)-(7)
    gives R12 with the opposite sign, and Newton's third law gives R10 = -R12. The two slips
@@ -79,9 +79,9 @@ Departures from the print (each proved by a test in
 7. The axis of I is not stated (spec §5 item 5): ``MO100Data.inertia_axis`` selects it; the
    default ``"centroid"`` is the printed reading (M_u = I eps3 together with P_tau at S).
 
-The housing force, impulses and the half-sine fit are in :func:`housing_force`,
-:func:`cycle_impulse`, :func:`ry_main_lobe`, :func:`half_sine_fit` and
-:func:`paper_comparison`.
+The housing force, impulses and the half-sine fit are in `housing_force`,
+`cycle_impulse`, `ry_main_lobe`, `half_sine_fit` and
+`paper_comparison`.
 """
 
 from __future__ import annotations
@@ -572,7 +572,7 @@ def transfer_functions(
     1e-15 / |phi|), so for ``|phi| < 1e-3 rad`` (mod 2 pi) u31', u21' are taken from the
     cubic through their exact limit 0 and the closed-form values at 1, 2, 3 mrad on the same
     side (error below 1e-12). At exact multiples of 2 pi the one-sided limits are returned
-    (see module docstring and :func:`impact_limits`).
+    (see module docstring and `impact_limits`).
 
     Parameters
     ----------
@@ -620,7 +620,7 @@ def inertia_loads(
     ``M_u = I omega1^2 u31'`` (omega1 constant, so omega3 = omega1 u31 and
     eps3 = omega1^2 u31'). The printed signs are kept: ``p_tau`` and ``m_u`` are signed like
     eps3 (the d'Alembert loads are their negatives). ``I`` is the centroidal value
-    :attr:`MO100Data.i_centroid`.
+    `MO100Data.i_centroid`.
 
     Parameters
     ----------
@@ -663,7 +663,7 @@ def housing_force(
         Ry = P_u^n sin(psi) - P_u^tau cos(psi)
 
     This is independent of I. It equals minus the printed (13)-(14) evaluated with the Fig. 4
-    angle sense (see :func:`group_reactions`).
+    angle sense (see `group_reactions`).
 
     Parameters
     ----------
@@ -903,7 +903,7 @@ def rx_lobe_impulses(data: MO100Data = MO100_PAPER, n: int = 400_001) -> tuple[f
     -------
     positive, negative, net : float
         Impulses [N s] (spec: +340.6, -340.8, about -0.3 on a fine grid; exactly 0 in the limit,
-        see :func:`cycle_impulse`).
+        see `cycle_impulse`).
     """
     phi = np.linspace(0.0, _TWO_PI, n)
     rx, _ = housing_force(phi, data, "auto")

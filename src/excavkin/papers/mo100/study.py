@@ -3,10 +3,10 @@ r"""The MO-100 crank-rocker hammer by the general engine: what ``excavkin reprod
 Paper: V.E. Eremyants, G.M. Raiymbekova, *Determination of reactive forces acting on the
 manipulator of excavator EO-2621 with mounted hammer MO-100* (seed 002;
 ``docs/papers/mo100.md``). The hammer is the model file ``examples/mo100_hammer.toml`` solved by
-:class:`~excavkin.Mechanism` (kinematics, then d'Alembert kinetostatics with ``loads=[]``:
+[`Mechanism`][excavkin.Mechanism] (kinematics, then d'Alembert kinetostatics with ``loads=[]``:
 inertia only, crank and coupler massless as in the paper), with the crank at constant speed
-ω1 (:class:`~excavkin.motion.ConstantSpeedCrank`). The paper's own closed forms
-(:mod:`excavkin.papers.mo100.reference`) are used only for the columns that show the agreement,
+ω1 (`ConstantSpeedCrank`). The paper's own closed forms
+(`excavkin.papers.mo100.reference`) are used only for the columns that show the agreement,
 never to compute the engine's values. Pure NumPy, SI units, batch axis first.
 
 Axes
@@ -19,7 +19,7 @@ rocker at the angle ∠CDS from D->C, so the housing x axis is at the angle
 clockwise side of D->C (``theta_h = -50 deg``). A vector's housing components are its frame
 components rotated by ``-theta_h`` (+50 deg):
 ``[Rx, Ry] = [[cos a, -sin a], [sin a, cos a]] @ [Rx', Ry']`` with ``a = -theta_h``
-(:func:`housing_axes_angle`, :func:`to_housing_axes`)::
+(`housing_axes_angle`, `to_housing_axes`)::
 
          y (up, against the blow)
          ^        C (phi ~ 300 deg)
@@ -39,11 +39,11 @@ velocity has two one-sided limits (``u31 = -3.8804`` before the blow, ``+0.6804`
 engine reports such a sample as a *dead position at dyad C* and returns NaN rates and forces
 there; it is never solved silently. This module handles it explicitly:
 
-* sample grids are *open*: ``phi_k = 2 pi k / n``, ``k = 1 ... n - 1`` (:func:`cycle_grid`),
+* sample grids are *open*: ``phi_k = 2 pi k / n``, ``k = 1 ... n - 1`` (`cycle_grid`),
   they exclude ``phi = 0 (mod 2 pi)``;
 * the values at the change point are the engine's **one-sided limits**, extrapolated from
   its own samples at 1, 2, 3, 4 mrad on each side by the cubic through them
-  (:func:`one_sided_limits`; the Cartesian engine loses about ``1e-16 / phi^2`` of relative
+  (`one_sided_limits`; the Cartesian engine loses about ``1e-16 / phi^2`` of relative
   precision as ``phi -> 0``, so closer samples would not help);
 * impulses integrate the smooth lobes of one cycle ``0+ ... 2 pi -`` with the trapezoid rule
   on a fine grid closed by those one-sided limits; each lobe of Rx is split at its zero
@@ -52,7 +52,7 @@ there; it is never solved silently. This module handles it explicitly:
   ``u31(2 pi -)`` to ``u31(0 +)`` — is the paper's physics, outside the rigid constant-speed
   kinematics: it is not modelled. The housing takes the momentum ``m3 (v_S(0+) - v_S(2 pi-))``
   as the integral of its force over the open cycle (534.6 N s along y for the paper's data,
-  :func:`excavkin.papers.mo100.reference.cycle_impulse`).
+  `excavkin.papers.mo100.reference.cycle_impulse`).
 
 >>> import numpy as np
 >>> run = mo100_run(np.radians([90.0, 350.0]))
@@ -139,13 +139,13 @@ def mirror_center_of_mass(mech: Mechanism | None = None) -> Mechanism:
     of mass lies. The model file puts S on the clockwise side (the side eqs. (8)-(14) describe
     with the printed α > 0, see ``docs/papers/mo100.md``); this returns the other reading:
     the same hammer, with S reflected in the line D->C of the sketch. Rx, Ry (in the housing
-    axes of each reading, :func:`housing_axes_angle` +50 deg instead of -50 deg), R12 and H do
+    axes of each reading, `housing_axes_angle` +50 deg instead of -50 deg), R12 and H do
     not depend on the side; R03 does.
 
     Parameters
     ----------
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
 
     Returns
     -------
@@ -179,7 +179,7 @@ def housing_axes_angle(mech: Mechanism | None = None) -> float:
     Parameters
     ----------
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
 
     Returns
     -------
@@ -205,7 +205,7 @@ def to_housing_axes(v: npt.ArrayLike, theta_h: float) -> FloatArray:
     v : array_like, shape (n, 2)
         Vectors in frame axes.
     theta_h : float
-        :func:`housing_axes_angle` [rad].
+        `housing_axes_angle` [rad].
 
     Returns
     -------
@@ -222,7 +222,7 @@ def reference_data(mech: Mechanism | None = None, omega1: float = MO100_OMEGA1) 
     Parameters
     ----------
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
     omega1 : float
         Crank speed [rad/s].
 
@@ -232,7 +232,7 @@ def reference_data(mech: Mechanism | None = None, omega1: float = MO100_OMEGA1) 
         Lengths from ``[lengths]``, ``l_s`` and ``alpha`` from the rocker's centre of mass,
         ``m3`` and the centroidal ``inertia`` from the rocker (the engine's J is about S).
         ``alpha`` is signed like the reference's: positive when S lies clockwise of D->C (the
-        model file, +50 deg), negative for the other side (:func:`mirror_center_of_mass`).
+        model file, +50 deg), negative for the other side (`mirror_center_of_mass`).
     """
     m = _mech(mech).model
     ln = m.lengths
@@ -283,7 +283,7 @@ class MO100Run:
     omega1 : float
         Crank speed [rad/s].
     theta_h : float
-        :func:`housing_axes_angle` [rad].
+        `housing_axes_angle` [rad].
     forces : ForceResult
         The engine's full result.
     """
@@ -310,16 +310,16 @@ def mo100_run(
 ) -> MO100Run:
     """Solve the hammer's kinematics and kinetostatics at crank angles ``phi``.
 
-    The crank turns at constant speed (:class:`~excavkin.motion.ConstantSpeedCrank`,
+    The crank turns at constant speed (`ConstantSpeedCrank`,
     ``phi = omega1 t``); loads: inertia only (``loads=[]``).
 
     Parameters
     ----------
     phi : array_like, shape (n,)
         Crank angles [rad]. Samples at ``0 (mod 2 pi)`` come back NaN with the engine's status
-        "dead position at dyad C": use :func:`cycle_grid` and :func:`one_sided_limits`.
+        "dead position at dyad C": use `cycle_grid` and `one_sided_limits`.
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
     omega1 : float
         Crank speed [rad/s].
 
@@ -419,7 +419,7 @@ def one_sided_limits(mech: Mechanism | None = None, omega1: float = MO100_OMEGA1
     Parameters
     ----------
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
     omega1 : float
         Crank speed [rad/s].
 
@@ -541,7 +541,7 @@ def rx_impulses(
     n : int
         Intervals over the cycle (default 0.005 deg).
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
     omega1 : float
         Crank speed [rad/s].
 
@@ -570,7 +570,7 @@ def main_ry_lobe(
     n : int
         Intervals of the trapezoid rule over the lobe.
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
     omega1 : float
         Crank speed [rad/s].
 
@@ -616,7 +616,7 @@ def trapezoid_impulse(
     step_deg : float
         Step [deg]; the window must be a whole number of steps.
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
     omega1 : float
         Crank speed [rad/s].
 
@@ -684,11 +684,11 @@ def engine_fits(
     Parameters
     ----------
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
     omega1 : float
         Crank speed [rad/s].
     lobe : Lobe, optional
-        :func:`main_ry_lobe`, if already computed.
+        `main_ry_lobe`, if already computed.
 
     Returns
     -------
@@ -742,7 +742,7 @@ class ReproductionRow:
     engine : float
         The general engine's value.
     reference : float
-        The paper's formulas (:mod:`excavkin.papers.mo100.reference`) under the same reading.
+        The paper's formulas (`excavkin.papers.mo100.reference`) under the same reading.
     """
 
     quantity: str
@@ -760,7 +760,7 @@ def reproduction_table(
     Parameters
     ----------
     mech : Mechanism, optional
-        The hammer; default :func:`load_mo100`.
+        The hammer; default `load_mo100`.
     omega1 : float
         Crank speed [rad/s].
 

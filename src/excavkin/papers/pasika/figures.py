@@ -2,8 +2,8 @@
 redrawn, and the comparison of motion laws.
 
 matplotlib is imported inside the functions only; figures are built on
-:class:`matplotlib.figure.Figure` without pyplot. Curves go through
-:func:`excavkin.outputs.plots.plot_columns` (display units on every axis).
+`matplotlib.figure.Figure` without pyplot. Curves go through
+[`excavkin.outputs.plots.plot_columns`][] (display units on every axis).
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def pasika_fig3(run: PaperRun) -> PaperFigure:
     Parameters
     ----------
     run : PaperRun
-        From :func:`excavkin.papers.pasika.study.pasika_run`.
+        From [`excavkin.papers.pasika.study.pasika_run`][].
 
     Returns
     -------
@@ -81,7 +81,7 @@ def pasika_fig5(
     Parameters
     ----------
     run : PaperRun
-        From :func:`excavkin.papers.pasika.study.pasika_run`.
+        From [`excavkin.papers.pasika.study.pasika_run`][].
     table : mapping, optional
         Points to overlay (spec §4.3: ``phi1`` in degrees, ``omega1``, ``eps1``, ...).
     times : sequence of float
@@ -137,7 +137,7 @@ _FREE_COLORS = ("#1f77b4", "#2ca02c", "#17becf", "#9467bd", "#393b79", "#637939"
 
 @dataclass
 class LawComparisonFigure:
-    """The artists of :func:`law_comparison_figure`.
+    """The artists of `law_comparison_figure`.
 
     Attributes
     ----------
@@ -177,7 +177,7 @@ def law_comparison_figure(
     Parameters
     ----------
     study : LawStudy
-        From :func:`excavkin.papers.pasika.laws.compare_laws`.
+        From `excavkin.papers.pasika.laws.compare_laws`.
     fig : matplotlib.figure.Figure, optional
         Figure to draw into (it is cleared); a new 11 × 8 in figure without one.
     title : str, optional

@@ -3,14 +3,14 @@
 The paper (seed 003) drives the cylinder–rocker module with the cubic law, finds that the rod's
 acceleration jumps at the start and end of the stroke (soft shocks), observes that the
 angular accelerations of the cylinder (ε1) and of the rocker (ε3) "copy" the rod's law, and
-leaves laws without those jumps as future work. :func:`compare_laws` runs every law of
-:data:`~excavkin.motion.LAW_NAMES` through the general engine on the paper's module and
+leaves laws without those jumps as future work. `compare_laws` runs every law of
+`LAW_NAMES` through the general engine on the paper's module and
 measures, per law:
 
 * peak ``|a21|`` (rod, relative to the cylinder), ``|ε1|``, ``|ε3|`` and ``J·|ε3|``;
 * the one-sided values at the ends, ``a21(0⁺)``, ``a21(T⁻)``, ``ε(0⁺)``, ``ε(T⁻)``;
 * the exact soft and hard shocks of the rod and of both links
-  (:func:`~excavkin.simulation.shocks.shock_report`);
+  ([`shock_report`][excavkin.simulation.shocks.shock_report]);
 * how closely each link's ε(t) follows a21(t): the Pearson correlation over ``[0, T]``, the
   ratio ``ε/a21`` at the ends, and the share of the velocity term in ε.
 
@@ -26,7 +26,7 @@ law removes the links' soft shocks exactly when it removes the rod's. Inside the
 velocity term ``u''·v21²`` bends ε away from a scaled copy of a21; its share grows with the
 law's peak velocity.
 
-Module (spec §4.1; :func:`pasika_module`)::
+Module (spec §4.1; `pasika_module`)::
 
           B (-a, b) o
                     |\\    rocker ("rocker"), l_AB
@@ -278,7 +278,7 @@ class LawStudy:
         raise KeyError(f"law {law!r} not in the study ({', '.join(self.laws)})")
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per law, every :class:`LawRow` field (ratios split into start/end)."""
+        """One row per law, every `LawRow` field (ratios split into start/end)."""
         import pandas as pd
 
         recs = []
@@ -430,9 +430,9 @@ def compare_laws(
     Parameters
     ----------
     laws : sequence of str
-        Names for :func:`~excavkin.motion.get_law` (default parameters), default all.
+        Names for [`get_law`][excavkin.motion.get_law] (default parameters), default all.
     mech : Mechanism, optional
-        Default :func:`pasika_module` (the paper's data, illustrative rocker mass).
+        Default `pasika_module` (the paper's data, illustrative rocker mass).
     driver : str
         The driven cylinder (a linear driver); its line's ε is the cylinder's ε1.
     rocker : str

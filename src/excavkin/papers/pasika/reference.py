@@ -32,11 +32,11 @@ a = 0.8, b = 1.2) cannot be assembled (0.45 + 0.9 < 1.442).
 
 Equations in computation order
 ------------------------------
-Motion law (4)-(6) (:func:`cubic_law`), any other law may be used instead::
+Motion law (4)-(6) (`cubic_law`), any other law may be used instead::
 
     s = H (3 t^2/T^2 - 2 t^3/T^3),  v21 = 6 H t (T - t)/T^3,  a21 = 6 H (T - 2 t)/T^3
 
-Positions (1)-(3) (:func:`positions`)::
+Positions (1)-(3) (`positions`)::
 
     l_OA = l_OA0 + s                                                        (1)
     gamma1 = arccos[(l_OB^2 + l_AB^2 - l_OA^2) / (2 l_OB l_AB)]   (triangle OAB)
@@ -44,12 +44,12 @@ Positions (1)-(3) (:func:`positions`)::
     alpha = arccos[(l_OB^2 + l_OA^2 - l_AB^2) / (2 l_OB l_OA)]    (triangle OAB)
     phi1 = 90 deg + gamma2 - alpha                                           (3)
 
-Velocities (7)-(9) (:func:`velocities`), from v_A = v_A^e + v_A^r::
+Velocities (7)-(9) (`velocities`), from v_A = v_A^e + v_A^r::
 
     omega3 = v21 / (l_AB sin(phi1 - phi3))                                   (8)
     omega1 = v21 ctg(phi1 - phi3) / l_OA                                     (9)
 
-Accelerations (10)-(12) (:func:`accelerations`), from
+Accelerations (10)-(12) (`accelerations`), from
 ``l_AB (i eps3 - omega3^2) e^{i phi3} = [l_OA (i eps1 - omega1^2) + a21 + 2 i omega1 v21]
 e^{i phi1}`` projected along and across O->A::
 
@@ -70,8 +70,8 @@ Departures from the print (each proved by a test in
 
 Failures
 --------
-``on_failure="raise"`` (default) raises :class:`ReferenceAssemblyError` when a triangle
-cannot close (|cos| > 1) and :class:`ReferenceSingularityError` when
+``on_failure="raise"`` (default) raises `ReferenceAssemblyError` when a triangle
+cannot close (|cos| > 1) and `ReferenceSingularityError` when
 ``|sin(phi1 - phi3)| < singular_tol`` (cylinder collinear with the rocker: dead point);
 ``on_failure="nan"`` puts NaN in the failed samples and reports them in ``status``
 (0 ok, 1 not assemblable, 2 singular).
@@ -262,7 +262,7 @@ def cubic_law(
     ``a21 = (6 H / T^2)(1 - 2 t / T)`` from the boundary conditions (5)
     ``s(0) = v(0) = 0, s(T) = H, v(T) = 0``. Defined on ``0 <= t <= T``; outside the rod is at
     rest (s = 0 or H, v21 = a21 = 0), so a21 jumps by +6H/T^2 at t = 0 and by +6H/T^2 at
-    t = T (the soft shocks, see :func:`soft_shock_jumps`).
+    t = T (the soft shocks, see `soft_shock_jumps`).
 
     Parameters
     ----------
@@ -424,7 +424,7 @@ def velocities(
     data : PasikaData
         Module data.
     on_failure : {"raise", "nan"}
-        See :func:`positions`; singular samples get NaN with ``"nan"``.
+        See `positions`; singular samples get NaN with ``"nan"``.
     singular_tol : float
         Tolerance on ``|sin(phi1 - phi3)|``.
 
@@ -475,7 +475,7 @@ def accelerations(
     data : PasikaData
         Module data.
     on_failure : {"raise", "nan"}
-        See :func:`positions`.
+        See `positions`.
     singular_tol : float
         Tolerance on ``|sin(phi1 - phi3)|``.
 
@@ -514,15 +514,15 @@ def kinematics(
     data : PasikaData
         Module data.
     on_failure : {"raise", "nan"}
-        See :func:`positions`.
+        See `positions`.
     singular_tol : float
         Tolerance on ``|sin(phi1 - phi3)|``.
 
     Returns
     -------
     PasikaKinematics
-        Bundle of :class:`PasikaPositions`, :class:`PasikaVelocities` and
-        :class:`PasikaAccelerations`; ``.status`` shape (n,).
+        Bundle of `PasikaPositions`, `PasikaVelocities` and
+        `PasikaAccelerations`; ``.status`` shape (n,).
     """
     return PasikaKinematics(
         positions=positions(s, data, on_failure, singular_tol),
@@ -532,7 +532,7 @@ def kinematics(
 
 
 def phi3_from_stroke(s: npt.ArrayLike, data: PasikaData = PASIKA_PAPER) -> FloatArray:
-    """Rocker angle phi3 for stroke s, eq (2) (shortcut of :func:`positions`).
+    """Rocker angle phi3 for stroke s, eq (2) (shortcut of `positions`).
 
     Parameters
     ----------
@@ -550,7 +550,7 @@ def phi3_from_stroke(s: npt.ArrayLike, data: PasikaData = PASIKA_PAPER) -> Float
 
 
 def phi1_from_stroke(s: npt.ArrayLike, data: PasikaData = PASIKA_PAPER) -> FloatArray:
-    """Cylinder angle phi1 for stroke s, eq (3) (shortcut of :func:`positions`).
+    """Cylinder angle phi1 for stroke s, eq (3) (shortcut of `positions`).
 
     Parameters
     ----------

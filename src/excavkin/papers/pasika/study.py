@@ -1,9 +1,9 @@
 r"""Pasika & Koruniak's cylinder–rocker module with an internal driving link, by the engine.
 
 The model ``pasika_module.toml`` is driven by the cylinder length ``l_OA0 + s(t)`` from the
-cubic law (:class:`~excavkin.motion.CubicLaw`); this module turns the engine's result into the
+cubic law (`CubicLaw`); this module turns the engine's result into the
 paper's quantities, puts the published values beside them, and compares with the closed-form
-reference (:mod:`excavkin.papers.pasika.reference`), used only for that comparison.
+reference (`excavkin.papers.pasika.reference`), used only for that comparison.
 
 >>> import numpy as np
 >>> run = pasika_run(np.array([0.0, 2.5, 5.0]))
@@ -230,12 +230,12 @@ def pasika_published(mech: Mechanism | None = None) -> list[Published]:
 
 
 def pasika_reference_agreement(run: PaperRun) -> dict[str, float]:
-    """Engine against :mod:`excavkin.papers.pasika.reference` (eqs. 1-12) on the same samples.
+    """Engine against `excavkin.papers.pasika.reference` (eqs. 1-12) on the same samples.
 
     Parameters
     ----------
     run : PaperRun
-        From :func:`pasika_run`.
+        From [`pasika_run`][excavkin.papers.pasika.study.pasika_run].
 
     Returns
     -------

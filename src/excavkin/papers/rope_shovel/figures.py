@@ -1,8 +1,8 @@
 """Figures of ``excavkin reproduce rope-shovel``: the mechanism's scheme, its angles and rates.
 
 matplotlib is imported inside the functions only; figures are built on
-:class:`matplotlib.figure.Figure` without pyplot. Curves go through
-:func:`excavkin.outputs.plots.plot_columns` (display units on every axis).
+`matplotlib.figure.Figure` without pyplot. Curves go through
+[`excavkin.outputs.plots.plot_columns`][] (display units on every axis).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ def rope_shovel_scheme(run: PaperRun, samples: Sequence[int]) -> PaperFigure:
     Parameters
     ----------
     run : PaperRun
-        From :func:`excavkin.papers.rope_shovel.study.rope_shovel_sweep`.
+        From `excavkin.papers.rope_shovel.study.rope_shovel_sweep`.
     samples : sequence of int
         Samples to draw; the last one in full, the others faded.
 
@@ -61,7 +61,7 @@ def rope_shovel_angles(run: PaperRun) -> PaperFigure:
     Parameters
     ----------
     run : PaperRun
-        From :func:`excavkin.papers.rope_shovel.study.rope_shovel_sweep`.
+        From `excavkin.papers.rope_shovel.study.rope_shovel_sweep`.
 
     Returns
     -------
@@ -105,7 +105,7 @@ def rope_shovel_rates(run: PaperRun) -> PaperFigure:
     Parameters
     ----------
     run : PaperRun
-        From :func:`excavkin.papers.rope_shovel.study.rope_shovel_sweep` (winch at constant speed).
+        From `excavkin.papers.rope_shovel.study.rope_shovel_sweep` (winch at constant speed).
 
     Returns
     -------

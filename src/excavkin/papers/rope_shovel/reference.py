@@ -801,7 +801,7 @@ class BucketMechanismState(NamedTuple):
     omega7_abs : numpy.ndarray
         Absolute bucket angular velocity ``omega1 + omega7p``.
     bucket_to_horizon : numpy.ndarray
-        See :func:`bucket_angle_to_horizon`.
+        See `bucket_angle_to_horizon`.
     hk, gamma, v_c1, omega10 : numpy.ndarray
         Ц1 length, angle, stroke speed and angular velocity (relative to the stick).
     """
@@ -901,7 +901,7 @@ def bucket_mechanism(
 def bucket_mechanism_from_drive(
     geom: RopeShovelGeometry, drive: WinchDrive, phi1: ArrayLike
 ) -> BucketMechanismState:
-    """As :func:`bucket_mechanism`, with omega1 from the winch drive via eq. (2) corrected.
+    """As `bucket_mechanism`, with omega1 from the winch drive via eq. (2) corrected.
 
     Parameters
     ----------

@@ -1,9 +1,9 @@
 r"""Maksimov's bucket-turning mechanism of the EO-4112 rope backhoe, by the engine.
 
 The model ``rope_shovel.toml`` is driven by the drag-rope length FE and its rate ``-v_rope``
-(:class:`~excavkin.motion.RopeWinch`); this module turns the engine's result into the paper's
+(`RopeWinch`); this module turns the engine's result into the paper's
 angles and rates and compares them with the closed-form reference
-(:mod:`excavkin.papers.rope_shovel.reference`).
+(`excavkin.papers.rope_shovel.reference`).
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 from excavkin.papers.common import PaperRun, load_paper_model, rel_error, wrap
 
 #: The EO-4112 drag winch assumed for the rope shovel (the paper gives no numbers; same values
-#: as :data:`excavkin.papers.rope_shovel.reference.EO4112_DRIVE`): motor 750 rpm, drum radius
+#: as `excavkin.papers.rope_shovel.reference.EO4112_DRIVE`): motor 750 rpm, drum radius
 #: 0.25 m, gear ratio 20, two-fall pulley block → rope speed 0.491 m/s, hauling in.
 EO4112_WINCH = RopeWinch(750.0 * 2.0 * math.pi / 60.0, 0.25, 20.0, 2.0)
 
@@ -197,7 +197,7 @@ def rope_shovel_sweep(
 ) -> PaperRun:
     """The mechanism at given stick angles, hauled in by a winch at constant speed.
 
-    The rope length at each φ1 comes from triangle O1FE (:func:`rope_length_at`); the engine
+    The rope length at each φ1 comes from triangle O1FE (`rope_length_at`); the engine
     then solves from the rope alone. Time runs from the largest φ1 (rope longest) while the
     winch hauls in at ``winch.rope_speed``.
 
@@ -206,14 +206,14 @@ def rope_shovel_sweep(
     phi1 : array_like, shape (n,)
         Stick angles [rad].
     winch : RopeWinch
-        Constant-speed winch; default :data:`EO4112_WINCH`.
+        Constant-speed winch; default `EO4112_WINCH`.
     mech : Mechanism, optional
         Default ``examples/rope_shovel.toml``.
 
     Returns
     -------
     PaperRun
-        As :func:`rope_shovel_run`, with ``t`` [s].
+        As [`rope_shovel_run`][excavkin.papers.rope_shovel.study.rope_shovel_run], with ``t`` [s].
     """
     mech = mech or load_paper_model("rope_shovel")
     fe = rope_length_at(mech, phi1)
@@ -223,17 +223,18 @@ def rope_shovel_sweep(
 
 
 def rope_shovel_reference_agreement(run: PaperRun) -> dict[str, float]:
-    """Engine against :func:`~excavkin.papers.rope_shovel.reference.bucket_mechanism` at φ1, ω1.
+    """Engine against `bucket_mechanism` at φ1, ω1.
 
     Parameters
     ----------
     run : PaperRun
-        From :func:`rope_shovel_run` or :func:`rope_shovel_sweep` on ``rope_shovel.toml``.
+        From [`rope_shovel_run`][excavkin.papers.rope_shovel.study.rope_shovel_run] or
+        `rope_shovel_sweep` on ``rope_shovel.toml``.
 
     Returns
     -------
     dict of str to float
-        Per quantity of :class:`~excavkin.papers.rope_shovel.reference.BucketMechanismState`
+        Per quantity of `BucketMechanismState`
         that the run has: the largest difference relative to the reference's largest
         magnitude. ω1 itself is compared with eq. (2) corrected, from the rope speed.
     """
