@@ -245,11 +245,33 @@ class Mechanism:
         return self.plan.inputs
 
     def sketch_values(self) -> dict[str, float]:
-        """Each input's value at the (re-assembled) sketch, SI."""
+        """Each input's value at the (re-assembled) sketch, SI.
+
+        Returns
+        -------
+        dict of str to float
+            Input name → its value there (rad or m).
+        """
         return dict(zip(self.plan.inputs, self.plan.input_sketch, strict=True))
 
     def input_kind(self, name: str) -> str:
-        """``"angle"`` or ``"length"``."""
+        """``"angle"`` or ``"length"``: what the input ``name`` drives.
+
+        Parameters
+        ----------
+        name : str
+            One of `inputs`.
+
+        Returns
+        -------
+        str
+            ``"angle"`` for a rotary driver (rad), ``"length"`` for a linear one (m).
+
+        Raises
+        ------
+        InputError
+            A name that is not an input, with the nearest ones.
+        """
         self._check_names([name])
         return self.plan.input_kinds[self.plan.inputs.index(name)]
 
@@ -519,10 +541,11 @@ class Mechanism:
 
         Parameters
         ----------
-        values, rates, accels, time, tol, workers, chunk, continuation, compiled, loads, params,
-        sensitivities
+        values, rates, accels, time, params
             As for :meth:`solve`; every array may also be an :class:`excavkin.sweeps.Lazy`
             column.
+        tol, workers, chunk, continuation, compiled, loads, sensitivities
+            As for `solve`.
         progress : callable, optional
             ``progress(done, total)`` over the whole sweep, after each solved chunk.
         size : int, optional
@@ -811,7 +834,13 @@ class Mechanism:
         return forces
 
     def describe(self) -> str:
-        """Bodies, joints, drivers, mobility and the solve plan, as text."""
+        """Bodies, joints, drivers, mobility and the solve plan, as text.
+
+        Returns
+        -------
+        str
+            Several lines, one item per line.
+        """
         m = self.model
         lines = [f"mechanism {m.name!r}" + (f" ({m.source})" if m.source else "")]
         lines.append(f"  points  : {len(m.points)}")
@@ -869,7 +898,18 @@ class Mechanism:
         )
 
     def sketch_svg(self, size: int = 240) -> str:
-        """The assembled sketch as an SVG line drawing: bodies as lines, pins as circles."""
+        """The assembled sketch as an SVG line drawing: bodies as lines, pins as circles.
+
+        Parameters
+        ----------
+        size : int, default 240
+            Width and height of the square drawing (px); the sketch is scaled to fit.
+
+        Returns
+        -------
+        str
+            The ``<svg>`` element, with each point labelled by its name.
+        """
         xy = self.assembly.positions
         lo, hi = xy.min(axis=0), xy.max(axis=0)
         span = float(max(hi[0] - lo[0], hi[1] - lo[1], 1e-12))

@@ -55,6 +55,16 @@ MAX_POSES = 10**7
 def load_study(path: str | Path) -> Study:
     """Read and check a study file.
 
+    Parameters
+    ----------
+    path : str or Path
+        The study file (TOML); a relative ``model`` path in it is taken from its folder.
+
+    Returns
+    -------
+    Study
+        The model, the design bounds, poses, metrics, constraints and sampling, SI.
+
     Raises
     ------
     ModelError, UnitError
@@ -275,7 +285,26 @@ def _target(r: TomlReader, given: Any, kind: str, name: str) -> tuple[float, ...
 def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
     """A study file with an ``[optimize]`` table: the study, and the optimisation's settings
     (``objective``: a metric's name; ``sense``: "min" or "max"; ``method``: "slsqp" or
-    "differential-evolution"; ``maxiter``; ``popsize``)."""
+    "differential-evolution"; ``maxiter``; ``popsize``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The study file (TOML).
+
+    Returns
+    -------
+    study : Study
+        As `load_study` reads it.
+    settings : dict
+        ``objective``, ``sense`` (default ``"max"``), ``method`` (default ``"slsqp"``),
+        ``maxiter`` (default 200) and ``popsize`` (default 32).
+
+    Raises
+    ------
+    ModelError, UnitError
+        Naming the file, the table and the entry; a file without ``[optimize]`` too.
+    """
     study = load_study(path)
     source = str(path)
     r = TomlReader(read_toml(read_text_file(path), source), source)
