@@ -22,7 +22,8 @@ def plot_cycle_power(cycle: CyclePower, *, title: str = "") -> ExcavatorPlot:
     ----------
     cycle : CyclePower
         From :func:`~excavkin.excavator.cycle_power.cycle_power`.
-    title : str
+    title : str, default ""
+        Figure title; none when empty.
 
     Returns
     -------

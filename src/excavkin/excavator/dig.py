@@ -279,6 +279,7 @@ def dig(
     soil : Soil
     tool : Tool
     model : {"zelenin", "balovnev", "mckyes"}
+        The soil resistance model (`excavkin.excavator.soil.resistance`).
     at : {"lip", "tip"}
         The tool point: the lip (ISO 6015) or the tooth tip.
     gravity : bool

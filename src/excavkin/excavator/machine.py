@@ -710,6 +710,7 @@ def forward(machine: Machine, lengths: ArrayLike) -> FrontPose:
     ----------
     machine : Machine
     lengths : array_like, shape (n, 3)
+        Boom, arm and bucket cylinder lengths (m).
 
     Returns
     -------

@@ -211,11 +211,14 @@ class KinematicResult:
     Attributes
     ----------
     plan : SolvePlan
+        The plan solved: its ``points``, ``bodies``, ``inputs`` and ``elements`` name the
+        arrays' columns.
     positions, velocities, accelerations : ndarray, shape (n, n_points, 2)
         Views of the solver's struct-of-arrays storage.
     body_angle, body_omega, body_epsilon : ndarray, shape (n, n_bodies)
         Orientation (first→second point, CCW from +x, in (−π, π]), ω and ε.
     inputs, input_rates, input_accels : ndarray, shape (n, n_inputs)
+        The driven inputs (rad or m) and their rates and accelerations.
     element_length, element_rate, element_accel : ndarray, shape (n, n_elements)
         Every linear element (driven, locked or free).
     element_angle, element_omega, element_epsilon : ndarray, shape (n, n_elements)

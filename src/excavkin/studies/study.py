@@ -52,6 +52,7 @@ class Study:
     samples : int
         Designs (for a grid: levels per parameter).
     seed : int
+        Seed of the sampling (not used by a grid).
     loads : "model" or None
         Solve the kinetostatics under the model's loads (needed by force metrics).
     """
