@@ -839,7 +839,7 @@ class Mechanism:
         Returns
         -------
         str
-            Several lines, one item per line.
+            The lines ``excavkin check`` prints.
         """
         m = self.model
         lines = [f"mechanism {m.name!r}" + (f" ({m.source})" if m.source else "")]

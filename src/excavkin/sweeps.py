@@ -111,8 +111,8 @@ class Linspace(Lazy):
         Returns
         -------
         ndarray
-            The values, of the shape of ``index``: what ``np.linspace(start, stop, n)[index]``
-            gives, to the bit.
+            The values, of the shape of ``index``: what
+            ``np.linspace(self.start, self.stop, self.n)[index]`` gives, to the bit.
         """
         # numpy's own arithmetic (numpy/_core/function_base.py), sample by sample
         y = np.asarray(index, dtype=np.float64)

@@ -425,7 +425,7 @@ def resistance(
         Depth of the cut (m): its thickness for Zelenin, the edge's depth below the free
         surface for the others; ≤ 0: out of the soil, no resistance.
     rake : array_like, shape (n,)
-        Cutting (rake) angle α (rad), in (0, π).
+        Cutting (rake) angle α (rad); in (0, π) for Balovnev's and McKyes's models.
     s : Soil
         The soil's properties.
     tool : Tool

@@ -292,7 +292,8 @@ def load_machine_study(path: str | Path) -> MachineStudy:
     Parameters
     ----------
     path : str or pathlib.Path
-        The study file (TOML); a relative ``machine`` path in it is taken from its folder.
+        The study file (TOML); its ``machine`` is a file beside it (a path from its folder)
+        or a built-in machine example's name.
 
     Returns
     -------

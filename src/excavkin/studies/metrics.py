@@ -50,7 +50,8 @@ class Metric:
         How the column is reduced over the poses: ``min``, ``max``, ``absmax``, ``mean``,
         ``sumsq``, ``change``, ``argmin``, ``argmax``, ``first`` or ``last``.
     target : tuple of float, optional
-        For ``sumsq`` and ``absmax``: one value, or one per pose, in the column's SI unit.
+        For ``sumsq`` (needed) and ``absmax`` only: one value, or one per pose, in the
+        column's SI unit.
     """
 
     name: str

@@ -58,7 +58,8 @@ def load_study(path: str | Path) -> Study:
     Parameters
     ----------
     path : str or Path
-        The study file (TOML); a relative ``model`` path in it is taken from its folder.
+        The study file (TOML); its ``model`` is a file beside it (a path from its folder) or
+        a built-in example's name.
 
     Returns
     -------
