@@ -145,7 +145,24 @@ def load(path: str | Path) -> Mechanism:
 
 
 def loads(text: str, source: str | None = None) -> Mechanism:
-    """Like [`load`][excavkin.load], from TOML text."""
+    """Like :func:`load`, from TOML text.
+
+    Parameters
+    ----------
+    text : str
+        The mechanism file's text.
+    source : str, optional
+        What error messages name as the file (default: none).
+
+    Returns
+    -------
+    Mechanism
+
+    Raises
+    ------
+    ModelError
+        Naming the source, table and entry of the problem.
+    """
     from excavkin.io.toml_model import loads_model
     from excavkin.mechanism import Mechanism
 
@@ -186,6 +203,16 @@ def examples(kind: str | None = None) -> list[str]:
 
 def example_path(name: str) -> Path:
     """Path of a built-in example, e.g. ``"fourbar"``, ``"slider_crank"``, ``"excavator"``.
+
+    Parameters
+    ----------
+    name : str
+        The example's name (its file's stem); `examples` lists them.
+
+    Returns
+    -------
+    Path
+        Its ``.toml`` file: a mechanism model, a machine file or a design study.
 
     Raises
     ------

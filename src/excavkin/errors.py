@@ -53,22 +53,51 @@ class ModelError(ExcavkinError):
         return f"{prefix}: {self.problem}" if prefix else self.problem
 
     def with_source(self, source: str) -> ModelError:
-        """Return a copy of this error that also names the file."""
+        """Return a copy of this error that also names the file.
+
+        Parameters
+        ----------
+        source : str
+            The file the model came from.
+
+        Returns
+        -------
+        ModelError
+            An error of the same type, problem, table and entry.
+        """
         err = type(self).__new__(type(self))
         ModelError.__init__(err, self.problem, table=self.table, entry=self.entry, source=source)
         return err
 
 
 class UnitError(ModelError):
-    """A quantity has a wrong, missing or unknown unit."""
+    """A quantity has a wrong, missing or unknown unit.
+
+    Parameters
+    ----------
+    problem, table, entry, source
+        As for `ModelError`.
+    """
 
 
 class MobilityError(ModelError):
-    """The driver count does not match the mobility, or a sub-chain is over/under-constrained."""
+    """The driver count does not match the mobility, or a sub-chain is over/under-constrained.
+
+    Parameters
+    ----------
+    problem, table, entry, source
+        As for `ModelError`.
+    """
 
 
 class AssemblyError(ModelError):
-    """The mechanism cannot be assembled at its sketch with the given lengths."""
+    """The mechanism cannot be assembled at its sketch with the given lengths.
+
+    Parameters
+    ----------
+    problem, table, entry, source
+        As for `ModelError`.
+    """
 
 
 class InputError(ExcavkinError):
@@ -77,6 +106,11 @@ class InputError(ExcavkinError):
 
 class SolveFailure(ExcavkinError):
     """Some samples could not be solved (no closure, dead position) and the caller asked to stop.
+
+    Parameters
+    ----------
+    message : str
+        What failed, in one paragraph.
 
     Attributes
     ----------
@@ -109,13 +143,41 @@ class UnknownNameError(InputError, KeyError):
 
 
 def did_you_mean(name: str, known: Iterable[str]) -> str:
-    """``"; did you mean 'rocker'?"`` for the closest known names, or ``""``."""
+    """``"; did you mean 'rocker'?"`` for the closest known names, or ``""``.
+
+    Parameters
+    ----------
+    name : str
+        The name given.
+    known : iterable of str
+        The names it could have meant.
+
+    Returns
+    -------
+    str
+        The hint, naming up to three close names, or ``""`` where none is close.
+    """
     close = difflib.get_close_matches(name, list(known), n=3, cutoff=0.6)
     return f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
 
 
 def unknown_name(what: str, name: str, known: Sequence[str]) -> UnknownNameError:
-    """``no <what> 'name'; did you mean …? (known: …)``, as an error to raise."""
+    """``no <what> 'name'; did you mean …? (known: …)``, as an error to raise.
+
+    Parameters
+    ----------
+    what : str
+        What kind of name it is (``"point"``, ``"column"``).
+    name : str
+        The name given.
+    known : sequence of str
+        The names there are; the first 30 are listed.
+
+    Returns
+    -------
+    UnknownNameError
+        The error, not raised.
+    """
     hint = did_you_mean(name, known)
     shown = ", ".join(known[:30]) + (", …" if len(known) > 30 else "")
     return UnknownNameError(f"no {what} {name!r}{hint} (known: {shown or 'none'})")

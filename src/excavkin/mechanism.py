@@ -246,11 +246,33 @@ class Mechanism:
         return self.plan.inputs
 
     def sketch_values(self) -> dict[str, float]:
-        """Each input's value at the (re-assembled) sketch, SI."""
+        """Each input's value at the (re-assembled) sketch, SI.
+
+        Returns
+        -------
+        dict of str to float
+            Input name → its value there (rad or m).
+        """
         return dict(zip(self.plan.inputs, self.plan.input_sketch, strict=True))
 
     def input_kind(self, name: str) -> str:
-        """``"angle"`` or ``"length"``."""
+        """``"angle"`` or ``"length"``: what the input ``name`` drives.
+
+        Parameters
+        ----------
+        name : str
+            One of `inputs`.
+
+        Returns
+        -------
+        str
+            ``"angle"`` for a rotary driver (rad), ``"length"`` for a linear one (m).
+
+        Raises
+        ------
+        InputError
+            A name that is not an input, with the nearest ones.
+        """
         self._check_names([name])
         return self.plan.input_kinds[self.plan.inputs.index(name)]
 
@@ -526,6 +548,8 @@ class Mechanism:
         sensitivities
             As for `solve`; every array may also be an [`excavkin.sweeps.Lazy`][]
             column.
+        tol, workers, chunk, continuation, compiled, loads, sensitivities
+            As for `solve`.
         progress : callable, optional
             ``progress(done, total)`` over the whole sweep, after each solved chunk.
         size : int, optional
@@ -815,7 +839,13 @@ class Mechanism:
         return forces
 
     def describe(self) -> str:
-        """Bodies, joints, drivers, mobility and the solve plan, as text."""
+        """Bodies, joints, drivers, mobility and the solve plan, as text.
+
+        Returns
+        -------
+        str
+            The lines ``excavkin check`` prints.
+        """
         m = self.model
         lines = [f"mechanism {m.name!r}" + (f" ({m.source})" if m.source else "")]
         lines.append(f"  points  : {len(m.points)}")

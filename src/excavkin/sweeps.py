@@ -39,7 +39,17 @@ class Lazy(ABC):
 
     @abstractmethod
     def values(self, start: int, stop: int) -> F:
-        """Values ``start`` … ``stop − 1``, a new float64 array."""
+        """Values ``start`` … ``stop − 1``, a new float64 array.
+
+        Parameters
+        ----------
+        start, stop : int
+            The first value's index and one past the last's, ``0 ≤ start ≤ stop ≤ size``.
+
+        Returns
+        -------
+        ndarray, shape (stop - start,)
+        """
 
     @property
     def shape(self) -> tuple[int]:
@@ -78,10 +88,33 @@ class Linspace(Lazy):
         return self.n
 
     def values(self, start: int, stop: int) -> F:
+        """Values ``start`` … ``stop − 1``, a new float64 array.
+
+        Parameters
+        ----------
+        start, stop : int
+            The first value's index and one past the last's, ``0 ≤ start ≤ stop ≤ size``.
+
+        Returns
+        -------
+        ndarray, shape (stop - start,)
+        """
         return self.at(np.arange(start, stop))
 
     def at(self, index: NDArray[np.integer[Any]]) -> F:
-        """The values at the given indices (any shape)."""
+        """The values at the given indices (any shape).
+
+        Parameters
+        ----------
+        index : ndarray of int
+            Indices in ``0 … n − 1``, of any shape.
+
+        Returns
+        -------
+        ndarray
+            The values, of the shape of ``index``: what
+            ``np.linspace(self.start, self.stop, self.n)[index]`` gives, to the bit.
+        """
         # numpy's own arithmetic (numpy/_core/function_base.py), sample by sample
         y = np.asarray(index, dtype=np.float64)
         div = self.n - 1
@@ -101,7 +134,15 @@ class Linspace(Lazy):
 
 
 class GridAxis(Lazy):
-    """One input of a grid ([`grid`][excavkin.sweeps.grid]): its axis' value at each combination."""
+    """One input of a grid (:func:`grid`): its axis' value at each combination.
+
+    Parameters
+    ----------
+    axes : sequence of Linspace or ndarray, shape (n_k,)
+        Every axis of the grid, the first varying slowest.
+    k : int
+        Which axis this input takes its values from.
+    """
 
     def __init__(self, axes: Sequence[Linspace | F], k: int) -> None:
         self.axes = axes
@@ -117,6 +158,17 @@ class GridAxis(Lazy):
         return self.n
 
     def values(self, start: int, stop: int) -> F:
+        """Values ``start`` … ``stop − 1``, a new float64 array.
+
+        Parameters
+        ----------
+        start, stop : int
+            The first value's index and one past the last's, ``0 ≤ start ≤ stop ≤ size``.
+
+        Returns
+        -------
+        ndarray, shape (stop - start,)
+        """
         index = (np.arange(start, stop) // self.stride) % self.length
         axis = self.axes[self.k]
         if isinstance(axis, Linspace):
@@ -127,6 +179,11 @@ class GridAxis(Lazy):
 def grid(*axes: Linspace | Sequence[float] | F) -> list[GridAxis]:
     """Every combination of the axes, the first varying slowest: the flattened
     ``np.meshgrid(*axes, indexing="ij")``, made on demand.
+
+    Parameters
+    ----------
+    *axes : Linspace or array_like, shape (n_k,)
+        The values of each input.
 
     Returns
     -------
@@ -141,7 +198,20 @@ def grid(*axes: Linspace | Sequence[float] | F) -> list[GridAxis]:
 
 def part_of(value: Any, start: int, stop: int) -> Any:
     """Samples ``start`` … ``stop − 1`` of an input: a lazy column's values made, an array
-    sliced (a 0-d one is every sample's)."""
+    sliced (a 0-d one is every sample's).
+
+    Parameters
+    ----------
+    value : Lazy or array_like
+        The input: a lazy column, an array with the sample axis first, or a scalar.
+    start, stop : int
+        The first sample and one past the last.
+
+    Returns
+    -------
+    ndarray
+        Those samples (a 0-d array unchanged).
+    """
     if isinstance(value, Lazy):
         return value.values(start, stop)
     arr = np.asarray(value)

@@ -123,8 +123,20 @@ class BaseMachine:
 
     def support_polygon(self, swing_axis: float) -> tuple[F, list[str]]:
         """Vertices of the support polygon, counter-clockwise in plan (u, v) about the swing
-        axis at model abscissa ``swing_axis``, shape (k, 2), and what each vertex belongs to
-        (``"track"``, ``"blade"``, ``"outriggers"``)."""
+        axis, and what each vertex belongs to.
+
+        Parameters
+        ----------
+        swing_axis : float
+            Abscissa of the swing axis in the model's frame (m).
+
+        Returns
+        -------
+        vertices : ndarray, shape (k, 2)
+            The polygon's vertices (u, v) (m), counter-clockwise, without collinear points.
+        kinds : list of str
+            ``"track"``, ``"blade"`` or ``"outriggers"`` for each vertex.
+        """
         uc = self.track_centre - swing_axis
         half_l = 0.5 * self.track_length
         outer = 0.5 * (self.gauge + self.shoe_width)
@@ -143,7 +155,18 @@ class BaseMachine:
         return np.array([pts[i] for i in hull]), [kinds[i] for i in hull]
 
     def tipping_lines(self, swing_axis: float) -> tuple[TippingLine, ...]:
-        """The support polygon's edges as tipping lines (see `TippingLine`)."""
+        """The support polygon's edges as tipping lines (see :class:`TippingLine`).
+
+        Parameters
+        ----------
+        swing_axis : float
+            Abscissa of the swing axis in the model's frame (m).
+
+        Returns
+        -------
+        tuple of TippingLine
+            One per edge of `support_polygon`, counter-clockwise.
+        """
         poly, kinds = self.support_polygon(swing_axis)
         out = []
         k = len(poly)

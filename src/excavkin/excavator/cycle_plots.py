@@ -21,8 +21,9 @@ def plot_cycle_power(cycle: CyclePower, *, title: str = "") -> ExcavatorPlot:
     Parameters
     ----------
     cycle : CyclePower
-        From [`cycle_power`][excavkin.excavator.cycle_power.cycle_power].
-    title : str
+        From :func:`~excavkin.excavator.cycle_power.cycle_power`.
+    title : str, default ""
+        Figure title; none when empty.
 
     Returns
     -------

@@ -50,7 +50,20 @@ CIRCUIT_KEYS: tuple[str, ...] = ("working", "relief")
 
 def machine_parameters(machine: Machine) -> dict[str, float]:
     """Every parameter of the machine and its nominal value (SI): the mechanism's, then
-    ``cylinders.ROLE.KEY`` and ``circuits.NAME.KEY``."""
+    ``cylinders.ROLE.KEY`` and ``circuits.NAME.KEY``.
+
+    Parameters
+    ----------
+    machine : Machine
+        The excavator.
+
+    Returns
+    -------
+    dict of str to float
+        The mechanism's parameters (points, lengths, loads, masses); each cylinder's
+        ``bore``, ``rod``, ``retracted`` and ``stroke`` (m); each circuit's ``working`` and
+        ``relief`` pressure (Pa).
+    """
     out = dict(machine.mechanism.parameters)
     for c in machine.cylinders:
         for key in CYLINDER_KEYS:
@@ -232,11 +245,39 @@ def design_tool_forces(
 ) -> DesignForces:
     """ISO 6015 (``at="lip"``) or SAE J1179 (``at="tip"``) tool force of the arm or bucket
     cylinder at cylinder ``lengths`` (shape (n, 3)), sample i being the design
-    ``params[name][i]`` (names of
-    [`machine_parameters`][excavkin.excavator.designs.machine_parameters]; scalars or arrays
-    broadcasting to
-    (n,); the others nominal). ``transfer``, if given, is `design_transfer` of the same
-    lengths and parameters (to share it between forces)."""
+    ``params[name][i]`` (names of :func:`machine_parameters`; scalars or arrays broadcasting to
+    (n,); the others nominal). ``transfer``, if given, is :func:`design_transfer` of the same
+    lengths and parameters (to share it between forces).
+
+    Parameters
+    ----------
+    machine : Machine
+        The nominal excavator.
+    lengths : array_like, shape (n, 3)
+        Boom, arm and bucket cylinder lengths (m).
+    params : mapping of str to array_like, optional
+        Parameter name → SI value, a scalar or shape (n,); unnamed parameters are nominal.
+    working : {"arm", "bucket"}, default "bucket"
+        The working cylinder, at its circuit's working pressure; the others hold at their
+        relief pressure.
+    at : {"lip", "tip"}, default "lip"
+        The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
+    gravity : bool, default True
+        Include the weight of each design's front.
+    transfer : DesignTransfer, optional
+        The transfer functions of these lengths and designs, when already computed.
+
+    Returns
+    -------
+    DesignForces
+        The capped and uncapped tool forces (N), what limits each, the cylinder forces and
+        whether each sample lies within its design's strokes.
+
+    Raises
+    ------
+    InputError
+        A bad ``working`` or ``at``, an unknown parameter, or lengths not of shape (n, 3).
+    """
     if working not in ("arm", "bucket"):
         raise InputError(f"working must be 'arm' or 'bucket', not {working!r}")
     if at not in ("lip", "tip"):
@@ -275,9 +316,30 @@ def bucket_angle_to_stick(machine: Machine, tr: DesignTransfer) -> F:
 def design_machine(machine: Machine, params: Mapping[str, float]) -> Machine:
     """One design as a machine of its own: the model rebuilt with the points, bodies' masses
     and centres of mass, cylinders and circuits of ``params`` (names of
-    [`machine_parameters`][excavkin.excavator.designs.machine_parameters]; others nominal). For
-    checking a design with the machine's own
-    functions (working ranges, rated forces)."""
+    :func:`machine_parameters`; others nominal). For checking a design with the machine's own
+    functions (working ranges, rated forces).
+
+    Parameters
+    ----------
+    machine : Machine
+        The nominal excavator.
+    params : mapping of str to float
+        Parameter name → SI value: point coordinates, bodies' masses, inertias and centres of
+        mass, cylinders' and circuits' values.
+
+    Returns
+    -------
+    Machine
+        The design, with the nominal machine's tool points, base, hydraulics and name.
+
+    Raises
+    ------
+    InputError
+        An unknown parameter, or one of another kind (a design variable, a fixed length, a
+        load).
+    ModelError
+        A design that does not assemble, or whose cylinders or circuits are impossible.
+    """
     import dataclasses
 
     from excavkin.mechanism import Mechanism

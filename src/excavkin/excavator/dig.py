@@ -107,6 +107,27 @@ def dig_path(
     The path is the straight line between the poses in cylinder space. Without a ``law`` the
     samples are evenly spaced along it; with one (a name of [`excavkin.motion.get_law`][])
     every cylinder follows that rest-to-rest law and the samples are at equal time steps.
+
+    Parameters
+    ----------
+    machine : Machine
+        The excavator whose strokes the path must keep to.
+    start, end : array_like, shape (3,)
+        Boom, arm and bucket cylinder lengths at the ends of the path (m).
+    samples : int, default 41
+        Samples along the path, ends included (at least 3).
+    law : str, optional
+        A motion law's name, e.g. ``"cycloidal"``; default: even spacing.
+
+    Returns
+    -------
+    ndarray, shape (samples, 3)
+        Boom, arm and bucket cylinder lengths (m).
+
+    Raises
+    ------
+    InputError
+        Fewer than 3 samples, an unknown law, or a sample outside a cylinder's stroke.
     """
     a = as_lengths(np.asarray(start, dtype=np.float64).reshape(1, 3))[0]
     b = as_lengths(np.asarray(end, dtype=np.float64).reshape(1, 3))[0]
@@ -154,6 +175,28 @@ def default_dig(
     towards the ends of their strokes while the boom moves linearly to the length that makes
     the deepest point of the cut ``depth`` (m) below the ground line; the dig ends where the
     lip comes back up through the ground line (or at the ends of the strokes).
+
+    Parameters
+    ----------
+    machine : Machine
+        The excavator.
+    samples : int, default 41
+        Samples along the path, ends included (at least 3).
+    depth : float, default 0.5
+        Depth of the cut's deepest point below the ground line (m, > 0).
+    law : str, optional
+        A motion law's name, as for `dig_path`; default: even spacing.
+
+    Returns
+    -------
+    ndarray, shape (samples, 3)
+        Boom, arm and bucket cylinder lengths (m).
+
+    Raises
+    ------
+    InputError
+        A non-positive depth, or no boom motion that puts the lip on the ground and cuts that
+        deep.
     """
     if not (np.isfinite(depth) and depth > 0.0):
         raise InputError(f"the dig's depth must be > 0, not {depth!r} m")
@@ -238,6 +281,7 @@ def dig(
     soil : Soil
     tool : Tool
     model : {"zelenin", "balovnev", "mckyes"}
+        The soil resistance model (`excavkin.excavator.soil.resistance`).
     at : {"lip", "tip"}
         The tool point: the lip (ISO 6015) or the tooth tip.
     gravity : bool

@@ -353,6 +353,7 @@ def rated_force(
     ----------
     machine : Machine
     working : {"arm", "bucket"}
+        The arm-cylinder or the bucket-cylinder force.
     at : {"lip", "tip"}
         The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
     limits : callable, optional
@@ -489,6 +490,7 @@ def directed_force(
     rates : array_like, shape (n, 3)
         Cylinder length rates, or any vectors of the same directions (m/s or m).
     at : {"lip", "tip"}
+        The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
     gravity : bool
         Include the front's weight.
 

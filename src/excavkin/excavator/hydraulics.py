@@ -112,7 +112,23 @@ class Hydraulics:
             raise InputError(f"no pump feeds the {', '.join(unfed)} cylinder(s)")
 
     def flow(self, role: str) -> float:
-        """The flow reaching the function ``role`` moved alone: the sum over its pumps (m³/s)."""
+        """The flow reaching the function ``role`` moved alone: the sum over its pumps.
+
+        Parameters
+        ----------
+        role : {"boom", "arm", "bucket"}
+            The function.
+
+        Returns
+        -------
+        float
+            The summed flow of every pump that feeds it (m³/s).
+
+        Raises
+        ------
+        InputError
+            Another role.
+        """
         if role not in ROLES:
             raise InputError(f"role must be one of {', '.join(ROLES)}, not {role!r}")
         return float(sum(p.flow for p in self.pumps if role in p.feeds))
@@ -152,6 +168,18 @@ def cylinder_speed(
 
 def strokes(machine: Machine, hydraulics: Hydraulics | None = None) -> tuple[Stroke, ...]:
     """Speeds and full-stroke times of the boom, arm and bucket, each moved alone.
+
+    Parameters
+    ----------
+    machine : Machine
+        The excavator.
+    hydraulics : Hydraulics, optional
+        Pump flows and swing to use instead of the machine's own ``[hydraulics]``.
+
+    Returns
+    -------
+    tuple of Stroke
+        Boom, arm and bucket, fed the flow of every pump that feeds them.
 
     Raises
     ------
@@ -194,7 +222,25 @@ class Cycle:
 
 
 def cycle_time(machine: Machine, hydraulics: Hydraulics | None = None) -> Cycle:
-    """The dig–swing–dump cycle estimate of ``machine`` (full strokes, constant swing speed)."""
+    """The dig–swing–dump cycle estimate of ``machine`` (full strokes, constant swing speed).
+
+    Parameters
+    ----------
+    machine : Machine
+        The excavator.
+    hydraulics : Hydraulics, optional
+        Pump flows and swing to use instead of the machine's own ``[hydraulics]``.
+
+    Returns
+    -------
+    Cycle
+        The times of each motion and of the cycle, sequential and overlapped (s).
+
+    Raises
+    ------
+    InputError
+        The machine has no hydraulics.
+    """
     h = hydraulics_of(machine, hydraulics)
     s = dict(zip(ROLES, strokes(machine, h), strict=True))
     cyl = dict(zip(ROLES, machine.cylinders, strict=True))
@@ -335,6 +381,24 @@ def buckling(
 ) -> Buckling:
     """Euler / Johnson buckling check of one cylinder: the rod alone, pinned–pinned, over the
     pin-to-pin ``length`` (m), under ``force`` (N, compressive > 0, one cylinder).
+
+    Parameters
+    ----------
+    cylinder : Cylinder
+        The cylinder; its rod diameter sets the column's section.
+    length : array_like, shape (n,) or scalar
+        Pin-to-pin length, the effective length (m; K = 1).
+    force : array_like, shape (n,) or scalar
+        Compressive force on one cylinder (N); ≤ 0 means it pulls. Broadcast to ``length``.
+    modulus : float, default 210e9
+        Young's modulus of the rod (Pa).
+    rod_yield : float, default 500e6
+        Yield stress of the rod (Pa).
+
+    Returns
+    -------
+    Buckling
+        Slenderness, critical load, formula used and safety factor per sample.
 
     Raises
     ------

@@ -206,6 +206,7 @@ def hydraulic_lift(
     ----------
     machine : Machine
     lengths : array_like, shape (n, 3)
+        Boom, arm and bucket cylinder lengths (m).
     lifting : {"boom", "arm"}
         The lifting cylinder.
     pressure : {"working", "relief"}

@@ -473,9 +473,15 @@ class Machine:
 
     def weight_loads(self) -> list[Load]:
         """The front's weight as loads of the general kinetostatics: the model's bodies
-        ([`Gravity`][excavkin.kinetostatics.Gravity]) and half of each cylinder's mass at each end
-        pin that moves (a [`PointForce`][excavkin.kinetostatics.PointForce] on a body holding
-        it)."""
+        (:class:`~excavkin.kinetostatics.Gravity`) and half of each cylinder's mass at each end
+        pin that moves (a :class:`~excavkin.kinetostatics.PointForce` on a body holding it).
+
+        Returns
+        -------
+        list of Gravity or PointForce
+            The gravity load first, then ``DRIVER@PIN``: half of a cylinder's weight (N) at
+            each of its end pins on a moving body, for the cylinders that have a mass.
+        """
         from excavkin.kinetostatics import Gravity, PointForce
 
         loads: list[Load] = [Gravity(self.gravity)]
@@ -494,11 +500,35 @@ class Machine:
         return float(self.mass_points.mass.sum())
 
     def circuit(self, role: str) -> Circuit:
-        """The circuit of the cylinder ``role``."""
+        """The circuit of the cylinder ``role``.
+
+        Parameters
+        ----------
+        role : {"boom", "arm", "bucket"}
+            The cylinder.
+
+        Returns
+        -------
+        Circuit
+            The pressures of the circuit that cylinder is on.
+        """
         return self.circuits[self.cylinders[ROLES.index(role)].circuit]
 
     def within_stroke(self, lengths: ArrayLike, tol: float = 1e-9) -> B:
-        """Whether each row of ``lengths`` (shape (n, 3)) lies within all three strokes."""
+        """Whether each row of ``lengths`` lies within all three strokes.
+
+        Parameters
+        ----------
+        lengths : array_like, shape (n, 3)
+            Boom, arm and bucket cylinder lengths (m).
+        tol : float, default 1e-9
+            Slack at each end of a stroke (m).
+
+        Returns
+        -------
+        ndarray of bool, shape (n,)
+            True where every length lies in ``[lengths_min - tol, lengths_max + tol]``.
+        """
         L = np.asarray(lengths, dtype=np.float64)
         lo, hi = self.lengths_min - tol, self.lengths_max + tol
         return np.asarray(np.all((lo <= L) & (hi >= L), axis=-1))
@@ -683,6 +713,7 @@ def forward(machine: Machine, lengths: ArrayLike) -> FrontPose:
     ----------
     machine : Machine
     lengths : array_like, shape (n, 3)
+        Boom, arm and bucket cylinder lengths (m).
 
     Returns
     -------

@@ -72,6 +72,7 @@ class PinLoads:
     Attributes
     ----------
     case : {"bucket", "arm", "lift"}
+        The load case: the bucket- or arm-cylinder tool force, or a lift load.
     gravity : bool
         The front's weight is included.
     pins : tuple of str
@@ -94,6 +95,7 @@ class PinLoads:
     bucket_pin : ndarray, shape (n, 2)
         The bucket pin (m).
     lengths : ndarray, shape (n, 3)
+        Boom, arm and bucket cylinder lengths of the poses (m).
     held : ndarray of bool, shape (n,)
         The pose assembles within the strokes and the cylinders hold the load: not where they
         cannot even hold the front (no tool force, no lift capacity), nor where a given lift
@@ -265,7 +267,9 @@ class LoadMaximum:
     name : str
         The pin's point name, or the cylinder's role.
     label : str
+        What it is (``"bucket pin"``, ``"boom cylinder"``).
     kind : {"pin", "cylinder"}
+        A pin's load or a cylinder's force.
     value : float
         N; for a cylinder the force of largest magnitude, signed (> 0 pushing).
     case : str
@@ -273,7 +277,9 @@ class LoadMaximum:
     index : int
         Its pose in that case's arrays.
     lengths : ndarray, shape (3,)
+        Boom, arm and bucket cylinder lengths of that pose (m).
     tool_point, bucket_pin : ndarray, shape (2,)
+        Where the tool force acts and the bucket pin, at that pose (m).
     tool_force : float
         The tool force or lift load there (N).
     by_case : dict of str to float
@@ -377,6 +383,7 @@ def largest_pin_loads(
     lengths : array_like, shape (n, 3)
         E.g. `stroke_grid`.
     cases : sequence of {"bucket", "arm", "lift"}
+        The load cases, each as :func:`pin_loads`'s ``case``.
     load, at, gravity
         As [`pin_loads`][excavkin.excavator.pin_loads.pin_loads] (``load`` for the lift case).
 

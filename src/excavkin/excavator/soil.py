@@ -121,7 +121,18 @@ class Soil:
                 raise InputError(f"soil {self.name!r}: {key} must be in [0°, 90°), not {v!r} rad")
 
     def unit_weight(self, g: float = STANDARD_GRAVITY) -> float:
-        """γ = ρg (N/m³)."""
+        """γ = ρg (N/m³).
+
+        Parameters
+        ----------
+        g : float, default 9.80665
+            Gravity (m/s²).
+
+        Returns
+        -------
+        float
+            The soil's unit weight (N/m³).
+        """
         return self.density * g
 
 
@@ -499,7 +510,34 @@ def resistance(
     *,
     g: float = STANDARD_GRAVITY,
 ) -> Resistance:
-    """The resistance of the named model (``"zelenin"``, ``"balovnev"``, ``"mckyes"``)."""
+    """The resistance of the named model (``"zelenin"``, ``"balovnev"``, ``"mckyes"``).
+
+    Parameters
+    ----------
+    model : {"zelenin", "balovnev", "mckyes"}
+        The resistance model (module docstring).
+    depth : array_like, shape (n,)
+        Depth of the cut (m): its thickness for Zelenin, the edge's depth below the free
+        surface for the others; ≤ 0: out of the soil, no resistance.
+    rake : array_like, shape (n,)
+        Cutting (rake) angle α (rad); in (0, π) for Balovnev's and McKyes's models.
+    s : Soil
+        The soil's properties.
+    tool : Tool
+        The cutting tool.
+    g : float, default 9.80665
+        Gravity (m/s²); Zelenin's empirical model does not use it.
+
+    Returns
+    -------
+    Resistance
+        Along and normal forces on the tool at each point (N), in the cut frame.
+
+    Raises
+    ------
+    InputError
+        An unknown model, or a soil outside a model's limits (Balovnev's φ and δ).
+    """
     if model == "zelenin":
         return zelenin(depth, rake, s, tool)
     if model == "balovnev":

@@ -346,10 +346,15 @@ def capped_tool_forces(
     machine : Machine
         With a base.
     lengths : array_like, shape (n, 3)
+        Boom, arm and bucket cylinder lengths (m).
     working : {"arm", "bucket"}
+        The working cylinder, at working pressure; the others hold at relief pressure.
     at : {"lip", "tip"}
+        The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
     gravity : bool
+        Include the front's weight in the cylinders' balance.
     swing : float or {"front", "side"}
+        Swing angle of the upper structure (rad), or over the front (0) or the side (π/2).
 
     Returns
     -------
@@ -413,10 +418,11 @@ def base_rated_force(
     machine : Machine
         With a base.
     working : {"arm", "bucket"}
+        The arm-cylinder or the bucket-cylinder force.
     at : {"lip", "tip"}
+        The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
     swing : float or {"front", "side"}
-    progress : callable, optional
-        ``progress(done, total)`` as the searches go on.
+        Swing angle of the upper structure (rad), or over the front (0) or the side (π/2).
 
     Returns
     -------

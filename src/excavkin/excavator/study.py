@@ -207,7 +207,19 @@ class MachineStudy:
     units: dict[str, str] = field(default_factory=dict)
 
     def evaluate(self, designs: Mapping[str, F]) -> pd.DataFrame:
-        """The study's metrics of ``designs`` (parameter → values), one row per design."""
+        """The study's metrics of ``designs``, one row per design.
+
+        Parameters
+        ----------
+        designs : mapping of str to ndarray, shape (d,)
+            Parameter name (of `machine_parameters`) → its SI value in each of d designs.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``design.<parameter>`` columns, one per metric, ``poses_failed``, ``feasible`` and
+            ``status``, as `excavkin.studies.metrics.evaluate` gives them.
+        """
         return evaluate_machine(self.machine, designs, self.lengths, self.metrics, self.constraints)
 
     # ---- what run_study needs (excavkin.studies.study.Subject)
@@ -221,7 +233,13 @@ class MachineStudy:
 
     def fingerprint(self) -> str:
         """A hash of everything that decides the results, so that parts of another study are
-        never mixed in."""
+        never mixed in.
+
+        Returns
+        -------
+        str
+            16 hexadecimal digits of a SHA-256.
+        """
         import hashlib
         import json
 
@@ -239,14 +257,34 @@ class MachineStudy:
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     def prepare(self) -> tuple[dict[str, str], str]:
-        """Each column's kind and the machine's name, for the table's metadata."""
+        """Each column's kind and the machine's name, for the table's metadata.
+
+        Returns
+        -------
+        kinds : dict of str to str
+            ``design.<parameter>`` and each metric → its physical kind (``"length"``,
+            ``"pressure"``, ``"dimensionless"`` …).
+        name : str
+            The machine's name.
+        """
         kinds = {f"design.{k}": machine_parameter_kind(k, self.machine) for k in self.bounds}
         for m in self.metrics:
             kinds[m.name] = "dimensionless" if m.reduce.startswith("arg") else COLUMNS[m.column]
         return kinds, self.machine.name
 
     def evaluate_chunk(self, start: int, stop: int) -> pd.DataFrame:
-        """The designs ``start:stop`` of the design of experiments, with their index."""
+        """The designs ``start:stop`` of the design of experiments, with their index.
+
+        Parameters
+        ----------
+        start, stop : int
+            The first design and one past the last, in the design of experiments' order.
+
+        Returns
+        -------
+        pandas.DataFrame
+            `evaluate`'s table of those designs, with a first column ``design``: their index.
+        """
         from excavkin.studies.design_space import sample_designs
 
         part = sample_designs(self.bounds, self.samples, self.method, self.seed, (start, stop))
@@ -257,6 +295,17 @@ class MachineStudy:
 
 def load_machine_study(path: str | Path) -> MachineStudy:
     """Read a study file whose ``[study]`` names a ``machine`` (module docstring).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The study file (TOML); its ``machine`` is a file beside it (a path from its folder)
+        or a built-in machine example's name.
+
+    Returns
+    -------
+    MachineStudy
+        The machine, the design bounds, poses, metrics, constraints and sampling, SI.
 
     Raises
     ------
@@ -407,9 +456,35 @@ def optimize_machine(
     progress : callable, optional
         ``progress(iterations, maxiter)`` after each iteration.
 
+    Parameters
+    ----------
+    study : MachineStudy
+        The design box (its bounds), poses, metrics and constraints.
+    objective : str, optional
+        The name of the metric to optimise.
+    sense : {"min", "max"}, optional
+        Minimise or maximise the objective (default: ``"max"``).
+    method : {"slsqp", "differential-evolution"}, optional
+        The optimiser (default: ``"slsqp"``).
+    x0 : mapping of str to float, optional
+        Start of SLSQP, SI (default: the machine's own values, clipped to the bounds).
+    seed : int, default 0
+        Differential evolution's seed.
+    maxiter, popsize : int, optional
+        The optimisers' iteration limit (default 200) and differential evolution's population
+        size per parameter (default 32).
+    tol : float, default 1e-12
+        The optimisers' tolerance.
+
     Returns
     -------
     Optimum
+        The best design, its metrics and the optimiser's history.
+
+    Raises
+    ------
+    InputError
+        No objective, an unknown metric or method, or a bad sense.
     """
     s = study.optimize
     objective = objective or s.get("objective")

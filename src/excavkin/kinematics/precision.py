@@ -107,6 +107,35 @@ def check(
     sample's nearness and nearest step (from `nearness`). ``plan_at`` gives
     the plan of a subset of samples (a family of designs'); default: the plan's own constants
     taken at them.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        The plan the samples were solved by.
+    q, qd, qdd : ndarray, shape (n_inputs, n)
+        The inputs and their first and second time derivatives, SI, sample axis last.
+    out : Arrays
+        The double-precision solution of the n samples (points shape (n_points, 2, n)); where
+        the extended solve differs by more than `SUBSTITUTE` of a scale, its values replace
+        these.
+    status : ndarray of int8, shape (n,)
+        Per-sample `Code`; a sample the extended solve fails takes its code, one whose error
+        stays above `TOLERANCE` becomes ``IMPRECISE``.
+    failed : ndarray of int16, shape (n,)
+        Per-sample index of the plan step that failed first (−1 for none), updated alike.
+    nearest : tuple of (ndarray, shape (n,), ndarray of int16, shape (n,))
+        Each sample's nearness to a dead position (0 at one, 1 far) and the plan step nearest
+        it, as `nearness` gives them; samples nearer than `NEAR` are checked.
+    tol : tuple of float
+        ``(close, singular)``, as in `Tolerances`.
+    plan_at : callable, optional
+        ``plan_at(index)``: the plan of the samples at ``index`` (ndarray of intp).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Estimated error of each checked sample, relative to its quantities' scales; NaN where
+        not checked.
     """
     n = status.size
     error = np.full(n, np.nan)

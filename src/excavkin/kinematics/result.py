@@ -54,6 +54,8 @@ class Status:
         0 where the sample solved; otherwise a `Code`.
     step : ndarray of int16, shape (n,)
         Index of the plan step that failed first, −1 where none did.
+    plan : SolvePlan
+        The plan solved, whose steps ``step`` indexes.
     """
 
     code: np.ndarray
@@ -78,7 +80,19 @@ class Status:
         return bool(np.all(self.code == 0))
 
     def where(self, k: int) -> str:
-        """The step a failure happened at, in words."""
+        """The step a failure happened at, in words.
+
+        Parameters
+        ----------
+        k : int
+            Index of a step of `plan`, as in `step`.
+
+        Returns
+        -------
+        str
+            ``"dyad C (from B and D)"``, ``"slider 's' (P on A→B)"``, ``"group P, Q"`` or
+            ``"step k+1"``.
+        """
         st = self.plan.steps[k]
         pts = self.plan.points
         if isinstance(st, Dyad):
@@ -90,7 +104,19 @@ class Status:
         return f"step {k + 1}"
 
     def message(self, i: int) -> str:
-        """Why sample ``i`` failed, or ``"ok"``."""
+        """Why sample ``i`` failed, or ``"ok"``.
+
+        Parameters
+        ----------
+        i : int
+            The sample's index.
+
+        Returns
+        -------
+        str
+            The reason, and the step where one failed (``"cannot close at dyad C (from B and
+            D)"``).
+        """
         code = Code(int(self.code[i]))
         if code == Code.OK:
             return "ok"
@@ -99,7 +125,13 @@ class Status:
         return f"{_REASON[code]} at {self.where(int(self.step[i]))}"
 
     def labels(self) -> np.ndarray:
-        """A short label per sample (``"ok"`` or the reason and place), shape (n,)."""
+        """A short label per sample (``"ok"`` or the reason and place), shape (n,).
+
+        Returns
+        -------
+        ndarray of object, shape (n,)
+            `message` of each sample.
+        """
         codes, labels = self.label_codes()
         return np.asarray(np.array(labels, dtype=object)[codes])
 
@@ -125,7 +157,13 @@ class Status:
         return codes, distinct
 
     def categorical(self) -> pd.Categorical[str]:
-        """The labels as a ``pandas.Categorical`` (one code per sample, not a text)."""
+        """The labels as a ``pandas.Categorical`` (one code per sample, not a text).
+
+        Returns
+        -------
+        pandas.Categorical
+            Categories: the distinct labels, sorted.
+        """
         import pandas as pd
 
         codes, distinct = self.label_codes()
@@ -148,6 +186,12 @@ class Status:
             Samples listed per reason.
         describe : callable, optional
             ``describe(i)`` names sample ``i`` by its inputs (``"crank = 132°"``).
+
+        Returns
+        -------
+        str
+            ``"all samples solved"``, or how many failed and, per reason, which (the first
+            ``limit``, then a count).
         """
         bad = np.flatnonzero(self.code != 0)
         labels = self.labels()
@@ -168,11 +212,14 @@ class KinematicResult:
     Attributes
     ----------
     plan : SolvePlan
+        The plan solved: its ``points``, ``bodies``, ``inputs`` and ``elements`` name the
+        arrays' columns.
     positions, velocities, accelerations : ndarray, shape (n, n_points, 2)
         Views of the solver's struct-of-arrays storage.
     body_angle, body_omega, body_epsilon : ndarray, shape (n, n_bodies)
         Orientation (first→second point, CCW from +x, in (−π, π]), ω and ε.
     inputs, input_rates, input_accels : ndarray, shape (n, n_inputs)
+        The driven inputs (rad or m) and their rates and accelerations.
     element_length, element_rate, element_accel : ndarray, shape (n, n_elements)
         Every linear element (driven, locked or free).
     element_angle, element_omega, element_epsilon : ndarray, shape (n, n_elements)
@@ -181,6 +228,9 @@ class KinematicResult:
         Transmission angle of each dyad (between its two links, in [0, π]) and each slider
         (between the link and the slide's normal, in [0, π/2]); dead at 0 or π.
     status : Status
+        Per-sample outcome.
+    time : ndarray, shape (n,), optional
+        The time of each sample (s), for a result solved in time; None otherwise.
     change_points : tuple of ChangePoint
         Dyads that fold between neighbouring samples, and how the engine went on
         (`excavkin.kinematics.change_points`).
@@ -245,7 +295,31 @@ class KinematicResult:
         derived: Derived,
         status: Status,
     ) -> KinematicResult:
-        """Wrap the solver's arrays (n_points, 2, n) etc. as batch-first views."""
+        """Wrap the solver's arrays (n_points, 2, n) etc. as batch-first views.
+
+        The element rows of ``derived`` that are driven lengths are set to their inputs.
+
+        Parameters
+        ----------
+        plan : SolvePlan
+            The plan solved.
+        x, v, a : ndarray, shape (n_points, 2, n)
+            Positions (m), velocities (m/s) and accelerations (m/s²) of the points.
+        q, qd, qdd : ndarray, shape (n_inputs, n)
+            The inputs and their first and second time derivatives (rad or m, per s, per s²).
+        trans : ndarray, shape (n_transmissions, n)
+            Transmission angles (rad).
+        derived : Derived
+            Body and element quantities, shapes (3, n_bodies, n) and (6, n_elements, n).
+        status : Status
+            Per-sample outcome.
+
+        Returns
+        -------
+        KinematicResult
+            Views of those arrays with the sample axis first, without time, change points or
+            sensitivities.
+        """
         for j, e in enumerate(plan.elements):
             if e.input >= 0:  # a driven length is its input, exactly (failed samples too)
                 derived.element[0, j] = q[e.input]
@@ -283,14 +357,37 @@ class KinematicResult:
         return summary.result_html(title, len(self), self.status.labels(), self.columns)
 
     def describe_sample(self, i: int) -> str:
-        """Sample ``i`` by its inputs that vary: ``"crank = 132°"``, ``"boom_cyl = 2.315 m"``."""
+        """Sample ``i`` by its inputs that vary: ``"crank = 132°"``, ``"boom_cyl = 2.315 m"``.
+
+        Parameters
+        ----------
+        i : int
+            The sample's index.
+
+        Returns
+        -------
+        str
+            Its time (where solved in time) and the inputs that vary over the result, or
+            ``"sample i"`` where none does.
+        """
         q = self.inputs
         held = (len(self) > 1) & (np.fmax.reduce(q, axis=0) == np.fmin.reduce(q, axis=0))
         t = None if self.time is None else float(self.time[i])
         return describe_inputs(self.plan, q[i], held, t, i)
 
     def summary(self, limit: int = 10) -> str:
-        """The failing samples grouped by reason, each named by its inputs."""
+        """The failing samples grouped by reason, each named by its inputs.
+
+        Parameters
+        ----------
+        limit : int, default 10
+            Samples listed per reason.
+
+        Returns
+        -------
+        str
+            One paragraph (see `Status.summary`).
+        """
         return self.status.summary(limit, describe=self.describe_sample)
 
     # ---- lookups by name
@@ -301,17 +398,66 @@ class KinematicResult:
             raise unknown_name(what, name, names) from None
 
     def point(self, name: str) -> tuple[F, F, F]:
-        """Position, velocity and acceleration of a point, each shape (n, 2)."""
+        """Position, velocity and acceleration of a point, each shape (n, 2).
+
+        Parameters
+        ----------
+        name : str
+            The point's name.
+
+        Returns
+        -------
+        position, velocity, acceleration : ndarray, shape (n, 2)
+            In m, m/s and m/s².
+
+        Raises
+        ------
+        UnknownNameError
+            No point of that name, with the nearest names.
+        """
         i = self._index("point", self.plan.points, name)
         return self.positions[:, i], self.velocities[:, i], self.accelerations[:, i]
 
     def body(self, name: str) -> tuple[F, F, F]:
-        """Angle, ω and ε of a body, each shape (n,)."""
+        """Angle, ω and ε of a body, each shape (n,).
+
+        Parameters
+        ----------
+        name : str
+            The body's name.
+
+        Returns
+        -------
+        angle, omega, epsilon : ndarray, shape (n,)
+            Orientation (rad, first→second point, CCW from +x), ω (rad/s) and ε (rad/s²).
+
+        Raises
+        ------
+        UnknownNameError
+            No body of that name, with the nearest names.
+        """
         j = self._index("body", self.plan.bodies, name)
         return self.body_angle[:, j], self.body_omega[:, j], self.body_epsilon[:, j]
 
     def driver(self, name: str) -> tuple[F, F, F]:
-        """Value, rate and acceleration of any driver (rotary, driven, locked or free)."""
+        """Value, rate and acceleration of any driver (rotary, driven, locked or free).
+
+        Parameters
+        ----------
+        name : str
+            A rotary driver's or a linear element's name.
+
+        Returns
+        -------
+        value, rate, accel : ndarray, shape (n,)
+            A rotary driver's angle (rad, rad/s, rad/s²) or a linear element's length (m, m/s,
+            m/s²).
+
+        Raises
+        ------
+        UnknownNameError
+            No driver of that name, with the nearest names.
+        """
         if name in self.plan.inputs:
             i = self.plan.inputs.index(name)
             if self.plan.input_kinds[i] == "angle":
@@ -331,7 +477,27 @@ class KinematicResult:
     def sensitivity(self, column: str, parameter: str) -> F:
         """d(column)/d(parameter) per sample, SI per SI unit, shape (n,): exact derivatives
         by forward-mode differentiation through the plan (``solve(..., sensitivities=[...])``
-        asks for them). NaN where the sample did not solve."""
+        asks for them). NaN where the sample did not solve.
+
+        Parameters
+        ----------
+        column : str
+            A column of `to_frame`, e.g. ``"B.x"``.
+        parameter : str
+            A parameter the result was solved with sensitivities to (a name of
+            ``Mechanism.parameters``).
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            The derivative, in the column's SI unit per the parameter's.
+
+        Raises
+        ------
+        InputError
+            No sensitivities, an unknown parameter, or a column whose derivative was not
+            computed.
+        """
         if not self.tangents:
             from excavkin.errors import InputError
 
@@ -351,7 +517,23 @@ class KinematicResult:
         return self.tangents[parameter].column(column)
 
     def column(self, name: str) -> F:
-        """One column of `to_frame` by name, without building the table."""
+        """One column of :meth:`to_frame` by name, without building the table.
+
+        Parameters
+        ----------
+        name : str
+            The column's name, e.g. ``"B.vx"``, ``"rocker.omega"``, ``"crank.value"``.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Its values, SI.
+
+        Raises
+        ------
+        UnknownNameError
+            No column of that name, with the nearest names.
+        """
         cols = self._columns()
         for c, arr in cols:
             if c.name == name:
@@ -420,6 +602,11 @@ class KinematicResult:
         ``<point>.transmission`` for each dyad and slider, and ``status`` ("ok" or why not).
         ``frame.attrs`` holds the model's name and each column's kind
         (``"excavkin.kinds"``), so that a table keeps its meaning apart from its result.
+
+        Returns
+        -------
+        pandas.DataFrame
+            n rows; the numeric columns are views of the result's arrays, not copies.
         """
         import pandas as pd
 
@@ -473,10 +660,16 @@ class KinematicResult:
         Parameters
         ----------
         start, stop : int
-        origin : int
+            The first sample and one past the last.
+        origin : int, default 0
             The number of this result's first sample in the numbering of its change points
             (a part of a streamed sweep numbers them in the whole sweep): the change points
             kept are those whose later sample is among the rows.
+
+        Returns
+        -------
+        KinematicResult
+            ``stop - start`` samples, every per-sample array a view of this result's.
         """
         import dataclasses
 
@@ -502,7 +695,18 @@ class KinematicResult:
         )
 
     def with_time(self, t: F) -> KinematicResult:
-        """The same result with a time column, shape (n,)."""
+        """The same result with a time column, shape (n,).
+
+        Parameters
+        ----------
+        t : array_like, shape (n,)
+            The time of each sample (s).
+
+        Returns
+        -------
+        KinematicResult
+            A copy that shares every array and has ``time`` set.
+        """
         import dataclasses
 
         return dataclasses.replace(self, time=np.asarray(t, dtype=np.float64))

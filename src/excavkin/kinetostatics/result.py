@@ -113,6 +113,10 @@ class ForceResult:
         (their forces are NaN).
     loads : tuple of PointForce, Torque, Gravity
         The loads applied.
+    evaluated : EvaluatedLoads
+        The loads resolved to body and point indices and evaluated over the samples.
+    mass : MassProperties
+        The mass properties the forces were solved with (per sample for a family of designs).
     tangents : dict, optional
         Per parameter (``solve(..., sensitivities=)``), the derivative of every force column:
         read them with :meth:`sensitivity`.
@@ -243,7 +247,25 @@ class ForceResult:
 
     # ---- lookups by name
     def pin(self, point: str, body: str) -> F:
-        """Force of the pin at ``point`` on ``body``, shape (n, 2)."""
+        """Force of the pin at ``point`` on ``body``, shape (n, 2).
+
+        Parameters
+        ----------
+        point : str
+            The joint's point.
+        body : str
+            One of the bodies it joins; `pins` lists the pairs.
+
+        Returns
+        -------
+        ndarray, shape (n, 2)
+            ``(Fx, Fy)`` of the pin on the body (N).
+
+        Raises
+        ------
+        KeyError
+            No such pin, listing the pins.
+        """
         try:
             k = self.pins.index((point, body))
         except ValueError:
@@ -252,7 +274,24 @@ class ForceResult:
         return self.pin_force[:, k]
 
     def force(self, name: str) -> F:
-        """Axial force of a driven or locked linear element, or a slider's normal force, (n,)."""
+        """Axial force of a driven or locked linear element, or a slider's normal force.
+
+        Parameters
+        ----------
+        name : str
+            The element's or the slider's name.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            The element's force (N, > 0 pushes its points apart), or the slider's normal force
+            on its point (N, along perp(l2 − l1)).
+
+        Raises
+        ------
+        KeyError
+            No driven or locked linear element or slider of that name.
+        """
         names = [e[0] for e in self.system.elements]
         if name in names:
             return self.element_force[:, names.index(name)]
@@ -262,7 +301,24 @@ class ForceResult:
         raise KeyError(f"no driven or locked linear element or slider {name!r}")
 
     def torque(self, name: str) -> F:
-        """Torque of a rotary driver, shape (n,)."""
+        """Torque of a rotary driver, shape (n,).
+
+        Parameters
+        ----------
+        name : str
+            The rotary driver's name.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Its torque on its body (N·m, counter-clockwise positive); its reference body gets
+            the opposite.
+
+        Raises
+        ------
+        KeyError
+            No rotary driver of that name.
+        """
         names = [d[0] for d in self.system.rotary]
         if name not in names:
             raise KeyError(f"no rotary driver {name!r}")
@@ -272,6 +328,21 @@ class ForceResult:
         """Resultant of all joint forces on ``body`` (pins and slider contacts), shape (n, 2).
 
         For the ground: the total force the mechanism exerts on its frame through its joints.
+
+        Parameters
+        ----------
+        body : str
+            The body's name.
+
+        Returns
+        -------
+        ndarray, shape (n, 2)
+            ``(Rx, Ry)`` (N); NaN where the sample did not solve or is statically singular.
+
+        Raises
+        ------
+        KeyError
+            No body of that name.
         """
         sy = self.system
         if body not in sy.bodies:
@@ -317,7 +388,23 @@ class ForceResult:
         return self.kinematics.columns + tuple(c for c, _ in self._columns((ground,)))
 
     def column(self, name: str) -> F:
-        """One force column of `to_frame` by name (any body's ``.Rx``/``.Ry`` too)."""
+        """One force column of :meth:`to_frame` by name (any body's ``.Rx``/``.Ry`` too).
+
+        Parameters
+        ----------
+        name : str
+            The column's name, e.g. ``"B.coupler.Fx"``, ``"crank.torque"``, ``"ground.Ry"``.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Its values, SI (N, N·m).
+
+        Raises
+        ------
+        UnknownNameError
+            No such column, with the nearest names.
+        """
         owner, _, qty = name.rpartition(".")
         if qty in ("Rx", "Ry") and owner in self.system.bodies:
             return self.resultant(owner)[:, 0 if qty == "Rx" else 1]
@@ -329,13 +416,41 @@ class ForceResult:
 
     def sensitivity(self, column: str, parameter: str) -> F:
         """d(column)/d(parameter) per sample, SI per SI unit, shape (n,), for a force column
-        or a kinematic one (exact: the equilibrium differentiated on dual numbers)."""
+        or a kinematic one (exact: the equilibrium differentiated on dual numbers).
+
+        Parameters
+        ----------
+        column : str
+            A column of `to_frame`, e.g. ``"O2.ground.Fx"`` or ``"B.x"``.
+        parameter : str
+            A parameter the result was solved with sensitivities to (a name of
+            ``Mechanism.parameters``).
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            The derivative, in the column's SI unit per the parameter's; NaN where the sample
+            did not solve.
+
+        Raises
+        ------
+        InputError
+            No sensitivities, an unknown parameter, or a column whose derivative was not
+            computed.
+        """
         if self.tangents and parameter in self.tangents and column in self.tangents[parameter]:
             return self.tangents[parameter][column]
         return self.kinematics.sensitivity(column, parameter)
 
     def status_labels(self) -> np.ndarray:
-        """Per-sample label: the kinematic status, or ``"statically singular"``, shape (n,)."""
+        """Per-sample label: the kinematic status, or ``"statically singular"``, shape (n,).
+
+        Returns
+        -------
+        ndarray of object, shape (n,)
+            ``"ok"``, why the kinematics failed, or ``"statically singular (redundant joint at
+            this position)"``.
+        """
         labels = self.kinematics.status.labels()
         bad = self.singular & self.kinematics.status.ok
         labels[bad] = "statically singular (redundant joint at this position)"

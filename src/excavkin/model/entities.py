@@ -77,7 +77,21 @@ class Body:
 
 @dataclass(frozen=True, slots=True)
 class RotaryDriver:
-    """The angle of ``body`` about ``pivot``, measured from the orientation of ``reference``."""
+    """The angle of ``body`` about ``pivot``, measured from the orientation of ``reference``.
+
+    Attributes
+    ----------
+    name : str
+        The input's name.
+    body : str
+        The driven body.
+    pivot : str
+        A point of ``body``, the centre of the rotation.
+    reference : str
+        The body the angle is measured from (the ground: an absolute angle). The angle (rad,
+        counter-clockwise) runs from its orientation to the vector pivot → the first point of
+        ``body`` that is not the pivot.
+    """
 
     name: str
     body: str
@@ -91,6 +105,11 @@ class LinearDriver:
 
     Attributes
     ----------
+    name : str
+        The element's name (the input's, when driven).
+    between : (str, str)
+        Its two end points; its value is their distance (m), its force > 0 pushes them
+        apart.
     mode : {"driven", "locked", "free"}
         ``driven``: the length is an input. ``locked``: a rigid link at its sketch length (or its
         ``[lengths]`` entry). ``free``: passive, its length follows the mechanism and is reported.
@@ -107,7 +126,17 @@ class LinearDriver:
 
 @dataclass(frozen=True, slots=True)
 class Slider:
-    """``point`` stays on the line through ``along[0]`` and ``along[1]`` (points of one body)."""
+    """``point`` stays on the line through ``along[0]`` and ``along[1]`` (points of one body).
+
+    Attributes
+    ----------
+    name : str
+        The slider's name.
+    point : str
+        The sliding point, of another body than the line's.
+    along : (str, str)
+        Two points of one body that set the line.
+    """
 
     name: str
     point: str
@@ -254,7 +283,22 @@ class Model:
         )
 
     def body(self, name: str) -> Body:
-        """The body called ``name``."""
+        """The body called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            One of the bodies' names.
+
+        Returns
+        -------
+        Body
+
+        Raises
+        ------
+        KeyError
+            No body of that name.
+        """
         for b in self.bodies:
             if b.name == name:
                 return b

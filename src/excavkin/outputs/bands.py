@@ -38,12 +38,23 @@ def plot_bands(
     Parameters
     ----------
     bands : ToleranceBands
+        The bands of a sweep of n samples.
     column : str
+        The column drawn, one of ``bands.columns``.
     x : array_like, shape (n,), optional
         Abscissa (default: the sample number), in the unit ``x_label`` names.
+    x_label : str, default "sample"
+        Label of the abscissa.
     unit : str, optional
         Display unit of the column (default: its kind's, mm for lengths).
     ax : matplotlib.axes.Axes, optional
+        Axes to draw into; a new figure is made without one.
+
+    Returns
+    -------
+    BandsPlot
+        The axes and the nominal line. The bands are drawn as deviations from the nominal;
+        the title gives the nominal range and the two largest worst-case contributions.
     """
     import matplotlib.pyplot as plt
 

@@ -422,7 +422,9 @@ def trace_paths(
     points : sequence of str, optional
         Point names; default every point that moves.
     ax : matplotlib.axes.Axes, optional
-    length_unit : str
+        Axes to draw into; a new figure is made without one.
+    length_unit : str, default "mm"
+        Display unit of the axes' lengths.
     mark : bool
         Mark dead positions (purple ×) and the last solved position before samples that do not
         close (red ○).

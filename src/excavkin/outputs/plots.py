@@ -190,6 +190,7 @@ def plot_columns(
     legend : bool, optional
         Default: a legend when there are several lines or marks.
     title : str, optional
+        Axes title.
     **style
         matplotlib ``Line2D`` properties for every line (``color``, ``lw``, ``ls``, ``marker``,
         ``alpha``, ``label`` ...).

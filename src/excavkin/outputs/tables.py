@@ -50,6 +50,28 @@ def write_table(
     (``excavkin.units``, ``excavkin.kinds``, ``excavkin.model``, and ``excavkin.motion``:
     static forces or transfer functions, where the table says so); a CSV file may carry the
     units as a second header row (``units_row``).
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        A result's table (``to_frame()``), SI; its ``attrs`` give the units and kinds.
+    path : str or Path
+        The file to write, ending in ``.csv`` or ``.parquet``.
+    force : bool, default False
+        Replace the file if it exists.
+    units_row : bool, default False
+        CSV: a second header row with each column's SI unit.
+
+    Returns
+    -------
+    Path
+        The file written.
+
+    Raises
+    ------
+    OutputError
+        Another suffix, an existing file without ``force``, a missing folder, or a folder
+        in the file's place.
     """
     return write_tables([frame], path, force=force, units_row=units_row)
 

@@ -67,7 +67,21 @@ KIND_OF = {
 
 def parameters(model: Model) -> dict[str, float]:
     """Every dimension of the model by name, at its nominal SI value; the file's design
-    variables first (each sets every entry that refers to it)."""
+    variables first (each sets every entry that refers to it).
+
+    Parameters
+    ----------
+    model : Model
+        The model whose dimensions are named.
+
+    Returns
+    -------
+    dict of str to float
+        ``NAME`` of each design variable; ``P.x``, ``P.y`` of each point (m); ``P-Q`` of each
+        fixed length (m); ``LOAD.Fx``, ``LOAD.Fy`` (N) or ``LOAD.torque`` (N·m) of each
+        constant load; ``BODY.mass`` (kg), ``BODY.inertia`` (kg·m²) and
+        ``BODY.center_of_mass.x``, ``.y`` (m) where the body gives them.
+    """
     out: dict[str, float] = {v.name: float(v.value) for v in model.design}
     for name, (x, y) in model.points.items():
         out[f"{name}.x"], out[f"{name}.y"] = float(x), float(y)
@@ -107,7 +121,18 @@ def joint_offsets(model: Model) -> dict[str, float]:
     """The pin offsets of every joint, for clearances: ``P@BODY.x`` and ``P@BODY.y`` move body
     BODY's pin at joint P by that much in the body's own frame (nominal 0). At a joint with
     the ground every moving body's pin moves; between moving bodies, every body's but the
-    first's (which sets where the joint is)."""
+    first's (which sets where the joint is).
+
+    Parameters
+    ----------
+    model : Model
+        The model whose joints are offset.
+
+    Returns
+    -------
+    dict of str to float
+        ``P@BODY.x`` and ``P@BODY.y`` of each offset pin, all 0.0 (m).
+    """
     out: dict[str, float] = {}
     for p in model.points:
         owners = [b for b in model.bodies if p in b.points]
@@ -259,6 +284,12 @@ def design_plan(plan: SolvePlan, values: Mapping[str, Any], n: int) -> Designs:
         Parameter name → SI value: a scalar (every design) or an array of shape (n,).
     n : int
         The number of designs (samples).
+
+    Returns
+    -------
+    Designs
+        The plan with the varied constants as arrays of shape (n,), each design's driver
+        values at its sketch, and which designs build no mechanism.
 
     Raises
     ------

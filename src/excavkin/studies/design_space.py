@@ -26,6 +26,7 @@ def sample_designs(
     Parameters
     ----------
     bounds : mapping of str to (float, float)
+        Parameter name → (low, high), SI, low < high.
     n : int
         Designs; for ``"grid"``, the levels of each parameter (``n ** len(bounds)`` designs,
         the first parameter varying slowest).
@@ -34,7 +35,9 @@ def sample_designs(
         `scipy.stats.qmc`, seeded: the same arguments give the same designs. A Sobol'
         count that is a power of two keeps the sequence's balance.
     seed : int
+        Seed of the scrambling (Sobol', Halton) or of the hypercube; the grid has none.
     part : (int, int), optional
+        ``(start, stop)``: only those designs, in the order of the whole set (default all).
 
     Returns
     -------

@@ -39,6 +39,19 @@ class Metric:
     without a target is the largest magnitude); ``change`` the value at the last pose minus
     that at the first (a rocker's swing between its two dead centres, say; an angle's followed
     along the poses, so that passing ±180° is no jump).
+
+    Attributes
+    ----------
+    name : str
+        The metric's name: its column in the study's table.
+    column : str
+        A column of the solve's table (kinematic or force), e.g. ``"rocker.angle"``.
+    reduce : str
+        How the column is reduced over the poses: ``min``, ``max``, ``absmax``, ``mean``,
+        ``sumsq``, ``change``, ``argmin``, ``argmax``, ``first`` or ``last``.
+    target : tuple of float, optional
+        For ``sumsq`` (needed) and ``absmax`` only: one value, or one per pose, in the
+        column's SI unit.
     """
 
     name: str
@@ -49,7 +62,15 @@ class Metric:
 
 @dataclass(frozen=True, slots=True)
 class Constraint:
-    """Bounds on a metric, SI (either may be None)."""
+    """Bounds on a metric, SI (either may be None).
+
+    Attributes
+    ----------
+    metric : str
+        The metric's name.
+    low, high : float or None
+        Its least and greatest allowed values, in the metric's SI unit; None: unbounded.
+    """
 
     metric: str
     low: float | None = None
@@ -59,7 +80,17 @@ class Constraint:
 @dataclass(frozen=True, slots=True)
 class Poses:
     """The pose set every design is solved at: driver values (arrays of one length, or
-    scalars held), rates and accelerations, SI."""
+    scalars held), rates and accelerations, SI.
+
+    Attributes
+    ----------
+    values : mapping of str to array_like
+        Input name → its value at each pose, shape (p,), or a scalar held at every pose (rad
+        or m).
+    rates, accels : mapping of str to array_like
+        Input name → its rate (rad/s or m/s) and acceleration (rad/s² or m/s²), as
+        ``Mechanism.solve`` takes them.
+    """
 
     values: Mapping[str, Any]
     rates: Mapping[str, Any]

@@ -77,6 +77,7 @@ class Optimum:
     success : bool
         The optimiser's own verdict.
     message : str
+        The optimiser's own message.
     history : tuple of float
         The best objective after each iteration (for a convergence plot), SI.
     evaluations : int

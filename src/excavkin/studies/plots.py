@@ -23,21 +23,25 @@ if TYPE_CHECKING:
 def plot_convergence(
     history: Sequence[float], name: str, *, unit: str = "", ax: Axes | None = None
 ) -> Axes:
-    """The objective ``name`` after each iteration; on a log scale of its distance to the last
-    value when it spans decades (a converging sum of squares), else plain.
+    """The objective ``name`` after each iteration; on a log scale when it is positive and
+    spans more than three decades (a converging sum of squares), else plain.
 
     Parameters
     ----------
     history : sequence of float
-        The objective after each iteration, in ``unit``.
+        The best objective after each iteration (``Optimum.history``), as given: no unit is
+        converted.
     name : str
-    unit : str
-        For the axis label.
+        The objective's name, for the labels.
+    unit : str, default ""
+        The unit ``history`` is in, shown on the axis label; none when empty.
     ax : matplotlib.axes.Axes, optional
+        Axes to draw into; a new figure is made without one.
 
     Returns
     -------
     matplotlib.axes.Axes
+        The axes drawn into.
     """
     import matplotlib.pyplot as plt
 

@@ -54,6 +54,7 @@ class Study:
     samples : int
         Designs (for a grid: levels per parameter).
     seed : int
+        Seed of the sampling (not used by a grid).
     loads : "model" or None
         Solve the kinetostatics under the model's loads (needed by force metrics).
     units : dict of str to str
@@ -83,13 +84,41 @@ class Study:
 
     def prepare(self) -> tuple[dict[str, str], str]:
         """Refuse, before any solve, unknown parameters, columns and metric names; return each
-        column's kind and the model's name, for the table's metadata."""
+        column's kind and the model's name, for the table's metadata.
+
+        Returns
+        -------
+        kinds : dict of str to str
+            ``design.<parameter>`` and each metric → its physical kind (``"length"``,
+            ``"angle"``, ``"dimensionless"`` …).
+        name : str
+            The model's name.
+
+        Raises
+        ------
+        InputError
+            An unknown parameter, column, metric or sampling method, or a force metric
+            without loads.
+        """
         mech = _check(self)
         return _kinds(self, mech), mech.name
 
     def evaluate_chunk(self, start: int, stop: int) -> pd.DataFrame:
         """The designs ``start:stop``: their rows, with their ``design`` index. A pure function
-        of the study, so that it can run anywhere (a Dask worker)."""
+        of the study, so that it can run anywhere (a Dask worker).
+
+        Parameters
+        ----------
+        start, stop : int
+            The first design and one past the last, in the design of experiments' order.
+
+        Returns
+        -------
+        pandas.DataFrame
+            A first column ``design`` (their index), then ``design.<parameter>`` columns, one
+            per metric, ``poses_failed``, ``feasible`` and ``status``, as
+            `excavkin.studies.metrics.evaluate` gives them.
+        """
         from excavkin import load
 
         mech = load(self.model)
@@ -100,7 +129,13 @@ class Study:
 
     def fingerprint(self) -> str:
         """A hash of everything that decides the results (the model file's text included), so
-        that parts of another study are never mixed in."""
+        that parts of another study are never mixed in.
+
+        Returns
+        -------
+        str
+            16 hexadecimal digits of a SHA-256.
+        """
         text = json.dumps(
             {
                 "model": self.model.read_text(encoding="utf-8"),

@@ -58,6 +58,17 @@ MAX_POSES = 10**7
 def load_study(path: str | Path) -> Study:
     """Read and check a study file.
 
+    Parameters
+    ----------
+    path : str or Path
+        The study file (TOML); its ``model`` is a file beside it (a path from its folder) or
+        a built-in example's name.
+
+    Returns
+    -------
+    Study
+        The model, the design bounds, poses, metrics, constraints and sampling, SI.
+
     Raises
     ------
     ModelError, UnitError
@@ -318,7 +329,26 @@ def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
     """A study file with an ``[optimize]`` table: the study, and the optimisation's settings
     (``objective``: a metric's name; ``sense``: "min" or "max"; ``method``: "slsqp" or
     "differential-evolution"; ``maxiter``; ``popsize``), which the study also keeps as its
-    ``optimize``."""
+    ``optimize``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The study file (TOML).
+
+    Returns
+    -------
+    study : Study
+        As `load_study` reads it.
+    settings : dict
+        ``objective``, ``sense`` (default ``"max"``), ``method`` (default ``"slsqp"``),
+        ``maxiter`` (default 200) and ``popsize`` (default 32).
+
+    Raises
+    ------
+    ModelError, UnitError
+        Naming the file, the table and the entry; a file without ``[optimize]`` too.
+    """
     study = load_study(path)
     if not study.optimize:
         source = str(path)

@@ -82,7 +82,23 @@ class ToleranceBands:
     motion: str = ""
 
     def index(self, column: str) -> int:
-        """The position of a column (with the nearest names when unknown)."""
+        """The position of a column (with the nearest names when unknown).
+
+        Parameters
+        ----------
+        column : str
+            A column name, as in `columns`.
+
+        Returns
+        -------
+        int
+            Its index along the last axis of the band arrays.
+
+        Raises
+        ------
+        InputError
+            An unknown column, with the nearest names.
+        """
         if column not in self.columns:
             from excavkin.errors import unknown_name
 
@@ -91,13 +107,33 @@ class ToleranceBands:
 
     def ranking(self, column: str) -> list[tuple[str, float]]:
         """The dimensions and clearances that matter most for ``column``, largest worst-case
-        contribution first: (name, contribution in the column's SI unit)."""
+        contribution first.
+
+        Parameters
+        ----------
+        column : str
+            A column name, as in `columns`.
+
+        Returns
+        -------
+        list of (str, float)
+            (name, largest contribution over the samples in the column's SI unit), one per
+            toleranced dimension or clearance.
+        """
         j = self.index(column)
         pairs = [(name, float(c[j])) for name, c in self.contributions.items()]
         return sorted(pairs, key=lambda nc: -nc[1])
 
     def to_frame(self) -> Any:
-        """A long table: one row per sample and column, with every band's ends."""
+        """A long table: one row per sample and column, with every band's ends.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Columns ``sample``, ``column``, ``nominal``, ``worst_low``, ``worst_high``,
+            ``rss_low``, ``rss_high``, ``mc_min``, ``mc_max``, ``mc_mean``, ``mc_std``, in each
+            column's SI unit; ``attrs`` hold the draws and, where given, the motion note.
+        """
         import pandas as pd
 
         n, k = self.nominal.shape
