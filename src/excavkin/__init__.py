@@ -119,7 +119,8 @@ def load(path: str | Path) -> Mechanism:
     Parameters
     ----------
     path : str or Path
-        The file, or the name of a built-in example (``"fourbar"``; :func:`examples` lists
+        The file, or the name of a built-in example (``"fourbar"``; [`examples`][excavkin.examples]
+        lists
         them).
 
     Returns
@@ -145,7 +146,7 @@ def load(path: str | Path) -> Mechanism:
 
 
 def loads(text: str, source: str | None = None) -> Mechanism:
-    """Like :func:`load`, from TOML text.
+    """Like [`load`][excavkin.load], from TOML text.
 
     Parameters
     ----------

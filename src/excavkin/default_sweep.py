@@ -79,7 +79,7 @@ def default_sweep(mech: Mechanism, n: int | None = None) -> dict[str, np.ndarray
       otherwise it sweeps the range around the sketch over which it closes (found by probing
       720 positions), from one dead position to the other.
     * A linear input (a cylinder, a rope) sweeps its ``stroke`` when the model gives one,
-      else from 0.8 to 1.25 times its sketch length (:data:`STROKE`), cut to the range around
+      else from 0.8 to 1.25 times its sketch length (`STROKE`), cut to the range around
       the sketch over which the mechanism closes.
 
     Each input's range is found with the others held at their sketch values.
@@ -93,7 +93,8 @@ def default_sweep(mech: Mechanism, n: int | None = None) -> dict[str, np.ndarray
     Returns
     -------
     dict of str to ndarray, shape (n,)
-        Input values, SI, for :meth:`Mechanism.solve`. Empty for a mechanism without inputs.
+        Input values, SI, for [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]. Empty for a
+        mechanism without inputs.
     """
     names = list(mech.inputs)
     if not names:

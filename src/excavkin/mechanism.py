@@ -454,7 +454,7 @@ class Mechanism:
             has at least 131 072 samples. The ``sensitivities`` follow the same rule with a
             kernel of their own (`excavkin.kinematics.compiled_tangents`).
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
-            Also solve the kinetostatics (:meth:`forces`) with these loads (``"model"``: the
+            Also solve the kinetostatics (`forces`) with these loads (``"model"``: the
             model's own loads and gravity; an empty list: inertia only). A swept driver given
             no rate is then at rest (rate 0): without any rates the forces are static.
         params : mapping of str to array_like, optional
@@ -819,7 +819,7 @@ class Mechanism:
         compiled: bool | None,
         rest: tuple[str, ...],
     ) -> ForceResult:
-        """:meth:`forces` of a result already at rest in the drivers ``rest`` (those swept
+        """`forces` of a result already at rest in the drivers ``rest`` (those swept
         without a rate, named in the result)."""
         from excavkin.kinetostatics import solve_forces
 
@@ -900,7 +900,7 @@ class Mechanism:
         return mechanism_html(self)
 
     def sketch_svg(self, size: int = 240) -> str:
-        """The assembled sketch as an SVG drawing (:func:`excavkin.outputs.sketch.sketch_svg`).
+        """The assembled sketch as an SVG drawing (`excavkin.outputs.sketch.sketch_svg`).
 
         Parameters
         ----------

@@ -134,7 +134,7 @@ class Linspace(Lazy):
 
 
 class GridAxis(Lazy):
-    """One input of a grid (:func:`grid`): its axis' value at each combination.
+    """One input of a grid ([`grid`][excavkin.sweeps.grid]): its axis' value at each combination.
 
     Parameters
     ----------

@@ -82,7 +82,7 @@ def si_value(text: str, kind: str, what: str, *, hint: bool = True) -> float:
 
 def model_path(text: str, kind: str = "model") -> Path:
     """A model (or machine) file given on the command line: a path, or a built-in example's name
-    (:func:`excavkin.source_file`).
+    (`excavkin.source_file`).
 
     Parameters
     ----------

@@ -155,7 +155,7 @@ class BaseMachine:
         return np.array([pts[i] for i in hull]), [kinds[i] for i in hull]
 
     def tipping_lines(self, swing_axis: float) -> tuple[TippingLine, ...]:
-        """The support polygon's edges as tipping lines (see :class:`TippingLine`).
+        """The support polygon's edges as tipping lines (see `TippingLine`).
 
         Parameters
         ----------

@@ -21,7 +21,7 @@ def plot_cycle_power(cycle: CyclePower, *, title: str = "") -> ExcavatorPlot:
     Parameters
     ----------
     cycle : CyclePower
-        From :func:`~excavkin.excavator.cycle_power.cycle_power`.
+        From [`cycle_power`][excavkin.excavator.cycle_power.cycle_power].
     title : str, default ""
         Figure title; none when empty.
 

@@ -245,8 +245,10 @@ def design_tool_forces(
 ) -> DesignForces:
     """ISO 6015 (``at="lip"``) or SAE J1179 (``at="tip"``) tool force of the arm or bucket
     cylinder at cylinder ``lengths`` (shape (n, 3)), sample i being the design
-    ``params[name][i]`` (names of :func:`machine_parameters`; scalars or arrays broadcasting to
-    (n,); the others nominal). ``transfer``, if given, is :func:`design_transfer` of the same
+    ``params[name][i]`` (names of
+    [`machine_parameters`][excavkin.excavator.designs.machine_parameters]; scalars or arrays
+    broadcasting to
+    (n,); the others nominal). ``transfer``, if given, is `design_transfer` of the same
     lengths and parameters (to share it between forces).
 
     Parameters
@@ -316,7 +318,8 @@ def bucket_angle_to_stick(machine: Machine, tr: DesignTransfer) -> F:
 def design_machine(machine: Machine, params: Mapping[str, float]) -> Machine:
     """One design as a machine of its own: the model rebuilt with the points, bodies' masses
     and centres of mass, cylinders and circuits of ``params`` (names of
-    :func:`machine_parameters`; others nominal). For checking a design with the machine's own
+    [`machine_parameters`][excavkin.excavator.designs.machine_parameters]; others nominal). For
+    checking a design with the machine's own
     functions (working ranges, rated forces).
 
     Parameters

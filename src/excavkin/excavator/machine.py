@@ -473,8 +473,8 @@ class Machine:
 
     def weight_loads(self) -> list[Load]:
         """The front's weight as loads of the general kinetostatics: the model's bodies
-        (:class:`~excavkin.kinetostatics.Gravity`) and half of each cylinder's mass at each end
-        pin that moves (a :class:`~excavkin.kinetostatics.PointForce` on a body holding it).
+        ([`Gravity`][excavkin.kinetostatics.Gravity]) and half of each cylinder's mass at each end
+        pin that moves (a [`PointForce`][excavkin.kinetostatics.PointForce] on a body holding it).
 
         Returns
         -------

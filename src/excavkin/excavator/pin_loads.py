@@ -383,7 +383,7 @@ def largest_pin_loads(
     lengths : array_like, shape (n, 3)
         E.g. `stroke_grid`.
     cases : sequence of {"bucket", "arm", "lift"}
-        The load cases, each as :func:`pin_loads`'s ``case``.
+        The load cases, each as [`pin_loads`][excavkin.excavator.pin_loads.pin_loads]'s ``case``.
     load, at, gravity
         As [`pin_loads`][excavkin.excavator.pin_loads.pin_loads] (``load`` for the lift case).
 

@@ -45,6 +45,10 @@ THRESHOLD = 1 << 17
 #: compiled unasked only for a batch this large, where it saves about as much (0.05–0.15 µs a
 #: sample), and it is kept on disk for every later solve
 COMPILE_AT = 20_000_000
+#: a plan of more points is not compiled unasked: numba's compile time and memory grow faster
+#: than the kernel's length (a 68-point chain's kernel took minutes and 4 GB), and one kernel
+#: per plan has no way to split it yet
+AUTO_POINTS = 40
 
 Kernel = Callable[..., None]
 #: the generated code's arctangent: arithmetic, inlined (`excavkin.kinematics.fast_atan2`)
@@ -74,10 +78,13 @@ def supports(plan: SolvePlan) -> bool:
 def use(plan: SolvePlan, n: int, compiled: bool | None, per_sample: bool = False) -> bool:
     """Whether a solve of ``n`` samples takes the compiled path (``compiled`` None: when numba
     is installed and the batch is large — `THRESHOLD` for a kernel already compiled,
-    `COMPILE_AT` for one to compile); ``per_sample``: the kernel for a constants table
+    `COMPILE_AT` for one to compile — and the plan has at most `AUTO_POINTS` points);
+    ``per_sample``: the kernel for a constants table
     of a column per sample (`compile_plan`)."""
     if compiled is None:
-        if n < THRESHOLD or not supports(plan) or not available():
+        if n < THRESHOLD or len(plan.points) > AUTO_POINTS or not supports(plan):
+            return False
+        if not available():
             return False
         return n >= COMPILE_AT or is_compiled(plan, per_sample)
     if compiled and not (supports(plan) and importlib.util.find_spec("numba") is not None):

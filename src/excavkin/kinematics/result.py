@@ -252,7 +252,7 @@ class KinematicResult:
         The swept drivers given no rate: each moves at rate 1 (acceleration as given, default
         0), so that the velocities and accelerations are transfer functions with respect to
         them, not a motion in time. Forces from such a result are taken at rest in these
-        drivers (:meth:`excavkin.Mechanism.forces`).
+        drivers (`excavkin.Mechanism.forces`).
     """
 
     plan: SolvePlan
@@ -517,7 +517,7 @@ class KinematicResult:
         return self.tangents[parameter].column(column)
 
     def column(self, name: str) -> F:
-        """One column of :meth:`to_frame` by name, without building the table.
+        """One column of `to_frame` by name, without building the table.
 
         Parameters
         ----------

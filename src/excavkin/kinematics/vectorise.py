@@ -183,12 +183,15 @@ class _Rewriter(ast.NodeTransformer):
         return self.generic_visit(node)
 
     def visit_BoolOp(self, node: ast.BoolOp) -> ast.AST:
+        # a balanced tree of & or |, not a chain: a large model's `and` of hundreds of
+        # operands would nest as deep as it is long, past the recursion limit of
+        # ast.unparse and of the compiler
         op: ast.operator = ast.BitAnd() if isinstance(node.op, ast.And) else ast.BitOr()
         values: list[ast.expr] = [self.visit(v) for v in node.values]
-        out = values[0]
-        for v in values[1:]:
-            out = ast.BinOp(out, op, v)
-        return out
+        while len(values) > 1:
+            pairs = [ast.BinOp(a, op, b) for a, b in zip(values[::2], values[1::2], strict=False)]
+            values = pairs + values[len(pairs) * 2 :]
+        return values[0]
 
     def expr(self, node: ast.expr) -> str:
         return ast.unparse(self.visit(node))

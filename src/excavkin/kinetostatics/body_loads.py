@@ -2,9 +2,9 @@
 
 Each moving body's applied forces and couples, its weight and its d'Alembert inertia, reduced to
 a force and a moment about the body's first point. The NumPy solve
-(:mod:`excavkin.kinetostatics.solve`), the sensitivities
-(:mod:`excavkin.kinetostatics.sensitivity`) and the compiled path's trace
-(:mod:`excavkin.kinetostatics.compiled`) all evaluate these same lines, on arrays, dual numbers
+(`excavkin.kinetostatics.solve`), the sensitivities
+(`excavkin.kinetostatics.sensitivity`) and the compiled path's trace
+(`excavkin.kinetostatics.compiled`) all evaluate these same lines, on arrays, dual numbers
 or symbols.
 """
 

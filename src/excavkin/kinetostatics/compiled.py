@@ -6,10 +6,10 @@ dense block with partial pivoting and substitutes back — each step an array op
 chunk of samples. Here those same steps are *traced*: they run once on symbols instead of
 arrays, and every arithmetic operation they do is written down as one line of straight-line
 source. numba compiles the loop over samples of that source (as
-:mod:`excavkin.kinematics.compiled` does for a solve plan), so a sample's equations stay in
+`excavkin.kinematics.compiled` does for a solve plan), so a sample's equations stay in
 registers. Because the trace runs the NumPy path's own functions
-(:func:`~excavkin.kinetostatics.body_loads.body_loads`, :func:`assemble_rows`,
-:func:`eliminate_one`, :func:`mul_entry` …), the operations and their order are the NumPy
+(`body_loads`, `assemble_rows`,
+`eliminate_one`, `mul_entry` …), the operations and their order are the NumPy
 path's; only the dense block's row swaps, which NumPy makes with ``where``, become a branch.
 Tests hold the two to 1e-15 of each column's scale.
 
@@ -173,7 +173,7 @@ class _Points:
 
 
 class _Masses:
-    """The mass properties as the traced :func:`body_loads` reads them: each value a row of the
+    """The mass properties as the traced `body_loads` reads them: each value a row of the
     constants table, the bodies with a mass and their base points as they are."""
 
     def __init__(self, g: _Source, mp: MassProperties) -> None:

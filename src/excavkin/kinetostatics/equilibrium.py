@@ -81,7 +81,7 @@ Value: TypeAlias = "float | F"
 
 def mul_entry(a: Entry, b: Entry) -> Entry:
     """``a · b`` of two entries, skipping the product by 0 and ±1 (a float), or ``VAR`` where
-    either is unknown until the samples come; :mod:`excavkin.kinetostatics.compiled` traces it."""
+    either is unknown until the samples come; `excavkin.kinetostatics.compiled` traces it."""
     if isinstance(a, float):
         if a == 0.0:
             return 0.0

@@ -119,10 +119,10 @@ class ForceResult:
         The mass properties the forces were solved with (per sample for a family of designs).
     tangents : dict, optional
         Per parameter (``solve(..., sensitivities=)``), the derivative of every force column:
-        read them with :meth:`sensitivity`.
+        read them with `sensitivity`.
     at_rest : tuple of str
         The swept drivers given no rate, taken at rest (rate 0) for these forces: forces
-        without given rates are static (:attr:`static`, :attr:`motion_note`).
+        without given rates are static (`static`, `motion_note`).
     """
 
     kinematics: KinematicResult
@@ -388,7 +388,7 @@ class ForceResult:
         return self.kinematics.columns + tuple(c for c, _ in self._columns((ground,)))
 
     def column(self, name: str) -> F:
-        """One force column of :meth:`to_frame` by name (any body's ``.Rx``/``.Ry`` too).
+        """One force column of `to_frame` by name (any body's ``.Rx``/``.Ry`` too).
 
         Parameters
         ----------

@@ -1,10 +1,10 @@
-"""A mechanism as a small SVG drawing: the notebook display of :class:`~excavkin.Mechanism`.
+"""A mechanism as a small SVG drawing: the notebook display of [`Mechanism`][excavkin.Mechanism].
 
-The third renderer of a :class:`~excavkin.outputs.scene.Scene`, beside matplotlib
-(:mod:`~excavkin.outputs.drawing`) and plotly (:mod:`~excavkin.outputs.report`): it writes the
+The third renderer of a `Scene`, beside matplotlib
+(`drawing`) and plotly (`report`): it writes the
 scene's primitives of one sample — ground symbols, slider guides and blocks, bodies, cylinders
 as barrel and rod, pins and point names — as SVG text, in the colours of
-:mod:`~excavkin.outputs.style`. It needs neither matplotlib nor plotly, so a notebook shows a
+`style`. It needs neither matplotlib nor plotly, so a notebook shows a
 mechanism without a plotting library.
 
 ``Mechanism._repr_html_`` and ``Mechanism.sketch_svg`` import this module when they are called

@@ -1,8 +1,8 @@
 """The look of every figure, in one place: colours of bodies, cylinders, ground and warnings, and
 the check of matplotlib line-style keywords.
 
-Every renderer (matplotlib in :mod:`~excavkin.outputs.drawing` and :mod:`~excavkin.outputs.plots`,
-plotly in :mod:`~excavkin.outputs.report`, SVG in :mod:`~excavkin.outputs.sketch`) takes its
+Every renderer (matplotlib in `drawing` and `plots`,
+plotly in `report`, SVG in `sketch`) takes its
 colours from here.
 """
 

@@ -7,7 +7,8 @@ Every law is written in normalised form, ``u = (t - t0) / T`` in ``[0, 1]``::
 
 with ``f(0) = 0``, ``f(1) = 1`` and ``f'(0) = f'(1) = 0``. The peak coefficients
 ``C_v = max|f'|``, ``C_a = max|f''|`` and ``C_j = max|f'''|`` are exact (see
-:attr:`MotionLaw.coefficients` and ``docs/motion-laws.md``).
+[`MotionLaw.coefficients`][excavkin.motion.laws.MotionLaw.coefficients] and
+``docs/motion-laws.md``).
 
 Conventions
 -----------
@@ -18,7 +19,8 @@ Conventions
   ``a`` just before ``t0`` is 0.
 * Jerk is the analytic derivative of ``a`` inside each piece. Where ``a`` jumps (the ends of
   the cubic and harmonic laws, the corners of the trapezoidal law) the Dirac part of the jerk
-  is **not** represented; the jumps are reported by :meth:`MotionLaw.acceleration_jumps` and
+  is **not** represented; the jumps are reported by
+  [`MotionLaw.acceleration_jumps`][excavkin.motion.laws.MotionLaw.acceleration_jumps] and
   by the values of ``a`` at the ends.
 * Piecewise laws use left-closed pieces ``[u_k, u_k+1)``; the last piece is closed. At an
   interior breakpoint the value of the right piece is returned.
@@ -35,14 +37,14 @@ Conventions
 
 The package, one module a concern:
 
-* :mod:`~excavkin.motion.laws.base` — :class:`MotionLaw`, its state, peaks and jumps;
-* :mod:`~excavkin.motion.laws.polynomial` — cubic, 3-4-5, 4-5-6-7;
-* :mod:`~excavkin.motion.laws.trigonometric` — cycloidal, harmonic;
-* :mod:`~excavkin.motion.laws.modified` — modified trapezoid, modified sine;
-* :mod:`~excavkin.motion.laws.limited` — trapezoidal, S-curve;
-* :mod:`~excavkin.motion.laws.dwell` — a dwell;
-* :mod:`~excavkin.motion.laws.profile` — laws one after the other;
-* :mod:`~excavkin.motion.laws.registry` — the laws by name.
+* `base` — [`MotionLaw`][excavkin.motion.laws.MotionLaw], its state, peaks and jumps;
+* `polynomial` — cubic, 3-4-5, 4-5-6-7;
+* `trigonometric` — cycloidal, harmonic;
+* `modified` — modified trapezoid, modified sine;
+* `limited` — trapezoidal, S-curve;
+* `dwell` — a dwell;
+* `profile` — laws one after the other;
+* `registry` — the laws by name.
 """
 
 from excavkin.motion.laws.base import AccelerationJump, MotionLaw, MotionState, PeakCoefficients

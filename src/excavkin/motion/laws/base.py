@@ -1,8 +1,10 @@
-"""The base of every motion law: :class:`MotionLaw`, the state it returns, its peak
+"""The base of every motion law: [`MotionLaw`][excavkin.motion.laws.base.MotionLaw], the state it
+returns, its peak
 coefficients and its acceleration jumps.
 
 A law is a frozen dataclass whose ``_shape`` gives the normalised shape ``f(u)`` and its first
-three derivatives; :class:`MotionLaw` scales them to a stroke and a duration, holds the end
+three derivatives; [`MotionLaw`][excavkin.motion.laws.base.MotionLaw] scales them to a stroke and a
+duration, holds the end
 values outside ``[t0, t0 + T]`` and finds the jumps of acceleration at the breakpoints.
 """
 

@@ -13,7 +13,7 @@ from excavkin.motion.laws.base import MotionLaw, PeakCoefficients, ShapeValues
 
 @dataclass(frozen=True, slots=True)
 class Dwell(MotionLaw):
-    """A dwell: ``s = 0`` over ``[t0, t0 + T]``; ``stroke`` must be 0 (see :func:`dwell`)."""
+    """A dwell: ``s = 0`` over ``[t0, t0 + T]``; ``stroke`` must be 0 (see `dwell`)."""
 
     name: ClassVar[str] = "dwell"
 
@@ -31,5 +31,5 @@ class Dwell(MotionLaw):
 
 
 def dwell(duration: float, *, start: float = 0.0) -> Dwell:
-    """A :class:`Dwell` of the given ``duration`` [s] starting at ``start`` [s]."""
+    """A `Dwell` of the given ``duration`` [s] starting at ``start`` [s]."""
     return Dwell(0.0, duration, start=start)

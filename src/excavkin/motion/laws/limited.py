@@ -31,7 +31,7 @@ class TrapezoidalLaw(MotionLaw):
     Parameters
     ----------
     stroke, duration, start
-        See :class:`MotionLaw`.
+        See [`MotionLaw`][excavkin.motion.laws.base.MotionLaw].
     accel_fraction : float
         Fraction of ``T`` spent accelerating (and, equally, decelerating). Default 1/3.
     """
@@ -102,13 +102,13 @@ class SCurveLaw(MotionLaw):
     ``C_v = V``, ``C_a = A``, ``C_j = J``. ``Tc = 0`` when ``β = 1/2`` (``a_max`` not
     reached); ``Tv = 0`` when ``α = 1/2`` (``v_max`` not reached).
 
-    Use :meth:`from_limits` to get the time-optimal law for limits ``v_max, a_max, j_max``
+    Use `from_limits` to get the time-optimal law for limits ``v_max, a_max, j_max``
     (then ``T`` is an output).
 
     Parameters
     ----------
     stroke, duration, start
-        See :class:`MotionLaw`.
+        See [`MotionLaw`][excavkin.motion.laws.base.MotionLaw].
     accel_fraction : float
         ``α = Ta/T`` in ``(0, 1/2]``. Default 1/2 (no cruise).
     jerk_fraction : float

@@ -13,7 +13,7 @@ from excavkin.motion.laws.base import AccelerationJump, MotionLaw, MotionState
 
 @dataclass(frozen=True, slots=True)
 class Segment:
-    """One segment of a :class:`Profile`.
+    """One segment of a `Profile`.
 
     Parameters
     ----------
@@ -51,7 +51,7 @@ class Profile:
     are ``s⁻ = offset[k−1] + s_{k−1}(end)``, ``s⁺ = offset[k] + s_k(start)``, and likewise
     for ``v``. Continuity requires ``|s⁺ − s⁻| <= rtol · max(|offset|, |H|)`` and
     ``|v⁺ − v⁻| <= rtol · max(|H|/T)`` over the segments. Jumps of ``a`` (soft shocks) are
-    allowed and listed by :meth:`acceleration_jumps`. Before the first segment the profile
+    allowed and listed by `acceleration_jumps`. Before the first segment the profile
     holds its initial position, after the last its final one (``v = a = j = 0``). At a join
     the values of the later segment are returned.
 
@@ -128,7 +128,7 @@ class Profile:
         t0 : float
             Start time of the first segment [s].
         rtol : float
-            See :class:`Profile`.
+            See `Profile`.
         """
         segs: list[Segment] = []
         t, s = t0, s0
@@ -194,7 +194,9 @@ class Profile:
         """Jumps of acceleration at the joins, at the start and at the end (rest outside).
 
         Jumps inside a segment (e.g. the corners of a trapezoidal law) are listed by that
-        law's :meth:`MotionLaw.acceleration_jumps`, not here.
+        law's
+        [`MotionLaw.acceleration_jumps`][excavkin.motion.laws.base.MotionLaw.acceleration_jumps],
+        not here.
 
         Parameters
         ----------

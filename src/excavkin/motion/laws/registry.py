@@ -1,4 +1,5 @@
-"""The laws by name: :data:`LAW_NAMES` and :func:`get_law`, what files and the command line use."""
+"""The laws by name: `LAW_NAMES` and [`get_law`][excavkin.motion.laws.registry.get_law], what files
+and the command line use."""
 
 from __future__ import annotations
 
@@ -23,7 +24,7 @@ _LAWS: dict[str, type[MotionLaw]] = {
 }
 
 LAW_NAMES: tuple[str, ...] = tuple(_LAWS)
-"""Names accepted by :func:`get_law`."""
+"""Names accepted by [`get_law`][excavkin.motion.laws.registry.get_law]."""
 
 
 def _shape_params(cls: type[MotionLaw]) -> set[str]:
@@ -36,7 +37,7 @@ def get_law(name: str, stroke: float, duration: float | None, **params: float) -
     Parameters
     ----------
     name : str
-        One of :data:`LAW_NAMES`: ``"cubic"``, ``"345"``, ``"4567"``, ``"cycloidal"``,
+        One of `LAW_NAMES`: ``"cubic"``, ``"345"``, ``"4567"``, ``"cycloidal"``,
         ``"harmonic"``, ``"modified-trapezoid"``, ``"modified-sine"``, ``"trapezoidal"``,
         ``"s-curve"``.
     stroke : float

@@ -6,7 +6,7 @@ warnings (dead positions, non-closure, shocks, low transmission angles) and the 
 a download. The interactive parts are Plotly figures; plotly.js is embedded in the file.
 
 The report draws what it is given and never solves: the caller solves (for instance over
-:func:`excavkin.default_sweep.default_sweep`) and hands the result over.
+[`excavkin.default_sweep.default_sweep`][]) and hands the result over.
 
 >>> import excavkin
 >>> from excavkin.default_sweep import default_sweep
@@ -17,15 +17,15 @@ The report draws what it is given and never solves: the caller solves (for insta
 
 One module a concern:
 
-* :mod:`~excavkin.outputs.report.document` — the template filled, the file written;
-* :mod:`~excavkin.outputs.report.data` — what the sections read: the table, units, x axis;
-* :mod:`~excavkin.outputs.report.mechanism` — the moving mechanism (Plotly);
-* :mod:`~excavkin.outputs.report.curves` — the curves (Plotly);
-* :mod:`~excavkin.outputs.report.warnings` — the events found in the result;
-* :mod:`~excavkin.outputs.report.table` — the table download and the extremes.
+* `document` — the template filled, the file written;
+* `data` — what the sections read: the table, units, x axis;
+* `mechanism` — the moving mechanism (Plotly);
+* `curves` — the curves (Plotly);
+* `warnings` — the events found in the result;
+* `table` — the table download and the extremes.
 
 Plotly is imported inside the functions only. ``default_sweep``, ``solve_default``,
-``N_ROTARY``, ``N_LINEAR`` and ``STROKE`` live in :mod:`excavkin.default_sweep`; they are
+``N_ROTARY``, ``N_LINEAR`` and ``STROKE`` live in `excavkin.default_sweep`; they are
 named here too, as before.
 """
 

@@ -1,6 +1,6 @@
 """The report's curves section: result columns over the sweep, one zoomable panel per kind.
 
-Failed runs are shaded and dead positions marked across every panel; :func:`curves_note` says
+Failed runs are shaded and dead positions marked across every panel; `curves_note` says
 how to read the rates.
 """
 
@@ -36,7 +36,7 @@ def curves_figure(
     ----------
     result : result or DataFrame
     y : iterable of str, optional
-        Default :func:`excavkin.outputs.plots.main_columns`.
+        Default `excavkin.outputs.plots.main_columns`.
     units : mapping of str to str, optional
     max_points : int
         Most samples per curve; longer results are thinned evenly.

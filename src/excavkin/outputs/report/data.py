@@ -1,7 +1,7 @@
 """What the report is made from: the result's table, its display units and its x axis.
 
-:class:`ReportData` is read by every section; :func:`sweep_text` says in one line what the
-samples are; :func:`format_value` and :func:`thin` are the sections' shared formatting.
+`ReportData` is read by every section; `sweep_text` says in one line what the
+samples are; `format_value` and `thin` are the sections' shared formatting.
 """
 
 from __future__ import annotations

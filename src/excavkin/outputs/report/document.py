@@ -1,9 +1,10 @@
 """The report as one HTML document: the template filled with every section.
 
-:func:`build_report` takes a mechanism and a result solved already (the report never solves),
-asks each section for its part — :mod:`~excavkin.outputs.report.mechanism`,
-:mod:`~excavkin.outputs.report.curves`, :mod:`~excavkin.outputs.report.warnings`,
-:mod:`~excavkin.outputs.report.table` — and fills ``template.html``; :func:`write_report`
+`build_report` takes a mechanism and a result solved already (the report never solves),
+asks each section for its part — `mechanism`,
+`curves`, `warnings`,
+`table` — and fills ``template.html``;
+[`write_report`][excavkin.outputs.report.document.write_report]
 writes it atomically.
 """
 
@@ -54,9 +55,9 @@ def build_report(
     units : mapping of str to str, optional
         Display units by kind or column.
     show : iterable of str, optional
-        Columns whose current value the mechanism view shows (see :func:`mechanism_figure`).
+        Columns whose current value the mechanism view shows (see `mechanism_figure`).
     curves : iterable of str, optional
-        Columns plotted (default :func:`~excavkin.outputs.plots.main_columns`).
+        Columns plotted (default `main_columns`).
     ropes : iterable of str
         Linear elements drawn as lines rather than cylinders.
     length_unit : str
@@ -65,7 +66,7 @@ def build_report(
         The command line that made the report, for the record.
     shocks : sequence of Shock, optional
         For a run in time, the exact shock report's shocks
-        (:func:`excavkin.simulation.shocks.shock_report`), listed among the warnings.
+        ([`excavkin.simulation.shocks.shock_report`][]), listed among the warnings.
 
     Returns
     -------
@@ -155,7 +156,7 @@ def write_report(
     force : bool
         Replace an existing file.
     **options
-        Passed to :func:`build_report` (``title``, ``units``, ``show``, ``curves``, ``ropes``,
+        Passed to `build_report` (``title``, ``units``, ``show``, ``curves``, ``ropes``,
         ``length_unit``, ``max_frames``, ``command``, ``shocks``).
 
     Returns

@@ -1,6 +1,6 @@
 """The report's mechanism section: the mechanism moving over the samples, in Plotly.
 
-The plotly renderer of :class:`~excavkin.outputs.scene.Scene`: static traces (ground, paths of
+The plotly renderer of `Scene`: static traces (ground, paths of
 the moving points, dead-position and non-closure marks), the traces that move (sliders, bodies,
 cylinders, pins), one frame per shown sample, a values box and a play/pause slider.
 """
@@ -51,7 +51,7 @@ def mechanism_figure(
     result : KinematicResult or a result with ``.kinematics`` and ``to_frame()``
     units : mapping of str to str, optional
         Display units of the shown values (see
-        :class:`~excavkin.outputs.display_units.DisplayUnits`).
+        `DisplayUnits`).
     show : iterable of str, optional
         Columns whose current value is shown in the corner; default the varying inputs and the
         transmission angles.

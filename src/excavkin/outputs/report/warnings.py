@@ -1,7 +1,7 @@
 """The report's warnings section: the events of the result (dead positions, non-closure,
 shocks, low transmission angles) as a list, or one line saying there are none.
 
-The events are found by :func:`excavkin.outputs.events.find_events`.
+The events are found by [`excavkin.outputs.events.find_events`][].
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ def warnings_html(events: list[Event]) -> str:
     Parameters
     ----------
     events : list of Event
-        From :func:`excavkin.outputs.events.find_events`.
+        From [`excavkin.outputs.events.find_events`][].
 
     Returns
     -------

@@ -1,0 +1,68 @@
+"""Issue 28 (first part): the compiled plan's generated source for a large model. On a chain of
+33 four-bar stages the vectoriser folded an ``and`` of many operands into one chain as deep as
+it was long, and ``ast.unparse`` raised RecursionError; the default path reached it at 2¹⁷
+samples, so that such a model could not be solved at all with numba installed."""
+
+from __future__ import annotations
+
+import ast
+
+import numpy as np
+
+from excavkin import Body, Mechanism, Model, RotaryDriver
+from excavkin.kinematics import compiled
+from excavkin.kinematics.vectorise import vectorised
+
+
+def chain(stages: int) -> Model:
+    """A crank driving a chain of four-bars: each stage's rocker is the next one's crank."""
+    points = {"G0": (0.0, 0.0), "P0": (0.0, 0.4)}
+    bodies = [Body("crank", ("G0", "P0"))]
+    for k in range(1, stages + 1):
+        points[f"G{k}"] = (float(k), 0.0)
+        points[f"P{k}"] = (k + 0.3 * (k % 2), 0.8)
+        bodies += [
+            Body(f"coupler{k}", (f"P{k - 1}", f"P{k}"), mass=1.0),
+            Body(f"rocker{k}", (f"G{k}", f"P{k}"), mass=1.0),
+        ]
+    ground = Body("ground", tuple(f"G{k}" for k in range(stages + 1)), ground=True)
+    return Model(
+        name=f"chain of {stages} four-bars",
+        points=points,
+        bodies=(ground, *bodies),
+        rotary=(RotaryDriver("crank", body="crank", pivot="G0", reference="ground"),),
+    )
+
+
+def _depth(node: ast.AST) -> int:
+    """The deepest nesting of expressions under ``node`` (iteratively: no recursion limit)."""
+    deepest, stack = 0, [(node, 1)]
+    while stack:
+        n, d = stack.pop()
+        deepest = max(deepest, d)
+        stack += [(c, d + 1) for c in ast.iter_child_nodes(n)]
+    return deepest
+
+
+def test_the_source_of_a_300_point_chain_is_generated_shallow() -> None:
+    mech = Mechanism(chain(149))
+    assert len(mech.plan.points) == 300
+    text = vectorised(compiled.source(mech.plan, write_at_rest=False), False)
+    tree = ast.parse(text)
+    # the statuses' `and` of every output is a balanced tree: its depth grows as log n
+    assert _depth(tree) < 60
+    for per_sample in (False, True):  # a family of designs' kernel too
+        ast.parse(vectorised(compiled.source(mech.plan, write_at_rest=False), per_sample))
+
+
+def test_a_large_chain_solves_by_default_at_a_compiled_size() -> None:
+    """At 2¹⁷ samples the default path looks for a compiled kernel; a plan of more than
+    `AUTO_POINTS` points is not compiled unasked, and solves in NumPy."""
+    mech = Mechanism(chain(33))
+    assert len(mech.plan.points) > compiled.AUTO_POINTS
+    assert not compiled.use(mech.plan, 1 << 17, None)
+    q = np.pi / 2 + np.linspace(-0.05, 0.05, 1 << 17)
+    result = mech.solve({"crank": q})
+    assert result.status.all_ok
+    small = mech.solve({"crank": q[::4096]})
+    np.testing.assert_array_equal(result.positions[::4096], small.positions)
