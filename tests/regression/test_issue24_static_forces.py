@@ -183,3 +183,25 @@ def test_study_force_metric_is_static() -> None:
         for d in designs["A-B"]
     ]  # fmt: skip
     np.testing.assert_allclose(plain["torque"], each, rtol=1e-12)
+
+
+def test_a_study_without_rates_says_its_force_metrics_are_static(tmp_path: Path) -> None:
+    from excavkin.studies.study import run_study
+    from excavkin.studies.study_file import load_study
+
+    text = excavkin.example_path("crank_rocker").read_text()
+    text = text.replace('[poses.rates]\ncrank = "300 rpm"\n', "").replace("4096", "16")
+    spec = tmp_path / "static.toml"
+    spec.write_text(text)
+    study = load_study(spec)
+    assert study.motion_note == "static forces, no inertia (no rate given for crank: taken as 0)"
+    result = run_study(study, tmp_path / "static.parquet")
+    frame = result.to_frame()
+    assert frame.attrs["excavkin.motion"] == study.motion_note
+    # each design's torque metric is the static one
+    mech = excavkin.load("fourbar")
+    q = np.radians(np.linspace(0.0, 360.0, 181))
+    row = frame.iloc[0]
+    params = {k[len("design.") :]: float(row[k]) for k in frame.columns if k.startswith("design.")}
+    torque = mech.solve({"crank": q}, {"crank": 0.0}, params=params, loads="model").torque("crank")
+    assert row["torque_peak"] == pytest.approx(np.max(np.abs(torque)), rel=1e-12)

@@ -231,6 +231,11 @@ class MachineStudy:
     def pose_count(self) -> int:
         return len(self.lengths)
 
+    @property
+    def motion_note(self) -> str:
+        """The machine's figures are static by their standards' definitions: no note."""
+        return ""
+
     def fingerprint(self) -> str:
         """A hash of everything that decides the results, so that parts of another study are
         never mixed in.

@@ -37,7 +37,29 @@ from excavkin.structure.design import parameter_kind
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["ForceResult", "PowerBalance"]
+__all__ = ["ForceResult", "PowerBalance", "motion_note"]
+
+
+def motion_note(static: bool, at_rest: Sequence[str]) -> str:
+    """What forces are, in one line: static, or with the inertia of the given rates; and the
+    swept drivers given no rate, taken at rest.
+
+    Parameters
+    ----------
+    static : bool
+        No driver moves: every rate and acceleration is zero.
+    at_rest : sequence of str
+        The swept drivers given no rate (taken as 0).
+
+    Returns
+    -------
+    str
+        ``"static forces, no inertia (no rate given for crank: taken as 0)"`` and the like.
+    """
+    why = f" (no rate given for {', '.join(at_rest)}: taken as 0)" if at_rest else ""
+    if static:
+        return f"static forces, no inertia{why}"
+    return f"forces with the inertia of the given driver rates and accelerations{why}"
 
 
 def _with_unit(value: float, kind: str) -> str:
@@ -149,12 +171,8 @@ class ForceResult:
     @property
     def motion_note(self) -> str:
         """Whether the forces are static or include the inertia of a motion, and why, in one
-        line (the tables' ``attrs["excavkin.motion"]``, the report, the command line)."""
-        rest = ", ".join(self.at_rest)
-        why = f" (no rate given for {rest}: taken as 0)" if rest else ""
-        if self.static:
-            return f"static forces, no inertia{why}"
-        return f"forces with the inertia of the given driver rates and accelerations{why}"
+        line (the tables' ``attrs["excavkin.motion"]``, the command line)."""
+        return motion_note(self.static, self.at_rest)
 
     def __len__(self) -> int:
         return int(self.pin_force.shape[0])

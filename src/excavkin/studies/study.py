@@ -82,6 +82,19 @@ class Study:
     def pose_count(self) -> int:
         return self.poses.count
 
+    @property
+    def motion_note(self) -> str:
+        """What the force metrics are (``""`` without loads): static when the poses give no
+        rates, the swept drivers given none taken at rest (``ForceResult.motion_note``)."""
+        if self.loads is None:
+            return ""
+        from excavkin.kinetostatics.result import motion_note
+
+        poses = self.poses
+        unrated = [k for k, v in poses.values.items() if np.ndim(v) == 1 and k not in poses.rates]
+        given = [*poses.rates.values(), *poses.accels.values()]
+        return motion_note(not any(np.any(np.asarray(v) != 0.0) for v in given), unrated)
+
     def prepare(self) -> tuple[dict[str, str], str]:
         """Refuse, before any solve, unknown parameters, columns and metric names; return each
         column's kind and the model's name, for the table's metadata.
@@ -165,6 +178,11 @@ class Subject(Protocol):
     @property
     def pose_count(self) -> int: ...
 
+    @property
+    def motion_note(self) -> str:
+        """What the study's force metrics are (static or with inertia), or ``""``."""
+        ...
+
     def fingerprint(self) -> str: ...
 
     def prepare(self) -> tuple[dict[str, str], str]: ...
@@ -239,7 +257,7 @@ def run_study(
         done += e - s
         if progress is not None:
             progress(done, study.designs)
-    _assemble(parts, target, study.fingerprint(), kinds, name)
+    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note)
     shutil.rmtree(parts)
     return StudyResult(target, getattr(study, "units", {}))
 
@@ -282,10 +300,18 @@ class StudyResult:
         frame.attrs["excavkin.model"] = meta["model"]
         frame.attrs["excavkin.kinds"] = meta["kinds"]
         frame.attrs["excavkin.units"] = {str(c): meta["units"].get(str(c), "") for c in frame}
+        if meta["motion"]:
+            frame.attrs["excavkin.motion"] = meta["motion"]
         return frame
 
     def metadata(self) -> dict[str, Any]:
-        """The table's own metadata: ``model``, ``kinds`` and ``units`` (SI) of its columns."""
+        """The table's own metadata: ``model``, ``kinds`` and ``units`` (SI) of its columns, and
+        ``motion``: what its force metrics are (static unless the poses give rates), or ``""``.
+
+        Returns
+        -------
+        dict
+        """
         import pyarrow.parquet as pq
 
         meta = pq.read_schema(self.path).metadata or {}
@@ -298,6 +324,7 @@ class StudyResult:
             "model": model,
             "kinds": read(b"excavkin.kinds", {}),
             "units": read(b"excavkin.units", {}),
+            "motion": meta.get(b"excavkin.motion", b"").decode(),
         }
 
     def _shown(self, frame: pd.DataFrame, column: str) -> tuple[np.ndarray, str]:
@@ -493,7 +520,7 @@ def _write_part(frame: pd.DataFrame, path: Path) -> None:
 
 
 def _assemble(
-    parts: Path, target: Path, fingerprint: str, kinds: dict[str, str], name: str
+    parts: Path, target: Path, fingerprint: str, kinds: dict[str, str], name: str, motion: str
 ) -> None:
     """The parts in design order, as one table with units in its metadata, moved into place
     whole; one part in memory at a time."""
@@ -510,6 +537,7 @@ def _assemble(
         b"excavkin.kinds": json.dumps(kinds).encode(),
         b"excavkin.model": name.encode(),
         b"excavkin.study": fingerprint.encode(),
+        **({b"excavkin.motion": motion.encode()} if motion else {}),
     }
     schema = schema.with_metadata({**(schema.metadata or {}), **meta})
 

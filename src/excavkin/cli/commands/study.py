@@ -71,3 +71,5 @@ def run_with_progress(
 
     feasible = pq.read_table(result.path, columns=["feasible"]).column(0).to_numpy()
     click.echo(f"wrote {total:,} designs ({int(feasible.sum()):,} feasible) to {result.path}")
+    if study.motion_note:
+        click.echo(f"excavkin: note: force metrics: {study.motion_note}", err=True)
