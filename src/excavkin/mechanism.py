@@ -544,8 +544,7 @@ class Mechanism:
 
         Parameters
         ----------
-        values, rates, accels, time, tol, workers, chunk, continuation, compiled, loads, params,
-        sensitivities
+        values, rates, accels, time, params
             As for `solve`; every array may also be an [`excavkin.sweeps.Lazy`][]
             column.
         tol, workers, chunk, continuation, compiled, loads, sensitivities

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import excavkin
+from excavkin import Gravity
 from excavkin.outputs.drawing import draw_mechanism
 
 matplotlib.use("Agg")
@@ -54,7 +55,7 @@ def test_force_summary_gives_the_largest_pin_forces(forces) -> None:  # type: ig
 def test_force_summary_lists_failing_samples_and_kilonewtons() -> None:
     mech = excavkin.load(excavkin.example_path("excavator"))
     res = mech.solve(
-        {"boom_cyl": [2.768, 99.0], "arm_cyl": 2.972, "bucket_cyl": 2.2}, loads="model"
+        {"boom_cyl": [2.768, 99.0], "arm_cyl": 2.972, "bucket_cyl": 2.2}, loads=[Gravity()]
     )
     text = res.summary()
     assert text.startswith("1 of 2 samples failed — ") and "sample 1 (" in text

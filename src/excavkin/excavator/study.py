@@ -449,21 +449,6 @@ def optimize_machine(
     Parameters
     ----------
     study : MachineStudy
-    objective : str, optional
-        A metric's name.
-    sense : {"min", "max"}, optional
-    method : {"slsqp", "differential-evolution"}, optional
-    x0 : mapping, optional
-        Start of a local method (default: the machine's own values, clipped to the bounds).
-    seed : int
-    maxiter, popsize, tol
-        As for [`optimize`][excavkin.studies.optimize.optimize].
-    progress : callable, optional
-        ``progress(iterations, maxiter)`` after each iteration.
-
-    Parameters
-    ----------
-    study : MachineStudy
         The design box (its bounds), poses, metrics and constraints.
     objective : str, optional
         The name of the metric to optimise.
@@ -480,6 +465,8 @@ def optimize_machine(
         size per parameter (default 32).
     tol : float, default 1e-12
         The optimisers' tolerance.
+    progress : callable, optional
+        ``progress(iterations, maxiter)`` after each iteration.
 
     Returns
     -------

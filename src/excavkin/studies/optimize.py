@@ -111,14 +111,38 @@ class Optimum:
 
     # ---- display, in the study's units
     def unit(self, column: str) -> str:
-        """The unit ``column`` (``design.NAME`` or a metric's name) is shown in."""
+        """The unit ``column`` is shown in.
+
+        Parameters
+        ----------
+        column : str
+            ``design.NAME`` or a metric's name.
+
+        Returns
+        -------
+        str
+            The study's unit for it, or the SI unit of its kind.
+        """
         from excavkin.kinematics.columns import si_unit
 
         kind = self.kinds.get(column, "dimensionless")
         return self.units.get(column) or si_unit(kind)
 
     def shown(self, column: str, value: ArrayLike) -> Any:
-        """``value`` (SI) of ``column`` in its unit."""
+        """A value of ``column`` in the unit it is shown in.
+
+        Parameters
+        ----------
+        column : str
+            ``design.NAME`` or a metric's name.
+        value : array_like
+            SI.
+
+        Returns
+        -------
+        float or ndarray
+            In [`unit`][excavkin.studies.optimize.Optimum.unit]``(column)``.
+        """
         kind = self.kinds.get(column)
         unit = self.units.get(column)
         if kind is None or kind == "dimensionless" or not unit:
@@ -145,7 +169,12 @@ class Optimum:
     def summary(self) -> str:
         """The optimum as a user reads it: the objective, the verdict, each parameter and
         metric in the study's units, the constraints that bind and the parameters at the box's
-        bounds."""
+        bounds.
+
+        Returns
+        -------
+        str
+        """
         verdict = "feasible" if self.feasible else "NOT feasible"
         head = f"{self.sense}imum of {self.objective}" if self.sense else "optimum"
         how = f"{self.method}, " if self.method else ""

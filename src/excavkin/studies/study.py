@@ -57,6 +57,9 @@ class Study:
         Seed of the sampling (not used by a grid).
     loads : "model" or None
         Solve the kinetostatics under the model's loads (needed by force metrics).
+    optimize : dict
+        The file's ``[optimize]`` table (objective, sense, method, maxiter, popsize), the
+        defaults of [`optimize_study`][excavkin.studies.optimize.optimize_study].
     units : dict of str to str
         The units to show results in (not part of what is computed): of each design parameter
         (``design.NAME``) and metric, as the study file writes them; SI where absent.
