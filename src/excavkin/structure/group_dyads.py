@@ -1,0 +1,90 @@
+"""The dyads inside a Newton group: points held by two distances alone.
+
+A point P of a group that appears in exactly two of its constraints, both distances (from A
+and from B), is a dyad of the group: the other equations do not hold P, so the Jacobian is
+block-triangular with P's 2×2 block ``2·[(P − A)ᵀ; (P − B)ᵀ]`` last, and its determinant has
+the factor ``4·cross(P − A, P − B)``. P's mirror image in the line A→B solves the group as
+well, with that factor's sign turned over: the group's two assembly branches at P, as a
+closed-form dyad's two sides. Peeled off one after another (a dyad removed can leave another
+point held by two distances alone), they come out last-solved first::
+
+    O2 ── A ── B ── O4        group {A, B}: B from A and O4 is its dyad; A (a distance and a
+    (crank)      (rocker)     driver angle) is what remains
+
+A group of a model whose closed form has dyads (``method="newton"``) so knows the same
+dyads, with the same partners, and the solve keeps each on its sketch side as the closed form
+does (or, with ``continuation="smooth"``, flips it at its change points).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
+
+
+def _touches(con: Constraint) -> tuple[int, ...]:
+    """The points a constraint holds."""
+    if isinstance(con, CDist):
+        return con.p, con.q
+    if isinstance(con, CFrame):
+        return con.p, con.a, con.b
+    if isinstance(con, CLine):
+        return con.p, con.l1, con.l2
+    assert isinstance(con, CAngle)
+    return (con.p, con.pivot) + (() if con.ref is None else con.ref)
+
+
+def group_dyads(
+    points: Sequence[int],
+    constraints: Sequence[Constraint],
+    sketch: Sequence[tuple[float, float]],
+    scale: float,
+) -> tuple[GroupDyad, ...]:
+    """A group's dyads, each after the points it hangs from.
+
+    Parameters
+    ----------
+    points : sequence of int
+        The group's points (plan indices).
+    constraints : sequence of Constraint
+        Its constraints.
+    sketch : sequence of (float, float)
+        Every point's sketch position, by plan index.
+    scale : float
+        The mechanism's size: a point drawn within 1e-12·scale of its partners' line shows no
+        side (its dyad's sign is 0).
+
+    Returns
+    -------
+    tuple of GroupDyad
+        Partners in the order of the constraints (a closed-form dyad's order: bodies first, then
+        elements).
+    """
+    live = list(range(len(constraints)))
+    left = list(points)
+    peeled: list[GroupDyad] = []
+    while True:
+        found = None
+        for p in left:
+            uses = [i for i in live if p in _touches(constraints[i])]
+            if len(uses) != 2:
+                continue
+            c1, c2 = (constraints[i] for i in uses)
+            if not (isinstance(c1, CDist) and isinstance(c2, CDist)):
+                continue
+            a = c1.q if c1.p == p else c1.p
+            b = c2.q if c2.p == p else c2.p
+            if a != b and p not in (a, b):
+                found = p, a, b, uses
+                break
+        if found is None:
+            break
+        p, a, b, uses = found
+        (ax, ay), (bx, by), (px, py) = sketch[a], sketch[b], sketch[p]
+        cross = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+        sign = 0.0 if abs(cross) <= 1e-12 * scale * scale else (1.0 if cross > 0 else -1.0)
+        peeled.append(GroupDyad(p, a, b, sign))
+        live = [i for i in live if i not in uses]
+        left.remove(p)
+    return tuple(reversed(peeled))
