@@ -6,7 +6,8 @@ block-triangular with P's 2×2 block ``2·[(P − A)ᵀ; (P − B)ᵀ]`` last, a
 the factor ``4·cross(P − A, P − B)``. P's mirror image in the line A→B solves the group as
 well, with that factor's sign turned over: the group's two assembly branches at P, as a
 closed-form dyad's two sides. Peeled off one after another (a dyad removed can leave another
-point held by two distances alone), they come out last-solved first::
+point held by two distances alone, and so can a point attached to a body by its frame alone,
+whose block is the identity), they come out last-solved first::
 
     O2 ── A ── B ── O4        group {A, B}: B from A and O4 is its dyad; A (a distance and a
     (crank)      (rocker)     driver angle) is what remains
@@ -68,23 +69,24 @@ def group_dyads(
         found = None
         for p in left:
             uses = [i for i in live if p in _touches(constraints[i])]
-            if len(uses) != 2:
-                continue
-            c1, c2 = (constraints[i] for i in uses)
-            if not (isinstance(c1, CDist) and isinstance(c2, CDist)):
-                continue
-            a = c1.q if c1.p == p else c1.p
-            b = c2.q if c2.p == p else c2.p
-            if a != b and p not in (a, b):
-                found = p, a, b, uses
+            held = [constraints[i] for i in uses]
+            if len(held) == 1 and isinstance(held[0], CFrame) and held[0].p == p:
+                found = p, None, uses  # a point attached to a body: its block is the identity
                 break
+            if len(held) == 2 and all(isinstance(con, CDist) for con in held):
+                a, b = (con.q if con.p == p else con.p for con in held)  # type: ignore[union-attr]
+                if a != b and p not in (a, b):
+                    found = p, (a, b), uses
+                    break
         if found is None:
             break
-        p, a, b, uses = found
-        (ax, ay), (bx, by), (px, py) = sketch[a], sketch[b], sketch[p]
-        cross = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
-        sign = 0.0 if abs(cross) <= 1e-12 * scale * scale else (1.0 if cross > 0 else -1.0)
-        peeled.append(GroupDyad(p, a, b, sign))
+        p, partners, uses = found
+        if partners is not None:
+            a, b = partners
+            (ax, ay), (bx, by), (px, py) = sketch[a], sketch[b], sketch[p]
+            cross = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+            sign = 0.0 if abs(cross) <= 1e-12 * scale * scale else (1.0 if cross > 0 else -1.0)
+            peeled.append(GroupDyad(p, a, b, sign))
         live = [i for i in live if i not in uses]
         left.remove(p)
     return tuple(reversed(peeled))
