@@ -19,6 +19,7 @@ does (or, with ``continuation="smooth"``, flips it at its change points).
 
 from __future__ import annotations
 
+import heapq
 from collections.abc import Sequence
 
 from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
@@ -62,31 +63,49 @@ def group_dyads(
         Partners in the order of the constraints (a closed-form dyad's order: bodies first, then
         elements).
     """
-    live = list(range(len(constraints)))
-    left = list(points)
+    touches = [set(_touches(con)) for con in constraints]
+    using: dict[int, list[int]] = {p: [] for p in points}
+    for i, held in enumerate(touches):
+        for q in held:
+            if q in using:
+                using[q].append(i)
+    alive = [True] * len(constraints)
+    place = {p: i for i, p in enumerate(points)}
+
+    def peelable(p: int) -> tuple[tuple[int, int] | None, list[int]] | None:
+        """(partners of a dyad, or None for a point on a body's frame; its constraints)."""
+        uses = [i for i in using[p] if alive[i]]
+        held = [constraints[i] for i in uses]
+        if len(held) == 1 and isinstance(held[0], CFrame) and held[0].p == p:
+            return None, uses  # attached to a body: its block is the identity
+        if len(held) == 2 and all(isinstance(con, CDist) for con in held):
+            a, b = (con.q if con.p == p else con.p for con in held if isinstance(con, CDist))
+            if a != b and p not in (a, b):
+                return (a, b), uses
+        return None
+
+    # the first peelable point in the group's order each time (a heap of the candidates, each
+    # checked again when taken: peeling changes only its partners' constraints)
+    heap = [place[p] for p in points if peelable(p) is not None]
+    heapq.heapify(heap)
     peeled: list[GroupDyad] = []
-    while True:
-        found = None
-        for p in left:
-            uses = [i for i in live if p in _touches(constraints[i])]
-            held = [constraints[i] for i in uses]
-            if len(held) == 1 and isinstance(held[0], CFrame) and held[0].p == p:
-                found = p, None, uses  # a point attached to a body: its block is the identity
-                break
-            if len(held) == 2 and all(isinstance(con, CDist) for con in held):
-                a, b = (con.q if con.p == p else con.p for con in held)  # type: ignore[union-attr]
-                if a != b and p not in (a, b):
-                    found = p, (a, b), uses
-                    break
+    done: set[int] = set()
+    while heap:
+        p = points[heapq.heappop(heap)]
+        found = None if p in done else peelable(p)
         if found is None:
-            break
-        p, partners, uses = found
+            continue
+        partners, uses = found
         if partners is not None:
             a, b = partners
             (ax, ay), (bx, by), (px, py) = sketch[a], sketch[b], sketch[p]
             cross = (bx - ax) * (py - ay) - (by - ay) * (px - ax)
             sign = 0.0 if abs(cross) <= 1e-12 * scale * scale else (1.0 if cross > 0 else -1.0)
             peeled.append(GroupDyad(p, a, b, sign))
-        live = [i for i in live if i not in uses]
-        left.remove(p)
+        done.add(p)
+        for i in uses:
+            alive[i] = False
+            for q in touches[i]:
+                if q in using and q not in done and peelable(q) is not None:
+                    heapq.heappush(heap, place[q])
     return tuple(reversed(peeled))
