@@ -67,3 +67,22 @@ def test_a_kite_turned_by_the_generic_solver_loses_no_sample(continuation: str) 
         assert jump > 1.0
     else:
         assert jump < 0.01 and steps.max() < 0.01
+
+
+@pytest.mark.parametrize("continuation", ["side", "smooth"])
+def test_streamed_in_parts_the_generic_solver_gives_the_whole(continuation: str) -> None:
+    """Two turns (two change points) in parts of 977 samples: the same to the bit, change
+    points included, as the whole sweep solved at once."""
+    newton = Mechanism(KITE, method="newton")
+    q = newton.sketch_values()["crank"] + np.radians(np.linspace(0.0, 720.0, 7220))
+    whole = newton.solve({"crank": q}, continuation=continuation)
+    parts = [
+        p.result for p in newton.solve_stream({"crank": q}, continuation=continuation, size=977)
+    ]
+    assert len(parts) > 1
+    for name in ("positions", "velocities", "accelerations"):
+        joined = np.concatenate([getattr(r, name) for r in parts])
+        np.testing.assert_array_equal(joined, getattr(whole, name))
+    np.testing.assert_array_equal(np.concatenate([r.status.code for r in parts]), whole.status.code)
+    assert [cp for r in parts for cp in r.change_points] == list(whole.change_points)
+    assert len(whole.change_points) == 2
