@@ -9,7 +9,7 @@ from click.testing import CliRunner
 import excavkin
 from excavkin import Mechanism
 from excavkin.cli import main
-from excavkin.errors import InputError
+from excavkin.kinematics.kernels import Code
 from excavkin.outputs.events import find_events
 from tests.models import parallelogram
 
@@ -101,10 +101,26 @@ def test_no_change_point_is_seen_where_there_is_none() -> None:
             assert mech.solve(values).change_points == (), (name, n)
 
 
-def test_smooth_continuation_is_for_closed_form_plans() -> None:
-    mech = Mechanism(SQUARE, method="newton")
-    with pytest.raises(InputError, match="Newton group"):
-        mech.solve({"crank": np.radians([1.0, 2.0])}, continuation="smooth")
+@pytest.mark.parametrize("continuation", ["side", "smooth"])
+def test_the_generic_solver_goes_through_the_change_point_as_the_closed_form(continuation) -> None:
+    """A plan with a Newton group follows either continuation (smooth was once refused for it):
+    the same change points, statuses and values as the closed form's — but at the sample on
+    the change point itself, where the crank's end sits on the rocker's pivot: the closed form
+    finds B undetermined, and Newton, whose Jacobian is singular there, does not converge."""
+    q = np.radians(np.linspace(-30, 30, 61))
+    closed = Mechanism(SQUARE).solve({"crank": q}, continuation=continuation)
+    newton = Mechanism(SQUARE, method="newton").solve({"crank": q}, continuation=continuation)
+    assert newton.change_points == closed.change_points
+    assert [cp.continued for cp in newton.change_points] == [continuation]
+    codes = closed.status.code.copy()
+    codes[30] = Code.NO_CONVERGENCE  # crank 0°
+    np.testing.assert_array_equal(newton.status.code, codes)
+    ok = closed.status.ok
+    np.testing.assert_allclose(newton.positions[ok], closed.positions[ok], rtol=0, atol=1e-14)
+    np.testing.assert_allclose(newton.velocities[ok], closed.velocities[ok], rtol=0, atol=1e-13)
+    np.testing.assert_allclose(newton.accelerations[ok], closed.accelerations[ok], atol=1e-12)
+    off = coupler_offset(newton)[ok]
+    assert np.nanmax(off) < 1e-12 if continuation == "smooth" else np.nanmax(off) > 0.19
 
 
 @pytest.mark.parametrize("degrees", [np.linspace(90, 270, 181), np.linspace(270, 90, 180)])

@@ -145,7 +145,8 @@ def test_cli_ranges_ik_and_errors(tmp_path: Path) -> None:
     r = runner.invoke(
         main, ["excavator", "ik", str(tmp_path / "none.toml"), "--x", "1m", "--y", "0m"]
     )
-    assert r.exit_code == 2 and "none.toml: no such file" in r.output and "Traceback" not in r.output
+    assert r.exit_code == 2 and "none.toml: no such file" in r.output
+    assert "Traceback" not in r.output
 
 
 def test_cli_forces(tmp_path: Path) -> None:

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.structure.plan import Dyad, SolvePlan
+from excavkin.structure.plan import Dyad, GroupDyad, NewtonGroup, SolvePlan
 
 #: the mirror image must be this much closer to the previous sample than the point itself
 MIRROR_RATIO = 0.5
@@ -82,7 +82,27 @@ NEVER_FLAT = 0.3
 MAX_GAP = 2
 
 
-def folds(x: F, st: Dyad) -> np.ndarray:
+#: a dyad's place in a plan: its step, and its place among a Newton group's dyads (−1 for a
+#: closed-form dyad step)
+Unit = tuple[int, int]
+
+#: what a change point is searched in: a closed-form dyad or a Newton group's
+Folding = Dyad | GroupDyad
+
+
+def dyads(plan: SolvePlan) -> list[tuple[Unit, Folding]]:
+    """Every dyad of a plan, in the order they are solved: its dyad steps, and the dyads inside
+    its Newton groups (`excavkin.structure.group_dyads`), which fold as those do."""
+    out: list[tuple[Unit, Folding]] = []
+    for k, st in enumerate(plan.steps):
+        if isinstance(st, Dyad):
+            out.append(((k, -1), st))
+        elif isinstance(st, NewtonGroup):
+            out += [((k, j), d) for j, d in enumerate(st.dyads)]
+    return out
+
+
+def folds(x: F, st: Folding) -> np.ndarray:
     """Samples i (of pairs i, j, the next solved sample) between which the dyad ``st`` folds;
     x: (n_points, 2, n)."""
     p = x[st.point]
@@ -111,7 +131,7 @@ def folds(x: F, st: Dyad) -> np.ndarray:
     return np.stack([i[found], j[found]])
 
 
-def _flatness(x: F, st: Dyad) -> F:
+def _flatness(x: F, st: Folding) -> F:
     """How far the dyad's triangle is from degenerate at every sample: the smaller of its base
     length |B − A| and the distance of P from the line A→B."""
     a, b, p = x[st.a], x[st.b], x[st.point]
@@ -143,7 +163,7 @@ def _picked(ix: np.ndarray | slice, sel: np.ndarray) -> np.ndarray:
     return np.asarray(ix[sel])
 
 
-def bends(x: F, v: F, q: F, qd: F, st: Dyad) -> np.ndarray:
+def bends(x: F, v: F, q: F, qd: F, st: Folding) -> np.ndarray:
     """Samples (i, j) between which the dyad ``st`` folds flat on a long base and P's path bends
     back; x, v: (n_points, 2, n), q, qd: (n_inputs, n)."""
     i, j = _neighbours(np.isfinite(x[st.point]).all(axis=0) & np.isfinite(v[st.point]).all(axis=0))
@@ -184,7 +204,9 @@ def bends(x: F, v: F, q: F, qd: F, st: Dyad) -> np.ndarray:
     return np.stack([i[found], j[found]])
 
 
-def _changes(x: F, v: F | None, q: F | None, qd: F | None, st: Dyad) -> list[tuple[int, int, str]]:
+def _changes(
+    x: F, v: F | None, q: F | None, qd: F | None, st: Folding
+) -> list[tuple[int, int, str]]:
     """The dyad's change points as (before, after, shape), in sample order."""
     out = [(int(i), int(j), "jump") for i, j in folds(x, st).T]
     if v is not None and q is not None and qd is not None:
@@ -206,14 +228,18 @@ def find_change_points(
     *,
     offset: int = 0,
     tail: Tail | None = None,
+    only: Unit | None = None,
 ) -> list[ChangePoint]:
     """Every dyad's change points between neighbouring samples, in plan order (bends too when
-    the velocities and inputs are given).
+    the velocities and inputs are given); the dyads inside Newton groups count as dyads
+    (`dyads`); ``only``: that one dyad's.
 
     With the transmission angles ``trans`` (n_transmissions, n), a dyad whose triangle never
     comes nearer flat than sin γ = `NEVER_FLAT` is passed over: its triangle's height
     and base then stay above about a sixth of its shorter side, so a fold between two samples
-    would need P to move more than half a link in one step — no sweep that can be read.
+    would need P to move more than half a link in one step — no sweep that can be read. (A
+    Newton group's dyad has no transmission angle of the plan's: its angle is measured from
+    the positions, as a closed-form dyad's is.)
 
     The samples are numbered from ``offset``. With the ``tail`` of the samples just before
     them (`Tail.of`), the change points between the two stretches are found too, so
@@ -223,18 +249,29 @@ def find_change_points(
     """
     out = []
     names = plan.points
-    for st in plan.steps:
-        if isinstance(st, Dyad):
-            if trans is not None:
+    for unit, st in dyads(plan):
+        if only is not None and unit != only:
+            continue
+        if trans is not None:
+            if isinstance(st, Dyad):
                 angles = [trans[st.index]] + ([] if tail is None else [tail.trans[st.index]])
-                if min(_flattest(t) for t in angles) >= NEVER_FLAT:
-                    continue
-            found = [] if tail is None else _across(tail, x, v, q, qd, st, offset)
-            found += [(i + offset, j + offset, shape) for i, j, shape in _changes(x, v, q, qd, st)]
-            for i, j, shape in found:
-                partners = (names[st.a], names[st.b])
-                out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))
+            else:
+                angles = [_angles(x, st)] + ([] if tail is None else [_angles(tail.x, st)])
+            if min(_flattest(t) for t in angles) >= NEVER_FLAT:
+                continue
+        found = [] if tail is None else _across(tail, x, v, q, qd, st, offset)
+        found += [(i + offset, j + offset, shape) for i, j, shape in _changes(x, v, q, qd, st)]
+        for i, j, shape in found:
+            partners = (names[st.a], names[st.b])
+            out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))
     return out
+
+
+def _angles(x: F, st: GroupDyad) -> F:
+    """A Newton group's dyad's transmission angle at every sample, as the dyad kernel's."""
+    r1, r2 = x[st.point] - x[st.a], x[st.point] - x[st.b]
+    det = r1[0] * r2[1] - r1[1] * r2[0]
+    return np.arctan2(np.abs(det), r1[0] * r2[0] + r1[1] * r2[1])  # type: ignore[no-any-return]
 
 
 def _flattest(trans: F) -> float:
@@ -283,7 +320,7 @@ class Tail:
 
 
 def _across(
-    tail: Tail, x: F, v: F | None, q: F | None, qd: F | None, st: Dyad, offset: int
+    tail: Tail, x: F, v: F | None, q: F | None, qd: F | None, st: Folding, offset: int
 ) -> list[tuple[int, int, str]]:
     """The dyad's change points between a tail and the samples after it (numbered from
     ``offset``)."""

@@ -29,7 +29,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.kernels import Chunk, Code, dist, flag
 from excavkin.kinematics.small_systems import Factors
 from excavkin.structure.design import take_step
-from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, NewtonGroup
+from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, GroupDyad, NewtonGroup
 
 Grad = list[tuple[int, F | float, F | float]]
 
@@ -48,7 +48,10 @@ def _equations(
         if isinstance(con, CDist):
             d, dd, ddd = dist(c, con.dist)
             rx, ry = x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1]
-            f = rx * rx + ry * ry - d * d
+            r2 = rx * rx + ry * ry
+            f = r2 - d * d
+            if c.nudge is not None:  # the rounding of the difference, emulated
+                f = f + c.nudge * (r2 + d * d)
             grad: Grad = []
             if want:
                 tx, ty = 2 * rx, 2 * ry
@@ -266,7 +269,9 @@ SHRINK = 0.75
 
 
 def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: int = 50) -> None:
-    """Newton iterations from the current ``c.x`` of the group's points.
+    """Newton iterations from the current ``c.x`` of the group's points, each of the group's
+    dyads then kept on its side (`keep_sides`); samples whose residual stays above
+    1e-10·scale² are marked as not converging and their points set to NaN.
 
     Converged (and singular) samples leave the iteration: each pass works on the samples still
     moving, so a batch costs what its slowest samples need, not every sample that many passes.
@@ -275,6 +280,62 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
     chord step that does not shrink fast is not taken, and the next pass factors afresh. The
     root and the test of convergence are Newton's own.
     """
+    _iterate(c, g, scale, max_iter)
+    keep_sides(c, g, scale, max_iter)
+    res, _, _, _ = _system(c, g, jacobian=False)
+    bad = ~(np.max(np.abs(res), axis=0) <= 1e-10 * scale * scale)
+    flag(c, bad, Code.NO_CONVERGENCE, k)
+    for p in g.points:
+        c.x[p][:, bad] = np.nan
+
+
+def side(x: F, d: GroupDyad) -> F:
+    """cross(B − A, P − A) of a group's dyad: positive with P left of A→B; x (n_points, 2, n)."""
+    ex, ey = x[d.b, 0] - x[d.a, 0], x[d.b, 1] - x[d.a, 1]
+    return _cross(ex, ey, x[d.point, 0] - x[d.a, 0], x[d.point, 1] - x[d.a, 1])
+
+
+def wrong_side(x: F, d: GroupDyad) -> NDArray[np.bool_]:
+    """Where a group's dyad lies strictly on the other side of A→B than its ``sign`` keeps (a
+    flat one, or a sign of 0, is on neither)."""
+    return side(x, d) * d.sign < 0  # type: ignore[no-any-return]
+
+
+def keep_sides(c: Chunk, g: NewtonGroup, scale: float, max_iter: int = 50) -> None:
+    """Each of the group's dyads on the side of its base its ``sign`` keeps (the sketch's, or
+    per sample the smooth continuation's), as a closed-form dyad is.
+
+    Where the first dyad (in solve order) on the wrong side is found, P moves to its mirror
+    image in the line A→B — another solution of the dyad's two distances, the rest of the group
+    unmoved — and the samples so moved are iterated again by Newton: a dyad built on P then
+    settles from where it was, and is looked at in the next pass. A group whose dyads hang on
+    one another takes a pass per dyad at most; a sample still on a wrong side after them is
+    left so, and the branch check reports it.
+    """
+    for _ in range(len(g.dyads)):
+        moved = np.zeros(c.x.shape[-1], dtype=bool)
+        for d in g.dyads:
+            here = wrong_side(c.x, d) & ~moved
+            if not here.any():
+                continue
+            p, a, b = c.x[d.point][:, here], c.x[d.a][:, here], c.x[d.b][:, here]
+            e, r = b - a, p - a
+            e2 = e[0] * e[0] + e[1] * e[1]
+            t = (r[0] * e[0] + r[1] * e[1]) / np.where(e2 > 0, e2, np.nan)
+            mirror = a + 2.0 * t * e - r
+            c.x[d.point][:, here] = np.where(np.isfinite(mirror), mirror, p)
+            moved |= here
+        idx = np.flatnonzero(moved)
+        if not idx.size:
+            return
+        sub = _positions_at(c, idx)
+        _iterate(sub, take_step(g, idx), scale, max_iter)  # type: ignore[arg-type]
+        for p in g.points:
+            c.x[p][:, idx] = sub.x[p]
+
+
+def _iterate(c: Chunk, g: NewtonGroup, scale: float, max_iter: int) -> None:
+    """The Newton iterations of `newton_positions`, in place in ``c.x``."""
     pts = list(g.points)
     n = c.x.shape[-1]
     live = np.arange(n)  # the samples in ``sub``, as indices of ``c``
@@ -327,11 +388,6 @@ def newton_positions(c: Chunk, g: NewtonGroup, k: int, scale: float, max_iter: i
     if sub is not c:
         for p in pts:
             c.x[p][:, live] = sub.x[p]
-    res, _, _, _ = _system(c, g, jacobian=False)
-    bad = ~(np.max(np.abs(res), axis=0) <= 1e-10 * scale * scale)
-    flag(c, bad, Code.NO_CONVERGENCE, k)
-    for p in pts:
-        c.x[p][:, bad] = np.nan
 
 
 def _positions_at(c: Chunk, idx: NDArray[Any]) -> Chunk:
@@ -352,7 +408,7 @@ def _positions_at(c: Chunk, idx: NDArray[Any]) -> Chunk:
     # velocities and accelerations are not read by a position pass: x stands in for them
     return Chunk(
         x, x, x, take(c.q), take(c.qd), take(c.qdd), c.trans, c.status, c.failed,
-        c.close_tol, c.singular_tol,
+        c.close_tol, c.singular_tol, nudge=None if c.nudge is None else take(c.nudge),
     )  # fmt: skip
 
 

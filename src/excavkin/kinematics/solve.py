@@ -24,15 +24,14 @@ from excavkin.arrays import FloatArray as F
 from excavkin.errors import AssemblyError
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import kernels, precision
-from excavkin.kinematics.change_points import ChangePoint, Tail, find_change_points
+from excavkin.kinematics.change_points import ChangePoint, Tail, dyads, find_change_points
 from excavkin.kinematics.kernels import Chunk, Code
-from excavkin.kinematics.newton import rotary_branch_ok
+from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
 from excavkin.kinematics.threads import over_chunks
 from excavkin.structure.design import DesignBatch, take
 from excavkin.structure.plan import (
-    Dyad,
     NewtonGroup,
     SolvePlan,
 )
@@ -236,7 +235,7 @@ def _check_blocks(
             offset=carry.start + b.start, tail=tail,
         )  # fmt: skip
         tail = Tail.of(*here, before=tail)
-    order = {plan.points[st.point]: k for k, st in enumerate(plan.steps) if isinstance(st, Dyad)}
+    order = {plan.points[st.point]: unit for unit, st in dyads(plan)}
     found.sort(key=lambda cp: order[cp.point])  # plan order, each dyad's in sample order
     return error, found, tail
 
@@ -427,11 +426,20 @@ def _newton_chunk(plan: SolvePlan, chunk: int) -> int:
 
 
 def _check_branches(plan: SolvePlan, assembly: Assembly, c: Chunk, signs: list[F]) -> None:
-    """A Newton group whose determinant changed sign from the sketch's, or whose driven body
-    points the opposite way (θ + π), has changed its assembly branch."""
+    """A Newton group has changed its assembly branch where one of its dyads is not on the side
+    it keeps, where its driven body points the opposite way (θ + π), or where its determinant's
+    sign is not the sketch's — turned over once for each dyad kept on the side opposite the
+    sketch's (the smooth continuation's, past a change point)."""
     groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
+    sketch = assembly.positions[:, :, None]
     for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
-        flipped = (sign != ref) | ~rotary_branch_ok(c, st)
+        turned = np.ones_like(sign)
+        off = np.zeros(sign.shape, dtype=bool)
+        for d in st.dyads:
+            off |= wrong_side(c.x, d)
+            at_sketch = np.sign(side(sketch, d))  # the side at the (assembled) sketch
+            turned = turned * np.where(np.asarray(d.sign) * at_sketch < 0, -1.0, 1.0)
+        flipped = (sign != ref * turned) | ~rotary_branch_ok(c, st) | off
         kernels.flag(c, flipped & np.isfinite(c.x[st.points[0], 0]), Code.BRANCH_CHANGED, k)
 
 

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
-from excavkin.kinematics.change_points import ChangePoint, Tail, find_change_points
+from excavkin.kinematics.change_points import ChangePoint, Tail, Unit, dyads, find_change_points
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinematics.solve import (
     Assembly,
@@ -36,7 +36,7 @@ from excavkin.kinematics.solve import (
     wrapped_difference,
 )
 from excavkin.structure.design import DesignBatch
-from excavkin.structure.plan import Dyad, SolvePlan
+from excavkin.structure.plan import Dyad, NewtonGroup, SolvePlan
 
 
 @dataclass(frozen=True, slots=True)
@@ -214,20 +214,17 @@ def _smooth(
     compiled: bool | None = None,
 ) -> Iterator[KinematicResult]:
     """Solve with each dyad's side flipped after its change points, dyad by dyad in plan
-    order (a flip moves what is built on the dyad, and so its later change points)."""
-    if plan.has_newton:
-        raise InputError(
-            'continuation="smooth" follows dyads through their change points; this plan has '
-            "a Newton group, which keeps its own branch"
-        )
+    order (a flip moves what is built on the dyad, and so its later change points). The
+    dyads inside a Newton group (`excavkin.structure.group_dyads`) are flipped as dyad
+    steps are: the group keeps each on the side so counted."""
     anchor = _anchor(plan, parts)
-    flips: dict[int, tuple[NDArray[np.int64], NDArray[np.int64]]] = {}
+    flips: dict[Unit, tuple[NDArray[np.int64], NDArray[np.int64]]] = {}
     found: list[ChangePoint] = []
-    todo = [k for k, st in enumerate(plan.steps) if isinstance(st, Dyad)]
+    todo = [unit for unit, _ in dyads(plan)]
     while todo:
         # one pass with the flips found so far: the change points of every dyad not yet
         # flipped; the first that has some is right (no flip came before it), the rest wait
-        seen: dict[int, list[ChangePoint]] = {k: [] for k in todo}
+        seen: dict[Unit, list[ChangePoint]] = {k: [] for k in todo}
         carry, tail = None, None
         for p in parts():
             res, carry = solve_part(
@@ -243,10 +240,10 @@ def _smooth(
                 res.transmission.T,
             )
             for k in todo:
-                one = dataclasses.replace(plan, steps=(plan.steps[k],))
                 seen[k] += find_change_points(
-                    one, here[0], v=here[1], q=here[2], qd=here[3], offset=p.start, tail=tail
-                )
+                    plan, here[0], v=here[1], q=here[2], qd=here[3], offset=p.start, tail=tail,
+                    only=k,
+                )  # fmt: skip
             tail = Tail.of(*here, before=tail)
         first = next((k for k in todo if seen[k]), None)
         if first is None:
@@ -286,7 +283,7 @@ def _anchor(plan: SolvePlan, parts: Parts) -> int:
 
 def _signed(
     plan: SolvePlan,
-    flips: dict[int, tuple[NDArray[np.int64], NDArray[np.int64]]],
+    flips: dict[Unit, tuple[NDArray[np.int64], NDArray[np.int64]]],
     anchor: int,
     start: int,
     n: int,
@@ -297,11 +294,17 @@ def _signed(
         return plan
     steps = list(plan.steps)
     t = np.arange(start, start + n)
-    for k, (up, down) in flips.items():
-        st = steps[k]
-        assert isinstance(st, Dyad)
+    for (k, j), (up, down) in flips.items():
         count = np.searchsorted(up, t, side="right") + (
             down.size - np.searchsorted(down, t, side="left")
         )
-        steps[k] = dataclasses.replace(st, sign=st.sign * (-1.0) ** count)  # type: ignore[arg-type]
+        turn = (-1.0) ** count
+        st = steps[k]
+        if isinstance(st, Dyad):
+            steps[k] = dataclasses.replace(st, sign=st.sign * turn)  # type: ignore[arg-type]
+        else:
+            assert isinstance(st, NewtonGroup)
+            d = st.dyads[j]
+            signed = dataclasses.replace(d, sign=d.sign * turn)  # type: ignore[arg-type]
+            steps[k] = dataclasses.replace(st, dyads=(*st.dyads[:j], signed, *st.dyads[j + 1 :]))
     return dataclasses.replace(plan, steps=tuple(steps))

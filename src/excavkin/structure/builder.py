@@ -21,6 +21,7 @@ from typing import ClassVar, Literal
 from excavkin.errors import AssemblyError, MobilityError
 from excavkin.model.entities import Model
 from excavkin.model.validate import mobility
+from excavkin.structure.group_dyads import group_dyads
 from excavkin.structure.plan import (
     Attach,
     CAngle,
@@ -332,7 +333,10 @@ class PlanBuilder:
                 table="bodies",
                 source=self.model.source,
             )
-        self.steps.append(NewtonGroup(tuple(self.idx[n] for n in unknown), tuple(cons)))
+        pts = tuple(self.idx[n] for n in unknown)
+        sketch = [self.sketch[n] for n in self.names]
+        dyads = group_dyads(pts, cons, sketch, self.scale)
+        self.steps.append(NewtonGroup(pts, tuple(cons), dyads))
 
     # ---- helpers of the step kinds
     def distance_options(self, p: str) -> list[Option]:

@@ -539,4 +539,8 @@ def take_step(st: Step, index: slice | NDArray[np.intp]) -> Step:
             con = dataclasses.replace(con, s=_at(con.s, index), t=_at(con.t, index))
             changed = True
         cons.append(con)
-    return dataclasses.replace(st, constraints=tuple(cons)) if changed else st
+    dyads = st.dyads
+    if any(np.ndim(d.sign) for d in dyads):  # a smooth continuation's sides, per sample
+        dyads = tuple(dataclasses.replace(d, sign=_at(d.sign, index)) for d in dyads)
+        changed = True
+    return dataclasses.replace(st, constraints=tuple(cons), dyads=dyads) if changed else st

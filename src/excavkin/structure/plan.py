@@ -147,11 +147,30 @@ Constraint = CDist | CFrame | CLine | CAngle
 
 
 @dataclass(frozen=True, slots=True)
+class GroupDyad:
+    """A point of a Newton group held by two distances alone, from A and B: the group's
+    Jacobian is block-triangular with the point's 2×2 block last, so its determinant has the
+    factor cross(P − A, P − B), and P's mirror image in the line A→B is another solution of
+    the group. ``sign`` = sign of cross(B − A, P − A) at the sketch (0: drawn flat, not kept),
+    the side the solve keeps, as a `Dyad`'s."""
+
+    point: int
+    a: int
+    b: int
+    sign: float
+
+
+@dataclass(frozen=True, slots=True)
 class NewtonGroup:
-    """Points solved together by batched Newton–Raphson, started from the sketch."""
+    """Points solved together by batched Newton–Raphson, started from the sketch.
+
+    ``dyads``: its points held by two distances alone, in the order they could be solved (each
+    after the points it hangs from; `group_dyads`).
+    """
 
     points: tuple[int, ...]
     constraints: tuple[Constraint, ...]
+    dyads: tuple[GroupDyad, ...] = ()
 
 
 Step = Fixed | Rotate | Attach | Dyad | SliderStep | NewtonGroup
