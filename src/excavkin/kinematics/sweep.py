@@ -24,7 +24,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
-from excavkin.errors import InputError
 from excavkin.kinematics.change_points import ChangePoint, Tail, Unit, dyads, find_change_points
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinematics.solve import (
