@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -42,8 +42,9 @@ from excavkin.excavator.machine import (
     pose_of,
     transfer,
 )
-from excavkin.excavator.search import Evaluate, Progress, maximize_strokes, part
 from excavkin.kinematics.summary import batch_repr
+from excavkin.machinery.capped_force import capped_force, loaded_pressure, pressure_limits
+from excavkin.machinery.search import Evaluate, Progress, maximize_strokes, part
 
 Working = Literal["arm", "bucket"]
 At = Literal["lip", "tip"]
@@ -102,59 +103,6 @@ def gravity_terms(machine: Machine, tr_d: F) -> F:
     return np.asarray(machine.gravity * np.einsum("k,nkc->nc", mp.mass, dy))
 
 
-def capped_force(
-    J: F, G: F, w: int, dig: float, limits: Sequence[tuple[Any, Any]]
-) -> tuple[F, F, NDArray[np.str_], F, F]:
-    """The tool force of cylinder ``w`` capped by the others' limits (module docstring).
-
-    Parameters
-    ----------
-    J : ndarray, shape (n, 2, 3)
-        ∂(tool point)/∂L.
-    G : ndarray, shape (n, 3)
-        Gravity terms.
-    w : int
-        The working cylinder (0 boom, 1 arm, 2 bucket).
-    dig : float
-        +1 where extending digs, −1 where retracting does.
-    limits : sequence of 3 (pull, push)
-        Each cylinder's largest pull (≤ 0) and push (N; scalars or arrays of shape (n,)):
-        at working pressure for ``w``, at relief pressure for the others.
-
-    Returns
-    -------
-    force, uncapped : ndarray, shape (n,)
-    limiting : ndarray of str, shape (n,)
-    cylinder_force : ndarray, shape (n, 3)
-    direction : ndarray, shape (n, 2)
-    """
-    jw = J[:, :, w]
-    norm = np.hypot(jw[:, 0], jw[:, 1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = dig * jw / norm[:, None]
-    proj = np.einsum("ni,nic->nc", u, J)  # u·J_c, (n, 3); proj[:, w] = |J_w|
-    pull, push = limits[w]
-    f_max = push if dig > 0 else pull
-    with np.errstate(divide="ignore", invalid="ignore"):
-        F_work = (f_max - G[:, w]) / proj[:, w]
-    force = F_work.copy()
-    limiting = np.where(np.isfinite(F_work), ROLES[w], "").astype("<U8")
-    for h in range(3):
-        if h == w:
-            continue
-        lo, hi = limits[h]
-        a = proj[:, h]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cap = np.where(
-                a > 0.0, (hi - G[:, h]) / a, np.where(a < 0.0, (lo - G[:, h]) / a, np.inf)
-            )
-        lower = cap < force
-        force = np.where(lower, cap, force)
-        limiting = np.where(lower, ROLES[h], limiting)
-    force = np.where(np.isfinite(force), np.maximum(force, 0.0), np.nan)
-    return force, F_work, limiting, force[:, None] * proj + G, u
-
-
 def tool_forces(
     machine: Machine,
     lengths: ArrayLike,
@@ -191,16 +139,10 @@ def tool_forces(
     _, J = tr.point(machine, point)  # (n, 2, 3)
     G = gravity_terms(machine, tr.d) if gravity else np.zeros((len(L), 3))
     w = ROLES.index(working)
-    limits = [
-        c.force_limits(machine.circuits[c.circuit].working if h == w else
-                       machine.circuits[c.circuit].relief)
-        for h, c in enumerate(machine.cylinders)
-    ]  # fmt: skip
+    limits = pressure_limits(machine.cylinders, machine.circuits, w)
     sgn = 1.0 if machine.cylinders[w].dig == "extend" else -1.0
-    force, F_work, limiting, cyl_force, u = capped_force(J, G, w, sgn, limits)
-    areas = np.array([[c.bore_area, c.annulus_area] for c in machine.cylinders])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        pressure = np.where(cyl_force >= 0.0, cyl_force / areas[:, 0], -cyl_force / areas[:, 1])
+    force, F_work, limiting, cyl_force, u = capped_force(J, G, w, sgn, limits, ROLES)
+    pressure = loaded_pressure(machine.cylinders, cyl_force)
     pose = pose_of(machine, L, tr.result)
     return ToolForces(working, at, gravity, force, F_work, u, limiting, cyl_force, pressure, pose)
 

@@ -54,8 +54,9 @@ from excavkin.excavator.machine import (
     inverse,
     transfer,
 )
-from excavkin.excavator.stability import SWING, equilibrium, need_base
+from excavkin.excavator.stability import SWING
 from excavkin.kinematics.summary import batch_repr
+from excavkin.machinery.equilibrium import equilibrium, need_base
 
 #: ISO 10567 rating factors
 TIPPING_FACTOR = 0.75

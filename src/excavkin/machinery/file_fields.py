@@ -1,4 +1,4 @@
-"""Field lookups of the excavator machine file, shared by its readers (units, ranges, errors
+"""Field lookups of machine files, shared by every family's readers (units, ranges, errors
 naming the file, the table and the entry)."""
 
 from __future__ import annotations

@@ -1,0 +1,281 @@
+r"""Flows and speeds of a machine's cylinders: pumps, stroke times and hydraulic power.
+
+**Speeds.** Each function (a cylinder role) moved alone receives the summed flow ``Q`` of every
+pump that feeds it (the pumps' confluence); with ``count`` cylinders acting together the areas
+are those of all of them (`Cylinder.bore_area`, `Cylinder.annulus_area`)::
+
+    v_extend = Q / A_bore        v_retract = Q / A_annulus        t = stroke / v
+
+Leakage, valve pressure drops, pump regulation (power limiting at high pressure) and
+cushioning are left out: the speeds are the no-load, full-flow speeds of spec sheets.
+
+**Power.** Along a motion the power of cylinder c is ``f_c·L̇_c`` with ``f_c`` the cylinder force
+of the kinetostatics ([`Mechanism.forces`][excavkin.mechanism.Mechanism.forces]) and ``L̇_c`` its
+rate from the kinematics. With
+the outlet side drained, the inlet pressure is ``p = f/A_bore`` extending and ``−f/A_annulus``
+retracting, the inlet flow ``Q = A·|L̇|``, and the pump's hydraulic power ``p·Q = f·L̇``. A
+negative ``p`` means an overrunning load: the load drives the cylinder and the outlet (meter-out)
+throttle carries it.
+
+A family's pumps feed its own roles: it subclasses
+[`Hydraulics`][excavkin.machinery.flows.Hydraulics] with its ``roles`` (the excavator's
+[`Hydraulics`][excavkin.excavator.hydraulics.Hydraulics]), and every pump is checked to feed
+only those, and every role to be fed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from excavkin.arrays import FloatArray as F
+from excavkin.errors import InputError
+from excavkin.machinery.cylinders import Cylinder
+from excavkin.machinery.machine import HydraulicMachine
+
+#: steel defaults of the buckling check: Young's modulus and the rod's yield stress (Pa), a
+#: quenched and tempered C45-class rod steel
+STEEL_E, ROD_YIELD = 210e9, 500e6
+
+
+@dataclass(frozen=True, slots=True)
+class Pump:
+    """A pump: its flow (m³/s) and the functions (cylinder roles) it feeds."""
+
+    name: str
+    flow: float
+    feeds: tuple[str, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Hydraulics:
+    """Pumps, swing and rod material of a machine (SI).
+
+    Attributes
+    ----------
+    pumps : tuple of Pump
+    swing_speed : float
+        Swing speed of the upper structure (rad/s).
+    swing_angle : float
+        Swing angle from dig to dump (rad).
+    modulus, rod_yield : float
+        Young's modulus and yield stress of the cylinder rods (Pa), for buckling.
+    roles : tuple of str (class attribute)
+        The functions the pumps may feed, each of which some pump must feed: a family's
+        subclass names its roles; empty here (any names, not checked).
+    """
+
+    roles: ClassVar[tuple[str, ...]] = ()
+
+    pumps: tuple[Pump, ...]
+    swing_speed: float
+    swing_angle: float
+    modulus: float = STEEL_E
+    rod_yield: float = ROD_YIELD
+
+    def __post_init__(self) -> None:
+        for name, value in (
+            ("swing_speed", self.swing_speed),
+            ("swing_angle", self.swing_angle),
+            ("modulus", self.modulus),
+            ("rod_yield", self.rod_yield),
+        ):
+            if not (math.isfinite(value) and value > 0.0):
+                raise InputError(f"{name} must be positive and finite, not {value!r}")
+        for p in self.pumps:
+            if not (math.isfinite(p.flow) and p.flow > 0.0):
+                raise InputError(f"pump {p.name!r}: flow must be positive, not {p.flow!r}")
+            if not p.feeds or any(f not in self.roles for f in p.feeds if self.roles):
+                raise InputError(
+                    f"pump {p.name!r} must feed some of {', '.join(self.roles)}, not {p.feeds!r}"
+                )
+        unfed = [r for r in self.roles if not any(r in p.feeds for p in self.pumps)]
+        if unfed:
+            raise InputError(f"no pump feeds the {', '.join(unfed)} cylinder(s)")
+
+    def flow(self, role: str) -> float:
+        """The flow reaching the function ``role`` moved alone: the sum over its pumps.
+
+        Parameters
+        ----------
+        role : str
+            The function, one of ``roles``.
+
+        Returns
+        -------
+        float
+            The summed flow of every pump that feeds it (m³/s).
+
+        Raises
+        ------
+        InputError
+            Another role.
+        """
+        if self.roles and role not in self.roles:
+            raise InputError(f"role must be one of {', '.join(self.roles)}, not {role!r}")
+        return float(sum(p.flow for p in self.pumps if role in p.feeds))
+
+
+@dataclass(frozen=True, slots=True)
+class Stroke:
+    """Speeds and full-stroke times of one function.
+
+    Attributes
+    ----------
+    role : str
+    flow : float
+        Flow into the cylinders (m³/s).
+    extend_speed, retract_speed : float
+        Rod speeds (m/s).
+    extend_time, retract_time : float
+        Full-stroke times (s).
+    """
+
+    role: str
+    flow: float
+    extend_speed: float
+    retract_speed: float
+    extend_time: float
+    retract_time: float
+
+
+def cylinder_speed(
+    cylinder: Cylinder, flow: float | F, direction: Literal["extend", "retract"]
+) -> F:
+    """Rod speed of ``cylinder`` (all ``count`` of them together) fed ``flow``.
+
+    Parameters
+    ----------
+    cylinder : Cylinder
+    flow : float or ndarray
+        Flow into the cylinders (m³/s).
+    direction : {"extend", "retract"}
+        ``Q/A_bore`` extending, ``Q/A_annulus`` retracting.
+
+    Returns
+    -------
+    ndarray
+        Rod speed (m/s), the shape of ``flow``.
+    """
+    area = cylinder.bore_area if direction == "extend" else cylinder.annulus_area
+    return np.asarray(flow, dtype=np.float64) / area
+
+
+def strokes(machine: HydraulicMachine, hydraulics: Hydraulics | None = None) -> tuple[Stroke, ...]:
+    """Speeds and full-stroke times of each cylinder role, each moved alone.
+
+    Parameters
+    ----------
+    machine : HydraulicMachine
+        The machine (an excavator's boom, arm and bucket).
+    hydraulics : Hydraulics, optional
+        Pump flows and swing to use instead of the machine's own ``[hydraulics]``.
+
+    Returns
+    -------
+    tuple of Stroke
+        One per role, in the machine's order, fed the flow of every pump that feeds it.
+
+    Raises
+    ------
+    InputError
+        The machine has no hydraulics.
+    """
+    h = hydraulics_of(machine, hydraulics)
+    out = []
+    for c in machine.cylinders:
+        q = h.flow(c.role)
+        ve = float(cylinder_speed(c, q, "extend"))
+        vr = float(cylinder_speed(c, q, "retract"))
+        out.append(Stroke(c.role, q, ve, vr, c.stroke / ve, c.stroke / vr))
+    return tuple(out)
+
+
+@dataclass(frozen=True, slots=True)
+class Power:
+    """Hydraulic power along a motion of n samples (per function, k of them; SI).
+
+    Attributes
+    ----------
+    force : ndarray, shape (n, k)
+        Cylinder forces of the kinetostatics (N, > 0 pushing), all ``count`` cylinders together.
+    rate : ndarray, shape (n, k)
+        Cylinder length rates (m/s).
+    power : ndarray, shape (n, k)
+        ``force·rate`` (W).
+    pressure : ndarray, shape (n, k)
+        Inlet pressure with the outlet drained (Pa): ``f/A_bore`` extending, ``−f/A_annulus``
+        retracting; negative for an overrunning load. 0 where the cylinder stands still.
+    flow : ndarray, shape (n, k)
+        Inlet flow ``A·|rate|`` (m³/s).
+    pump_power : ndarray, shape (n, k)
+        ``pressure·flow`` (W), equal to ``power``.
+    total : ndarray, shape (n,)
+        Sum of ``power`` over the functions (W).
+    """
+
+    force: F
+    rate: F
+    power: F
+    pressure: F
+    flow: F
+    pump_power: F
+    total: F
+
+
+def power_of(machine: HydraulicMachine, force: ArrayLike, rates: ArrayLike) -> Power:
+    """`Power` from cylinder forces and rates.
+
+    Parameters
+    ----------
+    machine : HydraulicMachine
+        Its cylinders' areas.
+    force : array_like, shape (n, k)
+        Cylinder forces (N, > 0 pushing), all ``count`` cylinders of a role together.
+    rates : array_like, shape (n, k)
+        Cylinder length rates (m/s).
+
+    Returns
+    -------
+    Power
+    """
+    f = np.asarray(force, dtype=np.float64)
+    R = np.broadcast_to(np.asarray(rates, dtype=np.float64), f.shape)
+    bore = np.array([c.bore_area for c in machine.cylinders])
+    ann = np.array([c.annulus_area for c in machine.cylinders])
+    extending = R > 0.0
+    area = np.where(extending, bore, ann)
+    pressure = np.where(extending, f / bore, np.where(R < 0.0, -f / ann, 0.0))
+    flow = area * np.abs(R)
+    power = f * R
+    return Power(f, R, power, pressure, flow, pressure * flow, power.sum(axis=1))
+
+
+def hydraulics_of(machine: HydraulicMachine, hydraulics: Hydraulics | None = None) -> Hydraulics:
+    """The given hydraulics, or the machine's own.
+
+    Parameters
+    ----------
+    machine : HydraulicMachine
+    hydraulics : Hydraulics, optional
+
+    Returns
+    -------
+    Hydraulics
+
+    Raises
+    ------
+    InputError
+        Naming the machine, where neither is given.
+    """
+    h = hydraulics if hydraulics is not None else machine.hydraulics
+    if h is None:
+        raise InputError(
+            f"the machine {machine.name!r} has no [hydraulics] table (pump flows and swing): "
+            "add one to its machine file"
+        )
+    return h
