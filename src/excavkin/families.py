@@ -163,7 +163,7 @@ def load_machine(path: str | Path) -> Any:
     fam = family_of(read_toml(read_text_file(file), str(file)), str(file))
     if fam is None:
         raise ModelError(
-            "is no machine file: it names no family (family = \"...\") and no installed family "
+            'is no machine file: it names no family (family = "...") and no installed family '
             f"recognises it (installed: {', '.join(sorted(families())) or 'none'})",
             source=str(file),
         )

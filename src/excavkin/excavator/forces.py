@@ -1,24 +1,16 @@
 r"""Tool forces of an excavator front (ISO 6015, SAE J1179) by virtual work on the engine.
 
-With the front at rest, virtual power over a motion of cylinder c alone (unit rate, the others
-held) gives the force each cylinder must carry (> 0 pushes, DESIGN.md §5)::
-
-    f_c = −P·J_c + g·Σ_b m_b·∂y_Sb/∂L_c          J_c = ∂(tool point)/∂L_c   (engine, exact)
-
-where P is the force of the soil on the bucket at the tool point and S_b the bodies' centres of
-mass. The tool force of the **working** cylinder w (arm: ISO 6015 arm-cylinder tool force;
-bucket: bucket-cylinder tool force) has magnitude F along the direction the tool point moves
-when w digs, u = ±J_w/|J_w|, so P = −F·u and::
-
-    F_work = (f_w,max − G_w) / (u·J_w)        f_w,max = p_working·A_bore (extending)
-                                                        or −p_working·A_annulus (retracting)
-
-Each **holding** cylinder h must then carry f_h = F·(u·J_h) + G_h, which its port relief bounds
-to −p_relief·A_annulus ≤ f_h ≤ p_relief·A_bore; where it would not, F is capped there and that
-cylinder is named as the limit (ISO 6015 "hydraulic limit"). The tipping and slipping limits of
-the base machine cap these forces in `excavkin.excavator.stability`. With
-``gravity=False`` every G term is zero (the front weightless); the masses are the model's bodies
-and the cylinders' (``Cylinder.mass``, half at each end pin).
+The tool force of the **working** cylinder (arm: ISO 6015 arm-cylinder tool force; bucket:
+bucket-cylinder tool force) acts along the direction the tool point moves when that cylinder
+digs, at its circuit's working pressure; each **holding** cylinder's port relief caps it, and
+the cylinder that caps it is named as the limit (ISO 6015 "hydraulic limit"). The virtual-work
+derivation, shared by every machine family, is written in
+[`excavkin.machinery.capped_force`][]; here J is ∂(tool point)/∂L from the engine's transfer
+functions and G_c = g·Σ_b m_b·∂y_Sb/∂L_c the gravity terms over the front's mass points. The
+tipping and slipping limits of the base machine cap these forces in
+`excavkin.excavator.stability`. With ``gravity=False`` every G term is zero (the front
+weightless); the masses are the model's bodies and the cylinders' (``Cylinder.mass``, half at
+each end pin).
 
 The ISO 6015 tool point is the bucket lip (cutting edge); SAE J1179 uses the tooth tip.
 """

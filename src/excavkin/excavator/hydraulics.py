@@ -69,13 +69,8 @@ class Hydraulics(flows.Hydraulics):
 
     Attributes
     ----------
-    pumps : tuple of Pump
-    swing_speed : float
-        Swing speed of the upper structure (rad/s).
-    swing_angle : float
-        Swing angle from dig to dump (rad).
-    modulus, rod_yield : float
-        Young's modulus and yield stress of the cylinder rods (Pa), for buckling.
+    pumps, swing_speed, swing_angle, modulus, rod_yield
+        As for [`excavkin.machinery.flows.Hydraulics`][].
     """
 
     roles: ClassVar[tuple[str, ...]] = ROLES
