@@ -24,7 +24,8 @@ from excavkin.families import load_machine as load_any_machine
 from excavkin.machinery.buckling import buckling, pose_buckling
 from excavkin.machinery.capped_force import capped_force
 from excavkin.machinery.cylinders import Circuit, Cylinder, cylinder_lengths
-from excavkin.machinery.flows import Hydraulics, Pump, strokes
+from excavkin.machinery.flows import strokes
+from excavkin.machinery.pumps import Hydraulics, Pump
 from excavkin.machinery.search import maximize_strokes
 from tests.conftest import EXAMPLES
 

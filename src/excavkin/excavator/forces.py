@@ -36,6 +36,7 @@ from excavkin.excavator.machine import (
 )
 from excavkin.kinematics.summary import batch_repr
 from excavkin.machinery.capped_force import capped_force, loaded_pressure, pressure_limits
+from excavkin.machinery.capped_force import gravity_terms as gravity_terms
 from excavkin.machinery.search import Evaluate, Progress, maximize_strokes, part
 
 Working = Literal["arm", "bucket"]
@@ -85,14 +86,6 @@ class ToolForces:
     cylinder_force: F
     cylinder_pressure: F
     pose: FrontPose
-
-
-def gravity_terms(machine: Machine, tr_d: F) -> F:
-    """G_c = g·Σ m_k ∂y_k/∂L_c over the front's mass points (bodies and cylinders), shape
-    (n, 3), from the transfer functions ``tr_d`` (shape (n, n_points, 2, 3))."""
-    mp = machine.mass_points
-    dy = mp.locate(tr_d)[:, :, 1, :]  # (n, k, 3)
-    return np.asarray(machine.gravity * np.einsum("k,nkc->nc", mp.mass, dy))
 
 
 def tool_forces(

@@ -27,19 +27,17 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from excavkin.excavator.machine import ROLES, Machine, as_lengths
-from excavkin.machinery import flows
+from excavkin.machinery import pumps
 from excavkin.machinery.buckling import Buckling, buckling, pose_buckling, relief_buckling
 from excavkin.machinery.flows import (
-    ROD_YIELD,
-    STEEL_E,
     Power,
-    Pump,
     Stroke,
     cylinder_speed,
     hydraulics_of,
     power_of,
     strokes,
 )
+from excavkin.machinery.pumps import ROD_YIELD, STEEL_E, Pump
 
 __all__ = [
     "ROD_YIELD",
@@ -63,14 +61,14 @@ __all__ = [
 
 
 @dataclass(frozen=True, slots=True)
-class Hydraulics(flows.Hydraulics):
+class Hydraulics(pumps.Hydraulics):
     """Pumps, swing and rod material of an excavator (SI): its pumps feed the ``"boom"``,
     ``"arm"`` and ``"bucket"`` functions, and each of them is fed.
 
     Attributes
     ----------
     pumps, swing_speed, swing_angle, modulus, rod_yield
-        As for [`excavkin.machinery.flows.Hydraulics`][].
+        As for [`excavkin.machinery.pumps.Hydraulics`][].
     """
 
     roles: ClassVar[tuple[str, ...]] = ROLES

@@ -58,7 +58,7 @@ from excavkin.model.entities import Load
 from excavkin.structure.plan import Dyad
 
 if TYPE_CHECKING:
-    from excavkin.machinery.flows import Hydraulics
+    from excavkin.machinery.pumps import Hydraulics
 
 
 #: The three cylinders of a backhoe front, in the order of every ``(n, 3)`` array.

@@ -241,6 +241,8 @@ def base_rated_force(
         The bucket lip (ISO 6015) or the tooth tip (SAE J1179).
     swing : float or {"front", "side"}
         Swing angle of the upper structure (rad), or over the front (0) or the side (π/2).
+    progress : callable, optional
+        ``progress(done, total)`` as the stroke searches go on.
 
     Returns
     -------

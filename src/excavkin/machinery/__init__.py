@@ -5,7 +5,8 @@ module                what it holds
 ====================  ===================================================================
 ``machine``           what the layer asks of a family's machine (protocols)
 ``cylinders``         cylinders and circuits (SI records); lengths arrays ``(n, k)``
-``flows``             pumps, speeds and stroke times from flows, hydraulic power
+``pumps``             pumps and a machine's hydraulics (SI records), for a family's roles
+``flows``             speeds and stroke times from flows, hydraulic power
 ``buckling``          Euler / Johnson buckling of the cylinders' rods
 ``masses``            a machine's masses as points of its mechanism
 ``base``              the base machine: masses, support polygon, tipping lines

@@ -24,8 +24,9 @@ from numpy.typing import ArrayLike
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.machinery.cylinders import Cylinder, cylinder_lengths
-from excavkin.machinery.flows import ROD_YIELD, STEEL_E, Hydraulics, hydraulics_of
+from excavkin.machinery.flows import hydraulics_of
 from excavkin.machinery.machine import HydraulicMachine
+from excavkin.machinery.pumps import ROD_YIELD, STEEL_E, Hydraulics
 
 
 @dataclass(frozen=True, slots=True)

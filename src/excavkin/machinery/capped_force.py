@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 from excavkin.arrays import FloatArray as F
 from excavkin.machinery.cylinders import Circuit, Cylinder
 from excavkin.machinery.equilibrium import Stability
+from excavkin.machinery.machine import StandingMachine
 
 
 def capped_force(
@@ -100,6 +101,27 @@ def capped_force(
         limiting = np.where(lower, names[h], limiting)
     force = np.where(np.isfinite(force), np.maximum(force, 0.0), np.nan)
     return force, F_work, limiting, force[:, None] * proj + G, u
+
+
+def gravity_terms(machine: StandingMachine, tr_d: F) -> F:
+    """The gravity terms G_c = g·Σ m_k ∂y_k/∂L_c over the machine's mass points (bodies and
+    cylinders).
+
+    Parameters
+    ----------
+    machine : StandingMachine
+        Its ``mass_points`` and ``gravity``.
+    tr_d : ndarray, shape (n, n_points, 2, c)
+        The transfer functions ∂(point)/∂L of the model's points.
+
+    Returns
+    -------
+    ndarray, shape (n, c)
+        N.
+    """
+    mp = machine.mass_points
+    dy = mp.locate(tr_d)[:, :, 1, :]  # (n, k, c)
+    return np.asarray(machine.gravity * np.einsum("k,nkc->nc", mp.mass, dy))
 
 
 def pressure_limits(

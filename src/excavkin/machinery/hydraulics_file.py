@@ -14,7 +14,7 @@
 
 A single ``flow`` per function is written as one pump per function. Every number is
 range-checked, a pump feeds only the roles of the family's
-[`Hydraulics`][excavkin.machinery.flows.Hydraulics] class, and every role must be fed by some
+[`Hydraulics`][excavkin.machinery.pumps.Hydraulics] class, and every role must be fed by some
 pump; errors name the file, the table and the entry.
 """
 
@@ -24,7 +24,7 @@ import math
 from typing import Any, TypeVar
 
 from excavkin.machinery.file_fields import MachineReader, within
-from excavkin.machinery.flows import ROD_YIELD, STEEL_E, Hydraulics, Pump
+from excavkin.machinery.pumps import ROD_YIELD, STEEL_E, Hydraulics, Pump
 
 H = TypeVar("H", bound=Hydraulics)
 
@@ -45,7 +45,7 @@ def read_hydraulics(r: MachineReader, data: dict[str, Any], kind: type[H]) -> H 
     data : dict
         The file's top-level table.
     kind : type
-        The family's [`Hydraulics`][excavkin.machinery.flows.Hydraulics] class: its ``roles``
+        The family's [`Hydraulics`][excavkin.machinery.pumps.Hydraulics] class: its ``roles``
         are the functions the pumps may feed.
 
     Returns

@@ -18,8 +18,8 @@ from excavkin.machinery.cylinders import Circuit, Cylinder
 
 if TYPE_CHECKING:
     from excavkin.machinery.base import BaseMachine
-    from excavkin.machinery.flows import Hydraulics
     from excavkin.machinery.masses import MassPoints
+    from excavkin.machinery.pumps import Hydraulics
 
 
 class Strokes(Protocol):
