@@ -20,10 +20,9 @@ def read_lift_point(r: MachineReader, data: dict[str, Any]) -> str | None:
 
     Parameters
     ----------
-    r : MachineReader
-        The file's reader (units, messages).
-    data : dict
-        The file's top-level table.
+    r, data
+        The file's reader and top-level table, as for
+        [`read_base`][excavkin.machinery.base_file.read_base].
 
     Returns
     -------

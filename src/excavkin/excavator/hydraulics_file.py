@@ -14,17 +14,17 @@ from excavkin.machinery.file_fields import MachineReader
 
 def read_hydraulics(r: MachineReader, data: dict[str, Any]) -> Hydraulics | None:
     """The ``[hydraulics]`` table as the excavator's
-    [`Hydraulics`][excavkin.excavator.hydraulics.Hydraulics], or None where the file has none.
+    [`Hydraulics`][excavkin.excavator.hydraulics.Hydraulics].
 
     Parameters
     ----------
-    r : MachineReader
-        The file's reader (units, messages).
-    data : dict
-        The file's top-level table.
+    r, data
+        The file's reader and top-level table, as for
+        [`read_hydraulics`][excavkin.machinery.hydraulics_file.read_hydraulics].
 
     Returns
     -------
     Hydraulics or None
+        None where the file has no ``[hydraulics]`` table.
     """
     return hydraulics_file.read_hydraulics(r, data, Hydraulics)

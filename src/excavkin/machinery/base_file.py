@@ -73,7 +73,7 @@ def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> Base
     table = "base.undercarriage"
 
     def size(key: str, high: float = _MAX_SIZE) -> float:
-        return within(r, r.field_qty(under_t, key, "length", table), table, key, 0.0, high, "m")
+        return r.bounded(under_t, key, "length", table, 0.0, high, "m")
 
     track_length = size("track_length")
     gauge = size("gauge")
@@ -88,15 +88,7 @@ def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> Base
     centre = _coordinate(
         r, r.field_qty(under_t, "track_centre", "length", table, swing_axis), table, "track_centre"
     )
-    friction = within(
-        r,
-        r.field_qty(t, "friction", "dimensionless", "base"),
-        "base",
-        "friction",
-        0.0,
-        5.0,
-        "",
-    )
+    friction = r.bounded(t, "friction", "dimensionless", "base", 0.0, 5.0, "")
     blade = None
     if "blade" in t:
         bt = r.subtable(t, "blade", "base.blade")
@@ -105,15 +97,7 @@ def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> Base
             _coordinate(
                 r, r.field_qty(bt, "position", "length", "base.blade"), "base.blade", "position"
             ),
-            within(
-                r,
-                r.field_qty(bt, "width", "length", "base.blade"),
-                "base.blade",
-                "width",
-                0.0,
-                _MAX_SIZE,
-                "m",
-            ),
+            r.bounded(bt, "width", "length", "base.blade", 0.0, _MAX_SIZE, "m"),
         )
     pads: list[tuple[float, float]] = []
     if "outriggers" in t:
@@ -163,16 +147,7 @@ def _mass(
     table = f"base.{part}"
     t = r.subtable(base, part, table)
     r.keys(t, allowed, table)
-    m = within(
-        r,
-        r.field_qty(t, "mass", "mass", table),
-        table,
-        "mass",
-        0.0,
-        _MAX_MASS,
-        "kg",
-        open_low=positive,
-    )
+    m = r.bounded(t, "mass", "mass", table, 0.0, _MAX_MASS, "kg", open_low=positive)
     if "center_of_mass" not in t:
         raise r.err("'center_of_mass' is missing", table)
     x, y = r.xy(t["center_of_mass"], table, "center_of_mass")

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from typing import Any, TypeVar
 
-from excavkin.machinery.file_fields import MachineReader, within
+from excavkin.machinery.file_fields import MachineReader
 from excavkin.machinery.pumps import ROD_YIELD, STEEL_E, Hydraulics, Pump
 
 H = TypeVar("H", bound=Hydraulics)
@@ -64,42 +64,10 @@ def read_hydraulics(r: MachineReader, data: dict[str, Any], kind: type[H]) -> H 
     table = "hydraulics"
     t = r.subtable(data, table, table)
     r.keys(t, _TOP, table)
-    speed = within(
-        r,
-        r.field_qty(t, "swing_speed", "angular_velocity", table),
-        table,
-        "swing_speed",
-        0.0,
-        _MAX_SWING,
-        "rad/s",
-    )
-    angle = within(
-        r,
-        r.field_qty(t, "swing_angle", "angle", table),
-        table,
-        "swing_angle",
-        0.0,
-        2 * math.pi,
-        "rad",
-    )
-    modulus = within(
-        r,
-        r.field_qty(t, "rod_modulus", "pressure", table, STEEL_E),
-        table,
-        "rod_modulus",
-        0.0,
-        1e13,
-        "Pa",
-    )
-    yield_ = within(
-        r,
-        r.field_qty(t, "rod_yield", "pressure", table, ROD_YIELD),
-        table,
-        "rod_yield",
-        0.0,
-        1e11,
-        "Pa",
-    )
+    speed = r.bounded(t, "swing_speed", "angular_velocity", table, 0.0, _MAX_SWING, "rad/s")
+    angle = r.bounded(t, "swing_angle", "angle", table, 0.0, 2 * math.pi, "rad")
+    modulus = r.bounded(t, "rod_modulus", "pressure", table, 0.0, 1e13, "Pa", default=STEEL_E)
+    yield_ = r.bounded(t, "rod_yield", "pressure", table, 0.0, 1e11, "Pa", default=ROD_YIELD)
     pt = r.subtable(t, "pumps", "hydraulics.pumps")
     if not 1 <= len(pt) <= MAX_PUMPS:
         raise r.err(f"must hold 1 to {MAX_PUMPS} pumps", "hydraulics.pumps")
@@ -109,15 +77,7 @@ def read_hydraulics(r: MachineReader, data: dict[str, Any], kind: type[H]) -> H 
         if not isinstance(spec, dict):
             raise r.err("must be a table with flow and feeds", pname)
         r.keys(spec, {"flow", "feeds"}, pname)
-        flow = within(
-            r,
-            r.field_qty(spec, "flow", "volume_flow", pname),
-            pname,
-            "flow",
-            0.0,
-            _MAX_FLOW,
-            "m^3/s",
-        )
+        flow = r.bounded(spec, "flow", "volume_flow", pname, 0.0, _MAX_FLOW, "m^3/s")
         feeds = spec.get("feeds")
         if (
             not isinstance(feeds, list)
