@@ -213,3 +213,15 @@ def test_another_family_is_refused_by_the_excavator_reader(tmp_path: Path) -> No
 def test_a_model_file_is_no_machine_file() -> None:
     with pytest.raises(ModelError, match="is no machine file"):
         load_any_machine(EXAMPLES / "fourbar.toml")
+
+
+def test_a_cylinder_under_another_role_is_refused() -> None:
+    from dataclasses import replace
+
+    from excavkin.excavator.machine import Machine
+
+    m = load_machine("excavator_machine")
+    cyl = dict(zip(m.roles, m.cylinders, strict=True))
+    cyl["arm"] = replace(cyl["arm"], role="bucket")
+    with pytest.raises(ModelError, match="the arm cylinder says its role is 'bucket'"):
+        Machine(m.mechanism, m.front, cyl, m.circuits)

@@ -198,6 +198,12 @@ class Machine:
                 f"{', '.join(missing)} (needs boom, arm and bucket)",
                 "cylinders",
             )
+        for role in ROLES:
+            if cylinders[role].role != role:
+                raise self._err(
+                    f"the {role} cylinder says its role is {cylinders[role].role!r}",
+                    f"cylinders.{role}",
+                )
         self.cylinders: tuple[Cylinder, Cylinder, Cylinder] = (
             cylinders["boom"],
             cylinders["arm"],

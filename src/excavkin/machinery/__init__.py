@@ -13,6 +13,7 @@ module                what it holds
 ``equilibrium``       the whole machine on the ground: tipping about any line, slipping
 ``capped_force``      a tool force capped by pressures and further limits, the limit named
 ``search``            the vectorised pattern search over cylinder strokes
+``pin_loads``         pin loads and cylinder forces of a static state, per member
 ``soil``              soil-cutting resistance: Zelenin's, Balovnev's and McKyes's models
 ``file_fields``       machine-file field lookups (units, ranges, messages)
 ``base_file``         the machine file's ``[base]`` table
