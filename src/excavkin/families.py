@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import cache
 from importlib import import_module
 from pathlib import Path
 from typing import Any
@@ -73,8 +74,22 @@ class Family:
         return getattr(import_module(module), function)(path)
 
 
+@cache
+def _registered() -> tuple[Family, ...]:
+    from importlib.metadata import entry_points
+
+    out = []
+    for ep in entry_points(group=GROUP):
+        fam = ep.load()
+        if not isinstance(fam, Family):
+            raise TypeError(f"entry point {ep.name!r} of {GROUP!r} is not a Family: {fam!r}")
+        out.append(fam)
+    return tuple(out)
+
+
 def families() -> dict[str, Family]:
-    """The families the installed wings register, by name.
+    """The families the installed wings register, by name (the entry points are read once per
+    process).
 
     Returns
     -------
@@ -85,15 +100,7 @@ def families() -> dict[str, Family]:
     TypeError
         An entry point that is not a `Family` (a wing's packaging error).
     """
-    from importlib.metadata import entry_points
-
-    out: dict[str, Family] = {}
-    for ep in entry_points(group=GROUP):
-        fam = ep.load()
-        if not isinstance(fam, Family):
-            raise TypeError(f"entry point {ep.name!r} of {GROUP!r} is not a Family: {fam!r}")
-        out[fam.name] = fam
-    return out
+    return {fam.name: fam for fam in _registered()}
 
 
 def family_of(data: Mapping[str, Any], source: str | None = None) -> Family | None:

@@ -8,10 +8,12 @@ The core never reads ``[front]``: only this wing does.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from excavkin.families import Family
-from excavkin.machinery.file_fields import MachineReader
+
+if TYPE_CHECKING:
+    from excavkin.machinery.file_fields import MachineReader
 
 #: the value of the machine file's ``family`` key
 NAME = "excavator"
