@@ -1,4 +1,4 @@
-r"""Flows and speeds of a machine's cylinders: pumps, stroke times and hydraulic power.
+r"""Flows and speeds of a machine's cylinders: stroke times from the pumps' flows, hydraulic power.
 
 **Speeds.** Each function (a cylinder role) moved alone receives the summed flow ``Q`` of every
 pump that feeds it (the pumps' confluence); with ``count`` cylinders acting together the areas
@@ -17,10 +17,7 @@ retracting, the inlet flow ``Q = A·|L̇|``, and the pump's hydraulic power ``p�
 negative ``p`` means an overrunning load: the load drives the cylinder and the outlet (meter-out)
 throttle carries it.
 
-The pumps are the records of `excavkin.machinery.pumps`; a family's pumps feed its own roles: it
-subclasses [`Hydraulics`][excavkin.machinery.pumps.Hydraulics] with its ``roles`` (the excavator's
-[`Hydraulics`][excavkin.excavator.hydraulics.Hydraulics]), and every pump is checked to feed
-only those, and every role to be fed.
+The pumps, and the roles a family's pumps feed, are the records of `excavkin.machinery.pumps`.
 """
 
 from __future__ import annotations
