@@ -1,7 +1,8 @@
 r"""Hydraulics of an excavator front: its pumps feed the boom, arm and bucket; the
-dig–swing–dump cycle time; hydraulic power along a motion of the front.
+dig–swing–dump cycle time.
 
-The speeds, stroke times, power and buckling every machine with cylinders shares live in the
+The speeds, stroke times, power along a motion and buckling every machine with cylinders
+shares live in the
 machinery layer (`excavkin.machinery.flows`, `excavkin.machinery.buckling`) and are re-exported
 here; the model of each is written there.
 
@@ -23,10 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-import numpy as np
-from numpy.typing import ArrayLike
-
-from excavkin.excavator.machine import ROLES, Machine, as_lengths
+from excavkin.excavator.machine import ROLES, Machine
 from excavkin.machinery import pumps
 from excavkin.machinery.buckling import Buckling, buckling, pose_buckling, relief_buckling
 from excavkin.machinery.flows import (
@@ -34,6 +32,7 @@ from excavkin.machinery.flows import (
     Stroke,
     cylinder_speed,
     hydraulics_of,
+    motion_power,
     power_of,
     strokes,
 )
@@ -140,31 +139,3 @@ def cycle_time(machine: Machine, hydraulics: Hydraulics | None = None) -> Cycle:
         dig + up + swing + dump + swing + down,
         dig + max(up, swing) + dump + max(swing, down),
     )
-
-
-def motion_power(
-    machine: Machine, lengths: ArrayLike, rates: ArrayLike, *, gravity: bool = True
-) -> Power:
-    """Hydraulic power of the cylinders along a motion, from the engine's kinematics and
-    kinetostatics (the front's weight and the inertia of the motion, no soil force).
-
-    Parameters
-    ----------
-    machine : Machine
-    lengths, rates : array_like, shape (n, 3)
-        Cylinder lengths (m) and their rates (m/s); accelerations are taken as zero.
-    gravity : bool
-        Include the front's weight
-        ([`Machine.weight_loads`][excavkin.excavator.machine.Machine.weight_loads]).
-
-    Returns
-    -------
-    Power
-    """
-    L = as_lengths(lengths)
-    R = np.broadcast_to(np.asarray(rates, dtype=np.float64), L.shape)
-    res = machine.solve(L, R)
-    loads = machine.weight_loads() if gravity else []
-    fr = machine.mechanism.forces(res, loads)
-    force = np.stack([fr.force(d) for d in machine.drivers], axis=1)
-    return power_of(machine, force, R)

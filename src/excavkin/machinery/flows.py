@@ -30,8 +30,8 @@ from numpy.typing import ArrayLike
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
-from excavkin.machinery.cylinders import Cylinder
-from excavkin.machinery.machine import HydraulicMachine
+from excavkin.machinery.cylinders import Cylinder, cylinder_lengths
+from excavkin.machinery.machine import HydraulicMachine, MovingMachine
 from excavkin.machinery.pumps import Hydraulics
 
 
@@ -140,6 +140,35 @@ class Power:
     flow: F
     pump_power: F
     total: F
+
+
+def motion_power(
+    machine: MovingMachine, lengths: ArrayLike, rates: ArrayLike, *, gravity: bool = True
+) -> Power:
+    """Hydraulic power of the cylinders along a motion, from the engine's kinematics and
+    kinetostatics (the machine's weight and the inertia of the motion, no soil force).
+
+    Parameters
+    ----------
+    machine : MovingMachine
+        An excavator's [`Machine`][excavkin.excavator.machine.Machine], say.
+    lengths, rates : array_like, shape (n, k)
+        Cylinder lengths (m) and their rates (m/s), one column per role; accelerations are
+        taken as zero.
+    gravity : bool
+        Include the machine's weight (its ``weight_loads()``).
+
+    Returns
+    -------
+    Power
+    """
+    L = cylinder_lengths(lengths, machine.roles)
+    R = np.broadcast_to(np.asarray(rates, dtype=np.float64), L.shape)
+    res = machine.solve(L, R)
+    loads = machine.weight_loads() if gravity else []
+    fr = machine.mechanism.forces(res, loads)
+    force = np.stack([fr.force(c.driver) for c in machine.cylinders], axis=1)
+    return power_of(machine, force, R)
 
 
 def power_of(machine: HydraulicMachine, force: ArrayLike, rates: ArrayLike) -> Power:

@@ -1,4 +1,4 @@
-"""What the machinery layer asks of a family's machine: two protocols, no base class.
+"""What the machinery layer asks of a family's machine: protocols, no base class.
 
 A family's machine (the excavator's [`Machine`][excavkin.excavator.machine.Machine], a wheel
 loader's, a crane's) is a general [`Mechanism`][excavkin.mechanism.Mechanism] plus its
@@ -13,13 +13,18 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Protocol
 
+from numpy.typing import ArrayLike
+
 from excavkin.arrays import FloatArray as F
 from excavkin.machinery.cylinders import Circuit, Cylinder
 
 if TYPE_CHECKING:
+    from excavkin.kinematics import KinematicResult
     from excavkin.machinery.base import BaseMachine
     from excavkin.machinery.masses import MassPoints
     from excavkin.machinery.pumps import Hydraulics
+    from excavkin.mechanism import Mechanism
+    from excavkin.model.entities import Load
 
 
 class Strokes(Protocol):
@@ -62,6 +67,23 @@ class HydraulicMachine(Strokes, Protocol):
     @property
     def hydraulics(self) -> Hydraulics | None:
         """Pumps, swing and rod material; None where the machine file has none."""
+        ...
+
+
+class MovingMachine(HydraulicMachine, Protocol):
+    """A machine whose motion the engine solves: what hydraulic power along a motion reads."""
+
+    @property
+    def mechanism(self) -> Mechanism:
+        """The general mechanism its cylinders drive."""
+        ...
+
+    def solve(self, lengths: ArrayLike, rates: ArrayLike | None = None) -> KinematicResult:
+        """The engine's kinematics at cylinder lengths ``(n, k)`` and their rates."""
+        ...
+
+    def weight_loads(self) -> list[Load]:
+        """Its weight as loads of the general kinetostatics."""
         ...
 
 
