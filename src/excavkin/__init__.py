@@ -184,19 +184,29 @@ def examples(kind: str | None = None) -> list[str]:
     Parameters
     ----------
     kind : {"model", "machine", "study"}, optional
-        Only mechanism models (for [`load`][excavkin.load]), only excavator machine files (for
+        Only mechanism models (for [`load`][excavkin.load]), only machine files (for
+        [`excavkin.families.load_machine`][], or a family's own reader such as
         [`excavkin.excavator.machine_file.load_machine`][]) or only design studies (for
-        ``excavkin study``, in ``examples/studies/``); default all.
+        ``excavkin study``, in ``examples/studies/``); default all. A file is a machine file
+        of the kind its family registers ([`excavkin.families`][]).
 
     Returns
     -------
     list of str
     """
+    import tomllib
+
+    from excavkin.families import family_of
+
     names: dict[str, str] = {}
     for folder in _example_folders():
         for p in sorted(folder.glob("*.toml")):
-            is_machine = "\n[front]" in p.read_text(encoding="utf-8")
-            names.setdefault(p.stem, "machine" if is_machine else "model")
+            try:
+                data = tomllib.loads(p.read_text(encoding="utf-8"))
+            except tomllib.TOMLDecodeError:
+                data = {}  # listed as a model: loading it names the problem
+            family = family_of(data, str(p))
+            names.setdefault(p.stem, "model" if family is None else family.kind)
         for p in sorted((folder / "studies").glob("*.toml")):
             names.setdefault(p.stem, "study")
     return sorted(n for n, k in names.items() if kind is None or k == kind)

@@ -1,181 +1,36 @@
-"""The machine file's base-machine and lift tables (optional)::
+"""The excavator machine file's ``[lift]`` table (optional); its ``[base]`` table is the
+machinery layer's [`read_base`][excavkin.machinery.base_file.read_base]::
 
-    [base]
-    friction = 0.5                      # ground friction coefficient (slipping limit)
-    [base.upper]                        # upper structure without front and counterweight
-    mass = 5900                         # kg ([units] mass, or "5.9 t")
-    center_of_mass = [-350, 1600]       # model coordinates at swing 0 (x forward, y up)
-    [base.counterweight]
-    mass = 3800
-    center_of_mass = [-2350, 1650]
-    [base.undercarriage]
-    mass = 7200
-    center_of_mass = [0, 500]
-    track_length = 3650                 # idler to sprocket axes
-    gauge = 2380                        # track centre to track centre
-    shoe_width = 600
-    track_centre = 0                    # x of the idler–sprocket midpoint (default: swing axis)
-    [base.blade]                        # optional: a lowered blade's ground edge
-    position = 2600                     # x
-    width = 2500
-    [base.outriggers]                   # optional: outrigger pads
-    points = [[-2000, 1800], [-2000, -1800]]   # x, lateral (left +)
     [lift]
     point = "Q"                         # load point of lift capacity (default: bucket pin)
-
-Every number is range-checked; errors name the file, the table and the entry.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from excavkin.excavator.base import BaseMachine, Mass
-from excavkin.excavator.file_reader import MachineReader, within
+from excavkin.machinery.base_file import read_base
+from excavkin.machinery.file_fields import MachineReader
 
-_BASE = {"friction", "upper", "counterweight", "undercarriage", "blade", "outriggers"}
-_MASS = {"mass", "center_of_mass"}
-_UNDER = _MASS | {"track_length", "gauge", "shoe_width", "track_centre"}
-#: the most outrigger pads
-MAX_PADS = 16
-#: largest mass of one part (kg), coordinate (m) and size (m) accepted
-_MAX_MASS, _MAX_X, _MAX_SIZE = 1e7, 1e3, 100.0
-
-
-def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> BaseMachine | None:
-    """The ``[base]`` table as a [`BaseMachine`][excavkin.excavator.base.BaseMachine], or None where
-    the file has none."""
-    if "base" not in data:
-        return None
-    t = r.subtable(data, "base", "base")
-    r.keys(t, _BASE, "base")
-    for part in ("upper", "counterweight", "undercarriage"):
-        if part not in t:
-            raise r.err(
-                f"[base.{part}] is missing (the base machine needs all three parts)", "base"
-            )
-    upper = _mass(r, t, "upper", positive=True)
-    counterweight = _mass(r, t, "counterweight", positive=False)
-    undercarriage = _mass(r, t, "undercarriage", positive=True, allowed=_UNDER)
-    under_t = t["undercarriage"]
-    table = "base.undercarriage"
-
-    def size(key: str, high: float = _MAX_SIZE) -> float:
-        return within(r, r.field_qty(under_t, key, "length", table), table, key, 0.0, high, "m")
-
-    track_length = size("track_length")
-    gauge = size("gauge")
-    shoe = size("shoe_width", 10.0)
-    if shoe > gauge:
-        raise r.err(
-            f"the shoes ({shoe * 1e3:.0f} mm) are wider than the gauge ({gauge * 1e3:.0f} mm): "
-            "the tracks would overlap",
-            table,
-            "shoe_width",
-        )
-    centre = _coordinate(
-        r, r.field_qty(under_t, "track_centre", "length", table, swing_axis), table, "track_centre"
-    )
-    friction = within(
-        r,
-        r.field_qty(t, "friction", "dimensionless", "base"),
-        "base",
-        "friction",
-        0.0,
-        5.0,
-        "",
-    )
-    blade = None
-    if "blade" in t:
-        bt = r.subtable(t, "blade", "base.blade")
-        r.keys(bt, {"position", "width"}, "base.blade")
-        blade = (
-            _coordinate(
-                r, r.field_qty(bt, "position", "length", "base.blade"), "base.blade", "position"
-            ),
-            within(
-                r,
-                r.field_qty(bt, "width", "length", "base.blade"),
-                "base.blade",
-                "width",
-                0.0,
-                _MAX_SIZE,
-                "m",
-            ),
-        )
-    pads: list[tuple[float, float]] = []
-    if "outriggers" in t:
-        ot = r.subtable(t, "outriggers", "base.outriggers")
-        r.keys(ot, {"points"}, "base.outriggers")
-        pts = ot.get("points")
-        if not isinstance(pts, list) or not 1 <= len(pts) <= MAX_PADS:
-            raise r.err(
-                f"points must be a list of 1 to {MAX_PADS} pads [x, lateral]",
-                "base.outriggers",
-                "points",
-            )
-        for p in pts:
-            x, v = r.xy(p, "base.outriggers", "points")
-            pads.append(
-                (
-                    _coordinate(r, x, "base.outriggers", "points"),
-                    _coordinate(r, v, "base.outriggers", "points"),
-                )
-            )
-    return BaseMachine(
-        upper=upper,
-        counterweight=counterweight,
-        undercarriage=undercarriage,
-        track_length=track_length,
-        gauge=gauge,
-        shoe_width=shoe,
-        track_centre=centre,
-        friction=friction,
-        blade=blade,
-        outriggers=tuple(pads),
-    )
+__all__ = ["read_base", "read_lift_point"]
 
 
 def read_lift_point(r: MachineReader, data: dict[str, Any]) -> str | None:
-    """The ``[lift]`` table's load point, or None (the bucket pin)."""
+    """The ``[lift]`` table's load point (ISO 10567 lift capacity).
+
+    Parameters
+    ----------
+    r, data
+        The file's reader and top-level table, as for
+        [`read_base`][excavkin.machinery.base_file.read_base].
+
+    Returns
+    -------
+    str or None
+        The point's name, or None (the bucket pin).
+    """
     if "lift" not in data:
         return None
     t = r.subtable(data, "lift", "lift")
     r.keys(t, {"point"}, "lift")
     return r.text(t, "point", "lift") if "point" in t else None
-
-
-def _coordinate(r: MachineReader, value: float, table: str, key: str) -> float:
-    return within(r, value, table, key, -_MAX_X, _MAX_X, "m", open_low=False)
-
-
-def _mass(
-    r: MachineReader,
-    base: dict[str, Any],
-    part: str,
-    *,
-    positive: bool,
-    allowed: set[str] = _MASS,
-) -> Mass:
-    table = f"base.{part}"
-    t = r.subtable(base, part, table)
-    r.keys(t, allowed, table)
-    m = within(
-        r,
-        r.field_qty(t, "mass", "mass", table),
-        table,
-        "mass",
-        0.0,
-        _MAX_MASS,
-        "kg",
-        open_low=positive,
-    )
-    if "center_of_mass" not in t:
-        raise r.err("'center_of_mass' is missing", table)
-    x, y = r.xy(t["center_of_mass"], table, "center_of_mass")
-    return Mass(
-        part,
-        m,
-        _coordinate(r, x, table, "center_of_mass"),
-        _coordinate(r, y, table, "center_of_mass"),
-    )

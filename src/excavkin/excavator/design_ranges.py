@@ -37,7 +37,7 @@ from excavkin.arrays import BoolArray as B
 from excavkin.arrays import FloatArray as F
 from excavkin.excavator.designs import check_designs, cylinder_arrays, within_strokes
 from excavkin.excavator.machine import ROLES, Machine
-from excavkin.excavator.search import maximize_strokes
+from excavkin.machinery.search import maximize_strokes
 
 #: figure → (sign of the tip's coordinate it maximises, coordinate index)
 FIGURES: dict[str, tuple[float, int]] = {

@@ -38,9 +38,10 @@ from numpy.typing import ArrayLike, NDArray
 from excavkin.arrays import BoolArray as B
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
-from excavkin.excavator.forces import At, Working, capped_force
+from excavkin.excavator.forces import At, Working
 from excavkin.excavator.machine import ROLES, Machine, as_lengths, direction_angle, wrap_angle
 from excavkin.kinematics import KinematicResult
+from excavkin.machinery.capped_force import capped_force
 
 #: the cylinder entries that are parameters
 CYLINDER_KEYS: tuple[str, ...] = ("bore", "rod", "retracted", "stroke")
@@ -299,7 +300,7 @@ def design_tool_forces(
         p = v["working"] if h == w else v["relief"]
         limits.append((-p * v["annulus_area"], p * v["bore_area"]))
     dig = 1.0 if machine.cylinders[w].dig == "extend" else -1.0
-    force, uncapped, limiting, cyl_force, _ = capped_force(J, G, w, dig, limits)
+    force, uncapped, limiting, cyl_force, _ = capped_force(J, G, w, dig, limits, ROLES)
     within = within_strokes(machine, L, given)
     return DesignForces(force, uncapped, limiting, cyl_force, within)
 

@@ -32,9 +32,10 @@ from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.excavator.forces import At, directed_force
 from excavkin.excavator.machine import FrontPose, Machine, as_lengths, pose_of, transfer
-from excavkin.excavator.soil import Resistance, Soil, Tool, resistance
-from excavkin.excavator.stability import SWING, Over, equilibrium
+from excavkin.excavator.stability import SWING, Over
 from excavkin.kinematics.summary import batch_repr
+from excavkin.machinery.equilibrium import equilibrium
+from excavkin.machinery.soil import Resistance, Soil, Tool, resistance
 from excavkin.motion import get_law
 
 

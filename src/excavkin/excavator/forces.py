@@ -1,24 +1,16 @@
 r"""Tool forces of an excavator front (ISO 6015, SAE J1179) by virtual work on the engine.
 
-With the front at rest, virtual power over a motion of cylinder c alone (unit rate, the others
-held) gives the force each cylinder must carry (> 0 pushes, DESIGN.md §5)::
-
-    f_c = −P·J_c + g·Σ_b m_b·∂y_Sb/∂L_c          J_c = ∂(tool point)/∂L_c   (engine, exact)
-
-where P is the force of the soil on the bucket at the tool point and S_b the bodies' centres of
-mass. The tool force of the **working** cylinder w (arm: ISO 6015 arm-cylinder tool force;
-bucket: bucket-cylinder tool force) has magnitude F along the direction the tool point moves
-when w digs, u = ±J_w/|J_w|, so P = −F·u and::
-
-    F_work = (f_w,max − G_w) / (u·J_w)        f_w,max = p_working·A_bore (extending)
-                                                        or −p_working·A_annulus (retracting)
-
-Each **holding** cylinder h must then carry f_h = F·(u·J_h) + G_h, which its port relief bounds
-to −p_relief·A_annulus ≤ f_h ≤ p_relief·A_bore; where it would not, F is capped there and that
-cylinder is named as the limit (ISO 6015 "hydraulic limit"). The tipping and slipping limits of
-the base machine cap these forces in `excavkin.excavator.stability`. With
-``gravity=False`` every G term is zero (the front weightless); the masses are the model's bodies
-and the cylinders' (``Cylinder.mass``, half at each end pin).
+The tool force of the **working** cylinder (arm: ISO 6015 arm-cylinder tool force; bucket:
+bucket-cylinder tool force) acts along the direction the tool point moves when that cylinder
+digs, at its circuit's working pressure; each **holding** cylinder's port relief caps it, and
+the cylinder that caps it is named as the limit (ISO 6015 "hydraulic limit"). The virtual-work
+derivation, shared by every machine family, is written in
+[`excavkin.machinery.capped_force`][]; here J is ∂(tool point)/∂L from the engine's transfer
+functions and G_c = g·Σ_b m_b·∂y_Sb/∂L_c the gravity terms over the front's mass points. The
+tipping and slipping limits of the base machine cap these forces in
+`excavkin.excavator.stability`. With ``gravity=False`` every G term is zero (the front
+weightless); the masses are the model's bodies and the cylinders' (``Cylinder.mass``, half at
+each end pin).
 
 The ISO 6015 tool point is the bucket lip (cutting edge); SAE J1179 uses the tooth tip.
 """
@@ -27,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -42,8 +34,10 @@ from excavkin.excavator.machine import (
     pose_of,
     transfer,
 )
-from excavkin.excavator.search import Evaluate, Progress, maximize_strokes, part
 from excavkin.kinematics.summary import batch_repr
+from excavkin.machinery.capped_force import capped_force, loaded_pressure, pressure_limits
+from excavkin.machinery.capped_force import gravity_terms as gravity_terms
+from excavkin.machinery.search import Evaluate, Progress, maximize_strokes, part
 
 Working = Literal["arm", "bucket"]
 At = Literal["lip", "tip"]
@@ -94,67 +88,6 @@ class ToolForces:
     pose: FrontPose
 
 
-def gravity_terms(machine: Machine, tr_d: F) -> F:
-    """G_c = g·Σ m_k ∂y_k/∂L_c over the front's mass points (bodies and cylinders), shape
-    (n, 3), from the transfer functions ``tr_d`` (shape (n, n_points, 2, 3))."""
-    mp = machine.mass_points
-    dy = mp.locate(tr_d)[:, :, 1, :]  # (n, k, 3)
-    return np.asarray(machine.gravity * np.einsum("k,nkc->nc", mp.mass, dy))
-
-
-def capped_force(
-    J: F, G: F, w: int, dig: float, limits: Sequence[tuple[Any, Any]]
-) -> tuple[F, F, NDArray[np.str_], F, F]:
-    """The tool force of cylinder ``w`` capped by the others' limits (module docstring).
-
-    Parameters
-    ----------
-    J : ndarray, shape (n, 2, 3)
-        ∂(tool point)/∂L.
-    G : ndarray, shape (n, 3)
-        Gravity terms.
-    w : int
-        The working cylinder (0 boom, 1 arm, 2 bucket).
-    dig : float
-        +1 where extending digs, −1 where retracting does.
-    limits : sequence of 3 (pull, push)
-        Each cylinder's largest pull (≤ 0) and push (N; scalars or arrays of shape (n,)):
-        at working pressure for ``w``, at relief pressure for the others.
-
-    Returns
-    -------
-    force, uncapped : ndarray, shape (n,)
-    limiting : ndarray of str, shape (n,)
-    cylinder_force : ndarray, shape (n, 3)
-    direction : ndarray, shape (n, 2)
-    """
-    jw = J[:, :, w]
-    norm = np.hypot(jw[:, 0], jw[:, 1])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u = dig * jw / norm[:, None]
-    proj = np.einsum("ni,nic->nc", u, J)  # u·J_c, (n, 3); proj[:, w] = |J_w|
-    pull, push = limits[w]
-    f_max = push if dig > 0 else pull
-    with np.errstate(divide="ignore", invalid="ignore"):
-        F_work = (f_max - G[:, w]) / proj[:, w]
-    force = F_work.copy()
-    limiting = np.where(np.isfinite(F_work), ROLES[w], "").astype("<U8")
-    for h in range(3):
-        if h == w:
-            continue
-        lo, hi = limits[h]
-        a = proj[:, h]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cap = np.where(
-                a > 0.0, (hi - G[:, h]) / a, np.where(a < 0.0, (lo - G[:, h]) / a, np.inf)
-            )
-        lower = cap < force
-        force = np.where(lower, cap, force)
-        limiting = np.where(lower, ROLES[h], limiting)
-    force = np.where(np.isfinite(force), np.maximum(force, 0.0), np.nan)
-    return force, F_work, limiting, force[:, None] * proj + G, u
-
-
 def tool_forces(
     machine: Machine,
     lengths: ArrayLike,
@@ -191,16 +124,10 @@ def tool_forces(
     _, J = tr.point(machine, point)  # (n, 2, 3)
     G = gravity_terms(machine, tr.d) if gravity else np.zeros((len(L), 3))
     w = ROLES.index(working)
-    limits = [
-        c.force_limits(machine.circuits[c.circuit].working if h == w else
-                       machine.circuits[c.circuit].relief)
-        for h, c in enumerate(machine.cylinders)
-    ]  # fmt: skip
+    limits = pressure_limits(machine.cylinders, machine.circuits, w)
     sgn = 1.0 if machine.cylinders[w].dig == "extend" else -1.0
-    force, F_work, limiting, cyl_force, u = capped_force(J, G, w, sgn, limits)
-    areas = np.array([[c.bore_area, c.annulus_area] for c in machine.cylinders])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        pressure = np.where(cyl_force >= 0.0, cyl_force / areas[:, 0], -cyl_force / areas[:, 1])
+    force, F_work, limiting, cyl_force, u = capped_force(J, G, w, sgn, limits, ROLES)
+    pressure = loaded_pressure(machine.cylinders, cyl_force)
     pose = pose_of(machine, L, tr.result)
     return ToolForces(working, at, gravity, force, F_work, u, limiting, cyl_force, pressure, pose)
 

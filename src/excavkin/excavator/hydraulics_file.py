@@ -1,118 +1,30 @@
-"""The machine file's ``[hydraulics]`` table (optional)::
-
-    [hydraulics]
-    swing_speed = "11 rpm"              # swing speed of the upper structure
-    swing_angle = "90 deg"              # dig to dump
-    rod_modulus = "210 GPa"             # optional (default 210 GPa): buckling
-    rod_yield = "500 MPa"               # optional (default 500 MPa): the rods' yield stress
-    [hydraulics.pumps.P1]
-    flow = "220 L/min"
-    feeds = ["boom", "arm", "bucket"]   # functions it feeds (their flows add: confluence)
-    [hydraulics.pumps.P2]
-    flow = "220 L/min"
-    feeds = ["boom", "arm"]
-
-A single ``flow`` per function is written as one pump per function. Every number is
-range-checked, and every cylinder must be fed by some pump; errors name the file, the table and
-the entry.
-"""
+"""The excavator machine file's ``[hydraulics]`` table (optional): pumps feeding the boom, arm
+and bucket, the swing and the rod material, read by the machinery layer's
+[`read_hydraulics`][excavkin.machinery.hydraulics_file.read_hydraulics] (the table's fields
+are written there)."""
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
-from excavkin.excavator.file_reader import MachineReader, within
-from excavkin.excavator.hydraulics import ROD_YIELD, STEEL_E, Hydraulics, Pump
-from excavkin.excavator.machine import ROLES
-
-_TOP = {"swing_speed", "swing_angle", "rod_modulus", "rod_yield", "pumps"}
-#: the most pumps
-MAX_PUMPS = 8
-#: largest flow of one pump (m³/s: 60 000 L/min) and swing speed (rad/s: 60 rpm)
-_MAX_FLOW, _MAX_SWING = 1.0, 2.0 * math.pi
+from excavkin.excavator.hydraulics import Hydraulics
+from excavkin.machinery import hydraulics_file
+from excavkin.machinery.file_fields import MachineReader
 
 
 def read_hydraulics(r: MachineReader, data: dict[str, Any]) -> Hydraulics | None:
-    """The ``[hydraulics]`` table as [`Hydraulics`][excavkin.excavator.hydraulics.Hydraulics], or
-    None where the file has none."""
-    if "hydraulics" not in data:
-        return None
-    table = "hydraulics"
-    t = r.subtable(data, table, table)
-    r.keys(t, _TOP, table)
-    speed = within(
-        r,
-        r.field_qty(t, "swing_speed", "angular_velocity", table),
-        table,
-        "swing_speed",
-        0.0,
-        _MAX_SWING,
-        "rad/s",
-    )
-    angle = within(
-        r,
-        r.field_qty(t, "swing_angle", "angle", table),
-        table,
-        "swing_angle",
-        0.0,
-        2 * math.pi,
-        "rad",
-    )
-    modulus = within(
-        r,
-        r.field_qty(t, "rod_modulus", "pressure", table, STEEL_E),
-        table,
-        "rod_modulus",
-        0.0,
-        1e13,
-        "Pa",
-    )
-    yield_ = within(
-        r,
-        r.field_qty(t, "rod_yield", "pressure", table, ROD_YIELD),
-        table,
-        "rod_yield",
-        0.0,
-        1e11,
-        "Pa",
-    )
-    pt = r.subtable(t, "pumps", "hydraulics.pumps")
-    if not 1 <= len(pt) <= MAX_PUMPS:
-        raise r.err(f"must hold 1 to {MAX_PUMPS} pumps", "hydraulics.pumps")
-    pumps = []
-    for name, spec in pt.items():
-        pname = f"hydraulics.pumps.{name}"
-        if not isinstance(spec, dict):
-            raise r.err("must be a table with flow and feeds", pname)
-        r.keys(spec, {"flow", "feeds"}, pname)
-        flow = within(
-            r,
-            r.field_qty(spec, "flow", "volume_flow", pname),
-            pname,
-            "flow",
-            0.0,
-            _MAX_FLOW,
-            "m^3/s",
-        )
-        feeds = spec.get("feeds")
-        if (
-            not isinstance(feeds, list)
-            or not feeds
-            or any(f not in ROLES for f in feeds)
-            or len(set(feeds)) != len(feeds)
-        ):
-            raise r.err(
-                f"feeds must be a list of distinct functions among {', '.join(ROLES)}, "
-                f"got {feeds!r}"[:160],
-                pname,
-                "feeds",
-            )
-        pumps.append(Pump(str(name), flow, tuple(feeds)))
-    unfed = [role for role in ROLES if not any(role in p.feeds for p in pumps)]
-    if unfed:
-        raise r.err(
-            f"no pump feeds the {', '.join(unfed)} cylinder{'s' if len(unfed) > 1 else ''}",
-            "hydraulics.pumps",
-        )
-    return Hydraulics(tuple(pumps), speed, angle, modulus, yield_)
+    """The ``[hydraulics]`` table as the excavator's
+    [`Hydraulics`][excavkin.excavator.hydraulics.Hydraulics].
+
+    Parameters
+    ----------
+    r, data
+        The file's reader and top-level table, as for
+        [`read_hydraulics`][excavkin.machinery.hydraulics_file.read_hydraulics].
+
+    Returns
+    -------
+    Hydraulics or None
+        None where the file has no ``[hydraulics]`` table.
+    """
+    return hydraulics_file.read_hydraulics(r, data, Hydraulics)

@@ -43,7 +43,6 @@ from numpy.typing import ArrayLike, NDArray
 from excavkin.arrays import BoolArray as B
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, ModelError
-from excavkin.excavator.forces import gravity_terms
 from excavkin.excavator.machine import (
     ROLES,
     Machine,
@@ -54,8 +53,10 @@ from excavkin.excavator.machine import (
     inverse,
     transfer,
 )
-from excavkin.excavator.stability import SWING, equilibrium, need_base
+from excavkin.excavator.stability import SWING
 from excavkin.kinematics.summary import batch_repr
+from excavkin.machinery.capped_force import gravity_terms
+from excavkin.machinery.equilibrium import equilibrium, need_base
 
 #: ISO 10567 rating factors
 TIPPING_FACTOR = 0.75

@@ -40,7 +40,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -48,93 +48,46 @@ from numpy.typing import ArrayLike, NDArray
 from excavkin.arrays import BoolArray as B
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, ModelError
-from excavkin.excavator.base import BaseMachine
 from excavkin.kinematics import KinematicResult
 from excavkin.kinematics.summary import batch_repr
+from excavkin.machinery.base import BaseMachine
+from excavkin.machinery.cylinders import Circuit, Cylinder, cylinder_lengths
+from excavkin.machinery.masses import MassPoints, mass_points
 from excavkin.mechanism import Mechanism
 from excavkin.model.entities import Load
 from excavkin.structure.plan import Dyad
 
 if TYPE_CHECKING:
-    from excavkin.excavator.hydraulics import Hydraulics
+    from excavkin.machinery.pumps import Hydraulics
 
 
 #: The three cylinders of a backhoe front, in the order of every ``(n, 3)`` array.
 ROLES: tuple[str, str, str] = ("boom", "arm", "bucket")
 
-
-@dataclass(frozen=True, slots=True)
-class Circuit:
-    """Pressures of one hydraulic circuit (Pa).
-
-    Attributes
-    ----------
-    name : str
-    working : float
-        Working (main relief) pressure: what the pump can push into the working cylinder.
-    relief : float
-        Port (overload) relief pressure: the most a holding cylinder can resist before it
-        yields (ISO 6015 "maximum relief circuit hydraulic pressure").
-    """
-
-    name: str
-    working: float
-    relief: float
-
-
-@dataclass(frozen=True, slots=True)
-class Cylinder:
-    """A hydraulic cylinder (or ``count`` identical ones acting together), SI units.
-
-    Attributes
-    ----------
-    role : {"boom", "arm", "bucket"}
-    driver : str
-        The linear driver of the general model it is.
-    retracted, stroke : float
-        Pin-to-pin length fully retracted, and stroke (m).
-    bore, rod : float
-        Piston and rod diameters (m).
-    circuit : str
-        Name of its `Circuit`.
-    count : int
-        Identical cylinders in parallel (two boom cylinders on most crawler excavators).
-    dig : {"extend", "retract"}
-        Which motion digs (crowds the stick, curls the bucket) — extension on a backhoe.
-    mass : float
-        Mass of all ``count`` cylinders with their oil (kg), lumped half at each end pin
-        (its centre of mass at mid-length); 0 where the model's bodies already carry it.
-    """
-
-    role: str
-    driver: str
-    retracted: float
-    stroke: float
-    bore: float
-    rod: float
-    circuit: str
-    count: int = 1
-    dig: Literal["extend", "retract"] = "extend"
-    mass: float = 0.0
-
-    @property
-    def extended(self) -> float:
-        """Pin-to-pin length fully extended (m)."""
-        return self.retracted + self.stroke
-
-    @property
-    def bore_area(self) -> float:
-        """Piston-side area of all ``count`` cylinders (m²)."""
-        return self.count * math.pi / 4.0 * self.bore**2
-
-    @property
-    def annulus_area(self) -> float:
-        """Rod-side (annulus) area of all ``count`` cylinders (m²)."""
-        return self.count * math.pi / 4.0 * (self.bore**2 - self.rod**2)
-
-    def force_limits(self, pressure: float | F) -> tuple[float | F, float | F]:
-        """Largest pull (≤ 0) and push (≥ 0) at ``pressure``: ``(−p·A_rod, p·A_bore)`` (N)."""
-        return -pressure * self.annulus_area, pressure * self.bore_area
+__all__ = [
+    "BRANCHES",
+    "ROLES",
+    "Circuit",
+    "Cylinder",
+    "Front",
+    "FrontJacobian",
+    "FrontPose",
+    "InverseSolution",
+    "Machine",
+    "MassPoints",
+    "Pins",
+    "Transfer",
+    "as_lengths",
+    "circle_point",
+    "direction_angle",
+    "forward",
+    "inverse",
+    "jacobian",
+    "pose_of",
+    "transfer",
+    "transmission_angles",
+    "wrap_angle",
+]
 
 
 @dataclass(frozen=True, slots=True)
@@ -245,6 +198,12 @@ class Machine:
                 f"{', '.join(missing)} (needs boom, arm and bucket)",
                 "cylinders",
             )
+        for role in ROLES:
+            if cylinders[role].role != role:
+                raise self._err(
+                    f"the {role} cylinder says its role is {cylinders[role].role!r}",
+                    f"cylinders.{role}",
+                )
         self.cylinders: tuple[Cylinder, Cylinder, Cylinder] = (
             cylinders["boom"],
             cylinders["arm"],
@@ -404,6 +363,12 @@ class Machine:
         return Pins(foot, spiv, bpin, lpiv, junc, lpin, tuple(ends))
 
     # ---- simple properties
+    @property
+    def roles(self) -> tuple[str, ...]:
+        """The cylinder roles of an excavator, ``("boom", "arm", "bucket")``: the order of every
+        ``(n, 3)`` array."""
+        return ROLES
+
     @property
     def drivers(self) -> tuple[str, str, str]:
         """Driver names of the boom, arm and bucket cylinders."""
@@ -582,87 +547,13 @@ class Machine:
         )
 
 
-@dataclass(frozen=True, slots=True)
-class MassPoints:
-    """The front's masses as points, each a fixed linear combination of the model's points.
-
-    Attributes
-    ----------
-    names : tuple of str
-        A body's name, or ``"<cylinder driver>@<pin>"`` for half a cylinder's mass.
-    mass : ndarray, shape (k,)
-        kg.
-    coef : ndarray, shape (k, 2, n_points, 2)
-        ``position[k, a] = Σ coef[k, a, p, b]·point[p, b]``.
-    """
-
-    names: tuple[str, ...]
-    mass: F
-    coef: F
-
-    def locate(self, points: F) -> F:
-        """Positions (or their derivatives) of the mass points from those of the model's points.
-
-        Parameters
-        ----------
-        points : ndarray, shape (n, n_points, 2) or (n, n_points, 2, m)
-
-        Returns
-        -------
-        ndarray, shape (n, k, 2) or (n, k, 2, m)
-        """
-        return np.asarray(np.einsum("kapb,npb...->nka...", self.coef, points))
-
-
 def _mass_points(machine: Machine) -> MassPoints:
-    from excavkin.kinetostatics.inertia import MassProperties
-
-    plan = machine.mechanism.plan
-    props = MassProperties.from_plan(plan)
-    n_pts = len(plan.points)
-    names: list[str] = []
-    masses: list[float] = []
-    rows: list[F] = []
-    for j, body in enumerate(plan.model.bodies):
-        if props.mass[j] <= 0.0:
-            continue
-        p0, p1 = (int(i) for i in props.base[j])
-        s, t = (float(v) for v in props.com[j])
-        c = np.zeros((2, n_pts, 2))
-        # S = P0 + s·(P1 − P0) + t·perp(P1 − P0), perp(w) = (−w_y, w_x)
-        c[0, p0, 0] += 1.0 - s
-        c[0, p1, 0] += s
-        c[0, p0, 1] += t
-        c[0, p1, 1] -= t
-        c[1, p0, 1] += 1.0 - s
-        c[1, p1, 1] += s
-        c[1, p1, 0] += t
-        c[1, p0, 0] -= t
-        names.append(body.name)
-        masses.append(float(props.mass[j]))
-        rows.append(c)
-    for cyl, ends in zip(machine.cylinders, machine.pins.cyl_ends, strict=True):
-        if cyl.mass <= 0.0:
-            continue
-        for pin in ends:
-            c = np.zeros((2, n_pts, 2))
-            i = plan.points.index(pin)
-            c[0, i, 0] = c[1, i, 1] = 1.0
-            names.append(f"{cyl.driver}@{pin}")
-            masses.append(0.5 * cyl.mass)
-            rows.append(c)
-    coef = np.stack(rows) if rows else np.zeros((0, 2, n_pts, 2))
-    return MassPoints(tuple(names), np.array(masses, dtype=np.float64), coef)
+    return mass_points(machine.mechanism, machine.cylinders, machine.pins.cyl_ends)
 
 
 def as_lengths(lengths: ArrayLike) -> F:
     """Cylinder lengths as an array of shape (n, 3), boom, arm, bucket; refuses other shapes."""
-    L = np.asarray(lengths, dtype=np.float64)
-    if L.ndim != 2 or L.shape[1] != 3:
-        raise InputError(
-            f"cylinder lengths must have shape (n, 3) (boom, arm, bucket), got {L.shape}"
-        )
-    return L
+    return cylinder_lengths(lengths, ROLES)
 
 
 def direction_angle(v: F) -> F:

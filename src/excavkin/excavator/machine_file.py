@@ -4,6 +4,7 @@ The file builds on a general mechanism model, either referenced (``model = "fron
 relative to the machine file) or inline (a ``[model]`` table holding the model's own tables)::
 
     schema_version = 1
+    family = "excavator"    # optional: a file without it is read as an excavator's
     model = "excavator.toml"
     [units]                 # defaults for bare numbers in this file
     length = "mm"
@@ -34,8 +35,7 @@ from typing import Any
 
 from excavkin.errors import ModelError
 from excavkin.excavator.base_file import read_base, read_lift_point
-from excavkin.excavator.file_reader import MachineReader as _Reader
-from excavkin.excavator.file_reader import within as _within
+from excavkin.excavator.family import check_family
 from excavkin.excavator.hydraulics_file import read_hydraulics
 from excavkin.excavator.machine import ROLES, Circuit, Cylinder, Front, Machine
 from excavkin.io.toml_model import (
@@ -44,11 +44,14 @@ from excavkin.io.toml_model import (
     read_text_file,
     read_toml,
 )
+from excavkin.machinery.file_fields import MachineReader as _Reader
+from excavkin.machinery.file_fields import within as _within
 from excavkin.mechanism import Mechanism
 
 SCHEMA_VERSION = 1
 _TOP = {
     "schema_version",
+    "family",
     "name",
     "description",
     "model",
@@ -124,6 +127,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
             f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
             f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
         )
+    check_family(r, data)
     mech = _model(r, data.get("model"), source)
 
     front_t = r.subtable(data, "front", "front")

@@ -18,16 +18,10 @@ weight (the model's bodies and the cylinders, as
   the H-link, the side link and the stick that holds it.
 
 The general kinetostatics ([`Mechanism.forces`][excavkin.mechanism.Mechanism.forces]) then gives the
-force of every pin on every
-member it joins and every cylinder's force. The **load of a pin** is the largest force it passes
-to any one of its members — the bodies pinned there and, at a cylinder's end, the cylinder's
-eye (whose force is the cylinder's) — so that for a pin of two members it is the force between
-them::
-
-    load(p) = max( |F[p, b]| over the bodies b at p ,  |f_c| over the cylinders c ending at p )
-
-Where ``count`` cylinders act together (two boom cylinders), their pins are drawn as one and
-carry all of them: each of the real pins carries its share.
+force of every pin on every member it joins and every cylinder's force, and the **load of a
+pin** is the largest force it passes to any one of its members
+([`pin_forces`][excavkin.machinery.pin_loads.pin_forces], shared by every machine family,
+writes it out).
 
 Everything is one batch over the poses: three transfer solves for the tool force (or the lift
 capacity) and one static solve with the loads.
@@ -50,6 +44,7 @@ from excavkin.excavator.lift import hydraulic_lift
 from excavkin.excavator.machine import ROLES, Machine, as_lengths
 from excavkin.kinematics.summary import batch_repr
 from excavkin.kinetostatics import ForceResult, PointForce
+from excavkin.machinery.pin_loads import pin_forces
 
 Case = Literal["bucket", "arm", "lift"]
 #: the load cases, in the order of every table
@@ -225,30 +220,17 @@ def pin_loads(
     fr = machine.mechanism.forces(res, loads)
     tell(3)
     held = np.asarray(held & fr.ok & machine.within_stroke(L))
-    cyl = np.stack([fr.force(d) for d in machine.drivers], axis=1)
     labels = pin_labels(machine)
-    pins = tuple(dict.fromkeys(p for p, _ in fr.pins))
-    members: list[tuple[str, ...]] = []
-    member_force: list[F] = []
-    for p in pins:
-        names = [b for q, b in fr.pins if q == p]
-        cols = [np.hypot(*fr.pin(p, b).T) for b in names]
-        for c, ends in enumerate(machine.pins.cyl_ends):
-            if p in ends:
-                names.append(f"{ROLES[c]} cylinder")
-                cols.append(np.abs(cyl[:, c]))
-        members.append(tuple(names))
-        member_force.append(np.stack(cols, axis=1))
-    pin_load = np.stack([m.max(axis=1) for m in member_force], axis=1)
+    pf = pin_forces(fr, machine.cylinders, machine.pins.cyl_ends)
     return PinLoads(
         case,
         gravity,
-        pins,
-        tuple(labels.get(p, p) for p in pins),
-        tuple(members),
-        tuple(member_force),
-        pin_load,
-        cyl,
+        pf.pins,
+        tuple(labels.get(p, p) for p in pf.pins),
+        pf.members,
+        pf.member_force,
+        pf.load,
+        pf.cylinder_force,
         magnitude,
         res.point(where)[0],
         res.point(machine.pins.bucket_pin)[0],

@@ -48,7 +48,7 @@ from excavkin.excavator.machine import (
     inverse,
     wrap_angle,
 )
-from excavkin.excavator.search import Evaluate, Progress, maximize_strokes, part
+from excavkin.machinery.search import Evaluate, Progress, maximize_strokes, part
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,4 +1,4 @@
-"""Field lookups of the excavator machine file, shared by its readers (units, ranges, errors
+"""Field lookups of machine files, shared by every family's readers (units, ranges, errors
 naming the file, the table and the entry)."""
 
 from __future__ import annotations
@@ -30,6 +30,49 @@ class MachineReader(TomlReader):
             return to_si(t[key], kind, self.units.get(kind))
         except UnitError as exc:
             raise UnitError(exc.problem, table=table, entry=key, source=self.source) from None
+
+    def bounded(
+        self,
+        t: dict[str, Any],
+        key: str,
+        kind: str,
+        table: str,
+        low: float,
+        high: float,
+        unit: str,
+        *,
+        default: float | None = None,
+        open_low: bool = True,
+    ) -> float:
+        """A quantity in SI within its range: `field_qty` checked by
+        [`within`][excavkin.machinery.file_fields.within].
+
+        Parameters
+        ----------
+        t : dict
+            The table holding the entry.
+        key : str
+            The entry.
+        kind : str
+            Its kind of quantity (``"length"``, ``"pressure"``, …).
+        table : str
+            The table's name, for messages.
+        low, high : float
+            The range (SI): more than ``low`` (at least, with ``open_low=False``), at most
+            ``high``.
+        unit : str
+            The SI unit the message writes.
+        default : float, optional
+            Where the entry is missing; without it, a missing entry is an error.
+        open_low : bool
+            Whether ``low`` itself is refused.
+
+        Returns
+        -------
+        float
+        """
+        value = self.field_qty(t, key, kind, table, default)
+        return within(self, value, table, key, low, high, unit, open_low=open_low)
 
     def text(self, t: dict[str, Any], key: str, table: str, default: str | None = None) -> str:
         v = t.get(key, default)

@@ -1,0 +1,122 @@
+"""What the machinery layer asks of a family's machine: protocols, no base class.
+
+A family's machine (the excavator's [`Machine`][excavkin.excavator.machine.Machine], a wheel
+loader's, a crane's) is a general [`Mechanism`][excavkin.mechanism.Mechanism] plus its
+cylinders in the order of the roles the family declares, their circuits and pumps and, for the
+whole-machine answers, its base. The shared analyses (stroke times, buckling, tipping and
+slipping, the stroke search) read a machine only through these attributes, so a family needs
+no more than to provide them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Protocol
+
+from numpy.typing import ArrayLike
+
+from excavkin.arrays import FloatArray as F
+from excavkin.machinery.cylinders import Circuit, Cylinder
+
+if TYPE_CHECKING:
+    from excavkin.kinematics import KinematicResult
+    from excavkin.machinery.base import BaseMachine
+    from excavkin.machinery.masses import MassPoints
+    from excavkin.machinery.pumps import Hydraulics
+    from excavkin.mechanism import Mechanism
+    from excavkin.model.entities import Load
+
+
+class Strokes(Protocol):
+    """A machine's stroke limits, one entry per cylinder role."""
+
+    @property
+    def lengths_min(self) -> F:
+        """Fully retracted pin-to-pin lengths, shape (k,) (m)."""
+        ...
+
+    @property
+    def lengths_max(self) -> F:
+        """Fully extended pin-to-pin lengths, shape (k,) (m)."""
+        ...
+
+
+class HydraulicMachine(Strokes, Protocol):
+    """A machine with hydraulic cylinders: its roles, cylinders, circuits and pumps."""
+
+    @property
+    def name(self) -> str:
+        """For messages."""
+        ...
+
+    @property
+    def roles(self) -> tuple[str, ...]:
+        """The roles its family declares, in the order of every ``(n, k)`` array."""
+        ...
+
+    @property
+    def cylinders(self) -> Sequence[Cylinder]:
+        """One per role, in the order of ``roles``."""
+        ...
+
+    @property
+    def circuits(self) -> Mapping[str, Circuit]:
+        """The circuits by name (each cylinder names its own)."""
+        ...
+
+    @property
+    def hydraulics(self) -> Hydraulics | None:
+        """Pumps, swing and rod material; None where the machine file has none."""
+        ...
+
+
+class MovingMachine(HydraulicMachine, Protocol):
+    """A machine whose motion the engine solves: what hydraulic power along a motion reads."""
+
+    @property
+    def mechanism(self) -> Mechanism:
+        """The general mechanism its cylinders drive."""
+        ...
+
+    def solve(self, lengths: ArrayLike, rates: ArrayLike | None = None) -> KinematicResult:
+        """The engine's kinematics at cylinder lengths ``(n, k)`` and their rates."""
+        ...
+
+    def weight_loads(self) -> list[Load]:
+        """Its weight as loads of the general kinetostatics."""
+        ...
+
+
+class StandingMachine(Protocol):
+    """A machine on the ground: what tipping and slipping read."""
+
+    @property
+    def base(self) -> BaseMachine | None:
+        """Upper structure, counterweight, undercarriage and ground support; None where the
+        machine file has none."""
+        ...
+
+    @property
+    def source(self) -> str | None:
+        """The machine file, for messages."""
+        ...
+
+    @property
+    def gravity(self) -> float:
+        """g (m/s²), along −y."""
+        ...
+
+    @property
+    def swing_axis(self) -> float:
+        """Abscissa of the swing axis in the model's plane (m)."""
+        ...
+
+    @property
+    def ground_line(self) -> float:
+        """Height of the ground line in the model's plane (m)."""
+        ...
+
+    @property
+    def mass_points(self) -> MassPoints:
+        """The masses that turn with the front (bodies and cylinders) as points."""
+        ...
