@@ -755,8 +755,9 @@ class Mechanism:
                     extra += f", J = {b.inertia:g} kg·m²"
             lines.append(f"    {b.name:<12} {', '.join(b.points)}{extra}")
         joints = []
+        bodies_at = m.bodies_at()
         for p in m.points:
-            owners = [b.name for b in m.bodies if p in b.points]
+            owners = [b.name for b in bodies_at.get(p, ())]
             if len(owners) > 1:
                 joints.append(f"{p} ({' + '.join(owners)})")
         lines.append(f"  joints  : {', '.join(joints) or 'none'}")
