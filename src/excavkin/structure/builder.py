@@ -6,7 +6,13 @@ per step kind: :meth:`~PlanBuilder.attach`, :meth:`~PlanBuilder.rotate`,
 :meth:`~PlanBuilder.newton_group`. Each ``try`` method adds at most its own kind of step and
 says whether it did; :meth:`~PlanBuilder.build` tries them in a fixed order until no point is
 left. A new step kind (an RPR dyad, a gear pair, a cam) is one step record in
-:mod:`excavkin.structure.plan`, one method here and one entry in :attr:`PlanBuilder.ORDER`.
+:mod:`excavkin.structure.plan`, one method here (with the candidates :meth:`~PlanBuilder.learn`
+offers it) and one entry in :attr:`PlanBuilder.ORDER`.
+
+The builder never scans the whole model after a step: placing a point offers each step kind
+the candidates that point may have made ready (:meth:`~PlanBuilder.learn`), kept smallest
+index first, so that the first ready one is the one a scan in the model's order would find
+and the plan is built in time linear in the model's size.
 
 Every constraint of the model is used by exactly one step; one left over means the model is
 over-constrained somewhere, and :meth:`~PlanBuilder.check_all_used` names it.
@@ -48,14 +54,10 @@ Option = tuple[str, Dist, int, int]
 
 def _lengths_by_body(model: Model) -> dict[str, list[tuple[str, str]]]:
     """The ``[lengths]`` pairs with both points on each body, in the file's order."""
-    bodies_of: dict[str, list[int]] = {}
-    for bi, b in enumerate(model.bodies):
-        for n in b.points:
-            bodies_of.setdefault(n, []).append(bi)
+    bodies_at = model.bodies_at()
     out: dict[str, list[tuple[str, str]]] = {b.name: [] for b in model.bodies}
     for p, q in model.lengths:
-        for bi in bodies_of.get(p, ()):
-            body = model.bodies[bi]
+        for body in bodies_at.get(p, ()):
             if q in body.points:
                 out[body.name].append((p, q))
     return out
