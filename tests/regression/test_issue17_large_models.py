@@ -207,3 +207,23 @@ def test_shuffled_small_models_get_the_plan_of_a_plain_scan(seed: int) -> None:
     got = [(kinds[type(s)], mech.plan.points[s.point]) for s in mech.plan.steps[1:]]
     assert got == _scan_plan(model)
     _placed_in_order(mech)
+
+
+def test_a_wide_table_is_written_whole_and_its_frame_left_as_it_was(tmp_path) -> None:
+    """The writer takes the columns from a view without the frame's attrs (pandas would copy
+    the attrs into every column); the frame keeps them and the file has every column."""
+    import pandas as pd
+
+    from excavkin.outputs.tables import write_table
+
+    mech = excavkin.loads(truss(200), "truss")
+    res = mech.solve({"crank": mech.sketch_values()["crank"] + np.linspace(-0.01, 0.01, 5)})
+    frame = res.to_frame()
+    attrs = {k: dict(v) if isinstance(v, dict) else v for k, v in frame.attrs.items()}
+    for suffix in ("csv", "parquet"):
+        path = write_table(frame, tmp_path / f"wide.{suffix}")
+        back = pd.read_csv(path) if suffix == "csv" else pd.read_parquet(path)
+        assert list(back.columns) == [str(c) for c in frame.columns]
+        numeric = [c for c, dtype in frame.dtypes.items() if dtype.kind == "f"]
+        np.testing.assert_array_equal(back[numeric].to_numpy(), frame[numeric].to_numpy())
+    assert frame.attrs == attrs and frame.attrs
