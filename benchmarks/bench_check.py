@@ -3,8 +3,9 @@
 Run: ``python benchmarks/bench_check.py [SIZES...]`` (default 1000 3000 10000 points). Two
 models of each size, from ``tests/models.py``: a chain of crank-rocker four-bars (each rocker
 carries the next stage's crank pin: a dyad and an attach per stage, every pivot on the
-ground) and a truss (a triangulated strip: each new point a dyad of two bars from the two
-before it). For each:
+ground), a truss (a triangulated strip: each new point a dyad of two bars from the two
+before it) and the same truss with one bar of each dyad a driven cylinder (an input a
+point). For each:
 
 * **check**: what ``excavkin check`` does, as a library call — read and validate the file,
   compile the plan, assemble the sketch, describe the mechanism and its plan;
@@ -40,6 +41,7 @@ from tests.models import fourbar_chain, truss  # noqa: E402
 MODELS: dict[str, Callable[[int], str]] = {
     "chain": lambda n: fourbar_chain((n - 1) // 3),
     "truss": truss,
+    "cylinders": lambda n: truss(n, cylinders=True),
 }
 
 
@@ -67,19 +69,20 @@ def main(sizes: list[int]) -> dict[str, list[tuple[int, float, float]]]:
                 validate(model)
                 points = len(model.points)
                 plan = compile_plan(model)
-                assert len(plan.points) == points and plan.mobility.mobility == 1
+                assert len(plan.points) == points
+                assert plan.mobility.mobility == len(plan.inputs) and not plan.has_newton
                 repeat = 3 if n <= 3000 else 2
                 t_check = best_of(lambda p=path: check(p), repeat)
                 t_plan = best_of(lambda m=model: compile_plan(m), repeat)
                 rows.append((points, t_check, t_plan))
                 print(
-                    f"{kind:5} {points:6,} points: check {t_check:7.3f} s "
+                    f"{kind:9} {points:6,} points: check {t_check:7.3f} s "
                     f"({t_check / points * 1e6:5.0f} µs a point), plan compile {t_plan:6.3f} s",
                     flush=True,
                 )
             for (n1, c1, p1), (n2, c2, p2) in zip(rows, rows[1:], strict=False):
                 print(
-                    f"{kind:5} {n1:,} → {n2:,}: growth exponent check "
+                    f"{kind:9} {n1:,} → {n2:,}: growth exponent check "
                     f"{exponent(c1, c2, n1, n2):.2f}, plan compile {exponent(p1, p2, n1, n2):.2f}"
                     " (target ≤ 1.2)"
                 )
@@ -94,7 +97,7 @@ def main(sizes: list[int]) -> dict[str, list[tuple[int, float, float]]]:
             t_cli = time.perf_counter() - t0
             assert run.returncode == 0, run.stderr
             assert run.stdout.rstrip().endswith("assembles at its sketch")
-            print(f"{kind:5} excavkin check of {rows[-1][0]:,} points, end to end: {t_cli:.2f} s")
+            print(f"{kind:9} excavkin check of {rows[-1][0]:,} points, end to end: {t_cli:.2f} s")
     return out
 
 

@@ -75,9 +75,10 @@ def _toml(
     points: dict[str, tuple[float, float]],
     bodies: list[tuple[str, list[str], bool]],
     pivot: str,
+    cylinders: tuple[tuple[str, str, str], ...] = (),
 ) -> str:
-    """A model file in mm: the points, the bodies, and a rotary driver ``crank`` of body
-    ``crank`` about ``pivot`` from the ground."""
+    """A model file in mm: the points, the bodies, a rotary driver ``crank`` of body
+    ``crank`` about ``pivot`` from the ground, and driven ``cylinders`` (name, p, q)."""
     lines = ["schema_version = 1", f'name = "{name}"', "[units]", 'length = "mm"', "[points]"]
     lines += [f"{n} = [{x!r}, {y!r}]" for n, (x, y) in points.items()]
     lines.append("[bodies]")
@@ -86,6 +87,8 @@ def _toml(
         lines.append(f"{body} = {{ points = [{listed}]{', ground = true' if ground else ''} }}")
     lines += ["[drivers.crank]", 'type = "rotary"', 'body = "crank"', f'pivot = "{pivot}"']
     lines.append('reference = "ground"')
+    for cyl, p, q in cylinders:
+        lines += [f"[drivers.{cyl}]", 'type = "linear"', f'between = ["{p}", "{q}"]']
     return "\n".join(lines) + "\n"
 
 
@@ -113,13 +116,14 @@ def fourbar_chain(stages: int) -> str:
     return _toml(f"chain of {stages} four-bars", points, [("ground", ground, True), *bodies], "O0")
 
 
-def truss(n: int) -> str:
+def truss(n: int, cylinders: bool = False) -> str:
     """A triangulated strip of ``n`` points (n ≥ 4), as a model file.
 
     Points alternate between a lower and an upper rail (drawn a little irregular, so that no
     four of them form a parallelogram). P0 and P2 are the ground, the crank P0–P1 is driven,
     and each further point P_k is a dyad of two bars from P_(k−2) and P_(k−1). Plan: the
-    ground, the crank, then n − 3 dyads in order; mobility 1."""
+    ground, the crank, then n − 3 dyads in order; mobility 1. With ``cylinders`` the second
+    bar of each dyad is a driven cylinder ``cylK`` instead (mobility n − 2)."""
     points: dict[str, tuple[float, float]] = {}
     for k in range(n):
         x = 100.0 * (k // 2) + (50.0 if k % 2 else 0.0) + 10.0 * math.sin(k)
@@ -129,7 +133,11 @@ def truss(n: int) -> str:
         ("ground", ["P0", "P2"], True),
         ("crank", ["P0", "P1"], False),
     ]
+    driven = []
     for k in range(3, n):
         bodies.append((f"bar{k}a", [f"P{k - 2}", f"P{k}"], False))
-        bodies.append((f"bar{k}b", [f"P{k - 1}", f"P{k}"], False))
-    return _toml(f"truss of {n} points", points, bodies, "P0")
+        if cylinders:
+            driven.append((f"cyl{k}", f"P{k - 1}", f"P{k}"))
+        else:
+            bodies.append((f"bar{k}b", [f"P{k - 1}", f"P{k}"], False))
+    return _toml(f"truss of {n} points", points, bodies, "P0", tuple(driven))

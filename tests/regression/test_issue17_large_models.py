@@ -77,6 +77,26 @@ def test_a_2000_point_truss_plans_a_dyad_per_point_in_order() -> None:
     _holds_its_bars(mech, 16)
 
 
+def test_a_2000_point_truss_of_cylinders_plans_each_dyad_by_its_cylinder() -> None:
+    n = 2000
+    mech = excavkin.loads(truss(n, cylinders=True), "cylinders")
+    assert mech.inputs == ("crank", *(f"cyl{k}" for k in range(3, n)))
+    assert mech.plan.mobility.mobility == n - 2
+    idx = {p: i for i, p in enumerate(mech.plan.points)}
+    for k, st in zip(range(3, n), mech.plan.steps[2:], strict=True):
+        assert isinstance(st, Dyad)
+        assert (st.point, st.a, st.b) == (idx[f"P{k}"], idx[f"P{k - 2}"], idx[f"P{k - 1}"])
+        assert st.da.kind == "fixed" and st.db.kind == "input" and st.db.label == f"cyl{k}"
+    assert {mech.input_kind(name) for name in mech.inputs[1:]} == {"length"}
+    _placed_in_order(mech)
+    lengths = {f"cyl{k}": mech.sketch_values()[f"cyl{k}"] * 1.001 for k in range(3, n)}
+    res = mech.solve({"crank": [mech.sketch_values()["crank"]], **lengths})
+    assert res.status.all_ok
+    for k in range(3, n):
+        got = np.hypot(*(res.positions[0, idx[f"P{k}"]] - res.positions[0, idx[f"P{k - 1}"]]))
+        np.testing.assert_allclose(got, lengths[f"cyl{k}"], rtol=1e-12)
+
+
 def test_a_2000_point_chain_of_four_bars_plans_a_dyad_and_an_attach_per_stage() -> None:
     stages = 666
     mech = excavkin.loads(fourbar_chain(stages), "chain")
