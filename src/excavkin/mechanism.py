@@ -234,6 +234,7 @@ class Mechanism:
         self.plan: SolvePlan = compile_plan(model, method=method)
         self.assembly: Assembly = assemble(self.plan)
         self._statics: StaticsSystem | None = None
+        self._kinds: tuple[SolvePlan, dict[str, str]] | None = None
 
     @property
     def name(self) -> str:
@@ -273,12 +274,20 @@ class Mechanism:
         InputError
             A name that is not an input, with the nearest ones.
         """
-        self._check_names([name])
-        return self.plan.input_kinds[self.plan.inputs.index(name)]
+        if self._kinds is None or self._kinds[0] is not self.plan:  # by name, not by a scan
+            self._kinds = (
+                self.plan,
+                dict(zip(self.plan.inputs, self.plan.input_kinds, strict=True)),
+            )
+        kind = self._kinds[1].get(name) if isinstance(name, str) else None
+        if kind is None:
+            self._check_names([name])
+        return self._kinds[1][name]
 
     def _check_names(self, names: object) -> None:
+        inputs = frozenset(self.plan.inputs)
         for n in names:  # type: ignore[attr-defined]
-            if n not in self.plan.inputs:
+            if not (isinstance(n, str) and n in inputs):
                 element = next((e for e in self.plan.elements if e.name == n), None)
                 if element is not None:
                     raise InputError(
@@ -857,8 +866,9 @@ class Mechanism:
                     extra += f", J = {b.inertia:g} kg·m²"
             lines.append(f"    {b.name:<12} {', '.join(b.points)}{extra}")
         joints = []
+        bodies_at = m.bodies_at()
         for p in m.points:
-            owners = [b.name for b in m.bodies if p in b.points]
+            owners = [b.name for b in bodies_at.get(p, ())]
             if len(owners) > 1:
                 joints.append(f"{p} ({' + '.join(owners)})")
         lines.append(f"  joints  : {', '.join(joints) or 'none'}")

@@ -68,6 +68,27 @@ def _si_unit(kind: str) -> Any:
     return ureg.Unit(KINDS[kind]) if KINDS[kind] else ureg.dimensionless
 
 
+@cache
+def _bare_factor(unit: str, kind: str) -> float | None:
+    """The factor pint multiplies a bare number in ``unit`` by to convert it to the SI unit of
+    ``kind`` (its conversion of a float is exactly ``value * factor`` for a multiplicative
+    unit), or None where the unit is not a plain multiple of it (an offset or logarithmic unit,
+    a wrong dimension, an unreadable name): those take pint's own path and its messages."""
+    import pint
+
+    ureg = registry()
+    try:
+        unit_q = ureg.Quantity(1.0, unit)
+        factor = float(unit_q.to(_si_unit(kind)).magnitude)
+        multiplicative = all(
+            ureg.Quantity(v, unit).to(_si_unit(kind)).magnitude == v * factor
+            for v in (0.0, -3.5, 1e6)
+        )
+    except (pint.errors.PintError, ValueError, TypeError, AttributeError, KeyError):
+        return None
+    return factor if multiplicative and math.isfinite(factor) else None
+
+
 def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str = "") -> float:
     """Convert ``value`` to a float in the SI unit of ``kind``.
 
@@ -105,6 +126,12 @@ def to_si(value: Any, kind: str, default_unit: str | None = None, *, where: str 
                 f"{where}the bare number {value!r} needs a unit (write it as a string such as "
                 f'"{value} {_example_unit(kind)}", or declare a default in the file\'s [units])'
             )
+        factor = _bare_factor(default_unit, kind)
+        if factor is not None:  # what pint's conversion computes, without parsing each time
+            out = float(value) * factor
+            if not math.isfinite(out):
+                raise UnitError(f"{where}{value!r} is not a finite number")
+            return out
         q = ureg.Quantity(float(value), default_unit)
     elif isinstance(value, str):
         check_grammar(value, where=where)

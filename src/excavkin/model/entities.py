@@ -303,3 +303,17 @@ class Model:
             if b.name == name:
                 return b
         raise KeyError(name)
+
+    def bodies_at(self) -> dict[str, list[Body]]:
+        """Each point's bodies, in the model's order (a point of no body is absent).
+
+        Returns
+        -------
+        dict
+            ``{point: [Body, ...]}``, built anew on each call in one pass over the bodies.
+        """
+        out: dict[str, list[Body]] = {}
+        for b in self.bodies:
+            for n in dict.fromkeys(b.points):
+                out.setdefault(n, []).append(b)
+        return out

@@ -38,6 +38,7 @@ def validate(model: Model) -> None:
             source=src,
         )
     body_names = {b.name for b in model.bodies}
+    body_named = {b.name: b for b in model.bodies}
     in_some_body: set[str] = set()
     for b in model.bodies:
         need = 1 if b.ground else 2
@@ -106,7 +107,7 @@ def validate(model: Model) -> None:
                 entry="reference",
                 source=src,
             )
-        body = model.body(d.body)
+        body = body_named[d.body]
         if body.ground:
             raise ModelError(
                 "the ground cannot be driven", table=f"drivers.{d.name}", entry="body", source=src
@@ -125,6 +126,7 @@ def validate(model: Model) -> None:
                 entry="pivot",
                 source=src,
             )
+    bodies_at = model.bodies_at()
     for ld in model.linear:
         _known_points(model, ld.between, f"drivers.{ld.name}", "between")
         p, q = ld.between
@@ -135,7 +137,7 @@ def validate(model: Model) -> None:
                 entry="between",
                 source=src,
             )
-        common = [b.name for b in model.bodies if p in b.points and q in b.points]
+        common = [b.name for b in bodies_at.get(p, ()) if q in b.points]
         if common and ld.mode != "free":
             raise ModelError(
                 f"{p} and {q} are both points of body {common[0]!r}, so their distance cannot "
@@ -161,7 +163,7 @@ def validate(model: Model) -> None:
                 entry="along",
                 source=src,
             )
-        carriers = [b for b in model.bodies if s.along[0] in b.points and s.along[1] in b.points]
+        carriers = [b for b in bodies_at.get(s.along[0], ()) if s.along[1] in b.points]
         if not carriers:
             raise ModelError(
                 f"{s.along[0]} and {s.along[1]} are not points of one body",
@@ -246,9 +248,9 @@ def mobility(model: Model) -> Mobility:
     """Count links and pairs (Chebyshev–Grübler) for ``model``."""
     links = len(model.bodies)
     lower = 0
+    bodies_at = model.bodies_at()
     for p in model.points:
-        k = sum(1 for b in model.bodies if p in b.points)
-        lower += max(k - 1, 0)
+        lower += max(len(bodies_at.get(p, ())) - 1, 0)
     # each cylinder/rope: barrel + rod (2 links), a revolute at each end and a prismatic pair
     links += 2 * len(model.linear)
     lower += 3 * len(model.linear)

@@ -6,7 +6,13 @@ per step kind: `attach`, `rotate`,
 `newton_group`. Each ``try`` method adds at most its own kind of step and
 says whether it did; `build` tries them in a fixed order until no point is
 left. A new step kind (an RPR dyad, a gear pair, a cam) is one step record in
-`excavkin.structure.plan`, one method here and one entry in `PlanBuilder.ORDER`.
+`excavkin.structure.plan`, one method here (with the candidates `learn`
+offers it) and one entry in `PlanBuilder.ORDER`.
+
+The builder never scans the whole model after a step: placing a point offers each step kind
+the candidates that point may have made ready (`learn`), kept smallest
+index first, so that the first ready one is the one a scan in the model's order would find
+and the plan is built in time linear in the model's size.
 
 Every constraint of the model is used by exactly one step; one left over means the model is
 over-constrained somewhere, and `check_all_used` names it.
@@ -14,12 +20,13 @@ over-constrained somewhere, and `check_all_used` names it.
 
 from __future__ import annotations
 
+import heapq
 import math
 from collections.abc import Callable
 from typing import ClassVar, Literal
 
 from excavkin.errors import AssemblyError, MobilityError
-from excavkin.model.entities import Model
+from excavkin.model.entities import Body, Model
 from excavkin.model.validate import mobility
 from excavkin.structure.group_dyads import group_dyads
 from excavkin.structure.plan import (
@@ -44,6 +51,17 @@ from excavkin.structure.shapes import body_shape
 #: A known partner of a point with a distance: (partner, distance, body index or −1,
 #: element index or −1).
 Option = tuple[str, Dist, int, int]
+
+
+def _lengths_by_body(model: Model) -> dict[str, list[tuple[str, str]]]:
+    """The ``[lengths]`` pairs with both points on each body, in the file's order."""
+    bodies_at = model.bodies_at()
+    out: dict[str, list[tuple[str, str]]] = {b.name: [] for b in model.bodies}
+    for p, q in model.lengths:
+        for body in bodies_at.get(p, ()):
+            if q in body.points:
+                out[body.name].append((p, q))
+    return out
 
 
 def compile_plan(
@@ -89,7 +107,9 @@ class PlanBuilder:
         self.idx = {n: i for i, n in enumerate(self.names)}
         self.sketch = model.points
         self.bodies = model.bodies
-        self.shapes = {b.name: body_shape(model, b) for b in self.bodies}
+        pairs = _lengths_by_body(model)
+        self.shapes = {b.name: body_shape(model, b, pairs[b.name]) for b in self.bodies}
+        self.body_named: dict[str, Body] = {b.name: b for b in self.bodies}
         xs = [p[0] for p in self.sketch.values()]
         ys = [p[1] for p in self.sketch.values()]
         self.scale = max(max(xs) - min(xs), max(ys) - min(ys), 1e-9)
@@ -99,6 +119,31 @@ class PlanBuilder:
         for bi, b in enumerate(self.bodies):
             for n in b.points:
                 self.point_bodies[n].append(bi)
+        # What each newly known point may make ready, so that no step scans the whole model
+        # (see `learn`): the elements at each point (filled by `add_inputs`), the
+        # rotary drivers by their pivot and reference points, the sliders by their points.
+        self.point_elements: dict[str, list[int]] = {n: [] for n in self.names}
+        self.rotary_at: dict[str, list[int]] = {n: [] for n in self.names}
+        for ri, d in enumerate(model.rotary):
+            refb = self.body_named[d.reference]
+            for n in {d.pivot, *(() if refb.ground else refb.points[:2])}:
+                self.rotary_at[n].append(ri)
+        self.slider_of_point: dict[str, list[int]] = {n: [] for n in self.names}
+        self.slider_along: dict[str, list[int]] = {n: [] for n in self.names}
+        for si, sl in enumerate(model.sliders):
+            self.slider_of_point[sl.point].append(si)
+            for n in set(sl.along):
+                self.slider_along[n].append(si)
+        #: known points per body
+        self.body_known = [0] * len(self.bodies)
+        # candidates of each step kind, smallest index first: each may be ready (it is checked
+        # when taken); every ready one is among them
+        self.attach_next: list[int] = []  # bodies for this pass of attach (ahead of it)
+        self.attach_later: list[int] = []  # bodies behind this pass, for the next one
+        self.attach_at = -1  # the body the pass of attach is at (−1 between passes)
+        self.dyad_next: list[int] = []  # points, by index
+        self.rotate_next: list[int] = list(range(len(model.rotary)))
+        self.slider_next: list[int] = []
         self.steps: list[Step] = []
         self.known: set[str] = set()
         self.transmissions: list[str] = []
@@ -117,7 +162,7 @@ class PlanBuilder:
 
     def orientation(self, body: str) -> tuple[float, float]:
         """Unit vector of a body's first two points in the sketch (+x for the ground)."""
-        b = self.model.body(body)
+        b = self.body_named[body]
         if b.ground:
             return 1.0, 0.0
         return _unit(self.sketch[b.points[1]], self.sketch[b.points[0]])
@@ -135,7 +180,7 @@ class PlanBuilder:
         sk = self.sketch
         for d in self.model.rotary:
             self.kinds.append("angle")
-            p = next(n for n in self.model.body(d.body).points if n != d.pivot)
+            p = next(n for n in self.body_named[d.body].points if n != d.pivot)
             ex, ey = self.orientation(d.reference)
             dx, dy = sk[p][0] - sk[d.pivot][0], sk[p][1] - sk[d.pivot][1]
             self.input_sketch.append(math.atan2(_cross(ex, ey, dx, dy), ex * dx + ey * dy))
@@ -155,13 +200,16 @@ class PlanBuilder:
                 self.input_sketch.append(length)
             driven = ld.mode == "driven"
             index = self.in_idx.get(ld.name, -1) if driven else -1
+            self.point_elements[p].append(len(self.elements))
+            self.point_elements[q].append(len(self.elements))
             self.elements.append(Element(ld.name, self.idx[p], self.idx[q], ld.mode, index, length))
 
     def check_lengths_are_dimensions(self) -> None:
         """Every ``[lengths]`` pair is on a common body or joined by a cylinder."""
+        pairs = {frozenset(ld.between) for ld in self.model.linear}
         for p, q in self.model.lengths:
-            on_body = any(p in b.points and q in b.points for b in self.bodies)
-            on_elem = any({p, q} == set(ld.between) for ld in self.model.linear)
+            on_body = any(q in self.bodies[bi].points for bi in self.point_bodies.get(p, ()))
+            on_elem = frozenset((p, q)) in pairs
             if not (on_body or on_elem):
                 raise AssemblyError(
                     f"{p} and {q} are on no common body and no cylinder joins them, so their "
@@ -192,14 +240,21 @@ class PlanBuilder:
             lx, ly = local[n]
             coords.append((sk[g0][0] + lx * gex - ly * gey, sk[g0][1] + lx * gey + ly * gex))
         self.steps.append(Fixed(tuple(self.idx[n] for n in ground.points), tuple(coords)))
-        self.known |= members
+        for n in ground.points:
+            self.learn(n)
 
     def attach(self) -> bool:
-        """Every unknown point of every body with two known points, by its body frame."""
+        """Every unknown point of every body with two known points, by its body frame: one
+        pass over the bodies in order (a body that becomes ready behind the pass waits for the
+        next one)."""
         added = False
-        for bi, b in enumerate(self.bodies):
-            if b.ground:
-                continue
+        heap = self.attach_next
+        while heap:
+            bi = heapq.heappop(heap)
+            b = self.bodies[bi]
+            if not 2 <= self.body_known[bi] < len(b.points):
+                continue  # not ready, or attached already
+            self.attach_at = bi
             kn = [n for n in b.points if n in self.known]
             unknown = [n for n in b.points if n not in self.known]
             if len(kn) < 2 or not unknown:
@@ -213,21 +268,27 @@ class PlanBuilder:
             for n in unknown:
                 s, t = sh.frame_coords(n, a, c)
                 self.steps.append(Attach(self.idx[n], self.idx[a], self.idx[c], s, t, b.name))
-                self.known.add(n)
+                self.learn(n)
                 self.body_used[bi] += 2
             added = True
+        self.attach_at = -1
+        for bi in self.attach_later:
+            heapq.heappush(heap, bi)
+        self.attach_later.clear()
         return added
 
     def rotate(self) -> bool:
         """The first rotary driver whose pivot and reference are known."""
         model = self.model
-        for ri, d in enumerate(model.rotary):
-            refb = model.body(d.reference)
+        while self.rotate_next:
+            ri = heapq.heappop(self.rotate_next)
+            d = model.rotary[ri]
+            refb = self.body_named[d.reference]
             if ri in self.used_rotary or d.pivot not in self.known:
                 continue
             if not (refb.ground or all(n in self.known for n in refb.points[:2])):
                 continue
-            p = next(n for n in model.body(d.body).points if n != d.pivot)
+            p = next(n for n in self.body_named[d.body].points if n != d.pivot)
             if p in self.known:
                 continue
             ref = None if refb.ground else (self.idx[refb.points[0]], self.idx[refb.points[1]])
@@ -235,15 +296,16 @@ class PlanBuilder:
             self.steps.append(
                 Rotate(self.idx[p], self.idx[d.pivot], radius, self.in_idx[d.name], ref, d.name)
             )
-            self.known.add(p)
             self.used_rotary.add(ri)
+            self.learn(p)
             self.body_used[self.body_index[d.body]] += 1
             return True
         return False
 
     def dyad(self) -> bool:
         """The first unknown point with two known partners at known distances."""
-        for p in self.names:
+        while self.dyad_next:
+            p = self.names[heapq.heappop(self.dyad_next)]
             if p in self.known:
                 continue
             opts = self.distance_options(p)
@@ -273,14 +335,16 @@ class PlanBuilder:
             self.transmissions.append(p)
             self.consume(o1)
             self.consume(o2)
-            self.known.add(p)
+            self.learn(p)
             return True
         return False
 
     def slider(self) -> bool:
         """The first slider whose line is known and whose point has a known partner."""
         sk = self.sketch
-        for si, sl in enumerate(self.model.sliders):
+        while self.slider_next:
+            si = heapq.heappop(self.slider_next)
+            sl = self.model.sliders[si]
             if si in self.used_slider or sl.point in self.known:
                 continue
             if not all(n in self.known for n in sl.along):
@@ -317,7 +381,7 @@ class PlanBuilder:
             self.transmissions.append(p)
             self.consume(o)
             self.used_slider.add(si)
-            self.known.add(p)
+            self.learn(p)
             return True
         return False
 
@@ -355,7 +419,8 @@ class PlanBuilder:
                         body=body.name,
                     )
                     out.append((a, dist, bi, -1))
-        for ei, el in enumerate(self.elements):
+        for ei in self.point_elements[p]:
+            el = self.elements[ei]
             if ei in self.used_elem or el.mode == "free":
                 continue
             pn, qn = self.names[el.p], self.names[el.q]
@@ -364,6 +429,43 @@ class PlanBuilder:
                 continue
             out.append((other, _element_dist(el), -1, ei))
         return out
+
+    def learn(self, n: str) -> None:
+        """Mark point ``n`` known, and offer each step kind what that may have made ready: a
+        body with two known points (attach); a rotary driver at the point; the unknown points
+        of a body that has just got its first known point, and the other end of each element
+        at the point (dyad, and a slider of such a point); a slider along the point. A body's
+        later known points need no offer: its other points are attached before any dyad."""
+        known = self.known
+        if n in known:
+            return
+        known.add(n)
+        offer: list[str] = []
+        for bi in self.point_bodies[n]:
+            b = self.bodies[bi]
+            c = self.body_known[bi] = self.body_known[bi] + 1
+            if b.ground:
+                continue
+            if 2 <= c < len(b.points):
+                if bi > self.attach_at:
+                    heapq.heappush(self.attach_next, bi)
+                else:
+                    self.attach_later.append(bi)
+            elif c == 1:
+                offer.extend(q for q in b.points if q not in known)
+        for ei in self.point_elements[n]:
+            el = self.elements[ei]
+            other = self.names[el.q] if self.names[el.p] == n else self.names[el.p]
+            if other not in known:
+                offer.append(other)
+        for q in offer:
+            heapq.heappush(self.dyad_next, self.idx[q])
+            for si in self.slider_of_point[q]:
+                heapq.heappush(self.slider_next, si)
+        for ri in self.rotary_at[n]:
+            heapq.heappush(self.rotate_next, ri)
+        for si in self.slider_along[n]:
+            heapq.heappush(self.slider_next, si)
 
     def consume(self, option: Option) -> None:
         """Count the body or element distance a step has used."""
@@ -400,6 +502,7 @@ class PlanBuilder:
         cons: list[Constraint] = []
         unk = set(unknown)
         idx, model = self.idx, self.model
+        in_idx = self.in_idx
         for ei, el in enumerate(self.elements):
             if ei in self.used_elem or el.mode == "free":
                 continue
@@ -413,12 +516,12 @@ class PlanBuilder:
         for ri, rd in enumerate(model.rotary):
             if ri in self.used_rotary:
                 continue
-            p = next(n for n in model.body(rd.body).points if n != rd.pivot)
-            refb = model.body(rd.reference)
+            p = next(n for n in self.body_named[rd.body].points if n != rd.pivot)
+            refb = self.body_named[rd.reference]
             ref = None if refb.ground else (idx[refb.points[0]], idx[refb.points[1]])
             involved = {p, rd.pivot} | (set() if refb.ground else set(refb.points[:2]))
             if involved & unk:
-                cons.append(CAngle(idx[p], idx[rd.pivot], ref, model.inputs.index(rd.name)))
+                cons.append(CAngle(idx[p], idx[rd.pivot], ref, in_idx[rd.name]))
                 self.used_rotary.add(ri)
         return cons
 

@@ -134,8 +134,9 @@ def joint_offsets(model: Model) -> dict[str, float]:
         ``P@BODY.x`` and ``P@BODY.y`` of each offset pin, all 0.0 (m).
     """
     out: dict[str, float] = {}
+    bodies_at = model.bodies_at()
     for p in model.points:
-        owners = [b for b in model.bodies if p in b.points]
+        owners = bodies_at.get(p, [])
         if len(owners) < 2:
             continue
         moving = [b for b in owners if not b.ground]
@@ -432,20 +433,20 @@ def _input_sketch(plan: SolvePlan, geo: _Geometry) -> list[Num]:
     model = geo.model
     out: list[Num] = list(plan.input_sketch)
     sk = geo.sketch
+    body_named = {b.name: b for b in model.bodies}
+    input_index = {name: i for i, name in enumerate(plan.inputs)}
     for d in model.rotary:
-        p = next(x for x in model.body(d.body).points if x != d.pivot)
-        ref = model.body(d.reference)
+        p = next(x for x in body_named[d.body].points if x != d.pivot)
+        ref = body_named[d.reference]
         ex, ey = (1.0, 0.0) if ref.ground else geo.unit(ref.points[1], ref.points[0])
         dx, dy = sk[p][0] - sk[d.pivot][0], sk[p][1] - sk[d.pivot][1]
-        out[plan.inputs.index(d.name)] = np.arctan2(ex * dy - ey * dx, ex * dx + ey * dy)
+        out[input_index[d.name]] = np.arctan2(ex * dy - ey * dx, ex * dx + ey * dy)
     for ld in model.linear:
         if ld.mode == "driven":
             p, q = ld.between
             given = geo.override(p, q)
             (px, py), (qx, qy) = sk[p], sk[q]
-            out[plan.inputs.index(ld.name)] = (
-                given if given is not None else np.hypot(px - qx, py - qy)
-            )
+            out[input_index[ld.name]] = given if given is not None else np.hypot(px - qx, py - qy)
     return out
 
 

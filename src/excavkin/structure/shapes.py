@@ -9,7 +9,7 @@ those two, on the same side of the base line as in the sketch.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -126,8 +126,25 @@ def local_frame(
     return LocalFrame(local, sketch_len, triangles)
 
 
-def body_shape(model: Model, body: Body) -> BodyShape:
-    """Build the shape of ``body`` from the sketch and the ``[lengths]`` overrides."""
+def body_shape(
+    model: Model, body: Body, pairs: Iterable[tuple[str, str]] | None = None
+) -> BodyShape:
+    """Build the shape of ``body`` from the sketch and the ``[lengths]`` overrides.
+
+    Parameters
+    ----------
+    model : Model
+    body : Body
+        One of the model's bodies.
+    pairs : iterable of (str, str), optional
+        The ``[lengths]`` keys with both points on ``body``, in the file's order (all of the
+        model's are searched when not given; a caller building every body's shape passes them
+        so that the work stays linear in the model's size).
+
+    Returns
+    -------
+    BodyShape
+    """
     pts = body.points
     sk = model.points
     src = model.source
@@ -152,7 +169,7 @@ def body_shape(model: Model, body: Body) -> BodyShape:
                 source=src,
             )
     defining = {frozenset((p0, p1))} | {frozenset((q, pi)) for pi in pts[2:] for q in (p0, p1)}
-    for p, q in model.lengths:
+    for p, q in model.lengths if pairs is None else pairs:
         if p in pts and q in pts and frozenset((p, q)) not in defining:
             raise ModelError(
                 f"{p}-{q} is not one of body {body.name!r}'s defining distances (its first two "
