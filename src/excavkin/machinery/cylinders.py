@@ -91,7 +91,18 @@ class Cylinder:
         return self.count * math.pi / 4.0 * (self.bore**2 - self.rod**2)
 
     def force_limits(self, pressure: float | F) -> tuple[float | F, float | F]:
-        """Largest pull (≤ 0) and push (≥ 0) at ``pressure``: ``(−p·A_rod, p·A_bore)`` (N)."""
+        """Largest pull (≤ 0) and push (≥ 0) at ``pressure``: ``(−p·A_rod, p·A_bore)`` (N).
+
+        Parameters
+        ----------
+        pressure : float or ndarray
+            The circuit's pressure (Pa).
+
+        Returns
+        -------
+        pull, push : float or ndarray
+            The annulus side's pull (≤ 0) and the bore side's push (≥ 0), N.
+        """
         return -pressure * self.annulus_area, pressure * self.bore_area
 
 

@@ -79,11 +79,28 @@ class MovingMachine(HydraulicMachine, Protocol):
         ...
 
     def solve(self, lengths: ArrayLike, rates: ArrayLike | None = None) -> KinematicResult:
-        """The engine's kinematics at cylinder lengths ``(n, k)`` and their rates."""
+        """The engine's kinematics at cylinder lengths and their rates.
+
+        Parameters
+        ----------
+        lengths : array_like, shape (n, k)
+            The cylinders' lengths (m), one column per role.
+        rates : array_like, shape (n, k) or (k,), optional
+            Their rates (m/s); default zero, a machine at rest.
+
+        Returns
+        -------
+        KinematicResult
+        """
         ...
 
     def weight_loads(self) -> list[Load]:
-        """Its weight as loads of the general kinetostatics."""
+        """Its weight as loads of the general kinetostatics.
+
+        Returns
+        -------
+        list of Load
+        """
         ...
 
 

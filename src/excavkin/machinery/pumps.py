@@ -21,7 +21,17 @@ STEEL_E, ROD_YIELD = 210e9, 500e6
 
 @dataclass(frozen=True, slots=True)
 class Pump:
-    """A pump: its flow (m³/s) and the functions (cylinder roles) it feeds."""
+    """A pump: its flow (m³/s) and the functions (cylinder roles) it feeds.
+
+    Attributes
+    ----------
+    name : str
+        The pump's name in the machine file.
+    flow : float
+        Its delivery (m³/s).
+    feeds : tuple of str
+        The cylinder roles it feeds; pumps feeding one role together are in confluence.
+    """
 
     name: str
     flow: float
