@@ -205,9 +205,12 @@ def _readable(path: str) -> Path:
     p = Path(path)
     if p.suffix.lower() not in TABLE_SUFFIXES:
         raise InputError(f"--inputs {path}: the table must end in .csv or .parquet")
-    if not p.is_file():
-        raise InputError(f"--inputs {path}: no such file")
-    return p
+    from excavkin.io.files import ReadError, check_readable
+
+    try:
+        return check_readable(p)
+    except ReadError as exc:
+        raise InputError(f"--inputs {path}: {exc.problem}") from None
 
 
 def _text_columns(names: list[str] | None) -> Any:

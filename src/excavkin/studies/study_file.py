@@ -179,7 +179,15 @@ def read_bounds(
 
 def read_poses(r: TomlReader, mech: Any) -> Poses:
     """The ``[poses]`` table: the drivers' values (sweeps or single values), rates and
-    accelerations, SI."""
+    accelerations, SI. The table is required: a study without it would silently evaluate
+    every design at its sketch alone, so that is asked for explicitly by an empty ``[poses]``."""
+    if "poses" not in r.data:
+        raise r.err(
+            "the study has no [poses] table: name the drivers' values every design is "
+            'evaluated at (crank = "0 deg:360 deg:37"), or give an empty [poses] table to '
+            "evaluate each design at its sketch alone",
+            "poses",
+        )
     table = dict(r.table("poses"))
     rates_t = table.pop("rates", {})
     accels_t = table.pop("accels", {})
@@ -239,8 +247,13 @@ def read_metrics(r: TomlReader, columns: Mapping[str, str]) -> list[Metric]:
     from excavkin.errors import unknown_name
 
     out = []
+    from excavkin.studies.metrics import reserved_name
+
     for name, spec in r.table("metrics", required=True).items():
         r.name(name, "metrics")
+        why = reserved_name(name)
+        if why is not None:
+            raise r.err(why, "metrics", name)
         if not isinstance(spec, dict):
             raise r.err('must be a table such as { column = "B.transmission", reduce = "min" }',
                         "metrics", name)  # fmt: skip
