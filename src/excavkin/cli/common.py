@@ -30,12 +30,26 @@ T = TypeVar("T", bound=Callable[..., Any])
 EXIT_USAGE = 2
 #: exit status when some samples failed (no closure, dead position) and --keep-going is off
 EXIT_SAMPLES = 3
+#: exit status when the reader of stdout went away (``| head``): a shell's 128 + SIGPIPE
+EXIT_PIPE = 141
 
 
 def fail(message: str, code: int = EXIT_USAGE) -> None:
     """Print ``message`` as an error paragraph and exit."""
     click.echo(f"excavkin: error: {message}", err=True)
     sys.exit(code)
+
+
+def end_on_closed_stdout() -> None:
+    """Exit quietly, as a Unix tool killed by SIGPIPE does, once stdout's reader has gone
+    (``excavkin check fourbar | head -1``): no message, exit status :data:`EXIT_PIPE`."""
+    try:  # what is still buffered for stdout can go nowhere: send it to /dev/null
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):  # no real stdout (a test's runner)
+        pass
+    sys.exit(EXIT_PIPE)
 
 
 def handle_errors(fn: T) -> T:
@@ -47,6 +61,8 @@ def handle_errors(fn: T) -> T:
             return fn(*args, **kwargs)
         except ExcavkinError as exc:
             fail(str(exc))
+        except BrokenPipeError:
+            end_on_closed_stdout()
         except OSError as exc:
             fail(f"{exc.filename or ''}: {exc.strerror or exc}".lstrip(": "))
         except MemoryError:
