@@ -119,6 +119,12 @@ def model_path(text: str, kind: str = "model") -> Path:
     known = excavkin.examples(kind)
     if text in known:
         return excavkin.example_path(text)
+    for other in ("model", "machine", "study"):
+        if other != kind and text in excavkin.examples(other):
+            raise ExcavkinError(
+                f"{text}: a built-in {other}, and a {kind} is expected here "
+                f"(built-in {kind}s: {', '.join(known)}; `excavkin demo --list` lists them all)"
+            )
     hint = did_you_mean(path.stem, known)
     raise ExcavkinError(
         f"{text}: no such file, and no built-in example of that name{hint} "
@@ -189,6 +195,51 @@ def check_samples(n: int, what: str, bytes_per_sample: int = MIN_BYTES_PER_SAMPL
         raise ExcavkinError(
             f"{what}: {n:,} samples need about {need / 2**30:,.1f} GiB, more than this "
             f"machine's {have / 2**30:,.1f} GiB; split the sweep into smaller runs"
+        )
+
+
+def check_count(
+    value: int,
+    option: str,
+    *,
+    least: int,
+    most: int,
+    samples: int | None = None,
+    bytes_per_sample: int = MIN_BYTES_PER_SAMPLE,
+    what: str = "samples",
+) -> None:
+    """Refuse, before any work, a count option (``--samples``, ``--draws``) out of its range,
+    or one whose samples cannot fit in this machine's memory.
+
+    Parameters
+    ----------
+    value : int
+        The option's value.
+    option : str
+        Its name, for the message (``"--samples"``).
+    least, most : int
+        Its range; ``most`` also bounds the run's time.
+    samples : int, optional
+        The samples the value makes (a grid's ``value ** 3``); default ``value``.
+    bytes_per_sample : int
+        Memory a sample holds at once.
+    what : str
+        What a sample is, for the message ("poses", "points along the dig").
+
+    Raises
+    ------
+    ExcavkinError
+        Naming the option, the value and the limit.
+    """
+    if value < least or value > most:
+        raise ExcavkinError(f"{option} {value:,}: must be from {least:,} to {most:,}")
+    n = value if samples is None else samples
+    need = n * bytes_per_sample
+    have = available_memory()
+    if need > have:
+        raise ExcavkinError(
+            f"{option} {value:,}: {n:,} {what} need about {need / 2**30:,.1f} GiB, more than "
+            f"this machine's {have / 2**30:,.1f} GiB; give a smaller {option}"
         )
 
 

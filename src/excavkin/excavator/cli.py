@@ -9,15 +9,21 @@ the machine, pint) are imported inside the commands.
 from __future__ import annotations
 
 import math
+import sys
 from typing import TYPE_CHECKING
 
 import click
 
-from excavkin.cli.common import handle_errors, model_path, si_value
+from excavkin.cli.common import EXIT_SAMPLES, check_count, handle_errors, model_path, si_value
 from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
     from excavkin.excavator.machine import Machine
+
+#: the most grid points per stroke of a sweep (101³ ≈ 10⁶ poses, about a minute and a half here)
+MAX_GRID = 101
+#: the most points along a dig (about ten seconds here)
+MAX_DIG_POINTS = 100_000
 
 
 def _machine(path: str):  # type: ignore[no-untyped-def]
@@ -202,8 +208,8 @@ def forces(
     from excavkin.excavator.ranges import sweep
     from excavkin.outputs.tables import check_target, write_table
 
-    if samples < 2:
-        raise click.BadParameter("at least 2", param_hint="--samples")
+    check_count(samples, "--samples", least=2, most=MAX_GRID, samples=samples**3,
+                bytes_per_sample=8_000, what="poses of the stroke sweep")  # fmt: skip
     if output:
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
     if map_prefix:
@@ -291,7 +297,8 @@ def forces(
 )
 @handle_errors
 def ik(machine: str, x: str, y: str, angle: str) -> None:
-    """Cylinder lengths that put the tooth tip at (X, Y) with the given bucket angle."""
+    """Cylinder lengths that put the tooth tip at (X, Y) with the given bucket angle (exit
+    status 3 when no branch reaches it within the strokes)."""
     import numpy as np
 
     from excavkin.excavator.machine import BRANCHES, forward, inverse
@@ -336,6 +343,7 @@ def ik(machine: str, x: str, y: str, angle: str) -> None:
         )
     else:
         click.echo("no valid solution: the pose is out of the working range")
+        sys.exit(EXIT_SAMPLES)  # as a sample that does not solve
 
 
 def _swing_option(text: str) -> float | str:
@@ -394,8 +402,9 @@ def stability(
     )
     from excavkin.outputs.tables import check_target, write_table
 
-    if samples < 2:
-        raise click.BadParameter("at least 2", param_hint="--samples")
+    check_count(samples, "--samples", least=2, most=MAX_GRID,
+                samples=samples**3 + 5 * (4 * samples - 3) ** 2, bytes_per_sample=10_000,
+                what="poses of the stroke sweeps")  # fmt: skip
     sw = _swing_option(swing)
     maps = ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
     if output:
@@ -709,8 +718,9 @@ def pins(
     from excavkin.excavator.ranges import stroke_grid
     from excavkin.outputs.tables import check_target, write_table
 
-    if samples < 2:
-        raise click.BadParameter("at least 2", param_hint="--samples")
+    check_count(samples, "--samples", least=2, most=MAX_GRID,
+                samples=max(samples**3, (2 * samples - 1) ** 2 * max(3, round(samples / 4))),
+                bytes_per_sample=10_000, what="poses of the stroke sweep")  # fmt: skip
     chosen = [c for c in CASES if c in cases] if cases else list(CASES)
     mass = None
     if load is not None:
@@ -1091,8 +1101,8 @@ def dig(
     from excavkin.excavator.soil import SOILS, Tool, soil
     from excavkin.outputs.tables import check_target, write_table
 
-    if samples < 3:
-        raise click.BadParameter("at least 3", param_hint="--samples")
+    check_count(samples, "--samples", least=3, most=MAX_DIG_POINTS, bytes_per_sample=5_000,
+                what="points along the dig")  # fmt: skip
     if (start is None) != (end is None):
         raise click.BadParameter("give both --from and --to, or neither", param_hint="--from/--to")
     if soil_name not in SOILS:
