@@ -27,7 +27,7 @@ variance of each component of an offset uniform in a disc of radius c.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -145,6 +145,7 @@ def tolerance_bands(
     seed: int = 0,
     distribution: str = "normal",
     loads: Any = None,
+    progress: Callable[[int], None] | None = None,
 ) -> ToleranceBands:
     """Worst-case, root-sum-square and Monte Carlo bands of every kinematic column.
 
@@ -169,6 +170,9 @@ def tolerance_bands(
     loads : iterable of loads or "model", optional
         Also band the forces (joint, cylinder, driver) under these loads, as for
         :meth:`Mechanism.solve`.
+    progress : callable, optional
+        ``progress(draws_done)`` after each batch of Monte Carlo draws (the draws of that
+        batch).
 
     Returns
     -------
@@ -206,8 +210,9 @@ def tolerance_bands(
     if distribution not in ("normal", "uniform"):
         raise InputError(f"distribution must be 'normal' or 'uniform', got {distribution!r}")
     low, high, mean, std, failed = _monte_carlo(
-        mech, values, rates, accels, tols, pins, cols, n, draws, seed, distribution, loads
-    )
+        mech, values, rates, accels, tols, pins, cols, n, draws, seed, distribution, loads,
+        progress,
+    )  # fmt: skip
     return ToleranceBands(
         tuple(cols), nom, worst, rss, low, high, mean, std, contributions, draws, failed
     )
@@ -258,6 +263,7 @@ def _monte_carlo(
     seed: int,
     distribution: str,
     loads: Any,
+    progress: Callable[[int], None] | None = None,
 ) -> tuple[F, F, F, F, NDArray[np.int64]]:
     """Min, max, mean and standard deviation of every column over the draws, per sample, and
     the draws per sample that failed; the designs are solved ``BATCH`` samples at a time."""
@@ -310,6 +316,8 @@ def _monte_carlo(
         square += (centred * centred).sum(axis=0)
         count += ok.sum(axis=0)
         failed += (~ok).sum(axis=0)
+        if progress is not None:
+            progress(d)
     with np.errstate(invalid="ignore", divide="ignore"):
         many = count[:, None]
         m = total / many

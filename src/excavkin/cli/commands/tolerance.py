@@ -16,6 +16,11 @@ from excavkin.errors import InputError
 TABLE_SUFFIXES = (".csv", ".parquet")
 
 
+#: the most Monte Carlo solves (draws × samples) a run may ask for: 10⁹, about half an hour for
+#: a four-bar here
+MAX_SOLVES = 10**9
+
+
 @click.command("tolerance")
 @click.argument("model", metavar="MODEL")
 @with_sweep_options
@@ -114,19 +119,32 @@ def command(
         )
         raise InputError(f"--tol is given more than once for {', '.join(twice)}")
     clearance = _clearances(mech, clearances)
-    bands = tolerance_bands(
-        mech,
-        values,
-        rate_v,
-        accel_v,
-        tolerances=tolerances,
-        clearance=clearance,
-        columns=list(columns) or None,
-        draws=draws,
-        seed=seed,
-        distribution=distribution,
-        loads="model" if with_forces else None,
-    )
+    import numpy as np
+
+    n = max([int(np.size(v)) for v in values.values()] or [1])
+    if draws * n > MAX_SOLVES:
+        raise InputError(
+            f"--draws {draws:,}: {draws:,} draws at each of {n:,} samples are "
+            f"{draws * n:,} solves, more than {MAX_SOLVES:,} (about half an hour here); give "
+            f"fewer --draws (at most {max(MAX_SOLVES // n, 0):,} for this sweep)"
+        )
+    from excavkin.cli.progress import progress
+
+    with progress("Monte Carlo draws", draws or None) as advance:
+        bands = tolerance_bands(
+            mech,
+            values,
+            rate_v,
+            accel_v,
+            tolerances=tolerances,
+            clearance=clearance,
+            columns=list(columns) or None,
+            draws=draws,
+            seed=seed,
+            distribution=distribution,
+            loads="model" if with_forces else None,
+            progress=advance,
+        )
     shown = list(columns) or _widest(bands, 8)
     head = ["column (SI)", "worst case ±", "root-sum-square ±", "Monte Carlo ±", "matters most"]
     rows = [head, *summary_rows(bands, shown)]
