@@ -232,6 +232,13 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
     name = data.get("name", Path(source).stem if source else mech.name)
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], "name")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise r.err(
+            f"description must be a string, got {type(description).__name__} "
+            f"{description!r}"[:160],
+            entry="description",
+        )
     swing_axis = _within(
         r,
         r.field_qty(front_t, "swing_axis", "length", "front", 0.0),

@@ -315,6 +315,13 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     name = data.get("name", Path(source).stem if source else "mechanism")
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], "name")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise r.err(
+            f"description must be a string, got {type(description).__name__} "
+            f"{description!r}"[:160],
+            entry="description",
+        )
     r.design_variables()
     raw_points = r.table("points", True)
     if len(raw_points) > MAX_POINTS:
