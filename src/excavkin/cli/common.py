@@ -232,7 +232,7 @@ def check_count(
         Naming the option, the value and the limit.
     """
     if value < least or value > most:
-        raise ExcavkinError(f"{option} {value:,}: must be from {least:,} to {most:,}")
+        raise ExcavkinError(f"{option} {value:,}: must be at least {least:,} and at most {most:,}")
     n = value if samples is None else samples
     need = n * bytes_per_sample
     have = available_memory()

@@ -79,8 +79,6 @@ def check_readable(path: str | Path, limit: int | None = None, what: str = "the 
     p = Path(path)
     try:
         st = os.stat(p)
-    except FileNotFoundError:
-        raise ReadError(p, "no such file") from None
     except OSError as exc:
         raise ReadError(p, f"cannot read the file: {exc.strerror or exc}") from None
     if not stat.S_ISREG(st.st_mode):
