@@ -1108,10 +1108,10 @@ def dig(
     point where the dig stalls."""
     import numpy as np
 
+    from excavkin.errors import InputError
     from excavkin.excavator.dig import default_dig, dig_path
     from excavkin.excavator.dig import dig as run_dig
     from excavkin.excavator.soil import SOILS, Tool, soil
-    from excavkin.errors import InputError
     from excavkin.outputs.tables import check_target, write_table
 
     check_count(samples, "--samples", least=3, most=MAX_DIG_POINTS, bytes_per_sample=5_000,

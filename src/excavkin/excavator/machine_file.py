@@ -116,7 +116,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
     if unknown and "front" not in data and {"points", "bodies"} & set(data):
         raise r.err(
             "this is a model file (a mechanism's points and bodies), and a machine file is "
-            "expected: one that names its model (model = \"excavator.toml\") and its [front]; "
+            'expected: one that names its model (model = "excavator.toml") and its [front]; '
             "`excavkin demo --list` lists the built-in machines"
         )
     if unknown:
@@ -235,8 +235,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
     description = data.get("description", "")
     if not isinstance(description, str):
         raise r.err(
-            f"description must be a string, got {type(description).__name__} "
-            f"{description!r}"[:160],
+            f"description must be a string, got {type(description).__name__} {description!r}"[:160],
             entry="description",
         )
     swing_axis = _within(

@@ -193,8 +193,7 @@ class Tool:
             v = getattr(self, key)
             if not (np.isfinite(v) and v > 0.0):
                 raise InputError(
-                    f"tool {key} (Zelenin's factor, 1 for none) must be finite and > 0, "
-                    f"not {v!r}"
+                    f"tool {key} (Zelenin's factor, 1 for none) must be finite and > 0, not {v!r}"
                 )
         for key in ("edge_thickness", "wall_thickness", "wall_length"):
             v = getattr(self, key)

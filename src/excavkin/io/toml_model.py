@@ -318,8 +318,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     description = data.get("description", "")
     if not isinstance(description, str):
         raise r.err(
-            f"description must be a string, got {type(description).__name__} "
-            f"{description!r}"[:160],
+            f"description must be a string, got {type(description).__name__} {description!r}"[:160],
             entry="description",
         )
     r.design_variables()

@@ -154,9 +154,7 @@ def check_param_sign(mech: Mechanism, name: str, kind: str, value: Any, text: st
     if kind in ("mass", "inertia") and low < 0.0:
         raise InputError(f"--param {name}={text}: a {kind} cannot be negative")
     if distance and not low > 0.0:
-        raise InputError(
-            f"--param {name}={text}: a distance between two points must be positive"
-        )
+        raise InputError(f"--param {name}={text}: a distance between two points must be positive")
 
 
 def split_params(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
