@@ -169,6 +169,14 @@ def test_simulate_with_too_many_samples_is_refused_up_front(tmp_path) -> None:
     assert "--samples 100,000,000" in out and "at most 10,000,000" in out
 
 
+def test_an_optimisation_of_hours_and_hours_is_refused_up_front(tmp_path) -> None:
+    big = STUDY.replace('sense = "min"', 'sense = "min"\nmaxiter = 100000\npopsize = 10000')
+    path = study_file(tmp_path, big)
+    out = refused("optimize", path, "-o", str(tmp_path / "b.csv"))
+    assert f"{path} [optimize] 'maxiter'" in out and "more than 10,000,000,000" in out
+    assert not (tmp_path / "b.csv").exists()
+
+
 # ---- bad input accepted
 
 

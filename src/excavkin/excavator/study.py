@@ -291,6 +291,8 @@ def load_machine_study(path: str | Path) -> MachineStudy:
         settings, method, samples, seed, source,
     )  # fmt: skip
     sf.check_design_count(r, study.designs)
+    if settings:
+        sf.check_optimization_size(r, settings, len(bounds), study.pose_count)
     return study
 
 

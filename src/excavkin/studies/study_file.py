@@ -292,7 +292,9 @@ def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
     study = load_study(path)
     source = str(path)
     r = TomlReader(read_toml(read_text_file(path), source), source)
-    return study, read_optimize(r, [m.name for m in study.metrics])
+    settings = read_optimize(r, [m.name for m in study.metrics])
+    check_optimization_size(r, settings, len(study.bounds), study.poses.count)
+    return study, settings
 
 
 def read_optimize(r: TomlReader, names: list[str]) -> dict[str, Any]:
@@ -320,6 +322,45 @@ def read_optimize(r: TomlReader, names: list[str]) -> dict[str, Any]:
         "maxiter": _whole(r, spec.get("maxiter", 200), "maxiter", 1, 100_000, "optimize"),
         "popsize": _whole(r, spec.get("popsize", 32), "popsize", 4, 10_000, "optimize"),
     }
+
+
+#: the most samples (designs × poses) an optimisation may solve in all: 10¹⁰, hours here
+MAX_OPTIMIZE_SAMPLES = 10**10
+
+
+def check_optimization_size(
+    r: TomlReader, settings: Mapping[str, Any], parameters: int, poses: int
+) -> None:
+    """Refuse an ``[optimize]`` table whose ``maxiter`` and ``popsize`` ask for more samples
+    than :data:`MAX_OPTIMIZE_SAMPLES` at the worst: every iteration run, each a generation of
+    differential evolution (``popsize`` × parameters designs; more than a step of SLSQP and its
+    gradient, so the bound holds whichever method the command line picks).
+
+    Parameters
+    ----------
+    r : TomlReader
+        The study file.
+    settings : mapping
+        :func:`read_optimize`'s settings.
+    parameters, poses : int
+        The design parameters and the poses of each design.
+
+    Raises
+    ------
+    ModelError
+        Naming the file, ``[optimize]`` and the entry.
+    """
+    maxiter = int(settings["maxiter"])
+    per = int(settings["popsize"]) * max(parameters, 1)
+    total = (maxiter + 1) * per * poses
+    if total > MAX_OPTIMIZE_SAMPLES:
+        raise r.err(
+            f"maxiter = {maxiter:,} iterations of {per:,} designs at {poses:,} poses are "
+            f"{total:,} samples at the worst, more than {MAX_OPTIMIZE_SAMPLES:,}; give a smaller "
+            f"maxiter or popsize",
+            "optimize",
+            "maxiter",
+        )
 
 
 def read_constraints(r: TomlReader, kinds: Mapping[str, str]) -> list[Constraint]:
