@@ -274,6 +274,14 @@ def source_file(name: str | Path, kind: str = "model") -> Path:
     bare = not path.suffix and len(path.parts) == 1
     if bare and str(name) in known:
         return example_path(str(name))
+    if bare:
+        for other in ("model", "machine", "study"):
+            if other != kind and str(name) in examples(other):
+                raise ModelError(
+                    f"a built-in {other}, and a {kind} is expected here (built-in {kind}s: "
+                    f"{', '.join(known)}; `excavkin demo --list` lists them all)",
+                    source=str(name),
+                )
     hint = did_you_mean(path.stem, known)
     if path.stem in known and not bare:
         hint = f"; the built-in {kind} {path.stem!r} is read by its name alone"

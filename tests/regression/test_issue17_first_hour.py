@@ -39,9 +39,11 @@ def test_excavator_commands_take_the_built_in_machine_by_name() -> None:
     assert code == 0 and "Maximum digging reach" in out
 
 
-def test_demo_lists_only_models_and_refuses_a_machine_file(tmp_path) -> None:
+def test_demo_lists_every_example_by_kind_and_refuses_a_machine_file(tmp_path) -> None:
     code, out = run("demo", "--list")
-    assert code == 0 and "fourbar" in out.split() and "excavator_machine" not in out
+    models, machines = out.split("\nmachines")
+    assert code == 0 and "fourbar" in models.split() and "excavator_machine" not in models
+    assert "excavator_machine" in machines.split()
     code, out = run("demo", "--model", "excavator_machine", "--out-dir", str(tmp_path / "d"))
     assert code == 2 and "not a built-in model" in out and not (tmp_path / "d").exists()
 

@@ -30,12 +30,26 @@ T = TypeVar("T", bound=Callable[..., Any])
 EXIT_USAGE = 2
 #: exit status when some samples failed (no closure, dead position) and --keep-going is off
 EXIT_SAMPLES = 3
+#: exit status when the reader of stdout went away (``| head``): a shell's 128 + SIGPIPE
+EXIT_PIPE = 141
 
 
 def fail(message: str, code: int = EXIT_USAGE) -> None:
     """Print ``message`` as an error paragraph and exit."""
     click.echo(f"excavkin: error: {message}", err=True)
     sys.exit(code)
+
+
+def end_on_closed_stdout() -> None:
+    """Exit quietly, as a Unix tool killed by SIGPIPE does, once stdout's reader has gone
+    (``excavkin check fourbar | head -1``): no message, exit status `EXIT_PIPE`."""
+    try:  # what is still buffered for stdout can go nowhere: send it to /dev/null
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):  # no real stdout (a test's runner)
+        pass
+    sys.exit(EXIT_PIPE)
 
 
 def handle_errors(fn: T) -> T:
@@ -47,6 +61,8 @@ def handle_errors(fn: T) -> T:
             return fn(*args, **kwargs)
         except ExcavkinError as exc:
             fail(str(exc))
+        except BrokenPipeError:
+            end_on_closed_stdout()
         except OSError as exc:
             fail(f"{exc.filename or ''}: {exc.strerror or exc}".lstrip(": "))
         except MemoryError:
@@ -168,6 +184,51 @@ def check_samples(n: int, what: str, bytes_per_sample: int = MIN_BYTES_PER_SAMPL
         raise ExcavkinError(
             f"{what}: {n:,} samples need about {need / 2**30:,.1f} GiB, more than this "
             f"machine's {have / 2**30:,.1f} GiB; split the sweep into smaller runs"
+        )
+
+
+def check_count(
+    value: int,
+    option: str,
+    *,
+    least: int,
+    most: int,
+    samples: int | None = None,
+    bytes_per_sample: int = MIN_BYTES_PER_SAMPLE,
+    what: str = "samples",
+) -> None:
+    """Refuse, before any work, a count option (``--samples``, ``--draws``) out of its range,
+    or one whose samples cannot fit in this machine's memory.
+
+    Parameters
+    ----------
+    value : int
+        The option's value.
+    option : str
+        Its name, for the message (``"--samples"``).
+    least, most : int
+        Its range; ``most`` also bounds the run's time.
+    samples : int, optional
+        The samples the value makes (a grid's ``value ** 3``); default ``value``.
+    bytes_per_sample : int
+        Memory a sample holds at once.
+    what : str
+        What a sample is, for the message ("poses", "points along the dig").
+
+    Raises
+    ------
+    ExcavkinError
+        Naming the option, the value and the limit.
+    """
+    if value < least or value > most:
+        raise ExcavkinError(f"{option} {value:,}: must be at least {least:,} and at most {most:,}")
+    n = value if samples is None else samples
+    need = n * bytes_per_sample
+    have = available_memory()
+    if need > have:
+        raise ExcavkinError(
+            f"{option} {value:,}: {n:,} {what} need about {need / 2**30:,.1f} GiB, more than "
+            f"this machine's {have / 2**30:,.1f} GiB; give a smaller {option}"
         )
 
 

@@ -59,6 +59,7 @@ class InputTable:
         self._buffer: list[dict[str, F]] = []
         self._buffered = (0, 0)  # the samples in the buffer
         self.n = self._count()
+        _check_unambiguous(self.names, path)
         for col in self.names:
             name, _, qty = col.partition(".")
             column = _Column(self, col)
@@ -199,14 +200,34 @@ def read_inputs(
     return whole(table.values), whole(table.rates), whole(table.accels), time
 
 
+def _check_unambiguous(names: list[str], path: str) -> None:
+    """Refuse a column given twice, or a driver's value given both as ``<driver>`` and as
+    ``<driver>.value``: one of them would be silently dropped."""
+    seen: dict[str, str] = {}
+    for col in names:
+        key = col[: -len(".value")] if col.endswith(".value") else col
+        if key in seen:
+            first = seen[key]
+            what = (
+                f"column {col!r} appears twice"
+                if first == col
+                else f"columns {first!r} and {col!r} both give the value of {key!r}"
+            )
+            raise InputError(f"--inputs {path}: {what}; keep one, so that no value is dropped")
+        seen[key] = col
+
+
 def _readable(path: str) -> Path:
     """The input table's path, if it exists and ends in .csv or .parquet."""
     p = Path(path)
     if p.suffix.lower() not in TABLE_SUFFIXES:
         raise InputError(f"--inputs {path}: the table must end in .csv or .parquet")
-    if not p.is_file():
-        raise InputError(f"--inputs {path}: no such file")
-    return p
+    from excavkin.io.files import ReadError, check_readable
+
+    try:
+        return check_readable(p)
+    except ReadError as exc:
+        raise InputError(f"--inputs {path}: {exc.problem}") from None
 
 
 def _text_columns(names: list[str] | None) -> Any:

@@ -111,6 +111,11 @@ class LazyGroup(click.Group):
         extra["standalone_mode"] = False
         try:
             code = super().main(args, prog_name, **extra)
+            sys.stdout.flush()  # a closed pipe shows here, not at the interpreter's exit
+        except BrokenPipeError:
+            from excavkin.cli.common import end_on_closed_stdout
+
+            end_on_closed_stdout()
         except click.UsageError as exc:
             where = exc.ctx.command_path if exc.ctx is not None else "excavkin"
             click.echo(f"excavkin: error: {exc.format_message()} (see '{where} --help')", err=True)

@@ -37,5 +37,5 @@ _OPTIONS = [
         help="Run the chunks of designs on a local Dask cluster ('dask') or an existing Dask "
         "scheduler (its address); the table is the same as a local run's.",
     ),
-    click.option("-q", "--quiet", is_flag=True, help="No progress bar."),
+    click.option("-q", "--quiet", is_flag=True, help="No progress bar and no header."),
 ]

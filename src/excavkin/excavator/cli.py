@@ -9,15 +9,28 @@ the machine, pint) are imported inside the commands.
 from __future__ import annotations
 
 import math
+import sys
 from typing import TYPE_CHECKING
 
 import click
 
-from excavkin.cli.common import handle_errors, model_path, si_value
+from excavkin.cli.common import (
+    EXIT_SAMPLES,
+    check_count,
+    handle_errors,
+    is_number,
+    model_path,
+    si_value,
+)
 from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
     from excavkin.excavator.machine import Machine
+
+#: the most grid points per stroke of a sweep (101³ ≈ 10⁶ poses, about a minute and a half here)
+MAX_GRID = 101
+#: the most points along a dig (about ten seconds here)
+MAX_DIG_POINTS = 100_000
 
 
 def _machine(path: str):  # type: ignore[no-untyped-def]
@@ -212,8 +225,8 @@ def forces(
     from excavkin.excavator.ranges import sweep
     from excavkin.outputs.tables import check_target, write_table
 
-    if samples < 2:
-        raise click.BadParameter("at least 2", param_hint="--samples")
+    check_count(samples, "--samples", least=2, most=MAX_GRID, samples=samples**3,
+                bytes_per_sample=8_000, what="poses of the stroke sweep")  # fmt: skip
     if output:
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
     if map_prefix:
@@ -308,7 +321,8 @@ def forces(
 )
 @handle_errors
 def ik(machine: str, x: str, y: str, angle: str) -> None:
-    """Cylinder lengths that put the tooth tip at (X, Y) with the given bucket angle."""
+    """Cylinder lengths that put the tooth tip at (X, Y) with the given bucket angle (exit
+    status 3 when no branch reaches it within the strokes)."""
     import numpy as np
 
     from excavkin.excavator.machine import BRANCHES, forward, inverse
@@ -353,6 +367,7 @@ def ik(machine: str, x: str, y: str, angle: str) -> None:
         )
     else:
         click.echo("no valid solution: the pose is out of the working range")
+        sys.exit(EXIT_SAMPLES)  # as a sample that does not solve
 
 
 def _swing_option(text: str) -> float | str:
@@ -413,8 +428,9 @@ def stability(
     )
     from excavkin.outputs.tables import check_target, write_table
 
-    if samples < 2:
-        raise click.BadParameter("at least 2", param_hint="--samples")
+    check_count(samples, "--samples", least=2, most=MAX_GRID,
+                samples=samples**3 + 5 * (4 * samples - 3) ** 2, bytes_per_sample=10_000,
+                what="poses of the stroke sweeps")  # fmt: skip
     sw = _swing_option(swing)
     maps = ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
     if output:
@@ -738,8 +754,9 @@ def pins(
     from excavkin.excavator.ranges import stroke_grid
     from excavkin.outputs.tables import check_target, write_table
 
-    if samples < 2:
-        raise click.BadParameter("at least 2", param_hint="--samples")
+    check_count(samples, "--samples", least=2, most=MAX_GRID,
+                samples=max(samples**3, (2 * samples - 1) ** 2 * max(3, round(samples / 4))),
+                bytes_per_sample=10_000, what="poses of the stroke sweep")  # fmt: skip
     chosen = [c for c in CASES if c in cases] if cases else list(CASES)
     mass = None
     if load is not None:
@@ -1037,6 +1054,10 @@ DIG_PARAMS: dict[str, tuple[str, str]] = {
 }
 
 
+#: a unit to show in the message for a --param value given without one
+_UNIT_EXAMPLE = {"density": "kg/m^3", "angle": "deg", "pressure": "kPa", "length": "m"}
+
+
 def _lengths_option(text: str, what: str) -> list[float]:
     """``"2639,2170,2205 mm"`` or ``"2.6 m,2.2 m,2.2 m"`` → three lengths (m)."""
     parts = [p.strip() for p in text.split(",")]
@@ -1076,7 +1097,8 @@ def _lengths_option(text: str, what: str) -> list[float]:
     multiple=True,
     metavar="KEY=VALUE",
     help="Replace a soil or tool property, with its unit: 'cohesion=20 kPa', 'blows=9', "
-    "'friction_angle=28 deg', 'wall_length=0.9 m' (repeatable).",
+    "'friction_angle=28 deg', 'wall_length=0.9 m'; teeth and walls are Zelenin's factors "
+    "(1 for none), not counts (repeatable).",
 )
 @click.option("--width", required=True, help="Cutting width of the bucket, e.g. '1.2 m'.")
 @click.option("--from", "start", help="Start cylinder lengths: 'boom,arm,bucket mm'.")
@@ -1124,13 +1146,14 @@ def dig(
     point where the dig stalls."""
     import numpy as np
 
+    from excavkin.errors import InputError
     from excavkin.excavator.dig import default_dig, dig_path
     from excavkin.excavator.dig import dig as run_dig
     from excavkin.excavator.soil import SOILS, Tool, soil
     from excavkin.outputs.tables import check_target, write_table
 
-    if samples < 3:
-        raise click.BadParameter("at least 3", param_hint="--samples")
+    check_count(samples, "--samples", least=3, most=MAX_DIG_POINTS, bytes_per_sample=5_000,
+                what="points along the dig")  # fmt: skip
     if (start is None) != (end is None):
         raise click.BadParameter("give both --from and --to, or neither", param_hint="--from/--to")
     if soil_name not in SOILS:
@@ -1152,18 +1175,42 @@ def dig(
                 param_hint="--param",
             )
         kind, target = DIG_PARAMS[key]
+        if kind != "dimensionless" and is_number(value):
+            raise click.BadParameter(
+                f"{key}={value.strip()} has no unit; give it with its unit, e.g. "
+                f"'{key}={value.strip()} {_UNIT_EXAMPLE[kind]}'",
+                param_hint="--param",
+            )
         v = si_value(value, kind, f"--param {key}", hint=kind != "dimensionless")
         (soil_kw if target == "soil" else tool_kw)[key] = v
-    s = soil(soil_name, **soil_kw)
-    tool = Tool(si_value(width, "length", "--width"), **tool_kw)
+    tool_width = si_value(width, "length", "--width")
+    try:
+        s = soil(soil_name, **soil_kw)
+        tool = Tool(tool_width, **tool_kw)
+    except InputError as exc:
+        given = "--param" if soil_kw or tool_kw else "--width"
+        raise InputError(f"{given}: {exc}") from None
     sw: float | str = swing if swing in ("front", "side") else si_value(swing, "angle", "--swing")
     m = _machine(machine)
+    if law is not None:
+        from excavkin.motion import get_law
+
+        try:
+            get_law(law, 1.0, 1.0)
+        except (ValueError, TypeError) as exc:
+            raise InputError(f"--law: {exc}") from None
     if start is not None and end is not None:
-        L = dig_path(
-            m, _lengths_option(start, "--from"), _lengths_option(end, "--to"), samples, law=law
-        )
+        first, last = _lengths_option(start, "--from"), _lengths_option(end, "--to")
+        try:
+            L = dig_path(m, first, last, samples, law=law)
+        except InputError as exc:
+            raise InputError(f"--from {start!r} --to {end!r}: {exc}") from None
     else:
-        L = default_dig(m, samples, depth=si_value(depth, "length", "--depth"), law=law)
+        deepest = si_value(depth, "length", "--depth")
+        try:
+            L = default_dig(m, samples, depth=deepest, law=law)
+        except InputError as exc:
+            raise InputError(f"--depth {depth!r}: {exc}") from None
     d = run_dig(m, L, s, tool, model, at=at, swing=sw)  # type: ignore[arg-type]
     click.echo(
         f"{m.name} — {model} resistance along a dig in {s.name}, {tool.width * 1e3:.0f} mm wide "

@@ -122,6 +122,12 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
             else f"schema_version is missing (this version reads {SCHEMA_VERSION})"
         )
     unknown = set(data) - _TOP
+    if unknown and "front" not in data and {"points", "bodies"} & set(data):
+        raise r.err(
+            "this is a model file (a mechanism's points and bodies), and a machine file is "
+            'expected: one that names its model (model = "excavator.toml") and its [front]; '
+            "`excavkin demo --list` lists the built-in machines"
+        )
     if unknown:
         raise r.err(
             f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
@@ -236,6 +242,12 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
     name = data.get("name", Path(source).stem if source else mech.name)
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], "name")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise r.err(
+            f"description must be a string, got {type(description).__name__} {description!r}"[:160],
+            entry="description",
+        )
     swing_axis = _within(
         r,
         r.field_qty(front_t, "swing_axis", "length", "front", 0.0),
@@ -288,9 +300,12 @@ def _model(r: _Reader, spec: Any, source: str | None) -> Mechanism:
     if isinstance(spec, str):
         base = Path(source).parent if source else Path.cwd()
         path = base / spec
-        if not path.is_file():
+        if not path.exists():
             raise r.err(f"the model file {str(path)!r} does not exist", entry="model")
-        return Mechanism(load_model(path))
+        try:
+            return Mechanism(load_model(path))
+        except ModelError as exc:
+            raise r.err(f"the model file it names cannot be used: {exc}", entry="model") from None
     if isinstance(spec, dict):
         inline = dict(spec)
         inline.setdefault("schema_version", SCHEMA_VERSION)

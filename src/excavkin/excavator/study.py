@@ -355,12 +355,15 @@ def load_machine_study(path: str | Path) -> MachineStudy:
         settings, method, samples, seed, source, units,
     )  # fmt: skip
     sf.check_design_count(r, study.designs)
+    if settings:
+        sf.check_optimization_size(r, settings, len(bounds), study.pose_count)
     return study
 
 
 def _machine(r: Any, text: Any, folder: Path) -> tuple[Machine, str]:
     import excavkin
     from excavkin.excavator.machine_file import load_machine
+    from excavkin.io.toml_model import read_text_file
 
     if not isinstance(text, str) or not text:
         raise r.err("names the machine file (or a built-in machine example)", "study", "machine")
@@ -375,10 +378,10 @@ def _machine(r: Any, text: Any, folder: Path) -> tuple[Machine, str]:
     except ExcavkinError as exc:
         raise r.err(f"the machine cannot be read: {exc}", "study", "machine") from None
     # what decides the results: the machine file and the model file it names
-    texts = [given.read_text(encoding="utf-8")]
+    texts = [read_text_file(given)]
     model = Path(str(machine.mechanism.model.source or ""))
     if model.is_file() and model.resolve() != given.resolve():
-        texts.append(model.read_text(encoding="utf-8"))
+        texts.append(read_text_file(model))
     return machine, "\n".join(texts)
 
 

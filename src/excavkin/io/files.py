@@ -1,4 +1,9 @@
-"""Files written whole or not at all, and checked before any work.
+"""Files read within a size limit, and written whole or not at all, checked before any work.
+
+Every file excavkin reads (a model, a machine, a study, an input table) is opened through
+`check_readable` or `read_limited`: only a regular file is read (a FIFO would block
+forever, a device such as ``/dev/zero`` never ends, a folder is no file), and never more than
+its limit, so that a hostile path ends in one message naming it.
 
 A file is written to a temporary file beside the target and moved into place only when
 complete, so an interrupted or failed run never leaves a half-written file, and an existing
@@ -10,6 +15,7 @@ from __future__ import annotations
 import glob
 import os
 import signal
+import stat
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -19,6 +25,103 @@ from excavkin.errors import ExcavkinError
 
 class OutputError(ExcavkinError):
     """An output file cannot be written."""
+
+
+class ReadError(ExcavkinError):
+    """An input file cannot be read: missing, not a regular file, too large, unreadable.
+
+    Parameters
+    ----------
+    path : Path
+        The file.
+    problem : str
+        What is wrong with it, in one sentence.
+    """
+
+    def __init__(self, path: Path, problem: str) -> None:
+        self.path = path
+        self.problem = problem
+        super().__init__(f"{path}: {problem}")
+
+
+def _what_it_is(mode: int) -> str:
+    if stat.S_ISDIR(mode):
+        return "a folder"
+    if stat.S_ISFIFO(mode):
+        return "a FIFO (named pipe)"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "not a regular file"
+
+
+def check_readable(path: str | Path, limit: int | None = None, what: str = "the file") -> Path:
+    """Check, without opening it, that ``path`` is a regular file of at most ``limit`` bytes.
+
+    Parameters
+    ----------
+    path : str or Path
+    limit : int, optional
+        The most bytes the file may hold (no limit when ``None``).
+    what : str
+        What the file is, for the message ("a model or machine file").
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    ReadError
+        Naming the file: missing, a folder, a FIFO, a device, or larger than ``limit``.
+    """
+    p = Path(path)
+    try:
+        st = os.stat(p)
+    except OSError as exc:
+        raise ReadError(p, f"cannot read the file: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise ReadError(p, f"{_what_it_is(st.st_mode)}, not a file that can be read")
+    if limit is not None and st.st_size > limit:
+        raise ReadError(p, f"the file is {st.st_size:,} bytes; {what} is at most {limit:,}")
+    return p
+
+
+def read_limited(path: str | Path, limit: int, what: str = "the file") -> bytes:
+    """The bytes of a regular file of at most ``limit`` bytes (checked again as it is read, in
+    case it grows).
+
+    Parameters
+    ----------
+    path : str or Path
+    limit : int
+        The most bytes read.
+    what : str
+        What the file is, for the message.
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    ReadError
+        As `check_readable`, or when the file cannot be opened or read.
+    """
+    p = check_readable(path, limit, what)
+    try:
+        # O_NONBLOCK: a file swapped for a FIFO after the check cannot block the open
+        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(fd, "rb") as f:
+            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+                raise ReadError(p, "not a regular file")
+            data = f.read(limit + 1)
+    except OSError as exc:
+        raise ReadError(p, f"cannot read the file: {exc.strerror or exc}") from None
+    if len(data) > limit:
+        raise ReadError(p, f"the file is more than {limit:,} bytes; {what} is at most {limit:,}")
+    return data
 
 
 def check_target(path: str | Path, *, force: bool, suffixes: tuple[str, ...] | None = None) -> Path:

@@ -228,25 +228,21 @@ def _nesting(text: str) -> int:
 
 
 def read_text_file(path: str | Path) -> str:
-    """A model or machine file as text: size, encoding and file-system errors as one
+    """A model, machine or study file as text: read only if it is a regular file of at most
+    `MAX_FILE_BYTES`; size, kind, encoding and file-system errors as one
     [`ModelError`][excavkin.ModelError] naming the file."""
-    p = Path(path)
+    from excavkin.io.files import ReadError, read_limited
+
     try:
-        size = p.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise ModelError(
-                f"the file is {size:,} bytes; a model or machine file is at most "
-                f"{MAX_FILE_BYTES:,}",
-                source=str(path),
-            )
-        return p.read_bytes().decode("utf-8")
+        data = read_limited(path, MAX_FILE_BYTES, "a model, machine or study file")
+        return data.decode("utf-8")
+    except ReadError as exc:
+        raise ModelError(exc.problem, source=str(path)) from None
     except UnicodeDecodeError as exc:
         raise ModelError(
             f"the file is not UTF-8 text (byte {exc.start} is {exc.object[exc.start]:#04x})",
             source=str(path),
         ) from None
-    except OSError as exc:
-        raise ModelError(f"cannot read the file: {exc.strerror}", source=str(path)) from None
 
 
 def loads_model(text: str, source: str | None = None) -> Model:
@@ -319,6 +315,12 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     name = data.get("name", Path(source).stem if source else "mechanism")
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], "name")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise r.err(
+            f"description must be a string, got {type(description).__name__} {description!r}"[:160],
+            entry="description",
+        )
     r.design_variables()
     raw_points = r.table("points", True)
     if len(raw_points) > MAX_POINTS:

@@ -111,7 +111,12 @@ class Soil:
     surcharge: float = 0.0
 
     def __post_init__(self) -> None:
-        for key in ("density", "cohesion", "adhesion", "blows", "surcharge"):
+        # a soil has weight and a strength count: zero would erase its resistance unsaid
+        for key in ("density", "blows"):
+            v = getattr(self, key)
+            if not (np.isfinite(v) and v > 0.0):
+                raise InputError(f"soil {self.name!r}: {key} must be finite and > 0, not {v!r}")
+        for key in ("cohesion", "adhesion", "surcharge"):
             v = getattr(self, key)
             if not (np.isfinite(v) and v >= 0.0):
                 raise InputError(f"soil {self.name!r}: {key} must be finite and ≥ 0, not {v!r}")
@@ -193,7 +198,15 @@ class Tool:
     def __post_init__(self) -> None:
         if not (np.isfinite(self.width) and self.width > 0.0):
             raise InputError(f"tool width must be finite and > 0, not {self.width!r}")
-        for key in ("teeth", "walls", "edge_thickness", "wall_thickness", "wall_length"):
+        # teeth and walls are Zelenin's factors z and x (1 for none), not counts: zero would
+        # erase the resistance
+        for key in ("teeth", "walls"):
+            v = getattr(self, key)
+            if not (np.isfinite(v) and v > 0.0):
+                raise InputError(
+                    f"tool {key} (Zelenin's factor, 1 for none) must be finite and > 0, not {v!r}"
+                )
+        for key in ("edge_thickness", "wall_thickness", "wall_length"):
             v = getattr(self, key)
             if not (np.isfinite(v) and v >= 0.0):
                 raise InputError(f"tool {key} must be finite and ≥ 0, not {v!r}")

@@ -173,6 +173,32 @@ def evaluate(
     return tabulate(designs, cols, ok, metrics, constraints, angles)
 
 
+#: the study table's own columns: a metric of one of these names would collide with it (the
+#: parameters' columns are ``design.<name>``, so no metric name may begin with ``design.``)
+RESERVED_COLUMNS = ("design", "poses_failed", "feasible", "status")
+
+
+def reserved_name(name: str) -> str | None:
+    """Why ``name`` cannot name a metric (it is one of the study table's own columns), or
+    ``None`` when it can.
+
+    Parameters
+    ----------
+    name : str
+        A metric's name.
+
+    Returns
+    -------
+    str or None
+    """
+    if name in RESERVED_COLUMNS or name.startswith("design."):
+        return (
+            f"{name!r} is a column of the study table itself; a metric cannot take a reserved "
+            f"name ({', '.join(RESERVED_COLUMNS)}, design.<parameter>)"
+        )
+    return None
+
+
 def tabulate(
     designs: Mapping[str, F],
     columns: Mapping[str, F],

@@ -152,9 +152,11 @@ class Study:
         str
             16 hexadecimal digits of a SHA-256.
         """
+        from excavkin.io.toml_model import read_text_file
+
         text = json.dumps(
             {
-                "model": self.model.read_text(encoding="utf-8"),
+                "model": read_text_file(self.model),
                 "bounds": self.bounds,
                 "poses": [
                     {k: np.asarray(v).tolist() for k, v in part.items()}
@@ -230,7 +232,8 @@ def run_study(
         ``progress(designs_done, designs)`` after each chunk.
     scheduler : str, optional
         ``None`` to run here; ``"dask"`` for a local Dask cluster; ``"tcp://host:port"`` for an
-        existing Dask scheduler.
+        existing Dask scheduler (a scheme of `SCHEDULER_SCHEMES`), given up after
+        `SCHEDULER_TIMEOUT` seconds (`SchedulerError`).
     chunk_samples : int
         Designs × poses solved at once.
 
@@ -242,6 +245,8 @@ def run_study(
     """
     from excavkin.io.files import check_target
 
+    if scheduler is not None:
+        check_scheduler(scheduler)
     target = check_target(out, force=force, suffixes=(".parquet",))
     kinds, name = study.prepare()
     parts = target.parent / f".{target.name}.parts"
@@ -459,6 +464,47 @@ def _check(study: Study) -> Mechanism:
     return mech
 
 
+class SchedulerError(InputError):
+    """A Dask scheduler's address is malformed, or the scheduler cannot be reached."""
+
+
+#: the address schemes of a Dask scheduler that a study may name
+SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss", "ucx")
+#: seconds to wait for a Dask scheduler before saying it cannot be reached
+SCHEDULER_TIMEOUT = 10.0
+
+
+def check_scheduler(address: str) -> None:
+    """Check, before any work, that ``address`` is ``"dask"`` or a scheduler's address
+    ``SCHEME://HOST:PORT`` (``tcp``, ``tls``, ``ws``, ``wss``, ``ucx``).
+
+    Parameters
+    ----------
+    address : str
+
+    Raises
+    ------
+    SchedulerError
+        Saying what is wrong with it.
+    """
+    if address == "dask":
+        return
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        raise SchedulerError(
+            "expected 'dask' (a local cluster) or a scheduler's address SCHEME://HOST:PORT, "
+            "such as tcp://10.0.0.5:8786"
+        )
+    if scheme not in SCHEDULER_SCHEMES:
+        raise SchedulerError(
+            f"unsupported protocol {scheme!r} (a Dask scheduler speaks "
+            f"{', '.join(SCHEDULER_SCHEMES)})"
+        )
+    host, colon, port = rest.rpartition(":")
+    if not colon or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise SchedulerError("expected HOST:PORT after the protocol, the port from 1 to 65535")
+
+
 def _run(
     study: Subject, todo: list[tuple[int, int]], scheduler: str | None
 ) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
@@ -472,6 +518,7 @@ def _run(
         raise InputError(
             "a Dask scheduler needs dask.distributed: pip install 'excavkin[cluster]'"
         ) from None
+    check_scheduler(scheduler)
     cluster = None
     if scheduler == "dask":  # a worker process per core, quiet, no dashboard
         import logging
@@ -481,7 +528,17 @@ def _run(
             silence_logs=logging.ERROR,
         )  # fmt: skip
     try:
-        with Client(cluster if cluster is not None else scheduler) as client:
+        if cluster is not None:
+            client = Client(cluster)
+        else:
+            try:
+                client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+            except (OSError, TimeoutError, ValueError) as exc:
+                raise SchedulerError(
+                    f"the Dask scheduler cannot be reached within {SCHEDULER_TIMEOUT:g} s "
+                    f"({exc}); nothing was computed"
+                ) from None
+        with client:
             # a bounded window of tasks in flight, each released once its rows are here: the
             # cluster's memory and the scheduler's queue stay bounded however many chunks
             window = max(8, 2 * sum(client.nthreads().values()))

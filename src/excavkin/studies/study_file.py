@@ -232,7 +232,15 @@ def read_bounds(
 
 def read_poses(r: TomlReader, mech: Any) -> Poses:
     """The ``[poses]`` table: the drivers' values (sweeps or single values), rates and
-    accelerations, SI."""
+    accelerations, SI. The table is required: a study without it would silently evaluate
+    every design at its sketch alone, so that is asked for explicitly by an empty ``[poses]``."""
+    if "poses" not in r.data:
+        raise r.err(
+            "the study has no [poses] table: name the drivers' values every design is "
+            'evaluated at (crank = "0 deg:360 deg:37"), or give an empty [poses] table to '
+            "evaluate each design at its sketch alone",
+            "poses",
+        )
     table = dict(r.table("poses"))
     rates_t = table.pop("rates", {})
     accels_t = table.pop("accels", {})
@@ -292,8 +300,13 @@ def read_metrics(r: TomlReader, columns: Mapping[str, str]) -> list[Metric]:
     from excavkin.errors import unknown_name
 
     out = []
+    from excavkin.studies.metrics import reserved_name
+
     for name, spec in r.table("metrics", required=True).items():
         r.name(name, "metrics")
+        why = reserved_name(name)
+        if why is not None:
+            raise r.err(why, "metrics", name)
         if not isinstance(spec, dict):
             raise r.err('must be a table such as { column = "B.transmission", reduce = "min" }',
                         "metrics", name)  # fmt: skip
@@ -350,11 +363,13 @@ def load_optimization(path: str | Path) -> tuple[Study, dict[str, Any]]:
         Naming the file, the table and the entry; a file without ``[optimize]`` too.
     """
     study = load_study(path)
+    source = str(path)
+    r = TomlReader(read_toml(read_text_file(path), source), source)
     if not study.optimize:
-        source = str(path)
-        r = TomlReader(read_toml(read_text_file(path), source), source)
         read_optimize(r, [m.name for m in study.metrics])  # raises: the table is required
-    return study, dict(study.optimize)
+    settings = dict(study.optimize)
+    check_optimization_size(r, settings, len(study.bounds), study.poses.count)
+    return study, settings
 
 
 def read_optimize(r: TomlReader, names: list[str]) -> dict[str, Any]:
@@ -383,6 +398,45 @@ def read_optimize(r: TomlReader, names: list[str]) -> dict[str, Any]:
         "maxiter": _whole(r, spec.get("maxiter", 200), "maxiter", 1, 100_000, "optimize"),
         "popsize": _whole(r, spec.get("popsize", 32), "popsize", 4, 10_000, "optimize"),
     }
+
+
+#: the most samples (designs × poses) an optimisation may solve in all: 10¹⁰, hours here
+MAX_OPTIMIZE_SAMPLES = 10**10
+
+
+def check_optimization_size(
+    r: TomlReader, settings: Mapping[str, Any], parameters: int, poses: int
+) -> None:
+    """Refuse an ``[optimize]`` table whose ``maxiter`` and ``popsize`` ask for more samples
+    than `MAX_OPTIMIZE_SAMPLES` at the worst: every iteration run, each a generation of
+    differential evolution (``popsize`` × parameters designs; more than a step of SLSQP and its
+    gradient, so the bound holds whichever method the command line picks).
+
+    Parameters
+    ----------
+    r : TomlReader
+        The study file.
+    settings : mapping
+        `read_optimize`'s settings.
+    parameters, poses : int
+        The design parameters and the poses of each design.
+
+    Raises
+    ------
+    ModelError
+        Naming the file, ``[optimize]`` and the entry.
+    """
+    maxiter = int(settings["maxiter"])
+    per = int(settings["popsize"]) * max(parameters, 1)
+    total = (maxiter + 1) * per * poses
+    if total > MAX_OPTIMIZE_SAMPLES:
+        raise r.err(
+            f"maxiter = {maxiter:,} iterations of {per:,} designs at {poses:,} poses are "
+            f"{total:,} samples at the worst, more than {MAX_OPTIMIZE_SAMPLES:,}; give a smaller "
+            f"maxiter or popsize",
+            "optimize",
+            "maxiter",
+        )
 
 
 def read_constraints(r: TomlReader, kinds: Mapping[str, str]) -> list[Constraint]:

@@ -30,7 +30,12 @@ DEFAULT_MODEL = "fourbar"
     show_default=True,
     help="Built-in example model to analyse (see `excavkin demo --list`).",
 )
-@click.option("--list", "list_models", is_flag=True, help="List the built-in models and stop.")
+@click.option(
+    "--list",
+    "list_models",
+    is_flag=True,
+    help="List every built-in example by kind (models, machines, studies) and stop.",
+)
 @click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def command(out_dir: str, model_name: str, list_models: bool, quiet: bool) -> None:
@@ -40,7 +45,7 @@ def command(out_dir: str, model_name: str, list_models: bool, quiet: bool) -> No
     from excavkin.outputs.report import write_report
 
     if list_models:
-        click.echo("\n".join(excavkin.examples("model")))
+        click.echo(_listing())
         return
     if model_name not in excavkin.examples("model"):
         raise ExcavkinError(
@@ -67,3 +72,24 @@ def command(out_dir: str, model_name: str, list_models: bool, quiet: bool) -> No
         mu = np.degrees(result.transmission[:, k])
         click.echo(f"transmission angle at {p}: {np.nanmin(mu):.2f}° … {np.nanmax(mu):.2f}°")
     click.echo(f"wrote {table}\nwrote {report} (open it in a browser)")
+
+
+#: each kind of built-in example, with the commands that take it
+_KINDS = (
+    ("model", "models (excavkin check, solve, simulate, report, tolerance; demo --model)"),
+    ("machine", "machines (excavkin excavator ranges, forces, dig, …)"),
+    ("study", "studies (excavkin study, optimize)"),
+)
+
+
+def _listing() -> str:
+    """Every built-in example, by kind; a study of a machine is marked as one."""
+    lines = []
+    for kind, title in _KINDS:
+        lines.append(f"{title}:")
+        for name in excavkin.examples(kind):
+            mark = ""
+            if kind == "study" and "\nmachine" in excavkin.example_path(name).read_text("utf-8"):
+                mark = "  (a machine's: excavkin excavator study)"
+            lines.append(f"  {name}{mark}")
+    return "\n".join(lines)

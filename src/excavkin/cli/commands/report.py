@@ -71,6 +71,12 @@ def command(
     target = Path(out) if out else Path(f"{Path(model).stem}.html")
     check_target(target, force=force, suffixes=(".html", ".htm"))
     mech = _load(model)
+    elements = [e.name for e in mech.plan.elements]
+    for name in ropes:
+        if name not in elements:
+            from excavkin.errors import InputError, unknown_name
+
+            raise InputError(f"--rope: {unknown_name('linear element', name, elements)}")
 
     values, rate, accel = build_inputs(mech, sweeps, sets, rates, accels, grid)
     if not sweeps:

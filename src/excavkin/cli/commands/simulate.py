@@ -26,6 +26,7 @@ from excavkin.cli.common import (
     ACCEL_KIND,
     JERK_KIND,
     RATE_KIND,
+    check_count,
     handle_errors,
     model_path,
     parse_assignment,
@@ -47,6 +48,10 @@ from excavkin.motion import (
 from excavkin.outputs.tables import TABLE_SUFFIXES, check_target, write_table
 from excavkin.simulation.shocks import shock_report
 from excavkin.simulation.timeline import Drive, simulate
+
+#: the most time samples a run may have (10⁷: a few minutes; a longer run is a
+#: ``excavkin solve --inputs`` table, streamed)
+MAX_TIME_SAMPLES = 10**7
 
 _FRACTIONS = ("accel_fraction", "jerk_fraction")
 
@@ -230,8 +235,8 @@ def build_drives(mech: Mechanism, texts: Sequence[str]) -> dict[str, Drive]:
     "--samples",
     default=501,
     show_default=True,
-    type=click.IntRange(2),
-    help="Number of time samples.",
+    type=int,
+    help="Number of time samples (2 to 10⁷, and as many as fit in memory).",
 )
 @click.option(
     "--duration",
@@ -312,6 +317,10 @@ def command(
     if shock_target is not None and shock_target.resolve() == target.resolve():
         raise InputError("--out and --shock-table name the same file")
     mech = excavkin.load(model_path(model))
+    # the whole run is held at once: about 40 bytes per column and sample
+    columns = 6 * len(mech.plan.points) + 3 * len(mech.model.bodies) + 4 * len(mech.inputs) + 2
+    check_count(samples, "--samples", least=2, most=MAX_TIME_SAMPLES,
+                bytes_per_sample=40 * columns, what="time samples")  # fmt: skip
     drives = build_drives(mech, drive_texts)
     held: dict[str, float] = {}
     for text in sets:

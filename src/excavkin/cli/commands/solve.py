@@ -82,6 +82,7 @@ def build_inputs(
         values[PARAM + name] = (
             parse_sweep(spec, kind, what, lazy) if ":" in spec else si_value(spec, kind, what)
         )
+        check_param_sign(mech, name, kind, values[PARAM + name], spec)
     lengths = {k: v.size for k, v in values.items() if isinstance(v, np.ndarray | Lazy)}
     if grid and len(lengths) > 1 and lazy:
         values.update(zip(lengths, sweep_grid(*[values[k] for k in lengths]), strict=True))
@@ -122,6 +123,40 @@ def parameter_kind(mech: Mechanism, name: str) -> str:
     if name not in mech.parameters:
         raise unknown_name("parameter", name, list(mech.parameters))
     return kind_of(name, mech.model)
+
+
+def check_param_sign(mech: Mechanism, name: str, kind: str, value: Any, text: str) -> None:
+    """Refuse a ``--param`` that no design can have: a negative mass or inertia, or a distance
+    between two points that is not positive (a coordinate may take any sign).
+
+    Parameters
+    ----------
+    mech : Mechanism
+    name : str
+        The parameter.
+    kind : str
+        What it measures (``"length"``, ``"mass"``, ``"inertia"``).
+    value : float, ndarray or Linspace
+        Its value or sweep, SI.
+    text : str
+        As given, for the message.
+
+    Raises
+    ------
+    InputError
+        Naming the parameter, its value and why.
+    """
+    from excavkin.sweeps import Linspace
+
+    if isinstance(value, Linspace):
+        low = min(value.start, value.stop)
+    else:
+        low = float(np.min(np.asarray(value, dtype=np.float64)))
+    distance = kind == "length" and "-" in name and not name.endswith((".x", ".y"))
+    if kind in ("mass", "inertia") and low < 0.0:
+        raise InputError(f"--param {name}={text}: a {kind} cannot be negative")
+    if distance and not low > 0.0:
+        raise InputError(f"--param {name}={text}: a distance between two points must be positive")
 
 
 def split_params(values: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:

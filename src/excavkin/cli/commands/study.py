@@ -51,12 +51,19 @@ def run_with_progress(
     quiet: bool,
 ) -> None:
     """Run a study (of a model, or of a machine) into ``target`` with a progress bar, and say
-    how many designs are feasible."""
+    how many designs are feasible (``quiet``: no header, no bar; the closing line alone)."""
     from excavkin.cli.progress import progress
-    from excavkin.studies.study import run_study
+    from excavkin.errors import ExcavkinError
+    from excavkin.studies.study import SchedulerError, check_scheduler, run_study
 
+    if scheduler is not None:
+        try:
+            check_scheduler(scheduler)
+        except SchedulerError as exc:
+            raise ExcavkinError(f"--scheduler {scheduler}: {exc}") from None
     total = study.designs
-    click.echo(f"{total:,} designs × {study.pose_count:,} poses of {title}", err=True)
+    if not quiet:
+        click.echo(f"{total:,} designs × {study.pose_count:,} poses of {title}", err=True)
     with progress("designs", total, quiet=quiet) as advance:
         seen = [0]
 
@@ -64,9 +71,13 @@ def run_with_progress(
             advance(done - seen[0])
             seen[0] = done
 
-        result = run_study(
-            study, target, force=force, resume=not restart, progress=report, scheduler=scheduler
-        )
+        try:
+            result = run_study(
+                study, target, force=force, resume=not restart, progress=report,
+                scheduler=scheduler,
+            )  # fmt: skip
+        except SchedulerError as exc:
+            raise ExcavkinError(f"--scheduler {scheduler}: {exc}") from None
     import pyarrow.parquet as pq
 
     feasible = pq.read_table(result.path, columns=["feasible"]).column(0).to_numpy()

@@ -16,6 +16,11 @@ from excavkin.errors import InputError
 TABLE_SUFFIXES = (".csv", ".parquet")
 
 
+#: the most Monte Carlo solves (draws × samples) a run may ask for: 10⁹, about half an hour for
+#: a four-bar here
+MAX_SOLVES = 10**9
+
+
 @click.command("tolerance")
 @click.argument("model", metavar="MODEL")
 @with_sweep_options
@@ -116,6 +121,15 @@ def command(
         )
         raise InputError(f"--tol is given more than once for {', '.join(twice)}")
     clearance = _clearances(mech, clearances)
+    import numpy as np
+
+    n = max([int(np.size(v)) for v in values.values()] or [1])
+    if draws * n > MAX_SOLVES:
+        raise InputError(
+            f"--draws {draws:,}: {draws:,} draws at each of {n:,} samples are "
+            f"{draws * n:,} solves, more than {MAX_SOLVES:,} (about half an hour here); give "
+            f"fewer --draws (at most {max(MAX_SOLVES // n, 0):,} for this sweep)"
+        )
     from excavkin.cli.progress import staged
 
     with staged("Monte Carlo draws", 1, quiet=quiet or draws == 0) as next_stage:
