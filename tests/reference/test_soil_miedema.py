@@ -124,7 +124,7 @@ def test_the_plane_is_at_failure_with_weight_surcharge_and_adhesion() -> None:
     for _ in range(20):
         phi, delta = rng.uniform(10, 40) * DEG, rng.uniform(0, 25) * DEG
         s = Soil("s", rng.uniform(1200, 2200), phi, rng.uniform(0, 5e4), delta,
-                 rng.uniform(0, 2e4), 0.0, rng.uniform(0, 1e4))  # fmt: skip
+                 rng.uniform(0, 2e4), 1.0, rng.uniform(0, 1e4))  # fmt: skip
         d, a = rng.uniform(0.05, 1.0, 4), rng.uniform(30, 110, 4) * DEG
         plane = mckyes_shear_plane(d, a, s, Tool(rng.uniform(0.3, 2.0)))
         ok = np.isfinite(plane.angle)

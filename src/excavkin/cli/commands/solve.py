@@ -392,7 +392,7 @@ def command(
 
     write_tables(frames(), target, force=force, units_row=units_row)
     click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")
-    if motion[0]:
+    if motion[0] and not quiet:
         click.echo(f"excavkin: note: {motion[0]}", err=True)
 
 

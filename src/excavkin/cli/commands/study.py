@@ -82,5 +82,5 @@ def run_with_progress(
 
     feasible = pq.read_table(result.path, columns=["feasible"]).column(0).to_numpy()
     click.echo(f"wrote {total:,} designs ({int(feasible.sum()):,} feasible) to {result.path}")
-    if study.motion_note:
+    if study.motion_note and not quiet:
         click.echo(f"excavkin: note: force metrics: {study.motion_note}", err=True)

@@ -153,7 +153,7 @@ def command(
     widths = [max(len(r[i]) for r in rows) for i in range(len(head))]
     for r in rows:
         click.echo("  ".join(cell.ljust(w) for cell, w in zip(r, widths, strict=True)).rstrip())
-    if bands.motion:
+    if bands.motion and not quiet:
         click.echo(f"excavkin: note: {bands.motion.replace('no rate', 'no --rate')}", err=True)
     if bands.failed.any():
         click.echo(
