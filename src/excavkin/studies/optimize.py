@@ -23,6 +23,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from os import PathLike
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -42,8 +44,6 @@ from excavkin.studies.metrics import (
 )
 
 if TYPE_CHECKING:
-    from os import PathLike
-
     import pandas as pd
     from matplotlib.axes import Axes
 
@@ -91,6 +91,9 @@ class Optimum:
         The kind of each parameter (``design.NAME``) and metric (its name).
     units : dict of str to str
         The units to show them in (a study file's own); SI where absent.
+    model : Path or None
+        The model file the designs are of (a study's), for
+        [`write_model`][excavkin.studies.optimize.Optimum.write_model].
     """
 
     params: dict[str, float]
@@ -109,6 +112,44 @@ class Optimum:
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
     kinds: dict[str, str] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
+    model: Path | None = None
+
+    def write_model(
+        self, out: str | PathLike[str], *, model: str | PathLike[str] | None = None,
+        force: bool = False,
+    ) -> Path:  # fmt: skip
+        """Write the optimum as a model file: the model file with the design parameters'
+        values replaced, each in the unit the file writes it in, so that loading the written
+        file and solving it gives the optimum's metrics.
+
+        Parameters
+        ----------
+        out : path
+            The new model file (``.toml``).
+        model : path, optional
+            The model file (default: the study's, ``self.model``).
+        force : bool
+            Replace ``out`` if it exists.
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        Raises
+        ------
+        InputError
+            No model file is known.
+        OutputError
+            ``out`` exists (without ``force``) or is the model file itself.
+        """
+        from excavkin.io.model_write import write_model
+
+        source = model if model is not None else self.model
+        if source is None:
+            raise InputError("the optimum knows no model file: give model=")
+        what = f"{self.sense}imum of {self.objective}" if self.sense else "the optimum"
+        return write_model(source, self.params, out, force=force, note=f"design at the {what}")
 
     # ---- display, in the study's units
     def unit(self, column: str) -> str:
@@ -890,7 +931,7 @@ def optimize_study(
         from excavkin.errors import unknown_name
 
         raise unknown_name("metric (the objective)", str(name), list(by_name))
-    return optimize(
+    best = optimize(
         load(study.model), study.bounds, study.poses, by_name[name],
         sense or s.get("sense", "max"),
         metrics=[m for m in study.metrics if m.name != name],
@@ -899,12 +940,11 @@ def optimize_study(
         popsize=popsize or s.get("popsize", 32), tol=tol, units=study.units, progress=progress,
         pose_sets=study.pose_sets,
     )  # fmt: skip
+    return replace(best, model=study.model)
 
 
 def _load(path: str | PathLike[str]) -> Study:
     """A study file: a path, or a built-in example's name."""
-    from pathlib import Path
-
     import excavkin
     from excavkin.studies.study_file import load_study
 
