@@ -17,8 +17,12 @@ touch, and the shortest translation of one segment that frees it from the other 
 negative.
 
 Its gradient: at the endpoint-to-segment pair (point a, segment bc, nearest at
-x = b + t (c − b), n = (a − x)/|a − x|) that attains the minimum, the envelope theorem gives
-∂d/∂a = ±n, ∂d/∂b = ∓(1 − t) n and ∂d/∂c = ∓t n (the sign the clearance's).
+x = b + t (c − b)) that attains the minimum, with n the unit vector from x towards a, the
+envelope theorem gives ∂d/∂a = ±n, ∂d/∂b = ∓(1 − t) n and ∂d/∂c = ∓t n (the sign the
+clearance's). Where x lies inside bc, n is bc's normal on a's side, which stays exact where
+a lies on bc's line (d = 0): there the clearance grows as a moves towards its own segment's
+other end (the segments come apart) and falls as it moves away (they cross), so n points to
+that end's side.
 """
 
 from __future__ import annotations
@@ -99,17 +103,39 @@ def segment_clearance(
         return value
     t = np.take_along_axis(np.stack([t for _, t, _ in found]), k[None], axis=0)[0]
     offset = np.take_along_axis(np.stack([o for _, _, o in found]), k[None, ..., None], axis=0)[0]
+    # the way the clearance grows as the point moves: from the nearest point towards it where
+    # that is an end of the segment; the segment's normal where it is inside, turned to the
+    # point's side (to its own segment's other end's where the point lies on the line: moving
+    # towards it frees the segments, moving away makes them cross)
+    others = (p1, p0, q1, q0)
+    point = np.stack([a for a, _, _ in pairs])
+    start = np.stack([b for _, b, _ in pairs])
+    end = np.stack([c for _, _, c in pairs])
+    other = np.stack(others)
+
+    def chosen(stacked: F) -> F:
+        return np.asarray(np.take_along_axis(stacked, k[None, ..., None], axis=0)[0])
+
+    a, b, c, o = chosen(point), chosen(start), chosen(end), chosen(other)
+    along = c - b
+    length = np.hypot(along[..., 0], along[..., 1])
+    side = _cross(along, a - b)
+    side = np.where(side == 0.0, _cross(along, o - b), side)
     with np.errstate(invalid="ignore", divide="ignore"):
-        n = np.where(d[..., None] > 0.0, offset / d[..., None], 0.0) * sign[..., None]
+        normal = np.stack([-along[..., 1], along[..., 0]], axis=-1) / length[..., None]
+        to_end = offset / d[..., None]
+    inside = (t > 0.0) & (t < 1.0) & (length > 0.0)
+    n = np.where(inside[..., None], normal * np.sign(side)[..., None], to_end)
+    n = np.where((inside | (d > 0.0))[..., None], n, 0.0) * sign[..., None]
     on_point = n
     on_start = -(1.0 - t)[..., None] * n
     on_end = -t[..., None] * n
     grad = np.zeros((*value.shape, 4, 2))
     # which of p0, p1, q0, q1 is the point, the segment's start and its end, for each pair
     roles = ((0, 2, 3), (1, 2, 3), (2, 0, 1), (3, 0, 1))
-    for j, (a, b, c) in enumerate(roles):
+    for j, (i_point, i_start, i_end) in enumerate(roles):
         here = (k == j)[..., None]
-        grad[..., a, :] += np.where(here, on_point, 0.0)
-        grad[..., b, :] += np.where(here, on_start, 0.0)
-        grad[..., c, :] += np.where(here, on_end, 0.0)
+        grad[..., i_point, :] += np.where(here, on_point, 0.0)
+        grad[..., i_start, :] += np.where(here, on_start, 0.0)
+        grad[..., i_end, :] += np.where(here, on_end, 0.0)
     return value, grad

@@ -378,7 +378,7 @@ def _pose_set(
             )  # fmt: skip
         return None
     if not isinstance(given, str) or given not in named:
-        problem = unknown_name(f"pose set (metric {name!r})", str(given), named)
+        problem = unknown_name("pose set", str(given), named)
         raise r.err(f"{problem} (sets are [pose_sets.NAME] tables)", "metrics", name)
     return given
 
@@ -403,7 +403,7 @@ def _clearance(
             raise r.err(f"{text!r}: must be {shape}", "metrics", name)
         for point in ends:
             if point not in points:
-                problem = unknown_name(f"point (clearance {name!r})", point, list(points))
+                problem = unknown_name("point", point, list(points))
                 raise r.err(str(problem), "metrics", name)
         if ends[0] == ends[1]:
             raise r.err(f"{text!r}: a segment needs two different points", "metrics", name)
