@@ -60,10 +60,13 @@ def model_text_with(path: str | PathLike[str], values: Mapping[str, float], note
     for name, value in values.items():
         holder, key, kind = _entry(data, name, source)
         holder[key] = _written(holder[key], float(value), kind, units, data)
+    dropped = _drop_orphans(data)
     head = [line for line in _leading_comments(text)]
     if values:
         listed = ", ".join(values)
         head += ["#"] * bool(head) + [f"# {note or 'values set'}: {listed}"]
+    if dropped:
+        head.append(f"# (no entry refers to design variable {', '.join(dropped)} any more)")
     return "\n".join([*head, dumps(data)]) if head else dumps(data)
 
 
@@ -152,6 +155,31 @@ def _entry(data: dict[str, Any], name: str, source: str) -> tuple[Any, Any, str]
     raise missing()
 
 
+def _drop_orphans(data: dict[str, Any]) -> list[str]:
+    """Remove the design variables that no entry refers to any more (each of their entries was
+    given a value of its own); their names."""
+    design = data.get("design")
+    if not isinstance(design, dict):
+        return []
+
+    def strings(v: Any) -> list[str]:
+        if isinstance(v, str):
+            return [v]
+        if isinstance(v, list):
+            return [x for item in v for x in strings(item)]
+        if isinstance(v, dict):
+            return [x for item in v.values() for x in strings(item)]
+        return []
+
+    used = set(strings([data.get(k) for k in ("points", "bodies", "lengths")]))
+    dropped = [name for name in design if name not in used]
+    for name in dropped:
+        del design[name]
+    if not design:
+        del data["design"]
+    return dropped
+
+
 def _written(given: Any, value: float, kind: str, units: Mapping[str, Any], data: Any) -> Any:
     """``value`` (SI) as the file writes the entry ``given``: with its unit where it has one,
     else a bare number in the file's ``[units]`` for the kind, else with the SI unit."""
@@ -172,8 +200,8 @@ def _written(given: Any, value: float, kind: str, units: Mapping[str, Any], data
 
 
 def _number(value: float, kind: str, unit: str) -> float:
-    """``value`` (SI) in ``unit``: the shortest number that reads back to exactly ``value``
-    (where one does; else the plain conversion)."""
+    """``value`` (SI) in ``unit``: the shortest number that reads back to exactly ``value``,
+    else the nearest one that does (a conversion rounds), else the plain conversion."""
     from excavkin.units import from_si, to_si
 
     plain = float(from_si(value, kind, unit))
@@ -181,6 +209,13 @@ def _number(value: float, kind: str, unit: str) -> float:
         shorter = float(f"{plain:.{digits}g}")
         if to_si(shorter, kind, unit) == value:
             return shorter
+    # the conversion rounds: a neighbour of the plain value may read back exactly
+    up = down = plain
+    for _ in range(8):
+        up, down = math.nextafter(up, math.inf), math.nextafter(down, -math.inf)
+        for near in (up, down):
+            if to_si(near, kind, unit) == value:
+                return near
     return plain
 
 
