@@ -201,7 +201,19 @@ def pose_sets_of(
 
 
 def check_pose_sets(sets: Mapping[str | None, Poses], metrics: Sequence[Metric]) -> None:
-    """Refuse a metric that reads a pose set the study does not have."""
+    """Refuse a metric that reads a pose set the study does not have.
+
+    Parameters
+    ----------
+    sets : mapping of (str or None) to Poses
+        The study's sets (`pose_sets_of`).
+    metrics : sequence of Metric
+
+    Raises
+    ------
+    InputError
+        Naming the metric and the sets there are.
+    """
     from excavkin.errors import unknown_name
 
     for m in metrics:
@@ -269,8 +281,27 @@ def evaluate(
 def solve_set(
     mech: Mechanism, designs: Mapping[str, F], poses: Poses, d: int, loads: Any
 ) -> tuple[Any, NDArray[np.bool_]]:
-    """Every one of ``d`` designs at every pose of one set, one batch (design-major order):
-    the result, and whether each pose solved (and is not statically singular), shape (d, p)."""
+    """Every one of ``d`` designs at every pose of one set, one batch (design-major order).
+
+    Parameters
+    ----------
+    mech : Mechanism
+    designs : mapping of str to ndarray, shape (d,)
+        Parameter values (SI) per design.
+    poses : Poses
+        The set: with rates, forces with their inertia; without, static forces.
+    d : int
+        The number of designs.
+    loads : optional
+        Loads for the kinetostatics (``"model"``), or None for kinematics alone.
+
+    Returns
+    -------
+    result : KinematicResult or ForceResult
+        The d × p samples, design-major.
+    ok : ndarray of bool, shape (d, p)
+        Whether each pose solved (and is not statically singular).
+    """
     p = poses.count
     params = {k: np.repeat(np.asarray(v, dtype=np.float64), p) for k, v in designs.items()}
     values = {k: _tile(v, p, d) for k, v in poses.values.items()}
@@ -283,7 +314,18 @@ def solve_set(
 
 def metric_series(res: Any, m: Metric) -> F:
     """A metric's per-sample series of a result: its column, or its two segments' clearance
-    from their points' columns."""
+    from their points' columns.
+
+    Parameters
+    ----------
+    res : KinematicResult or ForceResult
+    m : Metric
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        One value per sample of ``res``.
+    """
     if m.clearance is None:
         names = {c.name for c in res.columns}
         if m.column not in names:
