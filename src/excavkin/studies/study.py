@@ -601,18 +601,20 @@ def _kinds(study: Study, mech: Mechanism) -> dict[str, str]:
 
 
 def metric_kind(m: Metric, of: Mapping[str, str]) -> str:
-    """A metric's kind, from its column's (``of``: column → kind): a pose's index is
-    dimensionless, a clearance a length."""
+    """A metric's kind, from its column's: a pose's index is dimensionless, a clearance a
+    length.
+
+    Parameters
+    ----------
+    m : Metric
+    of : mapping of str to str
+        Each column's kind.
+
+    Returns
+    -------
+    str
+        The metric's kind (``"length"``, ``"angle"``, ``"dimensionless"`` …).
+    """
     if m.reduce in ("argmin", "argmax"):
         return "dimensionless"
     return "length" if m.clearance is not None else of.get(m.column, "dimensionless")
-
-
-def metric_kinds(mech: Mechanism, metrics: Mapping[str, tuple[str, str]]) -> dict[str, str]:
-    """The kind of each metric (name → (column, reduce)), for reading its constraints' units."""
-    probe = mech.solve({}, loads=[])
-    of = {c.name: c.kind for c in probe.columns}
-    return {
-        name: "dimensionless" if how in ("argmin", "argmax") else of.get(column, "dimensionless")
-        for name, (column, how) in metrics.items()
-    }
