@@ -85,6 +85,7 @@ def test_named_sets_alone_need_each_metric_to_name_its_set(tmp_path: Path) -> No
         (('["O2-A", "O4-B"], poses', '["O2-A", "O4-B"], reduce = "sumsq", poses'),
          r"metrics.*gap.*reduce"),
         (('gap = { min = "20 mm" }', 'gap = { min = "20 deg" }'), r"constraints.*gap"),
+        (("[pose_sets.low]", "[poses.low]"), r"\[poses\] 'low'.*\[pose_sets.low\] table"),
         (('poses = "high" }\ntorque_held', 'poses = 3 }\ntorque_held'),
          r"metrics.*torque_high.*pose set"),
     ],

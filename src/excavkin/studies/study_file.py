@@ -257,6 +257,12 @@ def read_poses(
     accels_t = table.pop("accels", {})
     values = {}
     for name, spec in table.items():
+        if isinstance(spec, dict):
+            raise r.err(
+                f"a table here is not a driver's value; a named pose set is a "
+                f"[pose_sets.{name}] table (and its rates [pose_sets.{name}.rates])",
+                where, name,
+            )  # fmt: skip
         kind = _driver_kind(r, mech, name, where)
         values[name] = _sweep(r, spec, kind, where, name)
     rates = {}
