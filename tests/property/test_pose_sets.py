@@ -143,6 +143,10 @@ def test_a_resumed_study_with_sets_equals_an_uninterrupted_one(tmp_path: Path) -
     run_study(study, target, chunk_samples=300, progress=lambda d, t: counts.append(d))
     assert counts[0] == seen[-1] > 0
     assert pd.read_parquet(whole).equals(pd.read_parquet(target))
+    described = whole.metadata()["pose_sets"]
+    assert described["sets"] == {"": 25, "low": 7, "high": 9, "held": 5}
+    assert described["metrics"]["gap"] == "high" and described["metrics"]["gamma_min"] == ""
+    assert "set 'held': static forces" in whole.metadata()["motion"]
     # another set's poses are another study: its parts are not resumed into it
     other = load_study(write(tmp_path, STUDY.replace("150 deg:210 deg:9", "150 deg:200 deg:9")))
     assert other.fingerprint() != study.fingerprint()

@@ -295,7 +295,17 @@ def run_study(
         done += e - s
         if progress is not None:
             progress(done, study.designs)
-    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note)
+    # the pose sets (name → poses; "" the default set) and each metric's set, where named
+    sets = getattr(study, "sets", {})
+    described = (
+        {
+            "sets": {k or "": v.count for k, v in sets.items()},
+            "metrics": {m.name: m.poses or "" for m in getattr(study, "metrics", ())},
+        }
+        if set(sets) - {None}
+        else None
+    )
+    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note, described)
     shutil.rmtree(parts)
     return StudyResult(target, getattr(study, "units", {}))
 
@@ -343,8 +353,10 @@ class StudyResult:
         return frame
 
     def metadata(self) -> dict[str, Any]:
-        """The table's own metadata: ``model``, ``kinds`` and ``units`` (SI) of its columns, and
-        ``motion``: what its force metrics are (static unless the poses give rates), or ``""``.
+        """The table's own metadata: ``model``, ``kinds`` and ``units`` (SI) of its columns,
+        ``motion``: what its force metrics are (static unless the poses give rates), or ``""``,
+        and ``pose_sets``: for a study with named pose sets, ``{"sets": {name: poses},
+        "metrics": {metric: its set}}`` (``""``: the default set), else ``{}``.
 
         Returns
         -------
@@ -363,6 +375,7 @@ class StudyResult:
             "kinds": read(b"excavkin.kinds", {}),
             "units": read(b"excavkin.units", {}),
             "motion": meta.get(b"excavkin.motion", b"").decode(),
+            "pose_sets": read(b"excavkin.pose_sets", {}),
         }
 
     def _shown(self, frame: pd.DataFrame, column: str) -> tuple[np.ndarray, str]:
@@ -559,10 +572,16 @@ def _write_part(frame: pd.DataFrame, path: Path) -> None:
 
 
 def _assemble(
-    parts: Path, target: Path, fingerprint: str, kinds: dict[str, str], name: str, motion: str
+    parts: Path,
+    target: Path,
+    fingerprint: str,
+    kinds: dict[str, str],
+    name: str,
+    motion: str,
+    sets: dict[str, Any] | None = None,
 ) -> None:
-    """The parts in design order, as one table with units in its metadata, moved into place
-    whole; one part in memory at a time."""
+    """The parts in design order, as one table with units (and the pose sets, where named) in
+    its metadata, moved into place whole; one part in memory at a time."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -577,6 +596,7 @@ def _assemble(
         b"excavkin.model": name.encode(),
         b"excavkin.study": fingerprint.encode(),
         **({b"excavkin.motion": motion.encode()} if motion else {}),
+        **({b"excavkin.pose_sets": json.dumps(sets).encode()} if sets else {}),
     }
     schema = schema.with_metadata({**(schema.metadata or {}), **meta})
 
