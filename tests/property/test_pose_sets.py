@@ -260,6 +260,14 @@ def test_the_built_in_study_meets_both_sets_and_its_written_model_reproduces_it(
     assert nominal["teeth_to_boom"][0] < -0.05 and not nominal["feasible"][0]
     best = optimize_study(name)
     assert best.feasible and best.active == ("teeth_to_boom",)
+    # the study's own sampling (docs/studies.md): 16 of 1 024 designs meet both sets, none
+    # beats the optimum
+    designs = sample_designs(study.bounds, study.samples, study.method, study.seed)
+    table = evaluate(mech, designs, study.poses, study.metrics, study.constraints, None,
+                     study.pose_sets)  # fmt: skip
+    sampled = table.loc[table["feasible"], "link"]
+    assert len(sampled) == 16 and sampled.max() < best.value
+    assert_allclose(np.degrees(sampled.max()), 48.61, atol=0.005)
     assert_allclose(best.metrics["teeth_to_boom"], 0.05, rtol=1e-7)
     assert best.metrics["link"] > nominal["link"][0] + np.radians(15)
     out = best.write_model(tmp_path / "best.toml")
