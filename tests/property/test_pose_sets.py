@@ -258,6 +258,10 @@ def test_the_built_in_study_meets_both_sets_and_its_written_model_reproduces_it(
     nominal = evaluate(mech, at, study.poses, study.metrics, study.constraints, None,
                        study.pose_sets)  # fmt: skip
     assert nominal["teeth_to_boom"][0] < -0.05 and not nominal["feasible"][0]
+    # the nominal column of the table in docs/studies.md
+    shown = [np.degrees(nominal[k][0]) for k in ("link", "turn", "open")]
+    assert_allclose(shown, [30.53, -187.52, 55.47], atol=0.005)
+    assert_allclose(nominal["teeth_to_boom"][0], -0.1135, atol=5e-5)
     best = optimize_study(name)
     assert best.feasible and best.active == ("teeth_to_boom",)
     # the study's own sampling (docs/studies.md): 16 of 1 024 designs meet both sets, none
