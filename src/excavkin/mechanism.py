@@ -815,9 +815,9 @@ class Mechanism:
             params=result.parameters,
             continuation="smooth" if smooth else "side",
             sensitivities=list(result.tangents) if result.tangents else None,
-            sensitivity_columns=None if result.tangent_columns is None else [
-                *result.tangent_columns
-            ],
+            sensitivity_columns=None
+            if result.tangent_columns is None
+            else [*result.tangent_columns],
         )
 
     def _forces(

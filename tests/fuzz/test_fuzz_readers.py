@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 
 import excavkin
 from excavkin.cli import main
+from tests.property.test_pose_sets import STUDY as POSE_SETS_STUDY
 
 FUZZ = settings(
     max_examples=150,
@@ -307,6 +308,25 @@ def test_mutated_study_files(tmp_path_factory, data) -> None:  # type: ignore[no
         ok = table[table["feasible"]]
         assert np.isfinite(ok[metrics].to_numpy(dtype=float)).all()
     check_outcome(["optimize", str(path), "--force"], str(path))
+
+
+#: a study with named pose sets and clearance metrics (tests/property/test_pose_sets.py)
+SETS_STUDY = POSE_SETS_STUDY.replace("samples = 48", "samples = 8") + (
+    '\n[optimize]\nobjective = "gamma_min"\nsense = "max"\nmaxiter = 20\n'
+)
+
+
+@settings(FUZZ, max_examples=40)
+@given(data=st.data())
+def test_mutated_study_files_with_pose_sets(tmp_path_factory, data) -> None:  # type: ignore[no-untyped-def]
+    """A mutated study with several pose sets and clearances runs or is refused naming the
+    file, through the study and the optimiser."""
+    folder = tmp_path_factory.mktemp("sets")
+    path = folder / "s.toml"
+    path.write_text(mutate(SETS_STUDY, data))
+    assert "[pose_sets." in SETS_STUDY and "clearance" in SETS_STUDY
+    check_outcome(["study", str(path), "-o", str(folder / "s.parquet"), "-q", "--force"], str(path))
+    check_outcome(["optimize", str(path), "-q", "--write-model", str(folder / "m.toml")], str(path))
 
 
 #: the built-in machine study, small enough to run in every fuzz case

@@ -1,6 +1,10 @@
-"""Metrics of a family of designs over a pose set: each design solved at every pose in one
-batch over the geometry axis, a column reduced over the poses (min, max, …), and constraints
-on the metrics."""
+"""Metrics of a family of designs over pose sets: each design solved at every pose of a set in
+one batch over the geometry axis, a column (or the clearance of two segments) reduced over the
+set's poses (min, max, …), and constraints on the metrics.
+
+A study has a default pose set (a study file's ``[poses]``) and any number of named ones
+(``[pose_sets.NAME]``); a metric reads the set it names (``Metric.poses``), the default where
+it names none."""
 
 from __future__ import annotations
 
@@ -52,12 +56,56 @@ class Metric:
     target : tuple of float, optional
         For ``sumsq`` (needed) and ``absmax`` only: one value, or one per pose, in the
         column's SI unit.
+    poses : str, optional
+        The pose set the metric reads (None: the study's default set).
+    clearance : (str, str, str, str), optional
+        For a clearance metric (made by `clearance_metric`): the points P0, P1, Q0, Q1 of its
+        two segments; its ``column`` then only names it.
     """
 
     name: str
     column: str
     reduce: Reduce
     target: tuple[float, ...] | None = None
+    poses: str | None = None
+    clearance: tuple[str, str, str, str] | None = None
+
+    @property
+    def key(self) -> str:
+        """The per-pose series the metric reduces: its column, within its pose set (a
+        clearance's column is ``"clearance P0-P1 Q0-Q1"``)."""
+        return self.column if self.poses is None else f"{self.poses}/{self.column}"
+
+
+def clearance_metric(
+    name: str,
+    first: tuple[str, str],
+    second: tuple[str, str],
+    poses: str | None = None,
+    reduce: Reduce = "min",
+) -> Metric:
+    """A metric that is the signed clearance of two segments between named points (a
+    cylinder's pin-to-pin line, a body's edge), reduced over a pose set (by default its least
+    value): their distance where they do not cross, minus the depth of their penetration where
+    they do ([`segment_clearance`][excavkin.studies.clearance.segment_clearance]).
+
+    Parameters
+    ----------
+    name : str
+        The metric's name.
+    first, second : (str, str)
+        Each segment's two points.
+    poses : str, optional
+        The pose set (default: the study's default set).
+    reduce : str
+        How the clearance is reduced over the poses (default ``"min"``).
+
+    Returns
+    -------
+    Metric
+    """
+    column = f"clearance {first[0]}-{first[1]} {second[0]}-{second[1]}"
+    return Metric(name, column, reduce, None, poses, (*first, *second))
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,20 +154,77 @@ class Poses:
 
 def needs_forces(mech: Mechanism, metrics: Sequence[Metric]) -> bool:
     """Whether a metric reads a force column (the designs then get their kinetostatics); an
-    unknown column is an error naming it."""
+    unknown column or point is an error naming it."""
     from excavkin.errors import unknown_name
 
     kin = {c.name for c in mech.solve({}).columns}
     forces = {c.name for c in mech.solve({}, loads=[]).columns} - kin
     for m in metrics:
-        if m.column not in kin and m.column not in forces:
+        if m.clearance is not None:
+            points = sorted(mech.model.points)
+            for point in m.clearance:
+                if point not in mech.model.points:
+                    raise unknown_name(f"point (clearance {m.name!r})", point, points)
+        elif m.column not in kin and m.column not in forces:
             raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(kin | forces))
         if m.reduce not in REDUCTIONS:
             raise InputError(
                 f"metric {m.name!r}: reduce must be one of {', '.join(REDUCTIONS)}, "
                 f"not {m.reduce!r}"
             )
-    return any(m.column in forces for m in metrics)
+    return any(m.column in forces for m in metrics if m.clearance is None)
+
+
+def pose_sets_of(
+    poses: Poses, pose_sets: Mapping[str, Poses] | None = None
+) -> dict[str | None, Poses]:
+    """Every pose set a study solves, by name (None: the default set): the default set and
+    the named ones; where there are named sets and the default gives nothing (no driver
+    value, rate or acceleration), the named sets alone.
+
+    Parameters
+    ----------
+    poses : Poses
+        The default set.
+    pose_sets : mapping of str to Poses, optional
+        The named sets.
+
+    Returns
+    -------
+    dict of (str or None) to Poses
+    """
+    named = dict(pose_sets or {})
+    empty = not (poses.values or poses.rates or poses.accels)
+    out: dict[str | None, Poses] = {} if named and empty else {None: poses}
+    out.update(named)
+    return out
+
+
+def check_pose_sets(sets: Mapping[str | None, Poses], metrics: Sequence[Metric]) -> None:
+    """Refuse a metric that reads a pose set the study does not have.
+
+    Parameters
+    ----------
+    sets : mapping of (str or None) to Poses
+        The study's sets (`pose_sets_of`).
+    metrics : sequence of Metric
+
+    Raises
+    ------
+    InputError
+        Naming the metric and the sets there are.
+    """
+    from excavkin.errors import unknown_name
+
+    for m in metrics:
+        if m.poses not in sets:
+            if m.poses is None:
+                raise InputError(
+                    f"metric {m.name!r} names no pose set and the study has no default set "
+                    f"([poses]): give it poses = one of {', '.join(str(k) for k in sets)}"
+                )
+            names = [str(k) for k in sets if k is not None]
+            raise unknown_name(f"pose set (metric {m.name!r})", m.poses, names)
 
 
 def evaluate(
@@ -129,8 +234,10 @@ def evaluate(
     metrics: Sequence[Metric],
     constraints: Sequence[Constraint] = (),
     loads: Any = None,
+    pose_sets: Mapping[str, Poses] | None = None,
 ) -> pd.DataFrame:
-    """Every design at every pose, as one solve of designs × poses samples; one row per design.
+    """Every design at every pose of every pose set, as one solve of designs × poses samples
+    per set; one row per design.
 
     Parameters
     ----------
@@ -138,39 +245,101 @@ def evaluate(
     designs : mapping of str to ndarray, shape (d,)
         Parameter values (SI) per design.
     poses : Poses
+        The default pose set (the metrics that name none read it).
     metrics : sequence of Metric
     constraints : sequence of Constraint
     loads : optional
         Loads for the kinetostatics (``"model"``: the model's own), needed by force metrics.
+        A set with rates gives forces with their inertia, one without static forces.
+    pose_sets : mapping of str to Poses, optional
+        Named pose sets (see `pose_sets_of`).
 
     Returns
     -------
     pandas.DataFrame
-        ``design.<parameter>`` columns, one column per metric, ``poses_failed`` (poses that did
-        not solve, or are statically singular), ``feasible`` (every pose solved and every
-        constraint met) and ``status`` ("ok", or why not). A metric is over the poses that
-        solved; NaN if none did.
+        ``design.<parameter>`` columns, one column per metric, ``poses_failed`` (poses of
+        every set that did not solve, or are statically singular), ``feasible`` (every pose
+        solved and every constraint met) and ``status`` ("ok", or why not). A metric is over
+        its set's poses that solved; NaN if none did.
     """
+    sets = pose_sets_of(poses, pose_sets)
+    check_pose_sets(sets, metrics)
     d = len(next(iter(designs.values())))
+    series: dict[str, F] = {}
+    oks: dict[str | None, NDArray[np.bool_]] = {}
+    angles: set[str] = set()
+    for name, pose_set in sets.items():
+        res, oks[name] = solve_set(mech, designs, pose_set, d, loads)
+        p = pose_set.count
+        angles |= {c.name for c in res.columns if c.kind == "angle"}
+        for m in metrics:
+            if m.poses == name:
+                series[m.key] = metric_series(res, m).reshape(d, p)
+    return tabulate_sets(designs, series, oks, metrics, constraints, angles)
+
+
+def solve_set(
+    mech: Mechanism, designs: Mapping[str, F], poses: Poses, d: int, loads: Any
+) -> tuple[Any, NDArray[np.bool_]]:
+    """Every one of ``d`` designs at every pose of one set, one batch (design-major order).
+
+    Parameters
+    ----------
+    mech : Mechanism
+    designs : mapping of str to ndarray, shape (d,)
+        Parameter values (SI) per design.
+    poses : Poses
+        The set: with rates, forces with their inertia; without, static forces.
+    d : int
+        The number of designs.
+    loads : optional
+        Loads for the kinetostatics (``"model"``), or None for kinematics alone.
+
+    Returns
+    -------
+    result : KinematicResult or ForceResult
+        The d × p samples, design-major.
+    ok : ndarray of bool, shape (d, p)
+        Whether each pose solved (and is not statically singular).
+    """
     p = poses.count
     params = {k: np.repeat(np.asarray(v, dtype=np.float64), p) for k, v in designs.items()}
     values = {k: _tile(v, p, d) for k, v in poses.values.items()}
     rates = {k: _tile(v, p, d) for k, v in poses.rates.items()}
     accels = {k: _tile(v, p, d) for k, v in poses.accels.items()}
-    n = d * p
     res: Any = mech.solve(values, rates, accels, params=params, loads=loads)
     ok = res.status.solved if loads is None else res.kinematics.status.solved & ~res.singular
-    columns = {c.name for c in res.columns}
-    ok = np.broadcast_to(ok, (n,)).reshape(d, p)
-    cols: dict[str, F] = {}
-    for m in metrics:
-        if m.column not in columns:
+    return res, np.broadcast_to(ok, (d * p,)).reshape(d, p)
+
+
+def metric_series(res: Any, m: Metric) -> F:
+    """A metric's per-sample series of a result: its column, or its two segments' clearance
+    from their points' columns.
+
+    Parameters
+    ----------
+    res : KinematicResult or ForceResult
+    m : Metric
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        One value per sample of ``res``.
+    """
+    if m.clearance is None:
+        names = {c.name for c in res.columns}
+        if m.column not in names:
             from excavkin.errors import unknown_name
 
-            raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(columns))
-        cols[m.column] = column_of(res, m.column).reshape(d, p)
-    angles = {c.name for c in res.columns if c.kind == "angle"}
-    return tabulate(designs, cols, ok, metrics, constraints, angles)
+            raise unknown_name(f"column (metric {m.name!r})", m.column, sorted(names))
+        return column_of(res, m.column)
+    from excavkin.studies.clearance import segment_clearance
+
+    ends = [
+        np.stack([column_of(res, f"{pt}.x"), column_of(res, f"{pt}.y")], axis=-1)
+        for pt in m.clearance
+    ]
+    return np.asarray(segment_clearance(*ends))
 
 
 #: the study table's own columns: a metric of one of these names would collide with it (the
@@ -212,22 +381,61 @@ def tabulate(
     the poses that solved, and each design's feasibility (see
     [`evaluate`][excavkin.studies.metrics.evaluate]). The
     ``change`` of a column in ``angles`` is taken along the poses (`angle_change`)."""
+    return tabulate_sets(designs, columns, {None: ok}, metrics, constraints, angles)
+
+
+def tabulate_sets(
+    designs: Mapping[str, F],
+    columns: Mapping[str, F],
+    oks: Mapping[str | None, NDArray[np.bool_]],
+    metrics: Sequence[Metric],
+    constraints: Sequence[Constraint] = (),
+    angles: Collection[str] = (),
+) -> pd.DataFrame:
+    """`tabulate` over several pose sets: each metric's series (by `Metric.key`, shape
+    (designs, poses of its set)) reduced over its set's poses that solved (``oks``: set name →
+    shape (designs, poses)); a design is feasible when every pose of every set solved and
+    every constraint holds.
+
+    Parameters
+    ----------
+    designs : mapping of str to ndarray, shape (d,)
+    columns : mapping of str to ndarray, shape (d, p_set)
+        Each metric's series by its key.
+    oks : mapping of (str or None) to ndarray of bool, shape (d, p_set)
+        Whether each pose of each set solved.
+    metrics, constraints
+    angles : collection of str
+        The angle columns (their ``change`` is followed along the poses).
+
+    Returns
+    -------
+    pandas.DataFrame
+        As [`evaluate`][excavkin.studies.metrics.evaluate] gives it.
+    """
     import pandas as pd
 
-    d, p = ok.shape
+    d = next(iter(oks.values())).shape[0]
     out: dict[str, Any] = {f"design.{k}": np.asarray(v) for k, v in designs.items()}
     for m in metrics:
-        col = columns[m.column]
+        ok = oks[m.poses]
+        col = columns[m.key]
         if m.reduce == "sumsq" or m.target is not None:
-            col = col - target_of(m, p)
+            col = col - target_of(m, ok.shape[1])
         if m.reduce == "change" and m.column in angles:
             out[m.name] = angle_change(np.where(ok, col, np.nan))
         else:
             out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
-    failed = (~ok).sum(axis=1)
+    failed = np.zeros(d, dtype=np.int64)
+    why = np.full(d, "", dtype=object)
+    for name, ok in oks.items():
+        miss = (~ok).sum(axis=1)
+        where = "" if name is None else f" of set {name!r}"
+        text = np.char.add(miss.astype(str), f" of {ok.shape[1]} poses{where} do not solve")
+        why = np.where((why == "") & (miss > 0), text, why)
+        failed += miss
     out["poses_failed"] = failed
     met = failed == 0
-    why = np.where(failed > 0, np.char.add(failed.astype(str), f" of {p} poses do not solve"), "")
     for c in constraints:
         value = out[c.metric]
         inside = np.ones(d, dtype=bool)
@@ -239,7 +447,7 @@ def tabulate(
         why = np.where(hit, f"constraint on {c.metric} not met", why)
         met &= inside
     out["feasible"] = met
-    out["status"] = np.where(why == "", "ok", why)
+    out["status"] = np.where(why == "", "ok", why).astype(str)
     return pd.DataFrame(out)
 
 

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from os import PathLike
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -37,12 +39,11 @@ from excavkin.studies.metrics import (
     angle_change,
     column_of,
     evaluate,
+    pose_sets_of,
     target_of,
 )
 
 if TYPE_CHECKING:
-    from os import PathLike
-
     import pandas as pd
     from matplotlib.axes import Axes
 
@@ -90,6 +91,9 @@ class Optimum:
         The kind of each parameter (``design.NAME``) and metric (its name).
     units : dict of str to str
         The units to show them in (a study file's own); SI where absent.
+    model : Path or None
+        The model file the designs are of (a study's), for
+        [`write_model`][excavkin.studies.optimize.Optimum.write_model].
     """
 
     params: dict[str, float]
@@ -108,6 +112,44 @@ class Optimum:
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
     kinds: dict[str, str] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
+    model: Path | None = None
+
+    def write_model(
+        self, out: str | PathLike[str], *, model: str | PathLike[str] | None = None,
+        force: bool = False,
+    ) -> Path:  # fmt: skip
+        """Write the optimum as a model file: the model file with the design parameters'
+        values replaced, each in the unit the file writes it in, so that loading the written
+        file and solving it gives the optimum's metrics.
+
+        Parameters
+        ----------
+        out : path
+            The new model file (``.toml``).
+        model : path, optional
+            The model file (default: the study's, ``self.model``).
+        force : bool
+            Replace ``out`` if it exists.
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        Raises
+        ------
+        InputError
+            No model file is known.
+        OutputError
+            ``out`` exists (without ``force``) or is the model file itself.
+        """
+        from excavkin.io.model_write import write_model
+
+        source = model if model is not None else self.model
+        if source is None:
+            raise InputError("the optimum knows no model file: give model=")
+        what = f"{self.sense}imum of {self.objective}" if self.sense else "the optimum"
+        return write_model(source, self.params, out, force=force, note=f"design at the {what}")
 
     # ---- display, in the study's units
     def unit(self, column: str) -> str:
@@ -286,6 +328,7 @@ def optimize(
     tol: float = 1e-12,
     units: Mapping[str, str] | None = None,
     progress: Callable[[int, int], None] | None = None,
+    pose_sets: Mapping[str, Poses] | None = None,
 ) -> Optimum:
     """Minimise or maximise ``objective`` over designs within ``bounds``.
 
@@ -322,12 +365,18 @@ def optimize(
     progress : callable, optional
         ``progress(iterations, maxiter)`` after each iteration (the optimiser may stop
         before ``maxiter``).
+    pose_sets : mapping of str to Poses, optional
+        Named pose sets besides ``poses`` (a metric reads the set its ``poses`` names);
+        every design is solved at every pose of every set
+        ([`pose_sets_of`][excavkin.studies.metrics.pose_sets_of]).
 
     Returns
     -------
     Optimum
     """
-    problem = _MechanismProblem(mech, bounds, poses, objective, sense, metrics, constraints, loads)
+    problem = _MechanismProblem(
+        mech, bounds, poses, objective, sense, metrics, constraints, loads, pose_sets
+    )
     best = run(
         problem, method, x0, seed=seed, maxiter=maxiter, popsize=popsize, tol=tol,
         progress=progress,
@@ -452,8 +501,8 @@ class Problem:
     def column(self, m: Metric, u: F) -> tuple[F, F]:
         """A metric's column at every pose, less its target if it has one, and its gradient."""
         values, grads, _ = self.columns_at(u)
-        c = values[m.column]
-        return (c if m.target is None else c - target_of(m, c.size)), grads[m.column]
+        c = values[m.key]
+        return (c if m.target is None else c - target_of(m, c.size)), grads[m.key]
 
     def smooth(self, m: Metric, u: F) -> tuple[float, F]:
         """A smooth metric (mean, sumsq, change, first, last) and its gradient in u."""
@@ -548,7 +597,7 @@ class Problem:
             return np.nan_to_num(r, nan=1e3)
 
         def jacobian(u: F) -> F:
-            return np.nan_to_num(self.columns_at(u)[1][m.column])
+            return np.nan_to_num(self.columns_at(u)[1][m.key])
 
         res = least_squares(
             residuals, u0, jac=jacobian, bounds=(0.0, 1.0), method="trf",
@@ -723,11 +772,27 @@ class _MechanismProblem(Problem):
         metrics: Sequence[Metric],
         constraints: Sequence[Constraint],
         loads: Any,
+        pose_sets: Mapping[str, Poses] | None = None,
     ) -> None:
+        from excavkin.studies.metrics import check_pose_sets, needs_forces
+        from excavkin.studies.study import metric_kind
+
         super().__init__(mech.parameters, bounds, poses, objective, sense, metrics, constraints)
         self.mech = mech
         self.loads = loads
-        self.wanted = list(dict.fromkeys(m.column for m in self.metrics))
+        self.pose_sets = dict(pose_sets or {})
+        self.sets = pose_sets_of(poses, self.pose_sets)
+        check_pose_sets(self.sets, self.metrics)
+        needs_forces(mech, self.metrics)  # unknown columns and points, named
+        #: the columns to differentiate in each set: the metrics' and their clearances' points
+        self.wanted: dict[str | None, list[str]] = {}
+        for name in self.sets:
+            cols: list[str] = []
+            for m in self.metrics:
+                if m.poses == name:
+                    ends = m.clearance or ()
+                    cols += [f"{p}.{a}" for p in ends for a in "xy"] if ends else [m.column]
+            self.wanted[name] = list(dict.fromkeys(cols))
         probe = mech.solve({}, loads=[]) if loads is not None else mech.solve({})
         self.angles = {c.name for c in probe.columns if c.kind == "angle"}
         from excavkin.structure.design import parameter_kind
@@ -735,11 +800,12 @@ class _MechanismProblem(Problem):
         of = {c.name: c.kind for c in probe.columns}
         self.kinds = {f"design.{k}": parameter_kind(k, mech.model) for k in self.names}
         for m in self.metrics:
-            reduced = m.reduce in ("argmin", "argmax")
-            self.kinds[m.name] = "dimensionless" if reduced else of.get(m.column, "dimensionless")
+            self.kinds[m.name] = metric_kind(m, of)
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
-        return evaluate(self.mech, designs, self.poses, self.metrics, (), self.loads)
+        return evaluate(
+            self.mech, designs, self.poses, self.metrics, (), self.loads, self.pose_sets
+        )
 
     def columns_at(self, u: F) -> tuple[dict[str, F], dict[str, F], bool]:
         """Each metric's column at every pose, its gradient in u (poses × parameters), and
@@ -749,29 +815,62 @@ class _MechanismProblem(Problem):
         if key in self._memo:
             return self._memo[key]
         params = self.params_of(u)
-        # only the metrics' columns are differentiated (every one when forces are)
-        wanted = None if self.loads is not None else self.wanted
-        res: Any = self.mech.solve(  # type: ignore[call-overload]
-            self.poses.values, self.poses.rates, self.poses.accels,
-            params=params, sensitivities=self.names, loads=self.loads,
-            sensitivity_columns=wanted,
-        )  # fmt: skip
-        self.evaluations += 1
-        kin = res if self.loads is None else res.kinematics
-        ok = kin.status.solved if self.loads is None else kin.status.solved & ~res.singular
-        values, grads = {}, {}
+        values: dict[str, F] = {}
+        grads: dict[str, F] = {}
+        solved = True
         span = self.hi - self.lo
-        for m in self.metrics:
-            col = column_of(res, m.column)
-            values[m.column] = col
-            grads[m.column] = np.stack(
+
+        def gradient(res: Any, column: str, size: int) -> F:
+            """∂column/∂u at every pose, shape (poses, parameters)."""
+            return np.stack(
                 [
-                    np.asarray(res.sensitivity(m.column, k)) * s
+                    np.asarray(res.sensitivity(column, k)) * s
                     for k, s in zip(self.names, span, strict=True)
                 ],
                 axis=-1,
-            ).reshape(col.size, len(self.names))
-        return self.remember(u, (values, grads, bool(np.all(ok))))
+            ).reshape(size, len(self.names))
+
+        for name, poses in self.sets.items():  # one solve with sensitivities per pose set
+            # only the metrics' columns are differentiated (every one when forces are)
+            wanted = None if self.loads is not None else self.wanted[name]
+            res: Any = self.mech.solve(  # type: ignore[call-overload]
+                poses.values, poses.rates, poses.accels,
+                params=params, sensitivities=self.names, loads=self.loads,
+                sensitivity_columns=wanted,
+            )  # fmt: skip
+            kin = res if self.loads is None else res.kinematics
+            ok = kin.status.solved if self.loads is None else kin.status.solved & ~res.singular
+            solved = solved and bool(np.all(ok))
+            for m in self.metrics:
+                if m.poses != name:
+                    continue
+                if m.clearance is None:
+                    col = column_of(res, m.column)
+                    values[m.key], grads[m.key] = col, gradient(res, m.column, col.size)
+                    continue
+                values[m.key], grads[m.key] = self._clearance(res, m.clearance, gradient)
+        self.evaluations += 1
+        return self.remember(u, (values, grads, solved))
+
+    @staticmethod
+    def _clearance(
+        res: Any, points: tuple[str, ...], gradient: Callable[[Any, str, int], F]
+    ) -> tuple[F, F]:
+        """A clearance at every pose and its gradient in u: the segments' gradient in their
+        ends' coordinates times the ends' sensitivities."""
+        from excavkin.studies.clearance import segment_clearance
+
+        ends = [
+            np.stack([column_of(res, f"{p}.x"), column_of(res, f"{p}.y")], axis=-1) for p in points
+        ]
+        value, by_end = segment_clearance(*ends, gradient=True)
+        size = value.size
+        grad = np.zeros((size, 0))
+        for i, p in enumerate(points):
+            for a, axis in enumerate("xy"):
+                term = by_end[:, i, a, None] * gradient(res, f"{p}.{axis}", size)
+                grad = term if grad.shape[1] == 0 else grad + term
+        return value, grad
 
 
 def optimize_study(
@@ -832,20 +931,20 @@ def optimize_study(
         from excavkin.errors import unknown_name
 
         raise unknown_name("metric (the objective)", str(name), list(by_name))
-    return optimize(
+    best = optimize(
         load(study.model), study.bounds, study.poses, by_name[name],
         sense or s.get("sense", "max"),
         metrics=[m for m in study.metrics if m.name != name],
         constraints=study.constraints, method=method or s.get("method", "slsqp"), x0=x0,
         loads=study.loads, seed=study.seed, maxiter=maxiter or s.get("maxiter", 200),
         popsize=popsize or s.get("popsize", 32), tol=tol, units=study.units, progress=progress,
+        pose_sets=study.pose_sets,
     )  # fmt: skip
+    return replace(best, model=study.model)
 
 
 def _load(path: str | PathLike[str]) -> Study:
     """A study file: a path, or a built-in example's name."""
-    from pathlib import Path
-
     import excavkin
     from excavkin.studies.study_file import load_study
 

@@ -1,5 +1,5 @@
-"""A design study: a model, a box of design parameters sampled by a design of experiments, a
-pose set, metrics and constraints — evaluated chunk by chunk of designs, each chunk one batch
+"""A design study: a model, a box of design parameters sampled by a design of experiments, pose
+sets, metrics and constraints — evaluated chunk by chunk of designs, each chunk one batch
 solve, and written as a Parquet table with one row per design.
 
 A study is streamed: each finished chunk is kept as a part file in a folder beside the output
@@ -24,7 +24,15 @@ import numpy as np
 
 from excavkin.errors import InputError
 from excavkin.studies.design_space import METHODS, sample_designs
-from excavkin.studies.metrics import Constraint, Metric, Poses, evaluate, needs_forces
+from excavkin.studies.metrics import (
+    Constraint,
+    Metric,
+    Poses,
+    check_pose_sets,
+    evaluate,
+    needs_forces,
+    pose_sets_of,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -48,6 +56,7 @@ class Study:
     bounds : dict of str to (float, float)
         Design parameters (names of ``Mechanism.parameters``) and their bounds.
     poses : Poses
+        The default pose set (the metrics that name no set read it).
     metrics : tuple of Metric
     constraints : tuple of Constraint
     method : {"sobol", "halton", "lhs", "grid"}
@@ -63,6 +72,9 @@ class Study:
     units : dict of str to str
         The units to show results in (not part of what is computed): of each design parameter
         (``design.NAME``) and metric, as the study file writes them; SI where absent.
+    pose_sets : dict of str to Poses
+        Named pose sets besides the default one; every design is solved at every pose of
+        every set (`excavkin.studies.metrics.pose_sets_of`).
     """
 
     model: Path
@@ -76,14 +88,21 @@ class Study:
     loads: str | None = None
     units: dict[str, str] = field(default_factory=dict)
     optimize: dict[str, Any] = field(default_factory=dict)
+    pose_sets: dict[str, Poses] = field(default_factory=dict)
 
     @property
     def designs(self) -> int:
         return self.samples ** len(self.bounds) if self.method == "grid" else self.samples
 
     @property
+    def sets(self) -> dict[str | None, Poses]:
+        """Every pose set solved, by name (None: the default set)."""
+        return pose_sets_of(self.poses, self.pose_sets)
+
+    @property
     def pose_count(self) -> int:
-        return self.poses.count
+        """The poses each design is solved at, over every set."""
+        return sum(p.count for p in self.sets.values())
 
     @property
     def motion_note(self) -> str:
@@ -93,10 +112,15 @@ class Study:
             return ""
         from excavkin.kinetostatics.result import motion_note
 
-        poses = self.poses
-        unrated = [k for k, v in poses.values.items() if np.ndim(v) == 1 and k not in poses.rates]
-        given = [*poses.rates.values(), *poses.accels.values()]
-        return motion_note(not any(np.any(np.asarray(v) != 0.0) for v in given), unrated)
+        notes = []
+        for name, poses in self.sets.items():
+            unrated = [
+                k for k, v in poses.values.items() if np.ndim(v) == 1 and k not in poses.rates
+            ]
+            given = [*poses.rates.values(), *poses.accels.values()]
+            note = motion_note(not any(np.any(np.asarray(v) != 0.0) for v in given), unrated)
+            notes.append(note if name is None else f"set {name!r}: {note}")
+        return "; ".join(notes)
 
     def prepare(self) -> tuple[dict[str, str], str]:
         """Refuse, before any solve, unknown parameters, columns and metric names; return each
@@ -139,7 +163,9 @@ class Study:
 
         mech = load(self.model)
         part = sample_designs(self.bounds, self.samples, self.method, self.seed, (start, stop))
-        frame = evaluate(mech, part, self.poses, self.metrics, self.constraints, self.loads)
+        frame = evaluate(
+            mech, part, self.poses, self.metrics, self.constraints, self.loads, self.pose_sets
+        )
         frame.insert(0, "design", np.arange(start, stop))
         return frame
 
@@ -154,21 +180,29 @@ class Study:
         """
         from excavkin.io.toml_model import read_text_file
 
-        text = json.dumps(
-            {
-                "model": read_text_file(self.model),
-                "bounds": self.bounds,
-                "poses": [
-                    {k: np.asarray(v).tolist() for k, v in part.items()}
-                    for part in (self.poses.values, self.poses.rates, self.poses.accels)
-                ],
-                "metrics": [(m.name, m.column, m.reduce, m.target) for m in self.metrics],
-                "constraints": [(c.metric, c.low, c.high) for c in self.constraints],
-                "sampling": (self.method, self.samples, self.seed),
-                "loads": self.loads,
-            },
-            sort_keys=True,
-        )
+        def listed(poses: Poses) -> list[dict[str, Any]]:
+            return [
+                {k: np.asarray(v).tolist() for k, v in part.items()}
+                for part in (poses.values, poses.rates, poses.accels)
+            ]
+
+        def metric(m: Metric) -> tuple[Any, ...]:
+            # a metric of the default set, not a clearance, as before pose sets existed
+            extra = () if m.poses is None and m.clearance is None else (m.poses, m.clearance)
+            return (m.name, m.column, m.reduce, m.target, *extra)
+
+        contents: dict[str, Any] = {
+            "model": read_text_file(self.model),
+            "bounds": self.bounds,
+            "poses": listed(self.poses),
+            "metrics": [metric(m) for m in self.metrics],
+            "constraints": [(c.metric, c.low, c.high) for c in self.constraints],
+            "sampling": (self.method, self.samples, self.seed),
+            "loads": self.loads,
+        }
+        if self.pose_sets:
+            contents["pose_sets"] = {k: listed(v) for k, v in self.pose_sets.items()}
+        text = json.dumps(contents, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
@@ -265,7 +299,17 @@ def run_study(
         done += e - s
         if progress is not None:
             progress(done, study.designs)
-    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note)
+    # the pose sets (name → poses; "" the default set) and each metric's set, where named
+    sets = getattr(study, "sets", {})
+    described = (
+        {
+            "sets": {k or "": v.count for k, v in sets.items()},
+            "metrics": {m.name: m.poses or "" for m in getattr(study, "metrics", ())},
+        }
+        if set(sets) - {None}
+        else None
+    )
+    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note, described)
     shutil.rmtree(parts)
     return StudyResult(target, getattr(study, "units", {}))
 
@@ -313,8 +357,10 @@ class StudyResult:
         return frame
 
     def metadata(self) -> dict[str, Any]:
-        """The table's own metadata: ``model``, ``kinds`` and ``units`` (SI) of its columns, and
-        ``motion``: what its force metrics are (static unless the poses give rates), or ``""``.
+        """The table's own metadata: ``model``, ``kinds`` and ``units`` (SI) of its columns,
+        ``motion``: what its force metrics are (static unless the poses give rates), or ``""``,
+        and ``pose_sets``: for a study with named pose sets, ``{"sets": {name: poses},
+        "metrics": {metric: its set}}`` (``""``: the default set), else ``{}``.
 
         Returns
         -------
@@ -333,6 +379,7 @@ class StudyResult:
             "kinds": read(b"excavkin.kinds", {}),
             "units": read(b"excavkin.units", {}),
             "motion": meta.get(b"excavkin.motion", b"").decode(),
+            "pose_sets": read(b"excavkin.pose_sets", {}),
         }
 
     def _shown(self, frame: pd.DataFrame, column: str) -> tuple[np.ndarray, str]:
@@ -449,6 +496,7 @@ def _check(study: Study) -> Mechanism:
     for name in study.bounds:
         if name not in mech.parameters:
             raise unknown_name("parameter", name, list(mech.parameters))
+    check_pose_sets(study.sets, study.metrics)
     forces = needs_forces(mech, study.metrics)
     if forces and study.loads is None:
         raise InputError(
@@ -580,10 +628,16 @@ def _write_part(frame: pd.DataFrame, path: Path) -> None:
 
 
 def _assemble(
-    parts: Path, target: Path, fingerprint: str, kinds: dict[str, str], name: str, motion: str
+    parts: Path,
+    target: Path,
+    fingerprint: str,
+    kinds: dict[str, str],
+    name: str,
+    motion: str,
+    sets: dict[str, Any] | None = None,
 ) -> None:
-    """The parts in design order, as one table with units in its metadata, moved into place
-    whole; one part in memory at a time."""
+    """The parts in design order, as one table with units (and the pose sets, where named) in
+    its metadata, moved into place whole; one part in memory at a time."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -598,6 +652,7 @@ def _assemble(
         b"excavkin.model": name.encode(),
         b"excavkin.study": fingerprint.encode(),
         **({b"excavkin.motion": motion.encode()} if motion else {}),
+        **({b"excavkin.pose_sets": json.dumps(sets).encode()} if sets else {}),
     }
     schema = schema.with_metadata({**(schema.metadata or {}), **meta})
 
@@ -617,15 +672,25 @@ def _kinds(study: Study, mech: Mechanism) -> dict[str, str]:
     probe = mech.solve({}, loads="model") if study.loads else mech.solve({})
     of = {c.name: c.kind for c in probe.columns}
     for m in study.metrics:
-        kinds[m.name] = "dimensionless" if m.reduce in ("argmin", "argmax") else of[m.column]
+        kinds[m.name] = metric_kind(m, of)
     return kinds
 
 
-def metric_kinds(mech: Mechanism, metrics: Mapping[str, tuple[str, str]]) -> dict[str, str]:
-    """The kind of each metric (name → (column, reduce)), for reading its constraints' units."""
-    probe = mech.solve({}, loads=[])
-    of = {c.name: c.kind for c in probe.columns}
-    return {
-        name: "dimensionless" if how in ("argmin", "argmax") else of.get(column, "dimensionless")
-        for name, (column, how) in metrics.items()
-    }
+def metric_kind(m: Metric, of: Mapping[str, str]) -> str:
+    """A metric's kind, from its column's: a pose's index is dimensionless, a clearance a
+    length.
+
+    Parameters
+    ----------
+    m : Metric
+    of : mapping of str to str
+        Each column's kind.
+
+    Returns
+    -------
+    str
+        The metric's kind (``"length"``, ``"angle"``, ``"dimensionless"`` …).
+    """
+    if m.reduce in ("argmin", "argmax"):
+        return "dimensionless"
+    return "length" if m.clearance is not None else of.get(m.column, "dimensionless")

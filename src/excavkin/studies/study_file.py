@@ -27,6 +27,19 @@
     [constraints]                # bounds of metrics, in the metric's kind
     gamma_min = { min = "40 deg" }
 
+Several pose sets: besides ``[poses]`` (the default set), each ``[pose_sets.NAME]`` table is a
+pose set written as ``[poses]`` is (with ``[pose_sets.NAME.rates]`` and ``.accels``); a
+metric reads the set its ``poses`` names, the default where it names none. A clearance
+metric is the signed distance of two segments between named points, reduced over its set
+(least, by default)::
+
+    [pose_sets.dump]
+    crank = "170 deg:190 deg:5"
+
+    [metrics]
+    dump_gamma = { column = "B.transmission", reduce = "min", poses = "dump" }
+    gap = { clearance = ["O2-A", "O4-B"], poses = "dump" }
+
 Errors name the file, the table and the entry; nothing in the file is evaluated.
 """
 
@@ -42,7 +55,7 @@ from excavkin.errors import ExcavkinError, ModelError
 from excavkin.io.toml_model import TomlReader, read_text_file, read_toml
 from excavkin.studies.design_space import METHODS
 from excavkin.studies.metrics import REDUCTIONS, Constraint, Metric, Poses
-from excavkin.studies.study import Study, metric_kinds
+from excavkin.studies.study import Study, metric_kind
 from excavkin.units import KINDS
 
 #: rate and acceleration kinds of each driver kind
@@ -80,9 +93,10 @@ def load_study(path: str | Path) -> Study:
     r = TomlReader(read_toml(read_text_file(path), source), source)
     r.keys(
         r.data,
-        {"study", "units", "parameters", "poses", "metrics", "constraints", "optimize"},
+        {"study", "units", "parameters", "poses", "pose_sets", "metrics", "constraints",
+         "optimize"},
         "the file",
-    )
+    )  # fmt: skip
     head = r.table("study", required=True)
     if "machine" in head:
         raise r.err(
@@ -105,15 +119,17 @@ def load_study(path: str | Path) -> Study:
 
     bounds = read_bounds(r, mech.parameters, lambda k: parameter_kind(k, mech.model))
     poses = read_poses(r, mech)
+    pose_sets = read_pose_sets(r, mech)
     columns = {c.name: c.kind for c in (*mech.solve({}).columns, *mech.solve({}, loads=[]).columns)}
-    metrics = read_metrics(r, columns)
+    default = bool(r.data.get("poses")) or not pose_sets
+    metrics = read_metrics(r, columns, (list(pose_sets), default), tuple(mech.model.points))
     from excavkin.studies.metrics import needs_forces
 
     try:
         needs_forces(mech, metrics)
     except ExcavkinError as exc:
         raise r.err(str(exc), "metrics") from None
-    kinds = metric_kinds(mech, {m.name: (m.column, m.reduce) for m in metrics})
+    kinds = {m.name: metric_kind(m, columns) for m in metrics}
     constraints = read_constraints(r, kinds)
     units = study_units(r, {f"design.{k}": parameter_kind(k, mech.model) for k in bounds}, kinds)
     study = Study(
@@ -128,6 +144,7 @@ def load_study(path: str | Path) -> Study:
         loads=loads,
         units=units,
         optimize=read_optimize(r, [m.name for m in metrics]) if "optimize" in r.data else {},
+        pose_sets=pose_sets,
     )
     check_design_count(r, study.designs)
     return study
@@ -230,38 +247,61 @@ def read_bounds(
     return out
 
 
-def read_poses(r: TomlReader, mech: Any) -> Poses:
-    """The ``[poses]`` table: the drivers' values (sweeps or single values), rates and
-    accelerations, SI. The table is required: a study without it would silently evaluate
-    every design at its sketch alone, so that is asked for explicitly by an empty ``[poses]``."""
-    if "poses" not in r.data:
+def read_poses(
+    r: TomlReader, mech: Any, given: Mapping[str, Any] | None = None, where: str = "poses"
+) -> Poses:
+    """The ``[poses]`` table (or ``given``, the table ``where``): the drivers' values (sweeps
+    or single values), rates and accelerations, SI. ``[poses]`` is required unless the study
+    has named pose sets: a study without it would silently evaluate every design at its sketch
+    alone, so that is asked for explicitly by an empty ``[poses]``."""
+    if given is None and "poses" not in r.data and "pose_sets" not in r.data:
         raise r.err(
             "the study has no [poses] table: name the drivers' values every design is "
             'evaluated at (crank = "0 deg:360 deg:37"), or give an empty [poses] table to '
             "evaluate each design at its sketch alone",
             "poses",
         )
-    table = dict(r.table("poses"))
+    table = dict(r.table("poses") if given is None else given)
     rates_t = table.pop("rates", {})
     accels_t = table.pop("accels", {})
     values = {}
     for name, spec in table.items():
-        kind = _driver_kind(r, mech, name, "poses")
-        values[name] = _sweep(r, spec, kind, "poses", name)
+        if isinstance(spec, dict):
+            raise r.err(
+                f"a table here is not a driver's value; a named pose set is a "
+                f"[pose_sets.{name}] table (and its rates [pose_sets.{name}.rates])",
+                where, name,
+            )  # fmt: skip
+        kind = _driver_kind(r, mech, name, where)
+        values[name] = _sweep(r, spec, kind, where, name)
     rates = {}
-    for name, spec in _sub(r, rates_t, "poses.rates").items():
-        kind = _RATE[_driver_kind(r, mech, name, "poses.rates")]
-        rates[name] = r.qty(spec, kind, "poses.rates", name)
+    for name, spec in _sub(r, rates_t, f"{where}.rates").items():
+        kind = _RATE[_driver_kind(r, mech, name, f"{where}.rates")]
+        rates[name] = r.qty(spec, kind, f"{where}.rates", name)
     accels = {}
-    for name, spec in _sub(r, accels_t, "poses.accels").items():
-        kind = _ACCEL[_driver_kind(r, mech, name, "poses.accels")]
-        accels[name] = r.qty(spec, kind, "poses.accels", name)
+    for name, spec in _sub(r, accels_t, f"{where}.accels").items():
+        kind = _ACCEL[_driver_kind(r, mech, name, f"{where}.accels")]
+        accels[name] = r.qty(spec, kind, f"{where}.accels", name)
     poses = Poses(values, rates, accels)
     try:
         poses.count  # noqa: B018 - checks the sweeps' lengths
     except ExcavkinError as exc:
-        raise r.err(str(exc), "poses") from None
+        raise r.err(str(exc), where) from None
     return poses
+
+
+def read_pose_sets(r: TomlReader, mech: Any) -> dict[str, Poses]:
+    """The ``[pose_sets.NAME]`` tables: each a pose set written as ``[poses]`` is, SI."""
+    out = {}
+    for name, spec in r.table("pose_sets").items():
+        r.name(name, "pose_sets")
+        if not isinstance(spec, dict) or not spec:
+            raise r.err(
+                'must be a table of driver = value, such as { crank = "0 deg:90 deg:10" }',
+                "pose_sets", name,
+            )  # fmt: skip
+        out[name] = read_poses(r, mech, spec, f"pose_sets.{name}")
+    return out
 
 
 def _sub(r: TomlReader, value: Any, table: str) -> dict[str, Any]:
@@ -294,9 +334,16 @@ def _sweep(r: TomlReader, spec: Any, kind: str, table: str, entry: str) -> Any:
     return r.qty(spec, kind, table, entry)
 
 
-def read_metrics(r: TomlReader, columns: Mapping[str, str]) -> list[Metric]:
+def read_metrics(
+    r: TomlReader,
+    columns: Mapping[str, str],
+    sets: tuple[list[str], bool] | None = None,
+    points: tuple[str, ...] = (),
+) -> list[Metric]:
     """The ``[metrics]`` table: each a column of ``columns`` (name → kind) reduced over the
-    poses."""
+    poses. With ``sets`` (the named pose sets, and whether there is a default set), a metric
+    may name its pose set (``poses``) and be a clearance of two segments between ``points``
+    (``clearance = ["P0-P1", "Q0-Q1"]``)."""
     from excavkin.errors import unknown_name
 
     out = []
@@ -310,7 +357,12 @@ def read_metrics(r: TomlReader, columns: Mapping[str, str]) -> list[Metric]:
         if not isinstance(spec, dict):
             raise r.err('must be a table such as { column = "B.transmission", reduce = "min" }',
                         "metrics", name)  # fmt: skip
-        r.keys(spec, {"column", "reduce", "target"}, "metrics", name)
+        allowed = {"column", "reduce", "target"}
+        r.keys(spec, allowed | ({"poses", "clearance"} if sets else set()), "metrics", name)
+        pose_set = _pose_set(r, spec, sets, name) if sets else None
+        if "clearance" in spec:
+            out.append(_clearance(r, spec, name, pose_set, points))
+            continue
         column, how = spec.get("column"), spec.get("reduce")
         if not isinstance(column, str):
             raise r.err("needs the column it reduces", "metrics", name)
@@ -325,8 +377,62 @@ def read_metrics(r: TomlReader, columns: Mapping[str, str]) -> list[Metric]:
             target = _target(r, spec.get("target"), columns[column], name)
         elif "target" in spec:
             raise r.err("a target belongs to a sumsq or absmax metric", "metrics", name)
-        out.append(Metric(name, column, how, target))
+        out.append(Metric(name, column, how, target, pose_set))
     return out
+
+
+def _pose_set(
+    r: TomlReader, spec: Mapping[str, Any], sets: tuple[list[str], bool], name: str
+) -> str | None:
+    """The pose set a metric names (None: the default set, where the study has one)."""
+    from excavkin.errors import unknown_name
+
+    named, default = sets
+    given = spec.get("poses")
+    if given is None:
+        if not default:
+            raise r.err(
+                f"names no pose set and the study has no [poses] table: give poses = one of "
+                f"{', '.join(repr(k) for k in named)}",
+                "metrics", name,
+            )  # fmt: skip
+        return None
+    if not isinstance(given, str) or given not in named:
+        problem = unknown_name("pose set", str(given), named)
+        raise r.err(f"{problem} (sets are [pose_sets.NAME] tables)", "metrics", name)
+    return given
+
+
+def _clearance(
+    r: TomlReader, spec: Mapping[str, Any], name: str, pose_set: str | None, points: tuple[str, ...]
+) -> Metric:
+    """``{ clearance = ["P0-P1", "Q0-Q1"], reduce = "min" }``: two segments between points."""
+    from excavkin.errors import unknown_name
+    from excavkin.studies.metrics import clearance_metric
+
+    if "column" in spec or "target" in spec:
+        raise r.err("a clearance metric has no column or target", "metrics", name)
+    given = spec["clearance"]
+    shape = 'clearance = ["P0-P1", "Q0-Q1"]: two segments, each two point names joined by "-"'
+    if not isinstance(given, list) or len(given) != 2 or not all(isinstance(g, str) for g in given):
+        raise r.err(f"must be {shape}", "metrics", name)
+    segments = []
+    for text in given:
+        ends = text.split("-")
+        if len(ends) != 2 or not all(ends):
+            raise r.err(f"{text!r}: must be {shape}", "metrics", name)
+        for point in ends:
+            if point not in points:
+                problem = unknown_name("point", point, list(points))
+                raise r.err(str(problem), "metrics", name)
+        if ends[0] == ends[1]:
+            raise r.err(f"{text!r}: a segment needs two different points", "metrics", name)
+        segments.append((ends[0], ends[1]))
+    how = spec.get("reduce", "min")
+    if how not in REDUCTIONS or how == "sumsq":
+        known = ", ".join(x for x in REDUCTIONS if x != "sumsq")
+        raise r.err(f"reduce must be one of {known}, not {how!r}", "metrics", name)
+    return clearance_metric(name, segments[0], segments[1], pose_set, how)
 
 
 def _target(r: TomlReader, given: Any, kind: str, name: str) -> tuple[float, ...]:

@@ -29,10 +29,20 @@ if TYPE_CHECKING:
     metavar="FILE.csv|FILE.parquet",
     help="Write the optimum (parameters, metrics, feasibility) as a one-row table.",
 )
+@click.option(
+    "--write-model",
+    "model_out",
+    default=None,
+    metavar="FILE.toml",
+    help="Write the optimum as a model file: the study's model with the design parameters' "
+    "values replaced, each in the file's own unit.",
+)
 @click.option("--force", is_flag=True, help="Replace the output files if they exist.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
-def command(spec: str, plot: str | None, out: str | None, force: bool, quiet: bool) -> None:
+def command(
+    spec: str, plot: str | None, out: str | None, model_out: str | None, force: bool, quiet: bool
+) -> None:
     """Find the design in STUDY.toml's parameter box that minimises or maximises its
     [optimize] objective (a metric) under its constraints: SLSQP with exact sensitivities, or
     differential evolution over whole populations solved as one batch; print the optimum and
@@ -48,9 +58,18 @@ def command(spec: str, plot: str | None, out: str | None, force: bool, quiet: bo
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
     if out is not None:
         check_target(out, force=force, suffixes=(".csv", ".parquet"))
+    if model_out is not None:
+        from excavkin.io.files import OutputError
+
+        target = check_target(model_out, force=force, suffixes=(".toml",))
+        if target.exists() and target.resolve() == study.model.resolve():
+            raise OutputError(f"{target} is the study's model file; write the design elsewhere")
     with optimizer_progress(quiet) as report:
         best = optimize_study(study, progress=report)
     report_optimum(best, out, plot, force)
+    if model_out is not None:
+        best.write_model(model_out, force=force)
+        click.echo(f"wrote the optimal design as a model to {model_out}")
 
 
 @contextmanager

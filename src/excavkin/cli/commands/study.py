@@ -24,7 +24,7 @@ def command(
     spec: str, out: str | None, force: bool, restart: bool, scheduler: str | None, quiet: bool
 ) -> None:
     """Evaluate a design study: designs sampled in the box of STUDY.toml's parameter bounds
-    (Sobol', Halton, Latin hypercube or a grid), each solved at every pose of its pose set in
+    (Sobol', Halton, Latin hypercube or a grid), each solved at every pose of its pose sets in
     one batch, its metrics reduced over the poses and its constraints checked; write one row
     per design to a Parquet table.
     """
