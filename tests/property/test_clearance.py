@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import shapely
 import shapely.affinity
-from hypothesis import example, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
@@ -32,7 +32,7 @@ def _lines(p0, p1, q0, q1):  # type: ignore[no-untyped-def]
     return shapely.LineString([p0, p1]), shapely.LineString([q0, q1])
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=150, deadline=None, derandomize=True, database=None)
 @given(segments)
 def test_distance_equals_dense_sampling_and_shapely(seg: tuple) -> None:  # type: ignore[type-arg]
     p0, p1, q0, q1 = seg
@@ -77,7 +77,7 @@ def test_known_cases(seg: tuple, expected: float) -> None:  # type: ignore[type-
     assert_allclose(c, expected, rtol=1e-12, atol=1e-15)
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=100, deadline=None, derandomize=True, database=None)
 @given(segments, st.floats(0.0, 2 * np.pi), st.tuples(coord, coord))
 def test_a_rigid_motion_and_the_order_of_the_segments_change_nothing(
     seg: tuple,  # type: ignore[type-arg]
@@ -96,7 +96,7 @@ def test_a_rigid_motion_and_the_order_of_the_segments_change_nothing(
 CROSSING = ((0.0, 0.0), (4.0, 0.0), (2.0, -1.0), (2.0, 3.0))
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=100, deadline=None, derandomize=True, database=None)
 @given(segments)
 @example(CROSSING)
 def test_a_penetration_is_the_shortest_translation_that_frees_the_segments(
@@ -119,13 +119,18 @@ def test_a_penetration_is_the_shortest_translation_that_frees_the_segments(
         assert shapely.affinity.translate(a, *v).intersects(b)
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=100, deadline=None, derandomize=True, database=None)
 @given(segments)
 @example(CROSSING)
 def test_the_gradient_equals_central_differences(seg: tuple) -> None:  # type: ignore[type-arg]
     pts = np.asarray(seg, dtype=np.float64)
     c, grad = segment_clearance(*pts, gradient=True)
     h = 1e-6
+    # differences of step h measure a slope only where the geometry is far larger than h: a
+    # clearance or a segment of a few h has its kinks (the nearest pair changing) inside the
+    # step, and neither side's slope is what the differences see
+    lengths = np.hypot(*(pts[1] - pts[0])), np.hypot(*(pts[3] - pts[2]))
+    assume(min(lengths) > 1e3 * h and abs(c) > 100 * h)
     fd = np.zeros((4, 2))
     for i in range(4):
         for j in range(2):
