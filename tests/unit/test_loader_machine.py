@@ -106,7 +106,7 @@ def test_the_loader_registers_its_family_and_reads_its_built_in_machine(loader) 
     assert loader.chassis.max_articulation == pytest.approx(math.radians(40))
     # operating mass: the linkage's bodies and cylinders, the frames and the counterweight
     assert loader.linkage_mass == pytest.approx(1900 + 420 + 90 + 1500 + 340 + 230)
-    assert loader.mass == pytest.approx(loader.linkage_mass + 3600 + 7200 + 2300)
+    assert loader.mass == pytest.approx(loader.linkage_mass + 3600 + 7000 + 3000)
     assert 15_000 <= loader.mass <= 20_000
     assert loader.hydraulics is not None and loader.hydraulics.flow("tilt") == pytest.approx(
         230e-3 / 60
