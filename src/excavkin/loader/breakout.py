@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.loader.machine import Loader, transfer
+from excavkin.loader.machine import Loader, table_attrs, transfer
 from excavkin.loader.poses import ground_pose
 from excavkin.loader.stability import Support, tipping
 from excavkin.machinery.capped_force import cap_by, capped_force, gravity_terms, pressure_limits
@@ -109,7 +109,8 @@ class Breakout:
         Returns
         -------
         pandas.DataFrame
-            One row per circuit; ``attrs["excavkin.units"]`` names each column's unit.
+            One row per circuit; ``attrs`` record the machine and the columns' kinds and units
+            (``excavkin.model``, ``excavkin.kinds``, ``excavkin.units``).
         """
         import pandas as pd
 
@@ -127,18 +128,8 @@ class Breakout:
                 "tilt_cyl_force": [r.cylinder_force[1] for r in rows],
             }
         )
-        frame.attrs["excavkin.units"] = {
-            c: "N"
-            for c in (
-                "force",
-                "hydraulic",
-                "working",
-                "tipping",
-                "lift_cyl_force",
-                "tilt_cyl_force",
-            )
-        }
-        frame.attrs["excavkin.machine"] = self.machine
+        cols = ("force", "hydraulic", "working", "tipping", "lift_cyl_force", "tilt_cyl_force")
+        frame.attrs.update(table_attrs(self.machine, dict.fromkeys(cols, "force")))
         return frame
 
     def summary(self) -> str:

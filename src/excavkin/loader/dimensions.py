@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.loader.machine import Loader, floor_angle
+from excavkin.loader.machine import Loader, floor_angle, table_attrs
 from excavkin.loader.poses import ground_pose, lift_for_hinge_height, tilt_for_angle
 
 if TYPE_CHECKING:
@@ -90,8 +90,9 @@ class Dimensions:
         Returns
         -------
         pandas.DataFrame
-            Columns ``figure``, ``value``, ``unit``, ``lift_cyl``, ``tilt_cyl`` and
-            ``definition``; ``attrs["excavkin.units"]`` names the columns' units.
+            Columns ``figure``, ``value`` (SI, its unit in ``unit``: m or rad), ``lift_cyl``,
+            ``tilt_cyl`` and ``definition``; ``attrs`` record the machine and the columns'
+            kinds and units (``excavkin.model``, ``excavkin.kinds``, ``excavkin.units``).
         """
         import pandas as pd
 
@@ -105,12 +106,7 @@ class Dimensions:
                 "definition": [f.definition for f in self.figures],
             }
         )
-        frame.attrs["excavkin.units"] = {
-            "value": "per row (unit)",
-            "lift_cyl": "m",
-            "tilt_cyl": "m",
-        }
-        frame.attrs["excavkin.machine"] = self.machine
+        frame.attrs.update(table_attrs(self.machine, {"lift_cyl": "length", "tilt_cyl": "length"}))
         return frame
 
     def summary(self) -> str:

@@ -536,6 +536,31 @@ def transfer(machine: Loader, lengths: ArrayLike) -> Transfer:
     return Transfer(L, first.positions, np.stack(cols, axis=-1), first.status.ok)
 
 
+def table_attrs(machine: str, kinds: Mapping[str, str]) -> dict[str, object]:
+    """``frame.attrs`` of a loader result's table: the machine's name, each column's kind and
+    its SI unit (``excavkin.model``, ``excavkin.kinds``, ``excavkin.units``), as every
+    excavkin table records them.
+
+    Parameters
+    ----------
+    machine : str
+        The machine's name.
+    kinds : mapping of str to str
+        Column → kind (``"length"``, ``"angle"``, ``"force"``, ``"mass"``).
+
+    Returns
+    -------
+    dict
+    """
+    from excavkin.kinematics.columns import si_unit
+
+    return {
+        "excavkin.model": machine,
+        "excavkin.kinds": dict(kinds),
+        "excavkin.units": {c: si_unit(k) for c, k in kinds.items()},
+    }
+
+
 def floor_angle(machine: Loader, positions: F) -> F:
     """The bucket floor's direction (heel → edge), CCW from +x (rad): 0 level, > 0 rolled back.
 

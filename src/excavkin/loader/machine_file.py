@@ -144,18 +144,18 @@ def _machine(data: dict[str, Any], source: str | None) -> Loader:
             else f"schema_version is missing (this version reads {SCHEMA_VERSION})",
             entry="schema_version",
         )
-    unknown = set(data) - _TOP
-    if unknown:
-        raise r.err(
-            f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
-        )
     if data.get("family") != NAME:
         raise r.err(
             f"family = {data.get('family')!r}: this reader reads loader machine files "
             f'(family = "{NAME}")',
             None,
             "family",
+        )
+    unknown = set(data) - _TOP
+    if unknown:
+        raise r.err(
+            f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
         )
     mech = _model(r, data.get("model"), source)
 

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.loader.machine import Loader, bucket_frame_point
+from excavkin.loader.machine import Loader, bucket_frame_point, table_attrs
 from excavkin.loader.stability import tipping
 from excavkin.machinery.search import maximize_strokes
 
@@ -92,7 +92,8 @@ class TippingLoad:
         Returns
         -------
         pandas.DataFrame
-            One row per case; ``attrs["excavkin.units"]`` names each column's unit and
+            One row per case; ``attrs`` record the machine and the columns' kinds and units
+            (``excavkin.model``, ``excavkin.kinds``, ``excavkin.units``) and
             ``attrs["excavkin.rated_operating_capacity"]`` holds the ROC (kg).
         """
         import pandas as pd
@@ -110,16 +111,13 @@ class TippingLoad:
                 "load_y": [c.point[1] for c in cases],
             }
         )
-        frame.attrs["excavkin.units"] = {
-            "articulation": "rad",
-            "tipping_load": "kg",
-            "lift_cyl": "m",
-            "tilt_cyl": "m",
-            "load_x": "m",
-            "load_y": "m",
+        kinds = {
+            "articulation": "angle",
+            "tipping_load": "mass",
+            **dict.fromkeys(("lift_cyl", "tilt_cyl", "load_x", "load_y"), "length"),
         }
+        frame.attrs.update(table_attrs(self.machine, kinds))
         frame.attrs["excavkin.rated_operating_capacity"] = self.rated_operating_capacity
-        frame.attrs["excavkin.machine"] = self.machine
         return frame
 
     def summary(self) -> str:
