@@ -406,30 +406,60 @@ class Loader:
         return loads
 
     def raise_sign(self) -> float:
-        """+1 where extending the lift cylinder raises the lift arm, −1 otherwise."""
+        """+1 where extending the lift cylinder raises the lift arm, −1 otherwise.
+
+        Returns
+        -------
+        float
+        """
         return 1.0 if self.cylinders[0].dig == "extend" else -1.0
 
     def rollback_sign(self) -> float:
-        """+1 where extending the tilt cylinder rolls the bucket back, −1 otherwise."""
+        """+1 where extending the tilt cylinder rolls the bucket back, −1 otherwise.
+
+        Returns
+        -------
+        float
+        """
         return 1.0 if self.cylinders[1].dig == "extend" else -1.0
 
     def full_lift(self) -> float:
-        """The lift cylinder's length at full lift (m)."""
+        """The lift cylinder's length at full lift (m).
+
+        Returns
+        -------
+        float
+        """
         c = self.cylinders[0]
         return c.extended if c.dig == "extend" else c.retracted
 
     def lowest(self) -> float:
-        """The lift cylinder's length with the lift arm fully lowered (m)."""
+        """The lift cylinder's length with the lift arm fully lowered (m).
+
+        Returns
+        -------
+        float
+        """
         c = self.cylinders[0]
         return c.retracted if c.dig == "extend" else c.extended
 
     def full_rollback(self) -> float:
-        """The tilt cylinder's length at full rollback (m)."""
+        """The tilt cylinder's length at full rollback (m).
+
+        Returns
+        -------
+        float
+        """
         c = self.cylinders[1]
         return c.extended if c.dig == "extend" else c.retracted
 
     def full_dump(self) -> float:
-        """The tilt cylinder's length at full dump (m)."""
+        """The tilt cylinder's length at full dump (m).
+
+        Returns
+        -------
+        float
+        """
         c = self.cylinders[1]
         return c.retracted if c.dig == "extend" else c.extended
 
