@@ -14,6 +14,7 @@ from numpy.testing import assert_allclose
 
 from excavkin.kinetostatics import PointForce, Torque
 from excavkin.loader.breakout import BEHIND_EDGE, breakout
+from excavkin.loader.dimensions import dimensions
 from excavkin.loader.machine import Loader, floor_angle
 from excavkin.loader.machine_file import load_machine
 from excavkin.loader.tipping import ROC_FACTOR, static_tipping, tipping_loads
@@ -257,3 +258,70 @@ def test_full_turn_tips_sooner_and_rates_the_machine(loader) -> None:
 def test_a_rigid_rear_axle_widens_the_support_at_full_turn(tmp_path, loader) -> None:
     rigid = _variant(tmp_path, ('rear_axle = "oscillating"', 'rear_axle = "rigid"'))
     assert static_tipping(rigid).full_turn.load >= static_tipping(loader).full_turn.load - 1e-6
+
+
+# ---------------------------------------------------------------- another linkage
+DIRECT = """
+[model.units]
+length = "mm"
+mass = "kg"
+inertia = "kg*m^2"
+[model.points]
+O = [0, 0]
+A = [-450.0, 2050.0]
+C = [-1100.0, 600.0]
+D = [544.7, 1283.6]
+B = [2050.0, 480.0]
+J = [1000.0, 1500.0]
+I = [2050.0, 1080.0]
+K = [1970.0, 0.0]
+W = [3470.0, 0.0]
+[model.bodies]
+frame = { points = ["A", "C", "O"], ground = true }
+[model.bodies.lift_arm]
+points = ["A", "B", "D", "J"]
+mass = 1900
+inertia = 1800
+center_of_mass = [800, 1265]
+[model.bodies.bucket]
+points = ["B", "I", "K", "W"]
+mass = 1500
+inertia = 650
+center_of_mass = [2450, 450]
+[model.drivers.lift_cyl]
+type = "linear"
+between = ["C", "D"]
+mode = "driven"
+[model.drivers.tilt_cyl]
+type = "linear"
+between = ["J", "I"]
+mode = "driven"
+"""
+
+
+def test_a_tilt_cylinder_that_retracts_to_roll_back(tmp_path) -> None:
+    """A direct linkage (inline [model]: the tilt cylinder from the lift arm to the bucket,
+    above the hinge pin) rolls back by retracting: its breakout through the tilt circuit is
+    the annulus side's pull at working pressure, by the bucket's moments about its hinge pin."""
+    m = _variant(
+        tmp_path,
+        ('model = "wheel_loader.toml"', "# model inline, below"),
+        ('rolls_back = "extend"', 'rolls_back = "retract"'),
+        ("retracted = 1293", "retracted = 900"),
+        ("stroke = 500 ", "stroke = 400 "),
+        ('feeds = ["lift", "tilt"]', 'feeds = ["lift", "tilt"]\n' + DIRECT),
+    )
+    assert m.rollback_sign() == -1.0 and m.full_rollback() == pytest.approx(0.9)
+    b = breakout(m)
+    assert b.tilt.limiting == "tilt"
+    pos = m.solve(b.lengths[None, :]).positions[0]
+    J, I, B = (pos[m.index(n)] for n in ("J", "I", "B"))  # noqa: E741
+    tilt = m.cylinders[1]
+    f = m.circuits["tilt"].working * tilt.annulus_area
+    F_I = f * (J - I) / math.hypot(*(J - I)) + np.array([0.0, -0.5 * tilt.mass * m.gravity])
+    m_k, c_k = _bodies(m, pos)["bucket"]
+    moment = _cross(I - B, F_I) + _cross(c_k - B, np.array([0.0, -m_k * m.gravity]))
+    assert b.tilt.force == pytest.approx(moment / (b.point[0] - B[0]), rel=1e-10)
+    assert b.tilt.cylinder_force[1] == pytest.approx(-f, rel=1e-12)
+    d = dimensions(m)
+    assert d["rollback at ground"] > 0.0 and math.isfinite(d["hinge-pin height at full lift"])

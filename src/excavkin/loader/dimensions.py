@@ -32,7 +32,12 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.loader.machine import Loader, floor_angle, table_attrs
-from excavkin.loader.poses import ground_pose, lift_for_hinge_height, tilt_for_angle
+from excavkin.loader.poses import (
+    assembling_tilt,
+    ground_pose,
+    lift_for_hinge_height,
+    tilt_for_angle,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -139,11 +144,11 @@ def dimensions(machine: Loader) -> Dimensions:
     roll, dump = machine.full_rollback(), machine.full_dump()
     ground = ground_pose(machine)
     carry = lift_for_hinge_height(machine, machine.carry_height)
-    lifts = np.array([up, low, up])
-    tilts = tilt_for_angle(machine, lifts, np.array([-DISCHARGE, 0.0, 0.0]))
+    lifts = np.array([up, low])
+    tilts = tilt_for_angle(machine, lifts, np.array([-DISCHARGE, 0.0]))
     poses = np.array(
         [
-            [up, tilts[2]],  # hinge-pin height (the hinge does not depend on the tilt)
+            [up, assembling_tilt(machine, up)[0]],  # the hinge pin: the lift arm's alone
             [up, tilts[0]],  # 45° discharge
             [low, tilts[1]],  # digging depth
             [ground[0], roll],

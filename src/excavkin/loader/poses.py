@@ -75,10 +75,38 @@ def tilt_for_angle(machine: Loader, lift: ArrayLike, angle: ArrayLike) -> F:
     return np.where(found, 0.5 * (a + b), np.nan)
 
 
+def assembling_tilt(machine: Loader, lift: ArrayLike) -> F:
+    """A tilt length that assembles the linkage at each lift length: the one nearest
+    mid-stroke of a grid over the stroke (what the hinge pin's position, which the lift arm
+    alone sets, is solved with).
+
+    Parameters
+    ----------
+    machine : Loader
+    lift : array_like, shape (n,)
+        Lift-cylinder lengths (m).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Tilt lengths (m); NaN where none within the stroke assembles.
+    """
+    Ll = np.atleast_1d(np.asarray(lift, dtype=np.float64))
+    n = len(Ll)
+    lo, hi = machine.lengths_min[1], machine.lengths_max[1]
+    grid = np.linspace(lo, hi, _GRID)
+    res = machine.solve(np.column_stack([np.repeat(Ll, _GRID), np.tile(grid, n)]))
+    ok = res.status.ok.reshape(n, _GRID)
+    dist = np.where(ok, np.abs(grid - 0.5 * (lo + hi)), np.inf)
+    k = np.argmin(dist, axis=1)
+    return np.where(ok.any(axis=1), grid[k], np.nan)
+
+
 def lift_for_hinge_height(machine: Loader, height: float) -> float:
     """The lift-cylinder length that sets the hinge pin ``height`` above the ground.
 
-    The hinge pin moves with the lift arm alone; the tilt cylinder is held at mid-stroke.
+    The hinge pin moves with the lift arm alone; each lift length is solved with a tilt length
+    that assembles there ([`assembling_tilt`][excavkin.loader.poses.assembling_tilt]).
 
     Parameters
     ----------
@@ -92,13 +120,13 @@ def lift_for_hinge_height(machine: Loader, height: float) -> float:
         The lift length (m); NaN where no length within the stroke reaches the height.
     """
     lo, hi = machine.lengths_min[0], machine.lengths_max[0]
-    tilt = 0.5 * (machine.lengths_min[1] + machine.lengths_max[1])
     ib = machine.index(machine.pins.hinge)
 
     def heights(lift: F) -> F:
-        res = machine.solve(np.column_stack([lift, np.full_like(lift, tilt)]))
+        tilt = assembling_tilt(machine, lift)
+        res = machine.solve(np.column_stack([lift, np.where(np.isfinite(tilt), tilt, 0.0)]))
         y = res.positions[:, ib, 1] - machine.ground_line
-        return np.where(res.status.ok, y, np.nan)
+        return np.where(res.status.ok & np.isfinite(tilt), y, np.nan)
 
     grid = np.linspace(lo, hi, _GRID)
     k, found = _bracket(heights(grid)[None, :], np.array([height]))
