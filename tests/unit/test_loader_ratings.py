@@ -325,3 +325,14 @@ def test_a_tilt_cylinder_that_retracts_to_roll_back(tmp_path) -> None:
     assert b.tilt.cylinder_force[1] == pytest.approx(-f, rel=1e-12)
     d = dimensions(m)
     assert d["rollback at ground"] > 0.0 and math.isfinite(d["hinge-pin height at full lift"])
+
+
+def test_a_bucket_that_cannot_reach_the_ground_is_named(tmp_path) -> None:
+    """Lift cylinders too long to lower the arm: no breakout pose, one message naming the file."""
+    from excavkin.errors import ModelError
+
+    high = _variant(
+        tmp_path, ("retracted = 1733", "retracted = 2300"), ("stroke = 1020", "stroke = 400")
+    )
+    with pytest.raises(ModelError, match=r"m\.toml.*cylinders.*cutting edge on the ground"):
+        breakout(high)

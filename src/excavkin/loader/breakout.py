@@ -161,8 +161,9 @@ def breakout(machine: Loader) -> Breakout:
 
     Raises
     ------
-    InputError
-        Where no pose within the strokes sets the floor level with the edge on the ground.
+    ModelError
+        Naming the machine file, where no pose within the strokes sets the floor level
+        with the edge on the ground.
     """
     L = ground_pose(machine)[None, :]
     tr = transfer(machine, L)

@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from excavkin.arrays import BoolArray as B
 from excavkin.arrays import FloatArray as F
-from excavkin.errors import InputError
+from excavkin.errors import ModelError
 from excavkin.loader.machine import Loader, floor_angle, floor_angle_rate, transfer
 
 #: bisection steps: the stroke halved this often (well below 1e-12 m)
@@ -165,9 +165,9 @@ def ground_pose(machine: Loader, *, tol: float = 1e-12, iterations: int = 30) ->
 
     Raises
     ------
-    InputError
-        Where the edge cannot reach the ground with the floor level within the strokes (it
-        stays above the ground at the lowest lift).
+    ModelError
+        Naming the machine file, where the edge cannot reach the ground with the floor
+        level within the strokes (it stays above the ground at the lowest lift).
     """
     lift = machine.lowest()
     tilt = float(tilt_for_angle(machine, np.array([lift]), 0.0)[0])
@@ -194,9 +194,11 @@ def ground_pose(machine: Loader, *, tol: float = 1e-12, iterations: int = 30) ->
         and np.all(L[0] <= machine.lengths_max + 1e-9)
     )
     if not ok:
-        raise InputError(
-            f"{machine.name}: no pose within the strokes sets the bucket floor level with the "
-            "cutting edge on the ground (the edge stays above the ground at the lowest lift, or "
-            "the tilt stroke cannot level the floor there)"
+        raise ModelError(
+            "no pose within the strokes sets the bucket floor level with the cutting edge on "
+            "the ground (the edge stays above the ground at the lowest lift, or the tilt stroke "
+            "cannot level the floor there): check the strokes against the linkage",
+            table="cylinders",
+            source=machine.source,
         )
     return np.asarray(L[0])
