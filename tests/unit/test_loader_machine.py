@@ -114,9 +114,10 @@ def test_the_loader_registers_its_family_and_reads_its_built_in_machine(loader) 
 
 
 def test_the_linkage_solves_in_closed_form(loader) -> None:
-    steps = {s.split()[0] for s in loader.mechanism.plan.describe().splitlines()[1:] if s}
-    assert "newton" not in " ".join(loader.mechanism.plan.describe().split())
-    assert steps  # the plan is listed
+    """Every step of the plan is closed form: the ground, three dyads, attachments."""
+    steps = [line.split()[1] for line in loader.mechanism.plan.describe().splitlines()]
+    assert steps.count("dyad") == 3 and "newton" not in steps
+    assert set(steps) == {"fixed", "dyad", "attach"}
 
 
 def test_the_engine_agrees_with_the_linkage_solved_by_hand(loader) -> None:
