@@ -8,6 +8,7 @@ import math
 import pytest
 
 from excavkin.loader.breakout import breakout
+from excavkin.loader.capacity import capacity
 from excavkin.loader.dimensions import dimensions
 from excavkin.loader.machine_file import load_machine
 from excavkin.loader.tipping import static_tipping
@@ -35,3 +36,5 @@ def test_the_built_in_loaders_figures_are_those_the_docs_state() -> None:
     assert round(t.straight.load) == pytest.approx(10919, abs=1)
     assert round(t.full_turn.load) == pytest.approx(9291, abs=1)
     assert round(t.rated_operating_capacity) == pytest.approx(4646, abs=1)
+    c = capacity(m)
+    assert (round(c.to_full_height), c.lift_limit[-1]) == (9475, "lift")

@@ -10,6 +10,7 @@ from numpy.testing import assert_allclose
 
 from excavkin.cli import main
 from excavkin.loader.breakout import breakout
+from excavkin.loader.capacity import capacity
 from excavkin.loader.dimensions import dimensions
 from excavkin.loader.machine_file import load_machine
 from excavkin.loader.tipping import static_tipping
@@ -19,6 +20,7 @@ CASES = {
     "ranges": (dimensions, "value", "hinge-pin height at full lift"),
     "breakout": (breakout, "force", "breakout force"),
     "tipping": (static_tipping, "tipping_load", "rated operating capacity"),
+    "capacity": (capacity, "lift_capacity", "lift capacity to full height"),
 }
 
 

@@ -14,6 +14,7 @@ from numpy.testing import assert_allclose
 
 from excavkin.kinetostatics import PointForce, Torque
 from excavkin.loader.breakout import BEHIND_EDGE, breakout
+from excavkin.loader.capacity import capacity
 from excavkin.loader.dimensions import dimensions
 from excavkin.loader.machine import Loader, floor_angle
 from excavkin.loader.machine_file import load_machine
@@ -336,3 +337,51 @@ def test_a_bucket_that_cannot_reach_the_ground_is_named(tmp_path) -> None:
     )
     with pytest.raises(ModelError, match=r"m\.toml.*cylinders.*cutting edge on the ground"):
         breakout(high)
+
+
+# ---------------------------------------------------------------- lift and rollback capacity
+def _engine_cylinder_forces(m: Loader, lengths: np.ndarray, point: np.ndarray, kg: float):
+    """The engine's body-by-body equilibrium with a load of ``kg`` hung at ``point`` of the
+    bucket (moved there from the edge by a couple)."""
+    res = m.solve(lengths[None, :])
+    W = res.positions[0, m.index("W")]
+    Fv = np.array([0.0, -kg * m.gravity])
+    loads = [
+        *m.weight_loads(),
+        PointForce("load", "bucket", "W", Fv),
+        Torque("shift", "bucket", _cross(point - W, Fv)),
+    ]
+    fr = m.mechanism.forces(res, loads)
+    return fr.force("lift_cyl")[0], fr.force("tilt_cyl")[0]
+
+
+def test_lift_capacity_by_the_engines_kinetostatics(loader) -> None:
+    c = capacity(loader, 21)
+    assert c.lift_limit[-1] == "lift" and c.lift[-1] == pytest.approx(c.to_full_height)
+    for k in range(21):
+        lift_f, tilt_f = _engine_cylinder_forces(loader, c.lengths[k], c.point[k], c.lift[k])
+        push = loader.circuits["lift"].working * loader.cylinders[0].bore_area
+        if c.lift_limit[k] == "lift":
+            assert lift_f == pytest.approx(push, rel=1e-9)
+        else:  # tipping binds first: the cylinders still have margin, and it is the machine's
+            assert c.lift_limit[k] == "tipping (front axle)"
+            assert lift_f < push
+            assert c.lift[k] == pytest.approx(c.tipping[k], rel=1e-12)
+        pull, hold = loader.cylinders[1].force_limits(loader.circuits["tilt"].relief)
+        assert pull <= tilt_f <= hold * (1 + 1e-9)
+    frame = c.to_frame()
+    assert frame.attrs["excavkin.units"]["lift_capacity"] == "kg"
+    assert "lift capacity to full height" in c.summary()
+
+
+def test_rollback_capacity_by_the_engines_kinetostatics(tmp_path) -> None:
+    weak = _variant(
+        tmp_path,
+        ("[circuits.tilt]\nworking = 24.0", "[circuits.tilt]\nworking = 10.0"),
+    )
+    c = capacity(weak, 11)
+    assert "tilt" in set(c.rollback_limit)
+    for k in np.flatnonzero(c.rollback_limit == "tilt"):
+        _, tilt_f = _engine_cylinder_forces(weak, c.lengths[k], c.point[k], c.rollback[k])
+        push = weak.circuits["tilt"].working * weak.cylinders[1].bore_area
+        assert tilt_f == pytest.approx(push, rel=1e-9)

@@ -1,4 +1,4 @@
-"""``excavkin loader ranges|breakout|tipping MACHINE.toml``: a wheel loader's spec sheet.
+"""``excavkin loader ranges|breakout|tipping|capacity MACHINE.toml``: a wheel loader's spec sheet.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
 the machine, pint) are imported inside the commands. Each command parses, calls the library
@@ -48,7 +48,8 @@ _FORCE = click.option("--force", is_flag=True, help="Replace an output file that
 
 @click.group("loader", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Dimensions, breakout force and static tipping load of a wheel-loader MACHINE."""
+    """Dimensions, breakout force, static tipping load and lift capacity of a wheel-loader
+    MACHINE."""
 
 
 @command.command("ranges")
@@ -89,3 +90,24 @@ def tipping(machine: str, output: str | None, force: bool) -> None:
 
     _check(output, force)
     _write(static_tipping(_machine(machine)), output, force)
+
+
+@command.command("capacity")
+@_MACHINE
+@click.option(
+    "--samples",
+    default=101,
+    show_default=True,
+    type=click.IntRange(min=2, max=100_000),
+    help="Lift lengths over the stroke.",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def capacity(machine: str, samples: int, output: str | None, force: bool) -> None:
+    """Print the lift capacity to full height and the least rollback capacity (kg); the table
+    has both at every lift length."""
+    from excavkin.loader.capacity import capacity as rate
+
+    _check(output, force)
+    _write(rate(_machine(machine), samples), output, force)
