@@ -385,3 +385,69 @@ def test_rollback_capacity_by_the_engines_kinetostatics(tmp_path) -> None:
         _, tilt_f = _engine_cylinder_forces(weak, c.lengths[k], c.point[k], c.rollback[k])
         push = weak.circuits["tilt"].working * weak.cylinders[1].bore_area
         assert tilt_f == pytest.approx(push, rel=1e-9)
+
+
+PARALLEL = """
+[model.units]
+length = "mm"
+mass = "kg"
+inertia = "kg*m^2"
+[model.points]
+O = [0, 0]
+A = [-450.0, 2050.0]
+C = [-1100.0, 600.0]
+D = [544.7, 1283.6]
+B = [2050.0, 480.0]
+F = [-450.0, 2650.0]
+I = [2050.0, 1080.0]
+K = [1970.0, 0.0]
+W = [3470.0, 0.0]
+[model.bodies.frame]
+points = ["A", "C", "F", "O"]
+ground = true
+[model.bodies.lift_arm]
+points = ["A", "B", "D"]
+mass = 1900
+inertia = 1800
+center_of_mass = [800, 1265]
+[model.bodies.bucket]
+points = ["B", "I", "K", "W"]
+mass = 1500
+inertia = 650
+center_of_mass = [2450, 450]
+[model.drivers.lift_cyl]
+type = "linear"
+between = ["C", "D"]
+mode = "driven"
+[model.drivers.tilt_cyl]
+type = "linear"
+between = ["F", "I"]
+mode = "driven"
+"""
+
+
+def test_a_parallel_lift_linkage_keeps_its_bucket_level(tmp_path) -> None:
+    """A parallel-lift linkage (inline [model]): the tilt link F–I as long as the lift arm A–B
+    with |AF| = |BI| parallel is a parallelogram, so the floor keeps its angle over the whole
+    lift; its tilt cylinder retracts to roll back, and the ratings run on it."""
+    m = _variant(
+        tmp_path,
+        ('model = "wheel_loader.toml"', "# model inline, below"),
+        ('rolls_back = "extend"', 'rolls_back = "retract"'),
+        ("retracted = 1293", "retracted = 2700"),
+        ('feeds = ["lift", "tilt"]', 'feeds = ["lift", "tilt"]\n' + PARALLEL),
+    )
+    ab = math.hypot(2.5, 1.57)
+    lift = np.linspace(m.lengths_min[0], m.lengths_max[0], 41)
+    res = m.solve(np.column_stack([lift, np.full_like(lift, ab)]))
+    assert res.status.ok.all()
+    assert_allclose(floor_angle(m, res.positions), 0.0, atol=1e-12)
+    d = dimensions(m)
+    assert math.isfinite(d["rollback at full lift"]) and math.isfinite(
+        d["dump clearance at 45 deg"]
+    )
+    for f in d.figures:  # a figure is NaN only where its pose does not assemble
+        assert math.isfinite(f.value) == bool(m.solve(f.lengths[None, :]).status.ok[0]), f.name
+    b = breakout(m)
+    assert b.tilt.force > 0.0 and b.lift.force > 0.0
+    assert static_tipping(m).full_turn.load < static_tipping(m).straight.load
