@@ -55,6 +55,7 @@ KINDS: dict[str, str] = {
     "jerk": "m/s^3",
     "angular_jerk": "rad/s^3",
     "area": "m^2",
+    "volume": "m^3",
     "frequency": "1/s",
     "volume_flow": "m^3/s",
     "density": "kg/m^3",

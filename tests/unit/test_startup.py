@@ -65,7 +65,9 @@ print(" ".join(sorted(sys.modules)), file=sys.stderr)
 """
 
 
-@pytest.mark.parametrize("args", [["--help"], ["reproduce", "--help"], ["excavator", "--help"]])
+@pytest.mark.parametrize(
+    "args", [["--help"], ["reproduce", "--help"], ["excavator", "--help"], ["loader", "--help"]]
+)
 def test_help_imports_neither_numpy_pandas_nor_pint(args: list[str]) -> None:
     r = subprocess.run(
         [sys.executable, "-c", PROBE.format(args=args)], capture_output=True, text=True
@@ -75,7 +77,7 @@ def test_help_imports_neither_numpy_pandas_nor_pint(args: list[str]) -> None:
     assert "click" in loaded and "Commands:" in r.stdout
     assert [m for m in HEAVY if m in loaded] == []
     if args == ["--help"]:
-        for name in ("check", "solve", "excavator", "reproduce"):
+        for name in ("check", "solve", "excavator", "loader", "reproduce"):
             assert f"\n  {name} " in r.stdout
         assert not any(m.startswith("excavkin.cli.commands.") for m in loaded)
 

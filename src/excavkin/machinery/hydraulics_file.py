@@ -12,6 +12,9 @@
     flow = "220 L/min"
     feeds = ["boom", "arm"]
 
+A family whose machines do not swing (its class's ``has_swing`` is False: a wheel loader)
+has no ``swing_speed`` and ``swing_angle`` entries.
+
 A single ``flow`` per function is written as one pump per function. Every number is
 range-checked, a pump feeds only the roles of the family's
 [`Hydraulics`][excavkin.machinery.pumps.Hydraulics] class, and every role must be fed by some
@@ -63,9 +66,13 @@ def read_hydraulics(r: MachineReader, data: dict[str, Any], kind: type[H]) -> H 
         return None
     table = "hydraulics"
     t = r.subtable(data, table, table)
-    r.keys(t, _TOP, table)
-    speed = r.bounded(t, "swing_speed", "angular_velocity", table, 0.0, _MAX_SWING, "rad/s")
-    angle = r.bounded(t, "swing_angle", "angle", table, 0.0, 2 * math.pi, "rad")
+    if kind.has_swing:
+        r.keys(t, _TOP, table)
+        speed = r.bounded(t, "swing_speed", "angular_velocity", table, 0.0, _MAX_SWING, "rad/s")
+        angle = r.bounded(t, "swing_angle", "angle", table, 0.0, 2 * math.pi, "rad")
+    else:  # a family without a swing (a wheel loader)
+        r.keys(t, _TOP - {"swing_speed", "swing_angle"}, table)
+        speed = angle = 0.0
     modulus = r.bounded(t, "rod_modulus", "pressure", table, 0.0, 1e13, "Pa", default=STEEL_E)
     yield_ = r.bounded(t, "rod_yield", "pressure", table, 0.0, 1e11, "Pa", default=ROD_YIELD)
     pt = r.subtable(t, "pumps", "hydraulics.pumps")

@@ -54,9 +54,13 @@ class Hydraulics:
     roles : tuple of str (class attribute)
         The functions the pumps may feed, each of which some pump must feed: a family's
         subclass names its roles; empty here (any names, not checked).
+    has_swing : bool (class attribute)
+        Whether the family's machines swing (an excavator's upper structure); where not (a
+        wheel loader), ``swing_speed`` and ``swing_angle`` are 0 and not checked.
     """
 
     roles: ClassVar[tuple[str, ...]] = ()
+    has_swing: ClassVar[bool] = True
 
     pumps: tuple[Pump, ...]
     swing_speed: float
@@ -65,9 +69,13 @@ class Hydraulics:
     rod_yield: float = ROD_YIELD
 
     def __post_init__(self) -> None:
+        swing = (
+            (("swing_speed", self.swing_speed), ("swing_angle", self.swing_angle))
+            if self.has_swing
+            else ()
+        )
         for name, value in (
-            ("swing_speed", self.swing_speed),
-            ("swing_angle", self.swing_angle),
+            *swing,
             ("modulus", self.modulus),
             ("rod_yield", self.rod_yield),
         ):

@@ -1,0 +1,113 @@
+"""``excavkin loader ranges|breakout|tipping|capacity MACHINE.toml``: a wheel loader's spec sheet.
+
+The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
+the machine, pint) are imported inside the commands. Each command parses, calls the library
+and writes: the result's ``summary()`` on the terminal, its ``to_frame()`` to a table.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from excavkin.cli.common import handle_errors, model_path
+
+if TYPE_CHECKING:
+    from excavkin.loader.machine import Loader
+
+
+def _machine(path: str) -> Loader:
+    from excavkin.loader.machine_file import load_machine
+
+    return load_machine(model_path(path, "machine"))
+
+
+def _write(result: Any, output: str | None, force: bool) -> None:
+    """Print the result's summary and write its table."""
+    from excavkin.outputs.tables import write_table
+
+    click.echo(result.summary())
+    if output:
+        click.echo(f"wrote {write_table(result.to_frame(), output, force=force)}")
+
+
+def _check(output: str | None, force: bool) -> None:
+    from excavkin.outputs.tables import check_target
+
+    if output:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+
+
+_MACHINE = click.argument("machine", type=click.Path(dir_okay=False))
+_OUTPUT = click.option(
+    "-o", "--output", type=click.Path(dir_okay=False), help="The table (.csv or .parquet), SI."
+)
+_FORCE = click.option("--force", is_flag=True, help="Replace an output file that exists.")
+
+
+@click.group("loader", context_settings={"help_option_names": ["-h", "--help"]})
+def command() -> None:
+    """Dimensions, breakout force, static tipping load and lift capacity of a wheel-loader
+    MACHINE."""
+
+
+@command.command("ranges")
+@_MACHINE
+@_OUTPUT
+@_FORCE
+@handle_errors
+def ranges(machine: str, output: str | None, force: bool) -> None:
+    """Print the SAE J732 / ISO 7131 dimensions (mm, degrees) and the poses they are taken at."""
+    from excavkin.loader.dimensions import dimensions
+
+    _check(output, force)
+    _write(dimensions(_machine(machine)), output, force)
+
+
+@command.command("breakout")
+@_MACHINE
+@_OUTPUT
+@_FORCE
+@handle_errors
+def breakout(machine: str, output: str | None, force: bool) -> None:
+    """Print the SAE J732 / ISO 14397-2 breakout forces (kN) and what limits each."""
+    from excavkin.loader.breakout import breakout as rate
+
+    _check(output, force)
+    _write(rate(_machine(machine)), output, force)
+
+
+@command.command("tipping")
+@_MACHINE
+@_OUTPUT
+@_FORCE
+@handle_errors
+def tipping(machine: str, output: str | None, force: bool) -> None:
+    """Print the static tipping loads, straight and at full turn, and the rated operating
+    capacity (kg)."""
+    from excavkin.loader.tipping import static_tipping
+
+    _check(output, force)
+    _write(static_tipping(_machine(machine)), output, force)
+
+
+@command.command("capacity")
+@_MACHINE
+@click.option(
+    "--samples",
+    default=101,
+    show_default=True,
+    type=click.IntRange(min=2, max=100_000),
+    help="Lift lengths over the stroke.",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def capacity(machine: str, samples: int, output: str | None, force: bool) -> None:
+    """Print the lift capacity to full height and the least rollback capacity (kg); the table
+    has both at every lift length."""
+    from excavkin.loader.capacity import capacity as rate
+
+    _check(output, force)
+    _write(rate(_machine(machine), samples), output, force)

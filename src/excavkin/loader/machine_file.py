@@ -1,0 +1,339 @@
+"""Read a wheel-loader machine file (TOML, ``schema_version = 1``, ``family = "loader"``).
+
+The file builds on a general mechanism model, referenced (``model = "wheel_loader.toml"``,
+relative to the machine file) or inline (a ``[model]`` table)::
+
+    schema_version = 1
+    family = "loader"
+    model = "wheel_loader.toml"
+    [units]                      # defaults for bare numbers in this file
+    length = "mm"
+    pressure = "MPa"
+    mass = "kg"
+    [linkage]                    # bodies and points of the model
+    lift_arm = "lift_arm"; bucket = "bucket"; edge = "W"; heel = "K"
+    carry_height = 400           # hinge-pin height in the carry position
+    [cylinders.lift]             # and [cylinders.tilt]
+    driver = "lift_cyl"; count = 2; retracted = 1733; stroke = 1020; bore = 140; rod = 80
+    circuit = "lift"; mass = 360; raises = "extend"     # tilt: rolls_back = "extend"
+    [circuits.lift]
+    working = 25; relief = 28
+    [bucket]
+    capacity = "3.0 m^3"         # rated (heaped), ISO 7546
+    width = 2900
+    load_cg = [650, 50]          # the rated load's centre of gravity in the bucket frame
+    [chassis]
+    wheelbase = 3300; front_axle = [0, 800]; tread = 2250; tyre_radius = 800
+    articulation = -1650; max_articulation = "40 deg"; rear_axle = "oscillating"
+    [chassis.front_frame]        # and .rear_frame, .counterweight
+    mass = 3800; center_of_mass = [-300, 1000]
+    [hydraulics.pumps.P1]        # optional: pumps (no swing)
+    flow = "230 L/min"; feeds = ["lift", "tilt"]
+
+Every number is range-checked; an error names the file, the table and the entry.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+from excavkin.errors import ModelError
+from excavkin.io.toml_model import build_model, load_model, read_text_file, read_toml
+from excavkin.loader.family import NAME
+from excavkin.loader.machine import (
+    ROLES,
+    Bucket,
+    Chassis,
+    Linkage,
+    Loader,
+    LoaderHydraulics,
+)
+from excavkin.machinery.base import Mass
+from excavkin.machinery.cylinders import Circuit, Cylinder
+from excavkin.machinery.file_fields import MachineReader
+from excavkin.machinery.hydraulics_file import read_hydraulics
+from excavkin.mechanism import Mechanism
+
+SCHEMA_VERSION = 1
+_TOP = {
+    "schema_version",
+    "family",
+    "name",
+    "description",
+    "model",
+    "units",
+    "linkage",
+    "cylinders",
+    "circuits",
+    "bucket",
+    "chassis",
+    "gravity",
+    "hydraulics",
+}
+_LINKAGE = {"lift_arm", "bucket", "edge", "heel", "carry_height"}
+_CYL = {"driver", "retracted", "stroke", "bore", "rod", "circuit", "count", "mass"}
+#: per role, the key that says which motion of the cylinder does the role's work
+_MOTION = {"lift": "raises", "tilt": "rolls_back"}
+_CHASSIS = {
+    "wheelbase",
+    "front_axle",
+    "tread",
+    "tyre_radius",
+    "articulation",
+    "max_articulation",
+    "rear_axle",
+    "front_frame",
+    "rear_frame",
+    "counterweight",
+}
+#: the most cylinders acting together in one role; the largest coordinate (m) and mass (kg)
+MAX_COUNT, _MAX_X, _MAX_MASS = 16, 1e3, 1e7
+
+
+def loads_machine(text: str, source: str | None = None) -> Loader:
+    """Parse a loader machine file from TOML text; see
+    [`load_machine`][excavkin.loader.machine_file.load_machine].
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    source : str, optional
+        The file, for messages and for a model file named relative to it.
+
+    Returns
+    -------
+    Loader
+    """
+    return _machine(read_toml(text, source), source)
+
+
+def load_machine(path: str | Path) -> Loader:
+    """Read a wheel-loader machine file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file, or the name of a built-in machine (``"wheel_loader_machine"``).
+
+    Returns
+    -------
+    Loader
+
+    Raises
+    ------
+    ModelError
+        Naming the file, the table and the entry of the first problem found.
+    """
+    import excavkin
+
+    file = excavkin.source_file(path, "machine")
+    return loads_machine(read_text_file(file), str(file))
+
+
+def _machine(data: dict[str, Any], source: str | None) -> Loader:
+    r = MachineReader(data, source)
+    ver = data.get("schema_version")
+    if type(ver) is not int or ver != SCHEMA_VERSION:
+        raise r.err(
+            f"schema_version = {ver!r} is not supported (this version of excavkin reads "
+            f"{SCHEMA_VERSION})"
+            if ver is not None
+            else f"schema_version is missing (this version reads {SCHEMA_VERSION})",
+            entry="schema_version",
+        )
+    if data.get("family") != NAME:
+        raise r.err(
+            f"family = {data.get('family')!r}: this reader reads loader machine files "
+            f'(family = "{NAME}")',
+            None,
+            "family",
+        )
+    unknown = set(data) - _TOP
+    if unknown:
+        raise r.err(
+            f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
+        )
+    mech = _model(r, data.get("model"), source)
+
+    lt = r.subtable(data, "linkage", "linkage")
+    r.keys(lt, _LINKAGE, "linkage")
+    linkage = Linkage(
+        lift_arm=r.text(lt, "lift_arm", "linkage", "lift_arm"),
+        bucket=r.text(lt, "bucket", "linkage", "bucket"),
+        edge=r.text(lt, "edge", "linkage"),
+        heel=r.text(lt, "heel", "linkage"),
+    )
+    carry = r.bounded(lt, "carry_height", "length", "linkage", 0.0, 100.0, "m")
+
+    circuits = {}
+    for cname, spec in r.subtable(data, "circuits", "circuits").items():
+        table = f"circuits.{cname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table with working and relief pressures", table)
+        r.keys(spec, {"working", "relief"}, table)
+        circuits[cname] = Circuit(
+            cname,
+            r.bounded(spec, "working", "pressure", table, 0.0, 2e8, "Pa"),
+            r.bounded(spec, "relief", "pressure", table, 0.0, 2e8, "Pa"),
+        )
+
+    cyl_t = r.subtable(data, "cylinders", "cylinders")
+    extra = set(cyl_t) - set(ROLES)
+    if extra:
+        raise r.err(
+            f"unknown cylinder {', '.join(sorted(extra))} (a loader has {', '.join(ROLES)})",
+            "cylinders",
+        )
+    cylinders = {role: _cylinder(r, cyl_t, role) for role in ROLES}
+
+    bt = r.subtable(data, "bucket", "bucket")
+    r.keys(bt, {"capacity", "width", "load_cg"}, "bucket")
+    if "load_cg" not in bt:
+        raise r.err("'load_cg' is missing", "bucket")
+    cg = r.xy(bt["load_cg"], "bucket", "load_cg")
+    for v in cg:
+        if not abs(v) <= 100.0:
+            raise r.err(f"load_cg = {v:.6g} m is out of range (±100 m)", "bucket", "load_cg")
+    bucket = Bucket(
+        capacity=r.bounded(bt, "capacity", "volume", "bucket", 0.0, 1e3, "m^3"),
+        width=r.bounded(bt, "width", "length", "bucket", 0.0, 50.0, "m"),
+        load_cg=cg,
+    )
+    chassis = _chassis(r, data)
+
+    grav = data.get("gravity", {})
+    if not isinstance(grav, dict):
+        raise r.err('must be a table such as { g = "9.81 m/s^2" }', "gravity")
+    r.keys(grav, {"g"}, "gravity")
+    g = r.bounded(grav, "g", "acceleration", "gravity", 0.0, 100.0, "m/s^2", default=9.80665)
+    name = data.get("name", Path(source).stem if source else mech.name)
+    if not isinstance(name, str):
+        raise r.err(f"name must be a string, got {name!r}"[:120], entry="name")
+    return Loader(
+        mech,
+        linkage,
+        cylinders,
+        circuits,
+        bucket,
+        chassis,
+        carry_height=carry,
+        gravity=g,
+        hydraulics=read_hydraulics(r, data, LoaderHydraulics),
+        name=name,
+        source=source,
+    )
+
+
+def _cylinder(r: MachineReader, cyl_t: dict[str, Any], role: str) -> Cylinder:
+    table = f"cylinders.{role}"
+    spec = cyl_t.get(role)
+    if not isinstance(spec, dict):
+        raise r.err("is missing or not a table", table)
+    motion = _MOTION[role]
+    r.keys(spec, _CYL | {motion}, table)
+    count = spec.get("count", 1)
+    if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= MAX_COUNT:
+        raise r.err(f"count must be a whole number from 1 to {MAX_COUNT}", table, "count")
+    how = spec.get(motion, "extend")
+    if how not in ("extend", "retract"):
+        raise r.err(f"{motion} must be 'extend' or 'retract', not {how!r}", table, motion)
+    return Cylinder(
+        role=role,
+        driver=r.text(spec, "driver", table, f"{role}_cyl"),
+        retracted=r.bounded(spec, "retracted", "length", table, 0.0, 50.0, "m"),
+        stroke=r.bounded(spec, "stroke", "length", table, 0.0, 20.0, "m"),
+        bore=r.bounded(spec, "bore", "length", table, 0.0, 2.0, "m"),
+        rod=r.bounded(spec, "rod", "length", table, 0.0, 2.0, "m"),
+        circuit=r.text(spec, "circuit", table, role),
+        count=count,
+        dig=how,
+        mass=r.bounded(spec, "mass", "mass", table, 0.0, 1e6, "kg", default=0.0, open_low=False),
+    )
+
+
+def _chassis(r: MachineReader, data: dict[str, Any]) -> Chassis:
+    table = "chassis"
+    t = r.subtable(data, table, table)
+    r.keys(t, _CHASSIS, table)
+    if "front_axle" not in t:
+        raise r.err("'front_axle' is missing", table)
+    fx, fy = r.xy(t["front_axle"], table, "front_axle")
+    for v in (fx, fy):
+        if not abs(v) <= _MAX_X:
+            raise r.err(f"front_axle: {v:.6g} m is out of range (±{_MAX_X:g} m)", table)
+    rear = t.get("rear_axle", "oscillating")
+    if rear not in ("oscillating", "rigid"):
+        raise r.err(f"rear_axle must be 'oscillating' or 'rigid', not {rear!r}", table, "rear_axle")
+    wheelbase = r.bounded(t, "wheelbase", "length", table, 0.0, 100.0, "m")
+    articulation = r.bounded(
+        t, "articulation", "length", table, -_MAX_X, _MAX_X, "m", open_low=False
+    )
+    if not fx - wheelbase <= articulation <= fx:
+        raise r.err(
+            "the articulation joint must lie between the rear and the front axle",
+            table,
+            "articulation",
+        )
+    tyre = r.bounded(t, "tyre_radius", "length", table, 0.0, 10.0, "m")
+    return Chassis(
+        wheelbase=wheelbase,
+        front_axle=(fx, fy),
+        tread=r.bounded(t, "tread", "length", table, 0.0, 50.0, "m"),
+        tyre_radius=tyre,
+        articulation=articulation,
+        max_articulation=r.bounded(
+            t, "max_articulation", "angle", table, 0.0, math.radians(60.0), "rad", open_low=False
+        ),
+        front_frame=_mass(r, t, "front_frame", positive=True),
+        rear_frame=_mass(r, t, "rear_frame", positive=True),
+        counterweight=_mass(r, t, "counterweight", positive=False),
+        oscillating=rear == "oscillating",
+    )
+
+
+def _mass(r: MachineReader, chassis: dict[str, Any], part: str, *, positive: bool) -> Mass:
+    table = f"chassis.{part}"
+    t = r.subtable(chassis, part, table)
+    r.keys(t, {"mass", "center_of_mass"}, table)
+    m = r.bounded(t, "mass", "mass", table, 0.0, _MAX_MASS, "kg", open_low=positive)
+    if "center_of_mass" not in t:
+        raise r.err("'center_of_mass' is missing", table)
+    x, y = r.xy(t["center_of_mass"], table, "center_of_mass")
+    for v in (x, y):
+        if not abs(v) <= _MAX_X:
+            raise r.err(f"{v:.6g} m is out of range (±{_MAX_X:g} m)", table, "center_of_mass")
+    return Mass(part, m, x, y)
+
+
+def _model(r: MachineReader, spec: Any, source: str | None) -> Mechanism:
+    if isinstance(spec, str):
+        base = Path(source).parent if source else Path.cwd()
+        path = base / spec
+        if not path.is_file():
+            raise r.err(f"the model file {str(path)!r} does not exist", entry="model")
+        return Mechanism(load_model(path))
+    if isinstance(spec, dict):
+        inline = dict(spec)
+        inline.setdefault("schema_version", SCHEMA_VERSION)
+        if "units" not in inline and r.units:
+            inline["units"] = {
+                k: v for k, v in r.units.items() if k in ("length", "angle", "mass", "inertia")
+            }
+        try:
+            return Mechanism(build_model(inline, source))
+        except ModelError as exc:
+            raise type(exc)(
+                exc.problem,
+                table=f"model.{exc.table}" if exc.table else "model",
+                entry=exc.entry,
+                source=source,
+            ) from None
+    raise r.err(
+        'model must name a model file (model = "wheel_loader.toml") or be a [model] table '
+        "with the model's points, bodies and drivers",
+        entry="model",
+    )
