@@ -77,9 +77,21 @@ def command(out_dir: str, model_name: str, list_models: bool, quiet: bool) -> No
 #: each kind of built-in example, with the commands that take it
 _KINDS = (
     ("model", "models (excavkin check, solve, simulate, report, tolerance; demo --model)"),
-    ("machine", "machines (excavkin excavator ranges, forces, dig, …)"),
+    ("machine", "machines (each with its family's commands)"),
     ("study", "studies (excavkin study, optimize)"),
 )
+
+
+def _family(name: str) -> str:
+    """The family a built-in machine file names (its ``family`` key, else the one that
+    recognises it)."""
+    import tomllib
+
+    from excavkin.families import family_of
+
+    path = excavkin.example_path(name)
+    family = family_of(tomllib.loads(path.read_text("utf-8")), str(path))
+    return family.name if family else "?"
 
 
 def _listing() -> str:
@@ -91,5 +103,7 @@ def _listing() -> str:
             mark = ""
             if kind == "study" and "\nmachine" in excavkin.example_path(name).read_text("utf-8"):
                 mark = "  (a machine's: excavkin excavator study)"
+            if kind == "machine":
+                mark = f"  (excavkin {_family(name)} …)"
             lines.append(f"  {name}{mark}")
     return "\n".join(lines)
