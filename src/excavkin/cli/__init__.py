@@ -54,7 +54,7 @@ CORE_COMMANDS = {
     "study": _core(
         "study",
         "Evaluate a design study: designs sampled in the box of STUDY.toml's parameter bounds "
-        "(Sobol', Halton, Latin hypercube or a grid), each solved at every pose of its pose set "
+        "(Sobol', Halton, Latin hypercube or a grid), each solved at every pose of its pose sets "
         "in one batch, its metrics reduced over the poses and its constraints checked; write one "
         "row per design to a Parquet table.",
     ),
