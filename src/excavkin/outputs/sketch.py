@@ -162,7 +162,11 @@ def mechanism_html(mechanism: MechanismLike) -> str:
     str
         An HTML fragment.
     """
+    # the drawing keeps its size (a flex item shrinks to nothing beside long lines); the text
+    # scrolls instead
     return (
-        f"<div style='display:flex;gap:1em;align-items:flex-start'>{sketch_svg(mechanism)}"
-        f"<pre style='margin:0'>{html.escape(mechanism.describe())}</pre></div>"
+        "<div style='display:flex;gap:1em;align-items:flex-start'>"
+        f"<div style='flex:none'>{sketch_svg(mechanism)}</div>"
+        "<pre style='margin:0;min-width:0;overflow-x:auto'>"
+        f"{html.escape(mechanism.describe())}</pre></div>"
     )
