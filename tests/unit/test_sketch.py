@@ -58,3 +58,5 @@ def test_the_notebook_display_shows_the_sketch_and_the_plan() -> None:
     html = mech._repr_html_()
     assert html.count("<svg") == 1 and mech.sketch_svg() in html
     assert "<pre" in html and mech.plan.points[0] in html
+    # the drawing does not shrink away beside the description's long lines
+    assert f"<div style='flex:none'>{mech.sketch_svg()}</div>" in html
