@@ -476,7 +476,16 @@ class Machine:
         -------
         Circuit
             The pressures of the circuit that cylinder is on.
+
+        Raises
+        ------
+        UnknownNameError
+            Another role, with the nearest ones.
         """
+        if role not in ROLES:
+            from excavkin.errors import unknown_name
+
+            raise unknown_name("cylinder role", role, list(ROLES))
         return self.circuits[self.cylinders[ROLES.index(role)].circuit]
 
     def within_stroke(self, lengths: ArrayLike, tol: float = 1e-9) -> B:

@@ -281,14 +281,14 @@ class ForceResult:
 
         Raises
         ------
-        KeyError
-            No such pin, listing the pins.
+        UnknownNameError
+            No such pin, with the nearest ones (a `KeyError` too).
         """
         try:
             k = self.pins.index((point, body))
         except ValueError:
-            known = ", ".join(f"{p}.{b}" for p, b in self.pins)
-            raise KeyError(f"no pin {point} on body {body!r} (pins: {known})") from None
+            known = [f"{p}.{b}" for p, b in self.pins]
+            raise unknown_name("pin (point.body)", f"{point}.{body}", known) from None
         return self.pin_force[:, k]
 
     def force(self, name: str) -> F:
@@ -307,8 +307,9 @@ class ForceResult:
 
         Raises
         ------
-        KeyError
-            No driven or locked linear element or slider of that name.
+        UnknownNameError
+            No driven or locked linear element or slider of that name, with the nearest
+            names (a `KeyError` too).
         """
         names = [e[0] for e in self.system.elements]
         if name in names:
@@ -316,7 +317,7 @@ class ForceResult:
         sliders = [s[0] for s in self.system.sliders]
         if name in sliders:
             return self.slider_force[:, sliders.index(name)]
-        raise KeyError(f"no driven or locked linear element or slider {name!r}")
+        raise unknown_name("driven or locked linear element or slider", name, [*names, *sliders])
 
     def torque(self, name: str) -> F:
         """Torque of a rotary driver, shape (n,).
@@ -334,12 +335,12 @@ class ForceResult:
 
         Raises
         ------
-        KeyError
-            No rotary driver of that name.
+        UnknownNameError
+            No rotary driver of that name, with the nearest names (a `KeyError` too).
         """
         names = [d[0] for d in self.system.rotary]
         if name not in names:
-            raise KeyError(f"no rotary driver {name!r}")
+            raise unknown_name("rotary driver", name, names)
         return self.driver_torque[:, names.index(name)]
 
     def resultant(self, body: str) -> F:
@@ -359,12 +360,12 @@ class ForceResult:
 
         Raises
         ------
-        KeyError
-            No body of that name.
+        UnknownNameError
+            No body of that name, with the nearest names (a `KeyError` too).
         """
         sy = self.system
         if body not in sy.bodies:
-            raise KeyError(f"unknown body {body!r}")
+            raise unknown_name("body", body, list(sy.bodies))
         j = sy.bodies.index(body)
         out = np.zeros((len(self), 2))
         for k, (_, jj) in enumerate(sy.slots):
