@@ -33,18 +33,16 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from excavkin.errors import ModelError
 from excavkin.excavator.base_file import read_base, read_lift_point
 from excavkin.excavator.family import check_family
 from excavkin.excavator.hydraulics_file import read_hydraulics
 from excavkin.excavator.machine import ROLES, Circuit, Cylinder, Front, Machine
 from excavkin.io.toml_model import (
-    build_model,
-    load_model,
     read_text_file,
     read_toml,
 )
 from excavkin.machinery.file_fields import MachineReader as _Reader
+from excavkin.machinery.file_fields import read_model
 from excavkin.machinery.file_fields import within as _within
 from excavkin.mechanism import Mechanism
 
@@ -134,7 +132,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
             f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
         )
     check_family(r, data)
-    mech = _model(r, data.get("model"), source)
+    mech = Mechanism(read_model(r, data.get("model"), source, "front.toml"))
 
     front_t = r.subtable(data, "front", "front")
     r.keys(front_t, _FRONT, "front")
@@ -296,34 +294,3 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
 MAX_COUNT = 16
 
 
-def _model(r: _Reader, spec: Any, source: str | None) -> Mechanism:
-    if isinstance(spec, str):
-        base = Path(source).parent if source else Path.cwd()
-        path = base / spec
-        if not path.exists():
-            raise r.err(f"the model file {str(path)!r} does not exist", entry="model")
-        try:
-            return Mechanism(load_model(path))
-        except ModelError as exc:
-            raise r.err(f"the model file it names cannot be used: {exc}", entry="model") from None
-    if isinstance(spec, dict):
-        inline = dict(spec)
-        inline.setdefault("schema_version", SCHEMA_VERSION)
-        if "units" not in inline and r.units:
-            inline["units"] = {
-                k: v for k, v in r.units.items() if k in ("length", "angle", "mass", "inertia")
-            }
-        try:
-            return Mechanism(build_model(inline, source))
-        except ModelError as exc:
-            raise type(exc)(
-                exc.problem,
-                table=f"model.{exc.table}" if exc.table else "model",
-                entry=exc.entry,
-                source=source,
-            ) from None
-    raise r.err(
-        'model must name a model file (model = "front.toml") or be a [model] table '
-        "with the model's points, bodies and drivers",
-        entry="model",
-    )

@@ -39,8 +39,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from excavkin.errors import ModelError
-from excavkin.io.toml_model import build_model, load_model, read_text_file, read_toml
+from excavkin.io.toml_model import read_text_file, read_toml
 from excavkin.loader.family import NAME
 from excavkin.loader.machine import (
     ROLES,
@@ -52,7 +51,7 @@ from excavkin.loader.machine import (
 )
 from excavkin.machinery.base import Mass
 from excavkin.machinery.cylinders import Circuit, Cylinder
-from excavkin.machinery.file_fields import MachineReader
+from excavkin.machinery.file_fields import MachineReader, read_model
 from excavkin.machinery.hydraulics_file import read_hydraulics
 from excavkin.mechanism import Mechanism
 
@@ -157,7 +156,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Loader:
             f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
             f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
         )
-    mech = _model(r, data.get("model"), source)
+    mech = Mechanism(read_model(r, data.get("model"), source, "wheel_loader.toml"))
 
     lt = r.subtable(data, "linkage", "linkage")
     r.keys(lt, _LINKAGE, "linkage")
@@ -309,31 +308,3 @@ def _mass(r: MachineReader, chassis: dict[str, Any], part: str, *, positive: boo
     return Mass(part, m, x, y)
 
 
-def _model(r: MachineReader, spec: Any, source: str | None) -> Mechanism:
-    if isinstance(spec, str):
-        base = Path(source).parent if source else Path.cwd()
-        path = base / spec
-        if not path.is_file():
-            raise r.err(f"the model file {str(path)!r} does not exist", entry="model")
-        return Mechanism(load_model(path))
-    if isinstance(spec, dict):
-        inline = dict(spec)
-        inline.setdefault("schema_version", SCHEMA_VERSION)
-        if "units" not in inline and r.units:
-            inline["units"] = {
-                k: v for k, v in r.units.items() if k in ("length", "angle", "mass", "inertia")
-            }
-        try:
-            return Mechanism(build_model(inline, source))
-        except ModelError as exc:
-            raise type(exc)(
-                exc.problem,
-                table=f"model.{exc.table}" if exc.table else "model",
-                entry=exc.entry,
-                source=source,
-            ) from None
-    raise r.err(
-        'model must name a model file (model = "wheel_loader.toml") or be a [model] table '
-        "with the model's points, bodies and drivers",
-        entry="model",
-    )

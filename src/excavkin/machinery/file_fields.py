@@ -3,11 +3,15 @@ naming the file, the table and the entry)."""
 
 from __future__ import annotations
 
-from typing import Any
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-from excavkin.errors import UnitError
-from excavkin.io.toml_model import TomlReader
+from excavkin.errors import ModelError, UnitError
+from excavkin.io.toml_model import TomlReader, build_model, load_model
 from excavkin.units import to_si
+
+if TYPE_CHECKING:
+    from excavkin.model import Model
 
 
 class MachineReader(TomlReader):
@@ -107,3 +111,65 @@ def within(
             key,
         )
     return value
+
+
+#: a machine file's schema, which an inline [model] table takes unless it says otherwise
+MODEL_SCHEMA_VERSION = 1
+
+
+def read_model(r: MachineReader, spec: Any, source: str | None, example: str) -> Model:
+    """A machine file's ``model``: a model file's name (beside the machine file) or an inline
+    ``[model]`` table, which takes the machine file's units where it gives none.
+
+    Parameters
+    ----------
+    r : MachineReader
+        The machine file.
+    spec : str or mapping
+        The ``model`` entry.
+    source : str, optional
+        The machine file's path, for relative model files and messages.
+    example : str
+        A model file's name for the message of a ``model`` of neither kind
+        (``"front.toml"``).
+
+    Returns
+    -------
+    Model
+        Validated (the wing makes it a mechanism: this layer solves through the wing's).
+
+    Raises
+    ------
+    ModelError
+        Naming the machine file and ``model``, and the model's own table and entry.
+    """
+    if isinstance(spec, str):
+        base = Path(source).parent if source else Path.cwd()
+        path = base / spec
+        if not path.exists():
+            raise r.err(f"the model file {str(path)!r} does not exist", entry="model")
+        try:
+            return load_model(path)
+        except ModelError as exc:
+            raise r.err(f"the model file it names cannot be used: {exc}", entry="model") from None
+    if isinstance(spec, dict):
+        inline = dict(spec)
+        inline.setdefault("schema_version", MODEL_SCHEMA_VERSION)
+        if "units" not in inline and r.units:
+            inline["units"] = {
+                k: v for k, v in r.units.items() if k in ("length", "angle", "mass", "inertia")
+            }
+        try:
+            return build_model(inline, source)
+        except ModelError as exc:
+            raise type(exc)(
+                exc.problem,
+                table=f"model.{exc.table}" if exc.table else "model",
+                entry=exc.entry,
+                source=source,
+            ) from None
+    raise r.err(
+        f'model must name a model file (model = "{example}") or be a [model] table '
+        "with the model's points, bodies and drivers",
+        entry="model",
+    )
