@@ -51,10 +51,10 @@ from excavkin.errors import InputError, ModelError
 from excavkin.kinematics import KinematicResult
 from excavkin.kinematics.summary import batch_repr
 from excavkin.machinery.base import BaseMachine
+from excavkin.machinery.cylinder_machine import CylinderMachine
 from excavkin.machinery.cylinders import Circuit, Cylinder, cylinder_lengths
 from excavkin.machinery.masses import MassPoints, mass_points
 from excavkin.mechanism import Mechanism
-from excavkin.model.entities import Load
 from excavkin.structure.plan import Dyad
 
 if TYPE_CHECKING:
@@ -123,7 +123,7 @@ class Pins:
     cyl_ends: tuple[tuple[str, str], ...]  # per role: (base, rod end)
 
 
-class Machine:
+class Machine(CylinderMachine):
     """An excavator front: a general mechanism plus cylinders, circuits and tool points.
 
     Parameters
@@ -161,6 +161,8 @@ class Machine:
     ModelError
         If the topology is not a backhoe front, a name is unknown or a number is impossible.
     """
+
+    ROLES = ROLES
 
     def __init__(
         self,
@@ -278,38 +280,6 @@ class Machine:
                 )
 
     # ---- construction helpers
-    def _err(self, problem: str, table: str | None = None, entry: str | None = None) -> ModelError:
-        return ModelError(problem, table=table, entry=entry, source=self.source)
-
-    def _check_cylinder(self, c: Cylinder) -> None:
-        table = f"cylinders.{c.role}"
-        model = self.mechanism.model
-        drivers = {d.name: d for d in model.linear}
-        if c.driver not in drivers or drivers[c.driver].mode != "driven":
-            known = ", ".join(d.name for d in model.linear if d.mode == "driven") or "none"
-            raise self._err(
-                f"driver {c.driver!r} is not a driven linear driver of the model "
-                f"(driven ones: {known})",
-                table,
-                "driver",
-            )
-        for key, val in (("retracted", c.retracted), ("stroke", c.stroke), ("bore", c.bore)):
-            if not val > 0.0:
-                raise self._err(f"{key} must be positive", table, key)
-        if not 0.0 <= c.rod < c.bore:
-            raise self._err("the rod diameter must be smaller than the bore", table, "rod")
-        if c.count < 1:
-            raise self._err("count must be at least 1", table, "count")
-        if c.circuit not in self.circuits:
-            raise self._err(
-                f"unknown circuit {c.circuit!r} (known: {', '.join(self.circuits) or 'none'})",
-                table,
-                "circuit",
-            )
-        circ = self.circuits[c.circuit]
-        if not 0.0 < circ.working <= circ.relief:
-            raise self._err("needs 0 < working pressure ≤ relief pressure", f"circuits.{c.circuit}")
-
     def _find_pins(self) -> Pins:
         model = self.mechanism.model
         f = self.front
@@ -364,33 +334,12 @@ class Machine:
 
     # ---- simple properties
     @property
-    def roles(self) -> tuple[str, ...]:
-        """The cylinder roles of an excavator, ``("boom", "arm", "bucket")``: the order of every
-        ``(n, 3)`` array."""
-        return ROLES
-
-    @property
-    def drivers(self) -> tuple[str, str, str]:
-        """Driver names of the boom, arm and bucket cylinders."""
-        return (self.cylinders[0].driver, self.cylinders[1].driver, self.cylinders[2].driver)
-
-    @property
     def parameters(self) -> dict[str, float]:
         """Every parameter of the machine and its nominal value (SI): the mechanism's and its
         cylinders' and circuits' ([`excavkin.excavator.designs.machine_parameters`][])."""
         from excavkin.excavator.designs import machine_parameters
 
         return machine_parameters(self)
-
-    @property
-    def lengths_min(self) -> F:
-        """Fully retracted lengths, shape (3,)."""
-        return np.array([c.retracted for c in self.cylinders])
-
-    @property
-    def lengths_max(self) -> F:
-        """Fully extended lengths, shape (3,)."""
-        return np.array([c.extended for c in self.cylinders])
 
     @property
     def tip_radius(self) -> float:
@@ -436,102 +385,10 @@ class Machine:
             self._mass_points = _mass_points(self)
         return self._mass_points
 
-    def weight_loads(self) -> list[Load]:
-        """The front's weight as loads of the general kinetostatics: the model's bodies
-        ([`Gravity`][excavkin.kinetostatics.Gravity]) and half of each cylinder's mass at each end
-        pin that moves (a [`PointForce`][excavkin.kinetostatics.PointForce] on a body holding it).
-
-        Returns
-        -------
-        list of Gravity or PointForce
-            The gravity load first, then ``DRIVER@PIN``: half of a cylinder's weight (N) at
-            each of its end pins on a moving body, for the cylinders that have a mass.
-        """
-        from excavkin.kinetostatics import Gravity, PointForce
-
-        loads: list[Load] = [Gravity(self.gravity)]
-        moving = [b for b in self.mechanism.model.bodies if not b.ground]
-        for cyl, ends in zip(self.cylinders, self.pins.cyl_ends, strict=True):
-            for pin in ends:
-                body = next((b.name for b in moving if pin in b.points), None)
-                if cyl.mass > 0.0 and body is not None:
-                    w = (0.0, -0.5 * cyl.mass * self.gravity)
-                    loads.append(PointForce(f"{cyl.driver}@{pin}", body, pin, w))
-        return loads
-
     @property
     def front_mass(self) -> float:
         """Mass of the front: the model's moving bodies and the cylinders (kg)."""
         return float(self.mass_points.mass.sum())
-
-    def circuit(self, role: str) -> Circuit:
-        """The circuit of the cylinder ``role``.
-
-        Parameters
-        ----------
-        role : {"boom", "arm", "bucket"}
-            The cylinder.
-
-        Returns
-        -------
-        Circuit
-            The pressures of the circuit that cylinder is on.
-
-        Raises
-        ------
-        UnknownNameError
-            Another role, with the nearest ones.
-        """
-        if role not in ROLES:
-            from excavkin.errors import unknown_name
-
-            raise unknown_name("cylinder role", role, list(ROLES))
-        return self.circuits[self.cylinders[ROLES.index(role)].circuit]
-
-    def within_stroke(self, lengths: ArrayLike, tol: float = 1e-9) -> B:
-        """Whether each row of ``lengths`` lies within all three strokes.
-
-        Parameters
-        ----------
-        lengths : array_like, shape (n, 3)
-            Boom, arm and bucket cylinder lengths (m).
-        tol : float, default 1e-9
-            Slack at each end of a stroke (m).
-
-        Returns
-        -------
-        ndarray of bool, shape (n,)
-            True where every length lies in ``[lengths_min - tol, lengths_max + tol]``.
-        """
-        L = np.asarray(lengths, dtype=np.float64)
-        lo, hi = self.lengths_min - tol, self.lengths_max + tol
-        return np.asarray(np.all((lo <= L) & (hi >= L), axis=-1))
-
-    def solve(self, lengths: ArrayLike, rates: ArrayLike | None = None) -> KinematicResult:
-        """Run the general engine at cylinder lengths.
-
-        Parameters
-        ----------
-        lengths : array_like, shape (n, 3)
-            Boom, arm and bucket cylinder lengths (m).
-        rates : array_like, shape (n, 3) or (3,), optional
-            Their rates; default zero (so velocities are zero). A one-hot row ``(0, 1, 0)``
-            makes the velocities the transfer functions ∂(·)/∂L_arm.
-
-        Returns
-        -------
-        KinematicResult
-        """
-        L = as_lengths(lengths)
-        R = (
-            np.zeros_like(L)
-            if rates is None
-            else np.broadcast_to(np.asarray(rates, dtype=np.float64), L.shape)
-        )
-        return self.mechanism.solve(
-            {d: L[:, i] for i, d in enumerate(self.drivers)},
-            {d: R[:, i] for i, d in enumerate(self.drivers)},
-        )
 
     def __repr__(self) -> str:
         return f"Machine({self.name!r}, cylinders={list(self.drivers)})"

@@ -42,7 +42,7 @@ from excavkin.io.toml_model import (
     read_toml,
 )
 from excavkin.machinery.file_fields import MachineReader as _Reader
-from excavkin.machinery.file_fields import read_model
+from excavkin.machinery.file_fields import check_head, read_model
 from excavkin.machinery.file_fields import within as _within
 from excavkin.mechanism import Mechanism
 
@@ -111,26 +111,7 @@ def load_machine(path: str | Path) -> Machine:
 
 def _machine(data: dict[str, Any], source: str | None) -> Machine:
     r = _Reader(data, source)
-    ver = data.get("schema_version")
-    if type(ver) is not int or ver != SCHEMA_VERSION:
-        raise r.err(
-            f"schema_version = {ver!r} is not supported (this version of excavkin reads "
-            f"{SCHEMA_VERSION})"
-            if ver is not None
-            else f"schema_version is missing (this version reads {SCHEMA_VERSION})"
-        )
-    unknown = set(data) - _TOP
-    if unknown and "front" not in data and {"points", "bodies"} & set(data):
-        raise r.err(
-            "this is a model file (a mechanism's points and bodies), and a machine file is "
-            'expected: one that names its model (model = "excavator.toml") and its [front]; '
-            "`excavkin demo --list` lists the built-in machines"
-        )
-    if unknown:
-        raise r.err(
-            f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
-        )
+    check_head(r, SCHEMA_VERSION, _TOP, "excavator.toml")
     check_family(r, data)
     mech = Mechanism(read_model(r, data.get("model"), source, "front.toml"))
 

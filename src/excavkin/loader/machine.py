@@ -38,15 +38,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from excavkin.arrays import FloatArray as F
-from excavkin.errors import ModelError
 from excavkin.kinematics import KinematicResult
 from excavkin.kinematics.summary import batch_repr
 from excavkin.machinery.base import Mass
+from excavkin.machinery.cylinder_machine import CylinderMachine
 from excavkin.machinery.cylinders import Circuit, Cylinder, cylinder_lengths
 from excavkin.machinery.masses import MassPoints, mass_points
 from excavkin.machinery.pumps import Hydraulics
 from excavkin.mechanism import Mechanism
-from excavkin.model.entities import Load
 
 if TYPE_CHECKING:
     from excavkin.machinery.base import BaseMachine
@@ -176,7 +175,7 @@ class Pins:
     cyl_ends: tuple[tuple[str, str], ...]
 
 
-class Loader:
+class Loader(CylinderMachine):
     """A wheel loader: a general mechanism plus cylinders, circuits, bucket and chassis.
 
     Parameters
@@ -204,6 +203,8 @@ class Loader:
     ModelError
         Naming the table and entry of a name, topology or number that does not fit.
     """
+
+    ROLES = ROLES
 
     def __init__(
         self,
@@ -248,34 +249,6 @@ class Loader:
         self._check_strokes()
 
     # ---- construction checks
-    def _err(self, problem: str, table: str | None = None, entry: str | None = None) -> ModelError:
-        return ModelError(problem, table=table, entry=entry, source=self.source)
-
-    def _check_cylinder(self, c: Cylinder) -> None:
-        table = f"cylinders.{c.role}"
-        drivers = {d.name: d for d in self.mechanism.model.linear}
-        if c.driver not in drivers or drivers[c.driver].mode != "driven":
-            known = ", ".join(d.name for d in self.mechanism.model.linear if d.mode == "driven")
-            raise self._err(
-                f"driver {c.driver!r} is not a driven linear driver of the model "
-                f"(driven ones: {known or 'none'})",
-                table,
-                "driver",
-            )
-        if not 0.0 <= c.rod < c.bore:
-            raise self._err("the rod diameter must be smaller than the bore", table, "rod")
-        if c.circuit not in self.circuits:
-            raise self._err(
-                f"unknown circuit {c.circuit!r} (known: {', '.join(self.circuits) or 'none'})",
-                table,
-                "circuit",
-            )
-        circ = self.circuits[c.circuit]
-        if not 0.0 < circ.working <= circ.relief:
-            raise self._err(
-                "needs 0 < working pressure ≤ relief pressure", f"circuits.{c.circuit}", "working"
-            )
-
     def _find_pins(self) -> Pins:
         model = self.mechanism.model
         lk = self.linkage
@@ -332,26 +305,6 @@ class Loader:
 
     # ---- what the machinery layer reads
     @property
-    def roles(self) -> tuple[str, ...]:
-        """``("lift", "tilt")``."""
-        return ROLES
-
-    @property
-    def drivers(self) -> tuple[str, str]:
-        """The model's drivers of the lift and tilt cylinders."""
-        return (self.cylinders[0].driver, self.cylinders[1].driver)
-
-    @property
-    def lengths_min(self) -> F:
-        """Fully retracted lengths, shape (2,) (m)."""
-        return np.array([c.retracted for c in self.cylinders])
-
-    @property
-    def lengths_max(self) -> F:
-        """Fully extended lengths, shape (2,) (m)."""
-        return np.array([c.extended for c in self.cylinders])
-
-    @property
     def base(self) -> BaseMachine | None:
         """None: a loader stands on its `chassis`, not on a crawler's base."""
         return None
@@ -384,26 +337,6 @@ class Loader:
         """Operating mass: the linkage, both frames and the counterweight (kg)."""
         ch = self.chassis
         return self.linkage_mass + ch.front_frame.mass + ch.rear_frame.mass + ch.counterweight.mass
-
-    def weight_loads(self) -> list[Load]:
-        """The linkage's weight as loads of the general kinetostatics: the bodies' gravity and
-        half of each cylinder's weight at each end pin on a moving body.
-
-        Returns
-        -------
-        list of Gravity or PointForce
-        """
-        from excavkin.kinetostatics import Gravity, PointForce
-
-        loads: list[Load] = [Gravity(self.gravity)]
-        moving = [b for b in self.mechanism.model.bodies if not b.ground]
-        for cyl, ends in zip(self.cylinders, self.pins.cyl_ends, strict=True):
-            for pin in ends:
-                body = next((b.name for b in moving if pin in b.points), None)
-                if cyl.mass > 0.0 and body is not None:
-                    w = (0.0, -0.5 * cyl.mass * self.gravity)
-                    loads.append(PointForce(f"{cyl.driver}@{pin}", body, pin, w))
-        return loads
 
     def raise_sign(self) -> float:
         """+1 where extending the lift cylinder raises the lift arm, −1 otherwise.
@@ -462,32 +395,6 @@ class Loader:
         """
         c = self.cylinders[1]
         return c.retracted if c.dig == "extend" else c.extended
-
-    def solve(self, lengths: ArrayLike, rates: ArrayLike | None = None) -> KinematicResult:
-        """Run the general engine at cylinder lengths.
-
-        Parameters
-        ----------
-        lengths : array_like, shape (n, 2)
-            Lift and tilt cylinder lengths (m).
-        rates : array_like, shape (n, 2) or (2,), optional
-            Their rates; default zero. A one-hot row makes the velocities the transfer
-            functions ∂(·)/∂L of that cylinder.
-
-        Returns
-        -------
-        KinematicResult
-        """
-        L = cylinder_lengths(lengths, ROLES)
-        R = (
-            np.zeros_like(L)
-            if rates is None
-            else np.broadcast_to(np.asarray(rates, dtype=np.float64), L.shape)
-        )
-        return self.mechanism.solve(
-            {d: L[:, i] for i, d in enumerate(self.drivers)},
-            {d: R[:, i] for i, d in enumerate(self.drivers)},
-        )
 
     def index(self, point: str) -> int:
         """The engine's index of a point of the model.

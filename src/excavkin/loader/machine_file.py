@@ -51,7 +51,7 @@ from excavkin.loader.machine import (
 )
 from excavkin.machinery.base import Mass
 from excavkin.machinery.cylinders import Circuit, Cylinder
-from excavkin.machinery.file_fields import MachineReader, read_model
+from excavkin.machinery.file_fields import MachineReader, check_head, read_model
 from excavkin.machinery.hydraulics_file import read_hydraulics
 from excavkin.mechanism import Mechanism
 
@@ -134,28 +134,14 @@ def load_machine(path: str | Path) -> Loader:
 
 def _machine(data: dict[str, Any], source: str | None) -> Loader:
     r = MachineReader(data, source)
-    ver = data.get("schema_version")
-    if type(ver) is not int or ver != SCHEMA_VERSION:
-        raise r.err(
-            f"schema_version = {ver!r} is not supported (this version of excavkin reads "
-            f"{SCHEMA_VERSION})"
-            if ver is not None
-            else f"schema_version is missing (this version reads {SCHEMA_VERSION})",
-            entry="schema_version",
-        )
-    if data.get("family") != NAME:
+    if data.get("family") != NAME:  # another family's file: its keys are not the question
         raise r.err(
             f"family = {data.get('family')!r}: this reader reads loader machine files "
             f'(family = "{NAME}")',
             None,
             "family",
         )
-    unknown = set(data) - _TOP
-    if unknown:
-        raise r.err(
-            f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
-            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(_TOP))})"
-        )
+    check_head(r, SCHEMA_VERSION, _TOP, "wheel_loader.toml")
     mech = Mechanism(read_model(r, data.get("model"), source, "wheel_loader.toml"))
 
     lt = r.subtable(data, "linkage", "linkage")

@@ -173,3 +173,47 @@ def read_model(r: MachineReader, spec: Any, source: str | None, example: str) ->
         "with the model's points, bodies and drivers",
         entry="model",
     )
+
+
+def check_head(r: MachineReader, version: int, allowed: set[str], example: str) -> None:
+    """Refuse a machine file of another ``schema_version``, a model file given as a machine
+    file, and top-level keys the family does not read.
+
+    Parameters
+    ----------
+    r : MachineReader
+        The machine file.
+    version : int
+        The schema version the family reads.
+    allowed : set of str
+        The family's top-level keys.
+    example : str
+        A model file's name, for the message to a model file given as a machine file.
+
+    Raises
+    ------
+    ModelError
+        Naming the file and the key.
+    """
+    data = r.data
+    ver = data.get("schema_version")
+    if type(ver) is not int or ver != version:
+        raise r.err(
+            f"schema_version = {ver!r} is not supported (this version of excavkin reads "
+            f"{version})"
+            if ver is not None
+            else f"schema_version is missing (this version reads {version})",
+            entry="schema_version",
+        )
+    unknown = set(data) - allowed
+    if unknown and "model" not in data and {"points", "bodies"} & set(data):
+        raise r.err(
+            "this is a model file (a mechanism's points and bodies), and a machine file is "
+            f'expected: one that names its model (model = "{example}"); '
+            "`excavkin demo --list` lists the built-in machines"
+        )
+    if unknown:
+        raise r.err(
+            f"unknown top-level key{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(sorted(unknown))} (allowed: {', '.join(sorted(allowed))})"
+        )

@@ -1,4 +1,6 @@
-"""What the machinery layer asks of a family's machine: protocols, no base class.
+"""What the machinery layer asks of a family's machine: protocols (a family's machine derives
+from [`CylinderMachine`][excavkin.machinery.cylinder_machine.CylinderMachine], which provides
+most of them).
 
 A family's machine (the excavator's [`Machine`][excavkin.excavator.machine.Machine], a wheel
 loader's, a crane's) is a general [`Mechanism`][excavkin.mechanism.Mechanism] plus its
