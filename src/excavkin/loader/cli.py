@@ -1,4 +1,4 @@
-"""``excavkin loader ranges|breakout|tipping|capacity MACHINE.toml``: a wheel loader's spec sheet.
+"""``excavkin loader ranges|breakout|tipping|capacity|cycle MACHINE``: a loader's spec sheet.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
 the machine, pint) are imported inside the commands. Each command parses, calls the library
@@ -48,8 +48,8 @@ _FORCE = click.option("--force", is_flag=True, help="Replace an output file that
 
 @click.group("loader", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Dimensions, breakout force, static tipping load and lift capacity of a wheel-loader
-    MACHINE."""
+    """Dimensions, breakout force, static tipping load, lift capacity and hydraulic cycle of a
+    wheel-loader MACHINE."""
 
 
 @command.command("ranges")
@@ -111,3 +111,23 @@ def capacity(machine: str, samples: int, output: str | None, force: bool) -> Non
 
     _check(output, force)
     _write(rate(_machine(machine), samples), output, force)
+
+
+@command.command("cycle")
+@_MACHINE
+@click.option(
+    "--load",
+    type=click.FloatRange(min=0.0),
+    default=None,
+    help="The mass raised (kg); default the rated operating capacity.",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def cycle(machine: str, load: float | None, output: str | None, force: bool) -> None:
+    """Print the SAE J732 raise, lower-empty and dump times (s) at the pumps' full flow, with
+    each phase's static pressure (MPa) and hydraulic power (kW)."""
+    from excavkin.loader.cycle import cycle as run
+
+    _check(output, force)
+    _write(run(_machine(machine), load), output, force)
