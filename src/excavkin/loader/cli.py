@@ -1,4 +1,4 @@
-"""``excavkin loader ranges|breakout|tipping|capacity|cycle MACHINE``: a loader's spec sheet.
+"""``excavkin loader ranges|breakout|tipping|capacity|cycle|pins MACHINE``: a loader's spec sheet.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
 the machine, pint) are imported inside the commands. Each command parses, calls the library
@@ -48,8 +48,8 @@ _FORCE = click.option("--force", is_flag=True, help="Replace an output file that
 
 @click.group("loader", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Dimensions, breakout force, static tipping load, lift capacity and hydraulic cycle of a
-    wheel-loader MACHINE."""
+    """Dimensions, breakout force, static tipping load, lift capacity, hydraulic cycle and pin
+    loads of a wheel-loader MACHINE."""
 
 
 @command.command("ranges")
@@ -131,3 +131,24 @@ def cycle(machine: str, load: float | None, output: str | None, force: bool) -> 
 
     _check(output, force)
     _write(run(_machine(machine), load), output, force)
+
+
+@command.command("pins")
+@_MACHINE
+@click.option(
+    "--samples",
+    default=21,
+    show_default=True,
+    type=click.IntRange(min=2, max=100_000),
+    help="Lift lengths from the ground pose to full lift.",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def pins(machine: str, samples: int, output: str | None, force: bool) -> None:
+    """Print each pin's largest load (kN) over the lift in the breakout, rated-load and tipping
+    cases, with its case and height; the table has every pin at every lift length."""
+    from excavkin.loader.pins import pin_loads
+
+    _check(output, force)
+    _write(pin_loads(_machine(machine), samples), output, force)
