@@ -115,3 +115,33 @@ def test_the_table_and_the_command(loader, tmp_path) -> None:
     assert bad.exit_code == 2 and "Traceback" not in bad.output
     with pytest.raises(InputError, match="load"):
         cycle(loader, load=float("nan"))
+
+
+def _variant(tmp_path, hydraulics: str):
+    text = (EXAMPLES / "wheel_loader_machine.toml").read_text(encoding="utf-8")
+    head = text[: text.index("[hydraulics]")]
+    path = tmp_path / "m.toml"
+    path.write_text(head + hydraulics, encoding="utf-8")
+    (tmp_path / "wheel_loader.toml").write_text(
+        (EXAMPLES / "wheel_loader.toml").read_text(encoding="utf-8"), encoding="utf-8"
+    )
+    return path
+
+
+def test_pumps_in_confluence_add_their_flows(loader, tmp_path) -> None:
+    two = (
+        '[hydraulics.pumps.P1]\nflow = "150 L/min"\nfeeds = ["lift", "tilt"]\n\n'
+        '[hydraulics.pumps.P2]\nflow = "100 L/min"\nfeeds = ["lift"]\n'
+    )
+    c = cycle(load_machine(_variant(tmp_path, two)), load=0.0)
+    ref = cycle(loader, load=0.0)
+    assert c["raise"].flow == pytest.approx(250e-3 / 60.0, rel=1e-12)
+    assert c["raise"].time == pytest.approx(ref["raise"].time * 230.0 / 250.0, rel=1e-12)
+    assert c["dump"].time == pytest.approx(ref["dump"].time * 230.0 / 150.0, rel=1e-12)
+    assert c["dump"].pressure == pytest.approx(ref["dump"].pressure, rel=1e-12)
+
+
+def test_a_machine_without_pumps_is_one_message(tmp_path) -> None:
+    path = _variant(tmp_path, "")
+    r = CliRunner().invoke(main, ["loader", "cycle", str(path)])
+    assert r.exit_code == 2 and "[hydraulics]" in r.output and "Traceback" not in r.output
