@@ -75,6 +75,7 @@ BASE: dict[str, list[str]] = {
     "excavator study": ["{machine_study}", "-o", "{d}/m.parquet", "--force", "-q"],
     "loader breakout": ["wheel_loader_machine"],
     "loader capacity": ["wheel_loader_machine", "--samples", "5"],
+    "loader lift": ["wheel_loader_tp_machine", "--samples", "5"],
     "loader ranges": ["wheel_loader_machine"],
     "loader tipping": ["wheel_loader_machine"],
     "reproduce arm": ["--out-dir", "{d}/arm"],

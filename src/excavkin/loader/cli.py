@@ -111,3 +111,24 @@ def capacity(machine: str, samples: int, output: str | None, force: bool) -> Non
 
     _check(output, force)
     _write(rate(_machine(machine), samples), output, force)
+
+
+@command.command("lift")
+@_MACHINE
+@click.option(
+    "--samples",
+    default=101,
+    show_default=True,
+    type=click.IntRange(min=2, max=100_000),
+    help="Lift lengths from the ground pose to full lift.",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def lift(machine: str, samples: int, output: str | None, force: bool) -> None:
+    """Print the bucket's angle change over the lift with the tilt cylinder held at the length
+    that levels it on the ground (degrees); the table has the angle at every lift length."""
+    from excavkin.loader.parallel_lift import parallel_lift
+
+    _check(output, force)
+    _write(parallel_lift(_machine(machine), samples), output, force)
