@@ -13,6 +13,7 @@ from click.testing import CliRunner
 from numpy.testing import assert_allclose
 
 from excavkin.cli import main
+from excavkin.errors import ModelError
 from excavkin.loader.machine import Loader
 from excavkin.loader.machine_file import load_machine
 from excavkin.loader.parallel_lift import parallel_lift
@@ -95,3 +96,27 @@ def test_table_summary_and_command(tmp_path) -> None:
     assert r.exit_code == 2 and "Traceback" not in r.output
     with pytest.raises(ValueError, match="samples"):
         parallel_lift(load_machine(EXAMPLES / "wheel_loader_machine.toml"), 1)
+
+
+def test_a_lift_that_does_not_assemble_with_the_tilt_held_is_named(tmp_path) -> None:
+    """The bucket's tilt pin moved so that the held tilt cylinder cannot follow the arm to the
+    top: one message naming the file and the lift length, exit status 2 from the command."""
+    model = (EXAMPLES / "wheel_loader_tp.toml").read_text(encoding="utf-8")
+    old = "I = [2050.0, 1280.0]"
+    assert old in model and "stroke = [2710, 3300]" in model
+    model = model.replace(old, "I = [2750.0, 900.0]").replace("[2710, 3300]", "[1500, 4500]")
+    (tmp_path / "wheel_loader_tp.toml").write_text(model, encoding="utf-8")
+    text = (EXAMPLES / "wheel_loader_tp_machine.toml").read_text(encoding="utf-8")
+    for old, new in (
+        ("retracted = 2710 ", "retracted = 1500 "),
+        ("stroke = 590 ", "stroke = 3000"),
+    ):
+        assert old in text
+        text = text.replace(old, new, 1)
+    path = tmp_path / "m.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(ModelError, match="does not assemble at lift length") as err:
+        parallel_lift(load_machine(path), 11)
+    assert str(path) in str(err.value)
+    r = CliRunner().invoke(main, ["loader", "lift", str(path)])
+    assert r.exit_code == 2 and "does not assemble" in r.output and "Traceback" not in r.output
