@@ -77,6 +77,7 @@ BASE: dict[str, list[str]] = {
     "loader capacity": ["wheel_loader_machine", "--samples", "5"],
     "loader cycle": ["wheel_loader_machine", "--load", "1000"],
     "loader pins": ["wheel_loader_machine", "--samples", "3"],
+    "loader lift": ["wheel_loader_tp_machine", "--samples", "5"],
     "loader ranges": ["wheel_loader_machine"],
     "loader tipping": ["wheel_loader_machine"],
     "reproduce arm": ["--out-dir", "{d}/arm"],

@@ -48,8 +48,8 @@ _FORCE = click.option("--force", is_flag=True, help="Replace an output file that
 
 @click.group("loader", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Dimensions, breakout force, static tipping load, lift capacity, hydraulic cycle and pin
-    loads of a wheel-loader MACHINE."""
+    """Dimensions, breakout force, static tipping load, lift capacity, parallel lift,
+    hydraulic cycle and pin loads of a wheel-loader MACHINE."""
 
 
 @command.command("ranges")
@@ -152,3 +152,24 @@ def pins(machine: str, samples: int, output: str | None, force: bool) -> None:
 
     _check(output, force)
     _write(pin_loads(_machine(machine), samples), output, force)
+
+
+@command.command("lift")
+@_MACHINE
+@click.option(
+    "--samples",
+    default=101,
+    show_default=True,
+    type=click.IntRange(min=2, max=100_000),
+    help="Lift lengths from the ground pose to full lift.",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def lift(machine: str, samples: int, output: str | None, force: bool) -> None:
+    """Print the bucket's angle change over the lift with the tilt cylinder held at the length
+    that levels it on the ground (degrees); the table has the angle at every lift length."""
+    from excavkin.loader.parallel_lift import parallel_lift
+
+    _check(output, force)
+    _write(parallel_lift(_machine(machine), samples), output, force)
