@@ -173,7 +173,11 @@ def test_capped_force_with_other_roles_against_bisection() -> None:
 def test_the_excavator_registers_its_family() -> None:
     fam = families()["excavator"]
     assert fam.kind == "machine"
-    assert excavkin.examples("machine") == ["excavator_machine", "wheel_loader_machine"]
+    assert excavkin.examples("machine") == [
+        "excavator_machine",
+        "wheel_loader_machine",
+        "wheel_loader_tp_machine",
+    ]
     assert family_of({"family": "excavator"}) is fam
     assert family_of({"schema_version": 1, "front": {"boom": "boom"}}) is fam
     assert family_of({"schema_version": 1, "bodies": {}}) is None
