@@ -7,7 +7,8 @@ and writes: the result's ``summary()`` on the terminal, its ``to_frame()`` to a 
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
@@ -44,6 +45,20 @@ _OUTPUT = click.option(
     "-o", "--output", type=click.Path(dir_okay=False), help="The table (.csv or .parquet), SI."
 )
 _FORCE = click.option("--force", is_flag=True, help="Replace an output file that exists.")
+
+
+_Command = TypeVar("_Command", bound=Callable[..., Any])
+
+
+def _samples(default: int, what: str) -> Callable[[_Command], _Command]:
+    """``--samples``: how many lift lengths a command takes (``what`` they are)."""
+    return click.option(
+        "--samples",
+        default=default,
+        show_default=True,
+        type=click.IntRange(min=2, max=100_000),
+        help=what,
+    )
 
 
 @click.group("loader", context_settings={"help_option_names": ["-h", "--help"]})
@@ -94,13 +109,7 @@ def tipping(machine: str, output: str | None, force: bool) -> None:
 
 @command.command("capacity")
 @_MACHINE
-@click.option(
-    "--samples",
-    default=101,
-    show_default=True,
-    type=click.IntRange(min=2, max=100_000),
-    help="Lift lengths over the stroke.",
-)
+@_samples(101, "Lift lengths over the stroke.")
 @_OUTPUT
 @_FORCE
 @handle_errors
@@ -135,13 +144,7 @@ def cycle(machine: str, load: float | None, output: str | None, force: bool) -> 
 
 @command.command("pins")
 @_MACHINE
-@click.option(
-    "--samples",
-    default=21,
-    show_default=True,
-    type=click.IntRange(min=2, max=100_000),
-    help="Lift lengths from the ground pose to full lift.",
-)
+@_samples(21, "Lift lengths from the ground pose to full lift.")
 @_OUTPUT
 @_FORCE
 @handle_errors
@@ -156,13 +159,7 @@ def pins(machine: str, samples: int, output: str | None, force: bool) -> None:
 
 @command.command("lift")
 @_MACHINE
-@click.option(
-    "--samples",
-    default=101,
-    show_default=True,
-    type=click.IntRange(min=2, max=100_000),
-    help="Lift lengths from the ground pose to full lift.",
-)
+@_samples(101, "Lift lengths from the ground pose to full lift.")
 @_OUTPUT
 @_FORCE
 @handle_errors
