@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from excavkin.errors import ModelError
+from excavkin.loader.machine import Loader
 from excavkin.loader.machine_file import load_machine as load_loader
+from excavkin.loader.stability import tipping
 from excavkin.machinery.base import (
     BaseMachine,
     Contact,
@@ -299,3 +302,52 @@ def test_a_support_without_friction_gives_no_slipping_load() -> None:
     front = np.array([[2.0, 1.0]])
     st = equilibrium(_machine(bare), front[:, None, :], np.array([[3.0, 1.0]]), (0.3, -1.0), 0.0)
     assert np.isnan(st.slipping_load[0]) and np.isfinite(st.tipping_load[0])
+
+
+# ------------------------------------------------------------------ the loader on the layer
+def _loader(tmp_path: Path, *swaps: tuple[str, str]) -> Loader:
+    text = (EXAMPLES / "wheel_loader_machine.toml").read_text(encoding="utf-8")
+    for old, new in swaps:
+        assert old in text
+        text = text.replace(old, new, 1)
+    (tmp_path / "wheel_loader.toml").write_text(
+        (EXAMPLES / "wheel_loader.toml").read_text(encoding="utf-8"), encoding="utf-8"
+    )
+    path = tmp_path / "m.toml"
+    path.write_text(text, encoding="utf-8")
+    return load_loader(path)
+
+
+def test_the_loader_stands_on_the_layers_equilibrium(tmp_path: Path) -> None:
+    """The loader's chassis is its base: the layer's equilibrium on it gives the loader's own
+    tipping load of a load hung at the hinge pin, and with ``[chassis] friction`` the slipping
+    load μ·W/(|f_x| + μ·f_y) of the whole machine."""
+    osc = 'rear_axle = "oscillating"'
+    m = _loader(tmp_path, (osc, f"{osc}\nfriction = 0.6"))
+    assert m.base is m.chassis and m.chassis.friction == 0.6
+    L = np.array([[m.lengths_min[0] + 0.3, m.lengths_max[1]], [m.lengths_max[0] - 0.1, 1.9]])
+    res = m.solve(L)
+    hinge = res.point(m.pins.hinge)[0]
+    gamma = m.chassis.max_articulation
+    st = equilibrium(m, res.positions, hinge, (1.0, -0.3), gamma)
+    down = equilibrium(m, res.positions, hinge, (0.0, -1.0), gamma)
+    own = tipping(m, res.positions, hinge, gamma)
+    np.testing.assert_array_equal(down.tipping_load, own.load)
+    np.testing.assert_array_equal(down.tipping_line, own.line)
+    assert st.mass == pytest.approx(m.mass, rel=1e-14)
+    f = np.array([1.0, -0.3]) / math.hypot(1.0, 0.3)
+    slip = 0.6 * m.mass * m.gravity / (abs(f[0]) + 0.6 * f[1])
+    np.testing.assert_allclose(st.slipping_load, slip, rtol=1e-13)
+    assert np.all(
+        np.isnan(
+            equilibrium(
+                load_loader(EXAMPLES / "wheel_loader_machine.toml"),
+                res.positions,
+                hinge,
+                (1.0, -0.3),
+                gamma,
+            ).slipping_load
+        )
+    )
+    with pytest.raises(ModelError, match=r"m\.toml \[chassis\] 'friction'"):
+        _loader(tmp_path, (osc, f"{osc}\nfriction = -1"))
