@@ -32,6 +32,7 @@ from excavkin.excavator.stability import (
     stability,
 )
 from excavkin.kinetostatics import Gravity, PointForce
+from excavkin.machinery.base import axle
 from tests.conftest import EXAMPLES
 
 G = 9.80665
@@ -316,6 +317,34 @@ def test_outriggers_carry_the_tipping_over_the_side_by_hand(machine: Machine) ->
         assert set(st.tipping_line[finite]) == {"left side (outriggers)"}
         assert list(st.tipping_line[finite]) == [line[i] for i in np.flatnonzero(finite)]
         np.testing.assert_allclose(st.slipping_load, slip, rtol=1e-13)
+
+
+def test_a_wheeled_excavator_tips_over_its_axles_by_hand(machine: Machine) -> None:
+    """On wheels: an oscillating front axle (its pin 1.25 m ahead of the swing axis) and a
+    rigid rear axle (tyres 1.25 m behind, ±1.2 m): the triangle drawn here. Swung over the side
+    the machine tips about the line from the front pin to the rear-left tyre, as the hand
+    balance finds, with a far smaller load than on the tracks."""
+    wheeled = _variant(
+        machine,
+        axles=(axle("front", 1.25, 2.4, oscillating=True), axle("rear", -1.25, 2.4)),
+        track_length=0.0,
+        gauge=0.0,
+        shoe_width=0.0,
+    )
+    L = _poses(machine, 40, 37)
+    triangle = _polygon(
+        [(-1.25, -1.2), (1.25, 0.0), (-1.25, 1.2)], ["front-right", "front-left", "rear"]
+    )
+    for swing in (np.pi / 2, 1.2):
+        st = stability(wheeled, L, "Q", swing=swing)
+        lam, line, _ = hand_tipping(wheeled, L, "Q", np.array([0.0, -1.0]), swing, triangle)
+        finite = np.isfinite(lam)
+        assert finite.sum() >= 20
+        np.testing.assert_allclose(st.tipping_load[finite], lam[finite], rtol=1e-12)
+        assert list(st.tipping_line[finite]) == [line[i] for i in np.flatnonzero(finite)]
+        assert np.sum(st.tipping_line == "front-left") >= 10
+        tracks = stability(machine, L, "Q", swing=swing).tipping_load
+        assert np.all(st.tipping_load[finite] < tracks[finite])
 
 
 # ------------------------------------------------------------------ which limit binds

@@ -392,8 +392,9 @@ class Base(Protocol):
 
 @dataclass(frozen=True, slots=True)
 class BaseMachine:
-    """A crawler's base machine: upper structure, counterweight, undercarriage and ground
-    support (the excavator machine file's ``[base]`` table).
+    """A swing machine's base: upper structure, counterweight, undercarriage on tracks (a
+    crawler) or axles (a wheeled machine) and ground support (the excavator machine file's
+    ``[base]`` table).
 
     Attributes
     ----------
@@ -403,7 +404,8 @@ class BaseMachine:
     counterweight : Mass
         Turns with the front.
     undercarriage : Mass
-        Track frames, tracks, swing bearing's lower race; does not turn.
+        Track frames and tracks (or axles and tyres), swing bearing's lower race; does not
+        turn.
     track_length : float
         Distance between the idler and sprocket axes (m): the length of track on the ground.
     gauge : float
@@ -418,6 +420,10 @@ class BaseMachine:
         Outrigger pads (x in model coordinates, lateral v) (m).
     friction : float
         Coefficient of friction between the undercarriage and the ground (slipping limit).
+    axles : tuple of Contact
+        A wheeled undercarriage's axles (`axle` contacts of the undercarriage: two tyres, or
+        the pivot of an oscillating axle) instead of tracks; where given, ``track_length``,
+        ``gauge`` and ``shoe_width`` are 0 and no track stands on the ground.
     """
 
     upper: Mass
@@ -430,6 +436,7 @@ class BaseMachine:
     friction: float
     blade: tuple[float, float] | None = None
     outriggers: tuple[tuple[float, float], ...] = ()
+    axles: tuple[Contact, ...] = ()
 
     @property
     def mass(self) -> float:
@@ -439,10 +446,10 @@ class BaseMachine:
     @property
     def support(self) -> Support:
         """The common support model: the upper structure and the counterweight turn, the
-        undercarriage stands on two tracks, a lowered blade and outrigger pads (all on the
-        undercarriage)."""
+        undercarriage stands on two tracks (or its axles), a lowered blade and outrigger pads
+        (all on the undercarriage)."""
         half_g = 0.5 * self.gauge
-        contacts = [
+        contacts = list(self.axles) or [
             track("right track", self.track_centre, -half_g, self.track_length, self.shoe_width),
             track("left track", self.track_centre, half_g, self.track_length, self.shoe_width),
         ]
@@ -539,5 +546,7 @@ def convex_hull(points: F) -> list[int]:
     lower, upper = chain(order), chain(order[::-1])
     hull = lower[:-1] + upper[:-1]
     if len(hull) < 3:
-        raise ModelError("the ground support has no area (check the tracks, blade and outriggers)")
+        raise ModelError(
+            "the ground support has no area (check the tracks or axles, blade and outriggers)"
+        )
     return hull
