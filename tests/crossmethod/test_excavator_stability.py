@@ -32,6 +32,7 @@ from excavkin.excavator.stability import (
     stability,
 )
 from excavkin.kinetostatics import Gravity, PointForce
+from excavkin.machinery.base import axle
 from tests.conftest import EXAMPLES
 
 G = 9.80665
@@ -108,10 +109,15 @@ def _to_3d(xy: np.ndarray, swing: float, turns: bool) -> np.ndarray:
 
 
 def hand_tipping(
-    machine: Machine, lengths: np.ndarray, point: str, direction: np.ndarray, swing: float
+    machine: Machine,
+    lengths: np.ndarray,
+    point: str,
+    direction: np.ndarray,
+    swing: float,
+    edges: dict[str, tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> tuple[np.ndarray, list[str], np.ndarray]:
     """Tipping load, its line, and the slipping load by hand (example: swing axis and ground
-    line at the model's origin)."""
+    line at the model's origin), about the tracks' edges or the given ones."""
     assert machine.swing_axis == 0.0 and machine.ground_line == 0.0
     masses = _masses(machine, lengths)
     n = len(lengths)
@@ -120,7 +126,7 @@ def hand_tipping(
     load = np.array([f[0] * np.cos(swing), f[0] * np.sin(swing), f[1]])  # per newton
     best = np.full(n, np.inf)
     line = [""] * n
-    for name, (p0, nrm) in _edges().items():
+    for name, (p0, nrm) in (_edges() if edges is None else edges).items():
         r0 = np.array([p0[0], p0[1], 0.0])
         t = np.cross([0.0, 0.0, 1.0], [nrm[0], nrm[1], 0.0])  # + tips outwards
         m0 = np.zeros(n)
@@ -251,6 +257,94 @@ def _moving_cylinder_halves(machine: Machine) -> list[PointForce]:
             if body is not None:
                 out.append(PointForce(f"{cyl.driver}@{pin}", body, pin, (0.0, -0.5 * m * G)))
     return out
+
+
+# ------------------------------------------------------------- a blade and outriggers
+def _polygon(vertices: list[tuple[float, float]], names: list[str]) -> dict:
+    """A counter-clockwise polygon's edges by hand: a point on each, its outward normal."""
+    out = {}
+    for k, name in enumerate(names):
+        a, b = np.array(vertices[k]), np.array(vertices[(k + 1) % len(vertices)])
+        t = (b - a) / np.linalg.norm(b - a)
+        out[name] = (a, np.array([t[1], -t[0]]))
+    return out
+
+
+def test_a_lowered_blade_carries_the_tipping_by_hand(machine: Machine) -> None:
+    """A blade 2.5 m wide lowered 2.6 m ahead of the swing axis, ahead of the idlers
+    (1.825 m): over the front the machine tips about the blade's edge, swung 0.5 rad about the
+    slanted line from the blade's corner to the left track's idler corner, each as the hand
+    balance about the hexagon drawn here finds; the blade lifts the tipping load."""
+    bladed = _variant(machine, blade=(2.6, 2.5))
+    L = _poses(machine, 40, 29)
+    s, h = 1.49, 1.825  # the tracks' outer edge and the idler axis
+    hexagon = _polygon(
+        [(-h, -s), (h, -s), (2.6, -1.25), (2.6, 1.25), (h, s), (-h, s)],
+        ["right side", "front-right (blade)", "front (blade)", "front-left (blade)"]
+        + ["left side", "rear"],
+    )
+    down = np.array([0.0, -1.0])
+    for swing, binds in ((0.0, "front (blade)"), (0.5, "front-left (blade)")):
+        st = stability(bladed, L, "Q", down, swing=swing)
+        lam, line, _ = hand_tipping(bladed, L, "Q", down, swing, hexagon)
+        finite = np.isfinite(lam)
+        assert finite.sum() >= 20
+        np.testing.assert_allclose(st.tipping_load[finite], lam[finite], rtol=1e-12)
+        assert list(st.tipping_line[finite]) == [line[i] for i in np.flatnonzero(finite)]
+        assert np.sum(st.tipping_line == binds) >= 10  # the blade's line binds
+        plain = stability(machine, L, "Q", down, swing=swing).tipping_load
+        assert np.all(st.tipping_load[finite] >= plain[finite] * (1 - 1e-12))
+
+
+def test_outriggers_carry_the_tipping_over_the_side_by_hand(machine: Machine) -> None:
+    """Four pads 2 m fore and aft of the swing axis and 2.4 m out, beyond the tracks
+    (1.825 m, 1.49 m): the support is their rectangle, and swung over the side the machine
+    tips about the left pads' line, 2.4 m out, as the hand balance finds."""
+    pads = ((2.0, 2.4), (2.0, -2.4), (-2.0, 2.4), (-2.0, -2.4))
+    staked = _variant(machine, outriggers=pads)
+    L = _poses(machine, 40, 31)
+    rectangle = _polygon(
+        [(-2.0, -2.4), (2.0, -2.4), (2.0, 2.4), (-2.0, 2.4)],
+        ["right side (outriggers)", "front (outriggers)", "left side (outriggers)"]
+        + ["rear (outriggers)"],
+    )
+    for point, direction in (("Q", np.array([0.0, -1.0])), ("W", np.array([0.3, -1.0]))):
+        st = stability(staked, L, point, direction, swing="side")
+        lam, line, slip = hand_tipping(staked, L, point, direction, np.pi / 2, rectangle)
+        finite = np.isfinite(lam)
+        assert finite.sum() >= 20
+        np.testing.assert_allclose(st.tipping_load[finite], lam[finite], rtol=1e-12)
+        assert set(st.tipping_line[finite]) == {"left side (outriggers)"}
+        assert list(st.tipping_line[finite]) == [line[i] for i in np.flatnonzero(finite)]
+        np.testing.assert_allclose(st.slipping_load, slip, rtol=1e-13)
+
+
+def test_a_wheeled_excavator_tips_over_its_axles_by_hand(machine: Machine) -> None:
+    """On wheels: an oscillating front axle (its pin 1.25 m ahead of the swing axis) and a
+    rigid rear axle (tyres 1.25 m behind, ±1.2 m): the triangle drawn here. Swung over the side
+    the machine tips about the line from the front pin to the rear-left tyre, as the hand
+    balance finds, with a far smaller load than on the tracks."""
+    wheeled = _variant(
+        machine,
+        axles=(axle("front", 1.25, 2.4, oscillating=True), axle("rear", -1.25, 2.4)),
+        track_length=0.0,
+        gauge=0.0,
+        shoe_width=0.0,
+    )
+    L = _poses(machine, 40, 37)
+    triangle = _polygon(
+        [(-1.25, -1.2), (1.25, 0.0), (-1.25, 1.2)], ["front-right", "front-left", "rear"]
+    )
+    for swing in (np.pi / 2, 1.2):
+        st = stability(wheeled, L, "Q", swing=swing)
+        lam, line, _ = hand_tipping(wheeled, L, "Q", np.array([0.0, -1.0]), swing, triangle)
+        finite = np.isfinite(lam)
+        assert finite.sum() >= 20
+        np.testing.assert_allclose(st.tipping_load[finite], lam[finite], rtol=1e-12)
+        assert list(st.tipping_line[finite]) == [line[i] for i in np.flatnonzero(finite)]
+        assert np.sum(st.tipping_line == "front-left") >= 10
+        tracks = stability(machine, L, "Q", swing=swing).tipping_load
+        assert np.all(st.tipping_load[finite] < tracks[finite])
 
 
 # ------------------------------------------------------------------ which limit binds

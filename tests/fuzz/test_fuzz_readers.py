@@ -279,6 +279,31 @@ def test_mutated_base_tables_through_the_lift_table(tmp_path_factory, data) -> N
     check_outcome(["excavator", "lift", str(path), "--step", "3m"], str(path))
 
 
+#: the example machine on wheels (an oscillating front axle) with a blade and outriggers
+WHEELED_MACHINE = (
+    "\n".join(
+        line
+        for line in MACHINE.splitlines()
+        if not line.startswith(("track_length", "gauge", "shoe_width"))
+    )
+    + "\n[base.undercarriage.front_axle]\nposition = 1250\ntread = 2400\noscillating = true\n"
+    + "\n[base.undercarriage.rear_axle]\nposition = -1250\ntread = 2400\n"
+    + "\n[base.blade]\nposition = 2600\nwidth = 2500\n"
+    + "\n[base.outriggers]\npoints = [[-1825, 2200], [-1825, -2200]]\n"
+)
+
+
+@settings(FUZZ, max_examples=12)
+@given(data=st.data())
+def test_mutated_wheeled_base_through_the_lift_table(tmp_path_factory, data) -> None:
+    """A wheeled base, mutated, all the way through a lift table: a table, or one clear error."""
+    folder = tmp_path_factory.mktemp("wheels")
+    (folder / "excavator.toml").write_text(EXCAVATOR)
+    path = folder / "machine.toml"
+    path.write_text(mutate_base(WHEELED_MACHINE, data))
+    check_outcome(["excavator", "lift", str(path), "--step", "3m"], str(path))
+
+
 #: the built-in study, small enough to run in every fuzz case
 STUDY = (
     excavkin.example_path("crank_rocker")

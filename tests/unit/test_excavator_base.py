@@ -208,3 +208,63 @@ def test_cli_without_base_is_one_clear_error(tmp_path: Path) -> None:
         assert r.exit_code == 2, r.output
         assert r.output.startswith(f"excavkin: error: {bare} [base]: the machine has no base")
         assert len(r.output.strip().splitlines()) == 1
+
+
+# ------------------------------------------------------------------ a wheeled undercarriage
+TRACKS = (
+    "track_length = 3650               # idler to sprocket axes: the front tipping line lies on "
+    "the idler axis\ngauge = 2380                      # track centre to track centre\n"
+    "shoe_width = 600                  # the side tipping line is the outer edge of the shoes\n"
+)
+AXLES = (
+    "[base.undercarriage.front_axle]\nposition = 1250\ntread = 2400\noscillating = true\n"
+    "[base.undercarriage.rear_axle]\nposition = -1250\ntread = 2400\n"
+)
+
+
+def test_a_wheeled_undercarriage_stands_on_its_axles() -> None:
+    """An oscillating front axle (its pin at x = 1.25 m) and a rigid rear one (tyres at
+    ±1.2 m): the triangle of the pin and the rear tyres, its lines named by direction."""
+    m = loads_machine(_text(**{TRACKS: AXLES}), "m.toml")
+    b = m.base
+    assert b is not None and (b.track_length, b.gauge, b.shoe_width) == (0.0, 0.0, 0.0)
+    assert [(a.name, a.kind, a.x) for a in b.axles] == [
+        ("front axle pivot", "pivot", 1.25),
+        ("rear axle", "tyres", -1.25),
+    ]
+    poly, kinds = b.support_polygon(m.swing_axis)
+    np.testing.assert_allclose(poly, [(-1.25, -1.2), (1.25, 0.0), (-1.25, 1.2)], atol=1e-15)
+    assert kinds == ["tyres", "pivot", "tyres"]
+    lines = {ln.name: ln for ln in b.tipping_lines(m.swing_axis)}
+    assert set(lines) == {"front-right", "front-left", "rear"}
+    # the pin (1.25, 0) to the rear-left tyre (−1.25, 1.2): normal (1.2, 2.5)/√(1.2² + 2.5²)
+    r = np.hypot(1.2, 2.5)
+    np.testing.assert_allclose(lines["front-left"].normal, (1.2 / r, 2.5 / r), atol=1e-15)
+    assert lines["front-left"].offset == pytest.approx(1.25 * 1.2 / r, abs=1e-15)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "pattern"),
+    [
+        (TRACKS, AXLES.split("[base.undercarriage.rear_axle]")[0], r"rear_axle\] is missing"),
+        (TRACKS, AXLES.replace("oscillating = true", 'oscillating = "yes"'), r"'oscillating'"),
+        (TRACKS, AXLES.replace("tread = 2400\nosc", "tread = 0\nosc"), r"front_axle\] 'tread'"),
+        (TRACKS, AXLES.replace("position = -1250", "position = 1300"), r"ahead of the rear"),
+        (
+            TRACKS,
+            AXLES.replace("tread = 2400\n[", "tread = 2400\noscillating = true\n[").replace(
+                "-1250\ntread = 2400\n", "-1250\ntread = 2400\noscillating = true\n"
+            ),
+            r"m\.toml \[base\].*no area",
+        ),
+    ],
+)
+def test_wheeled_errors_name_table_and_entry(old: str, new: str, pattern: str) -> None:
+    with pytest.raises(ModelError, match=pattern) as info:
+        loads_machine(_text(**{old: new}), "m.toml")
+    assert str(info.value).startswith("m.toml")
+
+
+def test_tracks_and_axles_together_are_refused() -> None:
+    with pytest.raises(ModelError, match=r"\[base\.undercarriage\] 'gauge'.*not both"):
+        loads_machine(_text("\n" + AXLES), "m.toml")

@@ -17,7 +17,7 @@ name them: the hydraulic limit (a cylinder), the tipping limit, the slipping lim
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -27,8 +27,10 @@ from excavkin.errors import InputError
 from excavkin.excavator.forces import At, RatedForce, ToolForces, Working, rated_force, tool_forces
 from excavkin.excavator.machine import Machine, as_lengths
 from excavkin.kinematics.summary import batch_repr
+from excavkin.machinery.base import BaseMachine
 from excavkin.machinery.capped_force import cap_by, stability_caps
-from excavkin.machinery.equilibrium import Stability, equilibrium, need_base
+from excavkin.machinery.equilibrium import Stability, equilibrium
+from excavkin.machinery.equilibrium import need_base as need_support
 from excavkin.machinery.search import Progress, part
 
 __all__ = [
@@ -48,6 +50,25 @@ __all__ = [
 #: where the machine's front points: over the front (idler) end of the tracks, or over the side
 Over = Literal["front", "side"]
 SWING: dict[str, float] = {"front": 0.0, "side": 0.5 * np.pi}
+
+
+def need_base(machine: Machine) -> BaseMachine:
+    """The excavator's base machine (its ``[base]`` table).
+
+    Parameters
+    ----------
+    machine : Machine
+
+    Returns
+    -------
+    BaseMachine
+
+    Raises
+    ------
+    ModelError
+        Naming the missing ``[base]`` table and the machine file.
+    """
+    return cast("BaseMachine", need_support(machine))
 
 
 def _swing(swing: float | Over) -> float:

@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import KinematicResult
 from excavkin.kinematics.summary import batch_repr
-from excavkin.machinery.base import Mass
+from excavkin.machinery.base import Mass, Support, axle
 from excavkin.machinery.cylinder_machine import CylinderMachine
 from excavkin.machinery.cylinders import Circuit, Cylinder, cylinder_lengths
 from excavkin.machinery.masses import MassPoints, mass_points
@@ -48,7 +48,7 @@ from excavkin.machinery.pumps import Hydraulics
 from excavkin.mechanism import Mechanism
 
 if TYPE_CHECKING:
-    from excavkin.machinery.base import BaseMachine
+    from excavkin.machinery.base import Base
 
 #: The two cylinders of a loader front, in the order of every ``(n, 2)`` array.
 ROLES: tuple[str, str] = ("lift", "tilt")
@@ -127,6 +127,9 @@ class Chassis:
     oscillating : bool
         The rear axle swings about a longitudinal pin (its support is one point under the
         pin); otherwise it is rigid (two tyre contacts).
+    friction : float or None
+        Coefficient of friction between the tyres and the ground (the slipping limit of the
+        machinery layer's equilibrium); None where the file gives none.
     """
 
     wheelbase: float
@@ -139,6 +142,23 @@ class Chassis:
     rear_frame: Mass
     counterweight: Mass
     oscillating: bool = True
+    friction: float | None = None
+
+    @property
+    def support(self) -> Support:
+        """The machinery layer's support model: the front frame and its axle's tyres turn
+        with the articulation; the rear frame, the counterweight and the rear axle (its pivot
+        where it oscillates) do not. Tipping lines are named by the contacts they join."""
+        return Support(
+            (self.front_frame,),
+            (self.rear_frame, self.counterweight),
+            (
+                axle("front", self.front_axle[0], self.tread, turns=True),
+                axle("rear", self.rear_axle, self.tread, oscillating=self.oscillating),
+            ),
+            self.friction,
+            "contacts",
+        )
 
     @property
     def ground_line(self) -> float:
@@ -305,9 +325,10 @@ class Loader(CylinderMachine):
 
     # ---- what the machinery layer reads
     @property
-    def base(self) -> BaseMachine | None:
-        """None: a loader stands on its `chassis`, not on a crawler's base."""
-        return None
+    def base(self) -> Base | None:
+        """Its `chassis`: what it stands on (the machinery layer's equilibrium reads its
+        ``support``)."""
+        return self.chassis
 
     @property
     def ground_line(self) -> float:

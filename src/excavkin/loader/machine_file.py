@@ -25,6 +25,7 @@ relative to the machine file) or inline (a ``[model]`` table)::
     [chassis]
     wheelbase = 3300; front_axle = [0, 800]; tread = 2250; tyre_radius = 800
     articulation = -1650; max_articulation = "40 deg"; rear_axle = "oscillating"
+    friction = 0.6               # optional: tyres on the ground (the slipping limit)
     [chassis.front_frame]        # and .rear_frame, .counterweight
     mass = 3800; center_of_mass = [-300, 1000]
     [hydraulics.pumps.P1]        # optional: pumps (no swing)
@@ -86,6 +87,7 @@ _CHASSIS = {
     "front_frame",
     "rear_frame",
     "counterweight",
+    "friction",
 }
 #: the most cylinders acting together in one role; the largest coordinate (m) and mass (kg)
 MAX_COUNT, _MAX_X, _MAX_MASS = 16, 1e3, 1e7
@@ -277,6 +279,11 @@ def _chassis(r: MachineReader, data: dict[str, Any]) -> Chassis:
         rear_frame=_mass(r, t, "rear_frame", positive=True),
         counterweight=_mass(r, t, "counterweight", positive=False),
         oscillating=rear == "oscillating",
+        friction=(
+            r.bounded(t, "friction", "dimensionless", table, 0.0, 5.0, "")
+            if "friction" in t
+            else None
+        ),
     )
 
 

@@ -12,11 +12,12 @@ and the counterweight do not turn::
       counterweight                       \
                                            ● front-right tyre
 
-The machine stands on the **support polygon**: the convex hull of the front tyres' contacts
-(the front axle at ±tread/2, turning with the front frame), of the rear axle's support (the
-point under its oscillation pin, or its two tyres where it is rigid) and of any further
-support (a block under the bucket's hinge pin in the breakout test). Each edge of the hull is a
-tipping line, a [`TippingLine`][excavkin.machinery.base.TippingLine] of the machinery layer.
+This is the machinery layer's support model ([`Support`][excavkin.machinery.base.Support]),
+which the chassis builds (`Chassis.support`): the front axle's tyres (a contact element of the
+front frame, at ±tread/2), the rear axle's pivot where it oscillates or its two tyres where it
+is rigid (of the rear frame), and any further support (a block under the bucket's hinge pin in
+the breakout test). The support polygon is their convex hull at γ; each of its edges is a
+tipping line, named by the contact points it joins (``"front axle"`` where both are its tyres).
 
 About a line with outward normal n and offset c, a downward load W at plan point p_L tips the
 machine when ``Σ_k m_k·g·(n·p_k − c) + W·(n·p_L − c) > 0``; the **tipping load** is the least
@@ -24,13 +25,14 @@ W over the lines with ``n·p_L > c``::
 
     W_tip = min over those lines of  −g·Σ_k m_k·(n·p_k − c) / (n·p_L − c)
 
-(0 where the machine tips without the load). The weights' heights do not enter: the ground is
-level, the machine at rest (SAE J732, ISO 14397-1). Everything is vectorised over poses.
+(0 where the machine tips without the load): the machinery layer's
+[`equilibrium`][excavkin.machinery.equilibrium.equilibrium] with the load straight down and the
+turning frame at γ. The weights' heights do not enter: the ground is level, the machine at
+rest (SAE J732, ISO 14397-1). Everything is vectorised over poses.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -39,16 +41,18 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.loader.machine import Loader
-from excavkin.machinery.base import TippingLine, convex_hull
+from excavkin.machinery.base import Contact, TippingLine
+from excavkin.machinery.equilibrium import equilibrium
 
 
 @dataclass(frozen=True, slots=True)
 class Support:
-    """A point the machine stands on.
+    """A further point the machine stands on (a block under the bucket).
 
     Attributes
     ----------
     name : str
+        ``"NAME (left)"`` and ``"NAME (right)"`` are the two ends of one support ``NAME``.
     x, v : float
         Model abscissa (m) and lateral offset to the left (m).
     turns : bool
@@ -61,41 +65,40 @@ class Support:
     turns: bool
 
 
-def supports(machine: Loader, extra: Sequence[Support] = ()) -> tuple[Support, ...]:
-    """The loader's ground supports: the front tyres, the rear axle's, and ``extra``.
+def contacts(extra: Sequence[Support]) -> tuple[Contact, ...]:
+    """Further supports as contact elements of the machinery layer's support model.
 
     Parameters
     ----------
-    machine : Loader
     extra : sequence of Support
-        Further supports (a block under the hinge pin).
+        Consecutive points named ``"NAME (left)"``, ``"NAME (right)"`` (or just ``"NAME"``)
+        make one element ``NAME``, of kind ``"block"``.
 
     Returns
     -------
-    tuple of Support
+    tuple of Contact
     """
-    ch = machine.chassis
-    half = 0.5 * ch.tread
-    out = [
-        Support("front-left tyre", ch.front_axle[0], half, True),
-        Support("front-right tyre", ch.front_axle[0], -half, True),
-    ]
-    if ch.oscillating:
-        out.append(Support("rear axle pivot", ch.rear_axle, 0.0, False))
-    else:
-        out += [
-            Support("rear-left tyre", ch.rear_axle, half, False),
-            Support("rear-right tyre", ch.rear_axle, -half, False),
-        ]
-    return (*out, *extra)
+    groups: list[list[Support]] = []
+    for s in extra:
+        if groups and _element(groups[-1][0]) == _element(s) and groups[-1][0].turns == s.turns:
+            groups[-1].append(s)
+        else:
+            groups.append([s])
+    return tuple(
+        Contact(
+            _element(g[0]),
+            "block",
+            0.0,
+            tuple((s.x, s.v) for s in g),
+            tuple(s.name for s in g),
+            g[0].turns,
+        )
+        for g in groups
+    )
 
 
-def _plan(machine: Loader, s: Support, gamma: float) -> tuple[float, float]:
-    u, v = s.x - machine.chassis.articulation, s.v
-    if not s.turns:
-        return u, v
-    c, sn = math.cos(gamma), math.sin(gamma)
-    return c * u - sn * v, sn * u + c * v
+def _element(s: Support) -> str:
+    return s.name.removesuffix(" (left)").removesuffix(" (right)")
 
 
 def tipping_lines(
@@ -113,27 +116,12 @@ def tipping_lines(
     Returns
     -------
     tuple of TippingLine
-        Counter-clockwise; both front tyres make ``"front axle"``, and the left and right of
-        one further support (``"NAME (left)"``, ``"NAME (right)"``) make ``"NAME"``.
+        Counter-clockwise; both front tyres make ``"front axle"``, both rear tyres of a rigid
+        axle ``"rear axle"``, and the left and right of one further support (``"NAME (left)"``,
+        ``"NAME (right)"``) make ``"NAME"``; other lines are ``"A – B"`` of the points they join.
     """
-    sup = supports(machine, extra)
-    pts = np.array([_plan(machine, s, articulation) for s in sup])
-    hull = convex_hull(pts)
-    out = []
-    for i, j in zip(hull, hull[1:] + hull[:1], strict=True):
-        a, b = pts[i], pts[j]
-        t = (b - a) / math.hypot(*(b - a))
-        n = (float(t[1]), float(-t[0]))
-        pair = {sup[i].name, sup[j].name}
-        sides = {p.removesuffix(" (left)").removesuffix(" (right)") for p in pair}
-        if pair == {"front-left tyre", "front-right tyre"}:
-            name = "front axle"
-        elif len(sides) == 1 and len(pair) == 2:  # a support's two sides: "block (left)", ...
-            name = sides.pop()
-        else:
-            name = f"{sup[i].name} – {sup[j].name}"
-        out.append(TippingLine(name, n, float(n[0] * a[0] + n[1] * a[1]), np.array([a, b])))
-    return tuple(out)
+    support = machine.chassis.support.with_contacts(contacts(extra))
+    return support.tipping_lines(machine.swing_axis, articulation)
 
 
 @dataclass(frozen=True, slots=True)
@@ -186,30 +174,7 @@ def tipping(
     -------
     Tipping
     """
-    ch, g = machine.chassis, machine.gravity
-    lines = tipping_lines(machine, articulation, extra)
-    nrm = np.array([ln.normal for ln in lines])  # (E, 2)
-    c = np.array([ln.offset for ln in lines])  # (E,)
-    d = np.array([math.cos(articulation), math.sin(articulation)])
-    nd = nrm @ d  # (E,): n·(cos γ, sin γ), a turning point's along-frame factor
-    xj = ch.articulation
-    mp = machine.mass_points
-    xs = mp.locate(positions)[:, :, 0] - xj  # (n, k): the linkage's masses, turning
-    first = np.einsum("k,nk->n", mp.mass, xs) + ch.front_frame.mass * (ch.front_frame.x - xj)
-    turning = float(mp.mass.sum()) + ch.front_frame.mass
-    fixed = [ch.rear_frame, ch.counterweight]
-    rear = sum(m.mass * (nrm[:, 0] * (m.x - xj)) for m in fixed)  # (E,)
-    total = turning + sum(m.mass for m in fixed)
-    M0 = g * (first[:, None] * nd + rear - total * c)  # (n, E)
-    M1 = (point[:, 0] - xj)[:, None] * nd - c  # (n, E): arm of a unit load
-    with np.errstate(divide="ignore", invalid="ignore"):
-        lam = np.where(M1 > 0.0, -M0 / M1, np.inf)
-    lam = np.where(M0 > 0.0, 0.0, lam)
-    n = positions.shape[0]
-    k = np.where(np.any(M0 > 0.0, axis=1), np.argmax(M0, axis=1), np.argmin(lam, axis=1))
-    load = lam[np.arange(n), k]
-    names = np.array([ln.name for ln in lines])
-    good = np.all(np.isfinite(positions), axis=(1, 2)) & np.all(np.isfinite(point), axis=1)
-    nan = np.where(good, 1.0, np.nan)
-    line = np.where(good & np.isfinite(load), names[k], "")
-    return Tipping(float(articulation), load * nan, line, M0 * nan[:, None], lines)
+    support = machine.chassis.support.with_contacts(contacts(extra))
+    down = np.array([0.0, -1.0])
+    st = equilibrium(machine, positions, point, down, articulation, support=support)
+    return Tipping(float(articulation), st.tipping_load, st.tipping_line, st.moment, st.lines)

@@ -21,19 +21,36 @@
     [base.outriggers]                   # optional: outrigger pads
     points = [[-2000, 1800], [-2000, -1800]]   # x, lateral (left +)
 
-Every number is range-checked; errors name the file, the table and the entry.
+A wheeled undercarriage gives its two axles instead of the track keys::
+
+    [base.undercarriage]
+    mass = 6500
+    center_of_mass = [0, 700]
+    [base.undercarriage.front_axle]
+    position = 1250                     # x of the axle
+    tread = 1950                        # tyre centre to tyre centre
+    oscillating = true                  # optional (default false): swings about a pin
+    [base.undercarriage.rear_axle]
+    position = -1250
+    tread = 1950
+
+Every number is range-checked; errors name the file, the table and the entry; a support that
+spans no area (both axles oscillating, with no pads or blade) is refused.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from excavkin.machinery.base import BaseMachine, Mass
+from excavkin.errors import ModelError
+from excavkin.machinery.base import BaseMachine, Contact, Mass, axle
 from excavkin.machinery.file_fields import MachineReader, within
 
 _BASE = {"friction", "upper", "counterweight", "undercarriage", "blade", "outriggers"}
 _MASS = {"mass", "center_of_mass"}
-_UNDER = _MASS | {"track_length", "gauge", "shoe_width", "track_centre"}
+_TRACKS = {"track_length", "gauge", "shoe_width", "track_centre"}
+_AXLES = ("front_axle", "rear_axle")
+_UNDER = _MASS | _TRACKS | set(_AXLES)
 #: the most outrigger pads
 MAX_PADS = 16
 #: largest mass of one part (kg), coordinate (m) and size (m) accepted
@@ -75,19 +92,27 @@ def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> Base
     def size(key: str, high: float = _MAX_SIZE) -> float:
         return r.bounded(under_t, key, "length", table, 0.0, high, "m")
 
-    track_length = size("track_length")
-    gauge = size("gauge")
-    shoe = size("shoe_width", 10.0)
-    if shoe > gauge:
-        raise r.err(
-            f"the shoes ({shoe * 1e3:.0f} mm) are wider than the gauge ({gauge * 1e3:.0f} mm): "
-            "the tracks would overlap",
+    axles = _axles(r, under_t)
+    if axles:
+        track_length = gauge = shoe = 0.0
+        centre = swing_axis
+    else:
+        track_length = size("track_length")
+        gauge = size("gauge")
+        shoe = size("shoe_width", 10.0)
+        if shoe > gauge:
+            raise r.err(
+                f"the shoes ({shoe * 1e3:.0f} mm) are wider than the gauge "
+                f"({gauge * 1e3:.0f} mm): the tracks would overlap",
+                table,
+                "shoe_width",
+            )
+        centre = _coordinate(
+            r,
+            r.field_qty(under_t, "track_centre", "length", table, swing_axis),
             table,
-            "shoe_width",
+            "track_centre",
         )
-    centre = _coordinate(
-        r, r.field_qty(under_t, "track_centre", "length", table, swing_axis), table, "track_centre"
-    )
     friction = r.bounded(t, "friction", "dimensionless", "base", 0.0, 5.0, "")
     blade = None
     if "blade" in t:
@@ -118,7 +143,7 @@ def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> Base
                     _coordinate(r, v, "base.outriggers", "points"),
                 )
             )
-    return BaseMachine(
+    base = BaseMachine(
         upper=upper,
         counterweight=counterweight,
         undercarriage=undercarriage,
@@ -129,7 +154,48 @@ def read_base(r: MachineReader, data: dict[str, Any], swing_axis: float) -> Base
         friction=friction,
         blade=blade,
         outriggers=tuple(pads),
+        axles=axles,
     )
+    try:
+        base.support_polygon(swing_axis)
+    except ModelError as exc:
+        raise r.err(exc.problem, "base") from None
+    return base
+
+
+def _axles(r: MachineReader, under: dict[str, Any]) -> tuple[Contact, ...]:
+    """A wheeled undercarriage's two axles, or () for tracks (never both)."""
+    given = [a for a in _AXLES if a in under]
+    if not given:
+        return ()
+    table = "base.undercarriage"
+    tracks = sorted(_TRACKS & set(under))
+    if tracks:
+        raise r.err(
+            f"an undercarriage runs on tracks or on axles, not both: drop {tracks[0]!r} "
+            "or the axles",
+            table,
+            tracks[0],
+        )
+    if len(given) == 1:
+        missing = next(a for a in _AXLES if a not in under)
+        raise r.err(
+            f"[{table}.{missing}] is missing (a wheeled undercarriage has two axles)", table
+        )
+    out = []
+    for key in _AXLES:
+        t_name = f"{table}.{key}"
+        t = r.subtable(under, key, t_name)
+        r.keys(t, {"position", "tread", "oscillating"}, t_name)
+        x = _coordinate(r, r.field_qty(t, "position", "length", t_name), t_name, "position")
+        tread = r.bounded(t, "tread", "length", t_name, 0.0, _MAX_SIZE, "m")
+        oscillating = t.get("oscillating", False)
+        if not isinstance(oscillating, bool):
+            raise r.err(f"must be true or false, not {oscillating!r}", t_name, "oscillating")
+        out.append(axle(key.removesuffix("_axle"), x, tread, oscillating=oscillating))
+    if out[0].x <= out[1].x:
+        raise r.err("the front axle must lie ahead of the rear axle", f"{table}.front_axle")
+    return tuple(out)
 
 
 def _coordinate(r: MachineReader, value: float, table: str, key: str) -> float:

@@ -22,7 +22,7 @@ from excavkin.machinery.cylinders import Circuit, Cylinder
 
 if TYPE_CHECKING:
     from excavkin.kinematics import KinematicResult
-    from excavkin.machinery.base import BaseMachine
+    from excavkin.machinery.base import Base
     from excavkin.machinery.masses import MassPoints
     from excavkin.machinery.pumps import Hydraulics
     from excavkin.mechanism import Mechanism
@@ -110,9 +110,9 @@ class StandingMachine(Protocol):
     """A machine on the ground: what tipping and slipping read."""
 
     @property
-    def base(self) -> BaseMachine | None:
-        """Upper structure, counterweight, undercarriage and ground support; None where the
-        machine file has none."""
+    def base(self) -> Base | None:
+        """What the machine stands on (its ``support``: the masses of its two frames and its
+        contact elements); None where the machine file has none."""
         ...
 
     @property
@@ -127,7 +127,8 @@ class StandingMachine(Protocol):
 
     @property
     def swing_axis(self) -> float:
-        """Abscissa of the swing axis in the model's plane (m)."""
+        """Abscissa of the axis the front turns about in plan (m): the swing axis, an
+        articulation joint."""
         ...
 
     @property
