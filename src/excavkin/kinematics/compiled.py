@@ -1,6 +1,6 @@
 """A closed-form plan compiled to one machine-code loop over samples (numba, optional).
 
-The NumPy kernels (`excavkin.kinematics.kernels`) run each step over a whole chunk, so a
+The NumPy kernels (`excavkin.step_kinds`) run each step over a whole chunk, so a
 step's temporaries go to memory and come back for the next one. Here the plan is written out
 as the straight-line source of one function, every point's position, velocity and acceleration
 a local scalar, and numba compiles its loop over samples: a sample's whole state stays in
