@@ -185,3 +185,28 @@ def test_compiled_constants_are_read_as_listed(name: str) -> None:
     assert len(listed) - len(read) == driven
     assert all(listed[i] == 0.0 for i in set(range(len(listed))) - set(read))
     assert all(np.ndim(v) == 0 for v in listed)
+
+
+def test_the_old_import_paths_name_the_same_objects() -> None:
+    from excavkin import step_kinds
+    from excavkin.kinematics import kernels, newton, small_systems
+    from excavkin.step_kinds import newton_solve, state
+    from excavkin.step_kinds import small_systems as moved
+    from excavkin.structure import plan
+
+    for name in ("Fixed", "Rotate", "Attach", "Dyad", "SliderStep", "NewtonGroup", "Dist"):
+        assert getattr(plan, name) is getattr(step_kinds, name)
+    for name in ("CDist", "CFrame", "CLine", "CAngle", "GroupDyad"):
+        assert getattr(plan, name) is getattr(step_kinds, name)
+    assert kernels.Chunk is state.Chunk and kernels.Code is state.Code
+    assert newton.newton_positions is newton_solve.newton_positions
+    assert small_systems.Factors is moved.Factors
+
+
+def test_a_plan_with_a_step_of_no_kind_is_refused_by_name() -> None:
+    import dataclasses
+
+    plan = PLANS["fourbar"]
+    odd = dataclasses.replace(plan, steps=(*plan.steps, "not a step"))
+    with pytest.raises(TypeError, match="no step kind is registered for str"):
+        odd.describe()
