@@ -17,7 +17,8 @@ import numpy as np
 from excavkin.kinematics import summary
 from excavkin.kinematics.change_points import ChangePoint
 from excavkin.kinematics.result import describe_inputs
-from excavkin.structure.plan import Dyad, SolvePlan
+from excavkin.step_kinds import kind_of
+from excavkin.structure.plan import SolvePlan
 
 
 class Tally:
@@ -107,8 +108,8 @@ class Tally:
         """The change points as the whole result lists them: in plan order, each dyad's by
         sample."""
         order = {
-            self.plan.points[st.point]: k
+            self.plan.points[d.point]: k
             for k, st in enumerate(self.plan.steps)
-            if isinstance(st, Dyad)
+            for _, d in kind_of(st).folding(st)
         }
         return sorted(self.change_points, key=lambda cp: order[cp.point])

@@ -55,7 +55,7 @@ from excavkin.machinery.cylinder_machine import CylinderMachine
 from excavkin.machinery.cylinders import Circuit, Cylinder, cylinder_lengths
 from excavkin.machinery.masses import MassPoints, mass_points
 from excavkin.mechanism import Mechanism
-from excavkin.structure.plan import Dyad
+from excavkin.step_kinds import Dyad, of_kind
 
 if TYPE_CHECKING:
     from excavkin.machinery.pumps import Hydraulics
@@ -616,9 +616,7 @@ def transmission_angles(machine: Machine, result: KinematicResult) -> dict[str, 
     plan = machine.mechanism.plan
     out: dict[str, F] = {}
     link_pin = plan.points.index(machine.pins.link_pin)
-    for st in plan.steps:
-        if not isinstance(st, Dyad):
-            continue
+    for _, st in of_kind(plan.steps, Dyad):
         for role, cyl in zip(ROLES, machine.cylinders, strict=True):
             if cyl.driver in (st.da.label, st.db.label) and "input" in (st.da.kind, st.db.kind):
                 out[role] = result.transmission[:, st.index]
@@ -766,7 +764,7 @@ def inverse(machine: Machine, tip: ArrayLike, bucket_angle: ArrayLike) -> Invers
     lengths = np.full((n, 4, 3), np.nan)
     reach = np.zeros((n, 4), dtype=bool)
     branch = np.zeros((n, 4), dtype=bool)
-    dyads = [st for st in plan.steps if isinstance(st, Dyad)]
+    dyads = [st for _, st in of_kind(plan.steps, Dyad)]
     for k, (s1, s2) in enumerate(BRANCHES):
         pts: dict[str, F] = {g: np.broadcast_to(xy, (n, 2)) for g, xy in machine._ground_xy.items()}
         pts[p.bucket_pin] = q

@@ -286,8 +286,39 @@ def _check_extent(points: dict[str, tuple[float, float]], r: TomlReader) -> None
 
 
 def build_model(data: dict[str, Any], source: str | None = None) -> Model:
-    """Build and validate a model from parsed TOML tables (``schema_version = 1``)."""
+    """Build and validate a model from parsed TOML tables (``schema_version = 1``): one reader
+    per table, in the order the file's checks have always run, then the model's
+    cross-references (`validate`)."""
     r = TomlReader(data, source)
+    name = _header(r, data, source)
+    r.design_variables()
+    points = _points(r)
+    bodies = _bodies(r)
+    rotary, linear = _drivers(r, bodies)
+    sliders = _sliders(r)
+    lengths = _lengths(r)
+    loads = _loads(r, {b.name for b in bodies}, {b.name: b.points for b in bodies})
+    gravity = _gravity(r)
+
+    model = Model(
+        str(name),
+        points,
+        tuple(bodies),
+        tuple(rotary),
+        tuple(linear),
+        tuple(sliders),
+        lengths,
+        source,
+        loads,
+        gravity,
+        _design(r),
+    )
+    validate(model)
+    return model
+
+
+def _header(r: TomlReader, data: dict[str, Any], source: str | None) -> str:
+    """The file's version, its top-level keys, and its name (checked; the description too)."""
     ver = data.get("schema_version")
     if ver is None:
         raise r.err(
@@ -321,13 +352,21 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
             f"description must be a string, got {type(description).__name__} {description!r}"[:160],
             entry="description",
         )
-    r.design_variables()
+    return name
+
+
+def _points(r: TomlReader) -> dict[str, tuple[float, float]]:
+    """The ``[points]`` table: each point's sketch coordinates, SI."""
     raw_points = r.table("points", True)
     if len(raw_points) > MAX_POINTS:
         raise r.err(f"has {len(raw_points):,} points; a model has at most {MAX_POINTS:,}", "points")
     points = {r.name(k, "points"): r.xy(v, "points", k, k) for k, v in raw_points.items()}
     _check_extent(points, r)
+    return points
 
+
+def _bodies(r: TomlReader) -> list[Body]:
+    """The ``[bodies]`` table."""
     bodies = []
     for bname, spec in r.table("bodies", True).items():
         r.name(bname, "bodies")
@@ -356,7 +395,12 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
             else None
         )
         bodies.append(Body(bname, tuple(pts), ground, mass, inertia, com))
+    return bodies
 
+
+def _drivers(r: TomlReader, bodies: list[Body]) -> tuple[list[RotaryDriver], list[LinearDriver]]:
+    """The ``[drivers]`` table: rotary and linear drivers (a rotary one's reference defaults to
+    the ground body)."""
     rotary, linear = [], []
     for dname, spec in r.table("drivers").items():
         r.name(dname, "drivers")
@@ -405,7 +449,11 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
             linear.append(LinearDriver(dname, (str(between[0]), str(between[1])), mode, stroke))
         else:
             raise r.err(f"type must be 'rotary' or 'linear', not {kind!r}", table, "type")
+    return rotary, linear
 
+
+def _sliders(r: TomlReader) -> list[Slider]:
+    """The ``[sliders]`` table."""
     sliders = []
     for sname, spec in r.table("sliders").items():
         r.name(sname, "sliders")
@@ -416,7 +464,11 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         if not isinstance(along, list) or len(along) != 2 or "point" not in spec:
             raise r.err('needs point = "P" and along = ["L1", "L2"]', f"sliders.{sname}")
         sliders.append(Slider(sname, str(spec["point"]), (str(along[0]), str(along[1]))))
+    return sliders
 
+
+def _lengths(r: TomlReader) -> dict[tuple[str, str], float]:
+    """The ``[lengths]`` table: distances that override the sketch's, SI."""
     lengths: dict[tuple[str, str], float] = {}
     for key, value in r.table("lengths").items():
         parts = key.split("-")
@@ -427,25 +479,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         if (parts[1], parts[0]) in lengths or (parts[0], parts[1]) in lengths:
             raise r.err(f"the distance {parts[0]}-{parts[1]} is given twice", "lengths", key)
         lengths[(parts[0], parts[1])] = r.qty(value, "length", "lengths", key, key)
-
-    loads = _loads(r, {b.name for b in bodies}, {b.name: b.points for b in bodies})
-    gravity = _gravity(r)
-
-    model = Model(
-        str(name),
-        points,
-        tuple(bodies),
-        tuple(rotary),
-        tuple(linear),
-        tuple(sliders),
-        lengths,
-        source,
-        loads,
-        gravity,
-        _design(r),
-    )
-    validate(model)
-    return model
+    return lengths
 
 
 def _design(r: TomlReader) -> tuple[DesignVariable, ...]:

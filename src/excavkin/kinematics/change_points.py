@@ -25,7 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.structure.plan import Dyad, GroupDyad, NewtonGroup, SolvePlan
+from excavkin.step_kinds import kind_of
+from excavkin.structure.plan import Dyad, GroupDyad, SolvePlan
 
 #: the mirror image must be this much closer to the previous sample than the point itself
 MIRROR_RATIO = 0.5
@@ -95,10 +96,7 @@ def dyads(plan: SolvePlan) -> list[tuple[Unit, Folding]]:
     its Newton groups (`excavkin.structure.group_dyads`), which fold as those do."""
     out: list[tuple[Unit, Folding]] = []
     for k, st in enumerate(plan.steps):
-        if isinstance(st, Dyad):
-            out.append(((k, -1), st))
-        elif isinstance(st, NewtonGroup):
-            out += [((k, j), d) for j, d in enumerate(st.dyads)]
+        out += [((k, j), d) for j, d in kind_of(st).folding(st)]
     return out
 
 
@@ -253,7 +251,7 @@ def find_change_points(
         if only is not None and unit != only:
             continue
         if trans is not None:
-            if isinstance(st, Dyad):
+            if not isinstance(st, GroupDyad):  # a closed-form dyad: its own angle
                 angles = [trans[st.index]] + ([] if tail is None else [tail.trans[st.index]])
             else:
                 angles = [_angles(x, st)] + ([] if tail is None else [_angles(tail.x, st)])

@@ -1,6 +1,6 @@
 """A closed-form plan compiled to one machine-code loop over samples (numba, optional).
 
-The NumPy kernels (`excavkin.kinematics.kernels`) run each step over a whole chunk, so a
+The NumPy kernels (`excavkin.step_kinds`) run each step over a whole chunk, so a
 step's temporaries go to memory and come back for the next one. Here the plan is written out
 as the straight-line source of one function, every point's position, velocity and acceleration
 a local scalar, and numba compiles its loop over samples: a sample's whole state stays in
@@ -37,7 +37,8 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.vectorise import vectorised
-from excavkin.structure.plan import Attach, Dist, Dyad, Fixed, Rotate, SliderStep, SolvePlan
+from excavkin.step_kinds import Dist, kind_of
+from excavkin.structure.plan import SolvePlan
 
 #: below this many samples the NumPy path is used: a compiled call saves little there
 THRESHOLD = 1 << 17
@@ -71,8 +72,8 @@ def numba_installed() -> bool:
 
 
 def supports(plan: SolvePlan) -> bool:
-    """Whether the plan can be compiled: closed-form steps only."""
-    return all(isinstance(st, Fixed | Rotate | Attach | Dyad | SliderStep) for st in plan.steps)
+    """Whether the plan can be compiled: every step of a kind that compiles (closed-form)."""
+    return all(kind_of(st).compiles for st in plan.steps)
 
 
 def use(plan: SolvePlan, n: int, compiled: bool | None, per_sample: bool = False) -> bool:
@@ -103,27 +104,13 @@ def constants(plan: SolvePlan) -> list[Any]:
     of one value per sample)."""
     out: list[Any] = []
     for st in plan.steps:
-        if isinstance(st, Fixed):
-            for cx, cy in st.coords:
-                out += [cx, cy]
-        elif isinstance(st, Rotate):
-            out.append(st.radius)
-        elif isinstance(st, Attach):
-            out += [st.s, st.t]
-        elif isinstance(st, Dyad):
-            out += [_fixed(st.da), _fixed(st.db), st.sign]
-        elif isinstance(st, SliderStep):
-            out += [_fixed(st.da), st.sign]
+        out += kind_of(st).constants(st)
     return out
 
 
 def per_sample(plan: SolvePlan) -> bool:
     """Whether the plan's constants differ from sample to sample (a family of designs)."""
     return any(np.ndim(v) for v in constants(plan))
-
-
-def _fixed(d: Dist) -> Any:
-    return d.value if d.kind == "fixed" else 0.0
 
 
 def table(values: list[Any], n: int) -> tuple[F, int]:
@@ -258,18 +245,7 @@ def source(plan: SolvePlan, *, write_at_rest: bool = True) -> str:
     of `compile_plan`, whose caller hands them in zeroed)."""
     g = _Source(write_at_rest)
     for k, st in enumerate(plan.steps):
-        if isinstance(st, Fixed):
-            g.fixed(st)
-        elif isinstance(st, Rotate):
-            g.rotate(st)
-        elif isinstance(st, Attach):
-            g.attach(st)
-        elif isinstance(st, Dyad):
-            g.dyad(st, k)
-        elif isinstance(st, SliderStep):
-            g.slider(st, k)
-        else:
-            raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled")
+        kind_of(st).emit(g, st, k)  # a kind that does not compile raises TypeError
     g.derived(plan)
     g.store(plan)
     return g.text()
@@ -312,7 +288,8 @@ _CHAINS = 8
 
 
 class _Source:
-    """Lines of the loop body, and the count of constants read so far."""
+    """Lines of the loop body, and the count of constants read so far: what each step kind's
+    ``emit`` (`excavkin.step_kinds`) writes its source through."""
 
     def __init__(self, write_at_rest: bool = True) -> None:
         self.write_at_rest = write_at_rest
@@ -326,6 +303,8 @@ class _Source:
         #: the points of the fixed steps: at rest, their velocity and acceleration rows are
         #: left as they come (zero) unless ``write_at_rest``
         self.at_rest: set[int] = set()
+        #: the two-argument arctangent's name (`fast_atan2`), for the step kinds' source
+        self.atan2 = ATAN2
 
     def emit(self, *lines: str) -> None:
         self.lines += lines
@@ -350,148 +329,6 @@ class _Source:
         i = d.input
         self.emit(f"{name} = q[{i}, i]", f"{name}d = qd[{i}, i]", f"{name}dd = qdd[{i}, i]")
         return name, f"{name}d", f"{name}dd"
-
-    def fixed(self, st: Fixed) -> None:
-        for p in st.points:
-            self.at_rest.add(p)
-            self.emit(
-                f"X{p} = {self.const()}", f"Y{p} = {self.const()}",
-                f"VX{p} = 0.0", f"VY{p} = 0.0", f"AX{p} = 0.0", f"AY{p} = 0.0",
-            )  # fmt: skip
-
-    def rotate(self, st: Rotate) -> None:
-        p, o, i = st.point, st.pivot, st.input
-        self.emit(f"r = {self.const()}", f"th = q[{i}, i]")
-        if st.ref is not None:
-            b0, b1 = st.ref
-            self.emit(f"rx = X{b1} - X{b0}", f"ry = Y{b1} - Y{b0}", f"th = th + {ATAN2}(ry, rx)")
-        self.emit(
-            "cs = math.cos(th)", "sn = math.sin(th)",
-            f"X{p} = X{o} + r * cs", f"Y{p} = Y{o} + r * sn",
-            f"thd = qd[{i}, i]", f"thdd = qdd[{i}, i]",
-        )  # fmt: skip
-        if st.ref is not None:
-            b0, b1 = st.ref
-            self.emit(
-                f"rvx = VX{b1} - VX{b0}", f"rvy = VY{b1} - VY{b0}",
-                f"rax = AX{b1} - AX{b0}", f"ray = AY{b1} - AY{b0}",
-                "r2 = rx * rx + ry * ry",
-                "w_ref = (rx * rvy - ry * rvx) / r2",
-                "thd = thd + w_ref",
-                "thdd = thdd + (rx * ray - ry * rax - 2.0 * (rx * rvx + ry * rvy) * w_ref) / r2",
-            )  # fmt: skip
-        self.emit(
-            f"VX{p} = VX{o} - r * thd * sn", f"VY{p} = VY{o} + r * thd * cs",
-            f"AX{p} = AX{o} - r * (thdd * sn + thd * thd * cs)",
-            f"AY{p} = AY{o} + r * (thdd * cs - thd * thd * sn)",
-        )  # fmt: skip
-
-    def attach(self, st: Attach) -> None:
-        p, a, b = st.point, st.a, st.b
-        self.emit(f"s = {self.const()}", f"t = {self.const()}")
-        for X, Y in (("X", "Y"), ("VX", "VY"), ("AX", "AY")):
-            self.emit(
-                f"wx = {X}{b} - {X}{a}", f"wy = {Y}{b} - {Y}{a}",
-                f"{X}{p} = {X}{a} + s * wx - t * wy", f"{Y}{p} = {Y}{a} + s * wy + t * wx",
-            )  # fmt: skip
-
-    def dyad(self, st: Dyad, k: int) -> None:
-        p, a, b = st.point, st.a, st.b
-        d1, d1d, d1dd = self.dist(st.da, "d1")
-        d2, d2d, d2dd = self.dist(st.db, "d2")
-        self.emit(
-            f"sign = {self.const()}",
-            f"ex = X{b} - X{a}", f"ey = Y{b} - Y{a}",
-            "l2 = ex * ex + ey * ey",
-            "kk = (d1 * d1 - d2 * d2 + l2) / (2.0 * l2)",
-            "h2 = d1 * d1 / l2 - kk * kk",
-            "if not (h2 >= close_tol):",
-            "    size = abs(d1) + abs(d2)",
-            "    tiny = 1e-12 * size",
-        )  # fmt: skip
-        self.flag("not (l2 > tiny * tiny) and abs(d1 - d2) <= tiny", Code.UNDETERMINED, k, "    ")
-        self.emit("    if not (h2 >= -close_tol):")
-        self.flag("True", Code.NO_CLOSURE, k, "        ")
-        self.emit(
-            "        h2 = nan",
-            "    else:",
-            "        h2 = max(h2, 0.0)",
-            "h = sign * math.sqrt(h2)",
-            f"X{p} = X{a} + kk * ex - h * ey", f"Y{p} = Y{a} + kk * ey + h * ex",
-            f"r1x = X{p} - X{a}", f"r1y = Y{p} - Y{a}",
-            f"r2x = X{p} - X{b}", f"r2y = Y{p} - Y{b}",
-            "det = r1x * r2y - r1y * r2x",
-            f"T{st.index} = {ATAN2}(abs(det), r1x * r2x + r1y * r2y)",
-            f"S{st.index} = abs(det) / abs(d1 * d2)",
-            "if not (abs(det) > singular_tol * abs(d1 * d2)):",
-        )  # fmt: skip
-        self.flag("True", Code.SINGULAR, k, "    ")
-        self.emit(
-            "    det = nan",
-            "inv = 1.0 / det",
-            f"f1 = r1x * VX{a} + r1y * VY{a}" + (f" + {d1} * {d1d}" if d1d else ""),
-            f"f2 = r2x * VX{b} + r2y * VY{b}" + (f" + {d2} * {d2d}" if d2d else ""),
-            "vpx = (f1 * r2y - f2 * r1y) * inv", "vpy = (r1x * f2 - r2x * f1) * inv",
-            f"VX{p} = vpx", f"VY{p} = vpy",
-            f"wx = vpx - VX{a}", f"wy = vpy - VY{a}",
-            f"ux = vpx - VX{b}", f"uy = vpy - VY{b}",
-            f"f1 = r1x * AX{a} + r1y * AY{a}"
-            + (f" + {d1} * {d1dd} + {d1d} * {d1d}" if d1d else "") + " - (wx * wx + wy * wy)",
-            f"f2 = r2x * AX{b} + r2y * AY{b}"
-            + (f" + {d2} * {d2dd} + {d2d} * {d2d}" if d2d else "") + " - (ux * ux + uy * uy)",
-            f"AX{p} = (f1 * r2y - f2 * r1y) * inv", f"AY{p} = (r1x * f2 - r2x * f1) * inv",
-        )  # fmt: skip
-        self.finite.append((st.index, k))
-
-    def slider(self, st: SliderStep, k: int) -> None:
-        p, a, l1, l2 = st.point, st.a, st.l1, st.l2
-        d, dd, ddd = self.dist(st.da, "d")
-        self.emit(
-            f"sign = {self.const()}",
-            f"ux = X{l2} - X{l1}", f"uy = Y{l2} - Y{l1}",
-            "lu = math.sqrt(ux * ux + uy * uy)",
-            "ex = ux / lu", "ey = uy / lu",
-            f"gx = X{a} - X{l1}", f"gy = Y{a} - Y{l1}",
-            "foot = gx * ex + gy * ey",
-            "off = ex * gy - ey * gx",
-            "s2 = (d * d - off * off) / (d * d)",
-            "if not (s2 >= close_tol):",
-            "    if not (s2 >= -close_tol):",
-        )  # fmt: skip
-        self.flag("True", Code.NO_CLOSURE, k, "        ")
-        self.emit(
-            "        s2 = nan",
-            "    else:",
-            "        s2 = max(s2, 0.0)",
-            "along = foot + sign * abs(d) * math.sqrt(s2)",
-            f"X{p} = X{l1} + along * ex", f"Y{p} = Y{l1} + along * ey",
-            f"r1x = X{p} - X{a}", f"r1y = Y{p} - Y{a}",
-            "dot = ux * r1x + uy * r1y",
-            f"T{st.index} = {ATAN2}(abs(dot), abs(ux * r1y - uy * r1x))",
-            f"S{st.index} = abs(dot) / (lu * abs(d))",
-            "det = -dot",
-            "if not (abs(det) > singular_tol * lu * abs(d)):",
-        )  # fmt: skip
-        self.flag("True", Code.SINGULAR, k, "    ")
-        self.emit(
-            "    det = nan",
-            "inv = 1.0 / det",
-            f"gx = X{p} - X{l1}", f"gy = Y{p} - Y{l1}",
-            f"udx = VX{l2} - VX{l1}", f"udy = VY{l2} - VY{l1}",
-            f"f1 = (ux * VY{l1} - uy * VX{l1}) - (udx * gy - udy * gx)",
-            f"f2 = r1x * VX{a} + r1y * VY{a}" + (f" + {d} * {dd}" if dd else ""),
-            "vpx = (f1 * r1y - ux * f2) * inv", "vpy = (-uy * f2 - r1x * f1) * inv",
-            f"VX{p} = vpx", f"VY{p} = vpy",
-            f"gdx = vpx - VX{l1}", f"gdy = vpy - VY{l1}",
-            f"uddx = AX{l2} - AX{l1}", f"uddy = AY{l2} - AY{l1}",
-            f"wx = vpx - VX{a}", f"wy = vpy - VY{a}",
-            f"f1 = (ux * AY{l1} - uy * AX{l1}) - (uddx * gy - uddy * gx)"
-            " - 2.0 * (udx * gdy - udy * gdx)",
-            f"f2 = r1x * AX{a} + r1y * AY{a}"
-            + (f" + {d} * {ddd} + {dd} * {dd}" if dd else "") + " - (wx * wx + wy * wy)",
-            f"AX{p} = (f1 * r1y - ux * f2) * inv", f"AY{p} = (-uy * f2 - r1x * f1) * inv",
-        )  # fmt: skip
-        self.finite.append((st.index, k))
 
     def check(self, *names: str) -> None:
         """Add each value to the finiteness check's sums (several, so that no long chain of

@@ -33,13 +33,9 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.result import Derived
 from excavkin.kinematics.steps import run_steps
+from excavkin.step_kinds import kind_of
 from excavkin.structure.design import take
-from excavkin.structure.plan import (
-    Dyad,
-    NewtonGroup,
-    SliderStep,
-    SolvePlan,
-)
+from excavkin.structure.plan import SolvePlan
 
 #: samples nearer a dead position than this (sine of a transmission angle) are checked
 NEAR = 0.05
@@ -74,14 +70,18 @@ def nearness(plan: SolvePlan, trans: F, newton_near: F | None = None) -> tuple[F
     n = trans.shape[-1]
     near = np.ones(n)
     step = np.full(n, -1, dtype=np.int16)
-    steps_of = {st.index: k for k, st in enumerate(plan.steps) if isinstance(st, Dyad | SliderStep)}
+    steps_of = {}
+    for k, st in enumerate(plan.steps):
+        index = kind_of(st).transmission(st)
+        if index is not None:
+            steps_of[index] = k
     for i in range(trans.shape[0]):
         s = np.abs(np.sin(trans[i]))
         closer = s < near
         near = np.where(closer, s, near)
         step[closer] = steps_of[i]
     if newton_near is not None:
-        group = next(k for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup))
+        group = next(k for k, st in enumerate(plan.steps) if kind_of(st).iterative)
         closer = newton_near < near
         near = np.where(closer, newton_near, near)
         step[closer] = group

@@ -24,8 +24,9 @@ from excavkin.kinematics.columns import (
     table_attrs,
 )
 from excavkin.kinematics.kernels import Code
+from excavkin.step_kinds import kind_of
 from excavkin.structure.design import parameter_kind
-from excavkin.structure.plan import Dyad, NewtonGroup, SliderStep, SolvePlan
+from excavkin.structure.plan import SolvePlan
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -94,14 +95,7 @@ class Status:
             ``"step k+1"``.
         """
         st = self.plan.steps[k]
-        pts = self.plan.points
-        if isinstance(st, Dyad):
-            return f"dyad {pts[st.point]} (from {pts[st.a]} and {pts[st.b]})"
-        if isinstance(st, SliderStep):
-            return f"slider {st.slider!r} ({pts[st.point]} on {pts[st.l1]}→{pts[st.l2]})"
-        if isinstance(st, NewtonGroup):
-            return f"group {', '.join(pts[i] for i in st.points)}"
-        return f"step {k + 1}"
+        return kind_of(st).label(st, self.plan.points, k)
 
     def message(self, i: int) -> str:
         """Why sample ``i`` failed, or ``"ok"``.

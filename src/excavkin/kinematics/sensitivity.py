@@ -28,8 +28,9 @@ from excavkin.kinematics.dual import Dual, seed, zeros
 from excavkin.kinematics.kernels import Chunk
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
+from excavkin.step_kinds import kind_of
 from excavkin.structure.design import joint_offsets, parameters, take, vary
-from excavkin.structure.plan import NewtonGroup, SolvePlan
+from excavkin.structure.plan import SolvePlan
 
 #: samples per pass (the tangents multiply the memory of a pass by the parameter count)
 CHUNK = 16384
@@ -100,7 +101,7 @@ def _run_steps(plan: SolvePlan, c: Chunk, values: tuple[F, ...]) -> None:
     """The plan's steps on dual numbers: the closed-form kernels as they are, and each Newton
     group by the implicit function theorem at the values already solved."""
     for st in plan.steps:
-        if isinstance(st, NewtonGroup):
+        if kind_of(st).iterative:
             newton.tangents(c, st, values)  # type: ignore[arg-type]
         else:
             run_steps(dataclasses.replace(plan, steps=(st,)), c, 2)

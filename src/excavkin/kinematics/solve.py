@@ -30,11 +30,9 @@ from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
 from excavkin.kinematics.threads import over_chunks
+from excavkin.step_kinds import NewtonGroup, of_kind
 from excavkin.structure.design import DesignBatch, take
-from excavkin.structure.plan import (
-    NewtonGroup,
-    SolvePlan,
-)
+from excavkin.structure.plan import SolvePlan
 
 
 @dataclass(frozen=True, slots=True)
@@ -421,7 +419,7 @@ def _solve_chunks(
 def _newton_chunk(plan: SolvePlan, chunk: int) -> int:
     """Samples per pass of a plan with Newton groups: its Jacobians (m², m twice a group's
     points) stay in cache as the closed form's few arrays do at ``chunk``."""
-    m = max(2 * len(st.points) for st in plan.steps if isinstance(st, NewtonGroup))
+    m = max(2 * len(st.points) for _, st in of_kind(plan.steps, NewtonGroup))
     return max(256, min(chunk, chunk * 8 // (m * m)))
 
 
@@ -430,7 +428,7 @@ def _check_branches(plan: SolvePlan, assembly: Assembly, c: Chunk, signs: list[F
     it keeps, where its driven body points the opposite way (θ + π), or where its determinant's
     sign is not the sketch's — turned over once for each dyad kept on the side opposite the
     sketch's (the smooth continuation's, past a change point)."""
-    groups = [(k, st) for k, st in enumerate(plan.steps) if isinstance(st, NewtonGroup)]
+    groups = of_kind(plan.steps, NewtonGroup)
     sketch = assembly.positions[:, :, None]
     for (k, st), sign, ref in zip(groups, signs, assembly.newton_signs, strict=True):
         turned = np.ones_like(sign)

@@ -1,12 +1,11 @@
-"""One pass of a solve plan's steps over a chunk of samples, dispatching each step to its kernel."""
+"""One pass of a solve plan's steps over a chunk of samples, each step run by its kind."""
 
 from __future__ import annotations
 
 from excavkin.arrays import FloatArray as F
-from excavkin.kinematics import kernels
 from excavkin.kinematics.kernels import Chunk
-from excavkin.kinematics.newton import newton_positions, newton_rates
-from excavkin.structure.plan import Attach, Dyad, Fixed, NewtonGroup, Rotate, SliderStep, SolvePlan
+from excavkin.step_kinds import kind_of
+from excavkin.structure.plan import SolvePlan
 
 
 def run_steps(plan: SolvePlan, c: Chunk, order: int, newton: bool = True) -> list[F]:
@@ -15,23 +14,9 @@ def run_steps(plan: SolvePlan, c: Chunk, order: int, newton: bool = True) -> lis
     are (already found) and solves only their rates."""
     signs: list[F] = []
     for k, st in enumerate(plan.steps):
-        if isinstance(st, Dyad):
-            kernels.dyad(c, st, order, k)
-        elif isinstance(st, Attach):
-            kernels.attach(c, st, order)
-        elif isinstance(st, Rotate):
-            kernels.rotate(c, st, order)
-        elif isinstance(st, SliderStep):
-            kernels.slider(c, st, order, k)
-        elif isinstance(st, Fixed):
-            kernels.fixed(c, st, order)
-        elif isinstance(st, NewtonGroup):
-            if newton:
-                newton_positions(c, st, k, plan.scale)
-            if order:
-                signs.append(newton_rates(c, st, k))
-        if c.nudge is not None and not isinstance(st, Fixed | NewtonGroup):
-            # the step's output rounded, emulated
-            for arr in (c.x, c.v, c.a) if order else (c.x,):
-                arr[st.point] *= 1.0 + c.nudge
+        kind = kind_of(st)
+        sign = kind.solve(c, st, k, order, plan.scale, newton)
+        if sign is not None:
+            signs.append(sign)
+        kind.nudge(c, st, order)  # the step's output rounded, emulated (with c.nudge)
     return signs

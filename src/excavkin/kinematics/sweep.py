@@ -34,8 +34,9 @@ from excavkin.kinematics.solve import (
     step_sizes,
     wrapped_difference,
 )
+from excavkin.step_kinds import kind_of
 from excavkin.structure.design import DesignBatch
-from excavkin.structure.plan import Dyad, NewtonGroup, SolvePlan
+from excavkin.structure.plan import SolvePlan
 
 
 @dataclass(frozen=True, slots=True)
@@ -299,11 +300,5 @@ def _signed(
         )
         turn = (-1.0) ** count
         st = steps[k]
-        if isinstance(st, Dyad):
-            steps[k] = dataclasses.replace(st, sign=st.sign * turn)  # type: ignore[arg-type]
-        else:
-            assert isinstance(st, NewtonGroup)
-            d = st.dyads[j]
-            signed = dataclasses.replace(d, sign=d.sign * turn)  # type: ignore[arg-type]
-            steps[k] = dataclasses.replace(st, dyads=(*st.dyads[:j], signed, *st.dyads[j + 1 :]))
+        steps[k] = kind_of(st).turn(st, j, turn)
     return dataclasses.replace(plan, steps=tuple(steps))

@@ -13,7 +13,22 @@ from excavkin.model.entities import Model
 
 
 def validate(model: Model) -> None:
-    """Check names, references, counts and values of ``model``; raise on the first problem."""
+    """Check names, references, counts and values of ``model``; raise on the first problem.
+
+    One check per table, in the order a file's tables are read, then the checks across the
+    whole model (its mobility, and where each driver and slider leaves it)."""
+    _check_points(model)
+    _check_names(model)
+    _check_bodies(model)
+    _check_rotary(model)
+    _check_linear(model)
+    _check_sliders(model)
+    _check_lengths(model)
+    mobility_check(model)
+
+
+def _check_points(model: Model) -> None:
+    """``[points]``: at least one, each with two finite coordinates."""
     src = model.source
     if not model.points:
         raise ModelError("the model has no points", table="points", source=src)
@@ -25,10 +40,20 @@ def validate(model: Model) -> None:
                 entry=name,
                 source=src,
             )
+
+
+def _check_names(model: Model) -> None:
+    """No name twice among the bodies, the drivers or the sliders."""
+    src = model.source
     _unique([b.name for b in model.bodies], "bodies", src)
     _unique([d.name for d in model.rotary] + [d.name for d in model.linear], "drivers", src)
     _unique([s.name for s in model.sliders], "sliders", src)
 
+
+def _check_bodies(model: Model) -> None:
+    """``[bodies]``: one ground; each body's points known, distinct and enough, its first two
+    apart, its mass properties sound; every point on some body."""
+    src = model.source
     grounds = [b.name for b in model.bodies if b.ground]
     if len(grounds) != 1:
         raise ModelError(
@@ -37,8 +62,6 @@ def validate(model: Model) -> None:
             table="bodies",
             source=src,
         )
-    body_names = {b.name for b in model.bodies}
-    body_named = {b.name: b for b in model.bodies}
     in_some_body: set[str] = set()
     for b in model.bodies:
         need = 1 if b.ground else 2
@@ -92,6 +115,13 @@ def validate(model: Model) -> None:
             source=src,
         )
 
+
+def _check_rotary(model: Model) -> None:
+    """The rotary ``[drivers]``: a known moving body, a known other reference, a pivot on the
+    body."""
+    src = model.source
+    body_names = {b.name for b in model.bodies}
+    body_named = {b.name: b for b in model.bodies}
     for d in model.rotary:
         if d.body not in body_names:
             raise ModelError(
@@ -126,6 +156,11 @@ def validate(model: Model) -> None:
                 entry="pivot",
                 source=src,
             )
+
+
+def _check_linear(model: Model) -> None:
+    """The linear ``[drivers]``: two known, distinct points not on one body (unless free)."""
+    src = model.source
     bodies_at = model.bodies_at()
     for ld in model.linear:
         _known_points(model, ld.between, f"drivers.{ld.name}", "between")
@@ -146,6 +181,12 @@ def validate(model: Model) -> None:
                 entry="between",
                 source=src,
             )
+
+
+def _check_sliders(model: Model) -> None:
+    """``[sliders]``: a line through two distinct points of one body, a point off that body."""
+    src = model.source
+    bodies_at = model.bodies_at()
     for s in model.sliders:
         _known_points(model, (s.point, *s.along), f"sliders.{s.name}", "point/along")
         if s.along[0] == s.along[1]:
@@ -178,6 +219,11 @@ def validate(model: Model) -> None:
                 entry="point",
                 source=src,
             )
+
+
+def _check_lengths(model: Model) -> None:
+    """``[lengths]``: known points, positive values."""
+    src = model.source
     for (p, q), value in model.lengths.items():
         key = f"{p}-{q}"
         if p not in model.points or q not in model.points:
@@ -192,7 +238,6 @@ def validate(model: Model) -> None:
             raise ModelError(
                 f"a length must be positive, got {value} m", table="lengths", entry=key, source=src
             )
-    mobility_check(model)
 
 
 def _unique(names: list[str], table: str, src: str | None) -> None:

@@ -28,21 +28,25 @@ from typing import ClassVar, Literal
 from excavkin.errors import AssemblyError, MobilityError
 from excavkin.model.entities import Body, Model
 from excavkin.model.validate import mobility
+from excavkin.step_kinds import (
+    Attach,
+    Dyad,
+    Fixed,
+    NewtonGroup,
+    Rotate,
+    SliderStep,
+    StepKind,
+    registered,
+)
 from excavkin.structure.group_dyads import group_dyads
 from excavkin.structure.plan import (
-    Attach,
     CAngle,
     CDist,
     CFrame,
     CLine,
     Constraint,
     Dist,
-    Dyad,
     Element,
-    Fixed,
-    NewtonGroup,
-    Rotate,
-    SliderStep,
     SolvePlan,
     Step,
 )
@@ -239,7 +243,9 @@ class PlanBuilder:
                 continue
             lx, ly = local[n]
             coords.append((sk[g0][0] + lx * gex - ly * gey, sk[g0][1] + lx * gey + ly * gex))
-        self.steps.append(Fixed(tuple(self.idx[n] for n in ground.points), tuple(coords)))
+        self.steps.append(
+            _kind(Fixed).build(tuple(self.idx[n] for n in ground.points), tuple(coords))
+        )
         for n in ground.points:
             self.learn(n)
 
@@ -267,7 +273,9 @@ class PlanBuilder:
             )
             for n in unknown:
                 s, t = sh.frame_coords(n, a, c)
-                self.steps.append(Attach(self.idx[n], self.idx[a], self.idx[c], s, t, b.name))
+                self.steps.append(
+                    _kind(Attach).build(self.idx[n], self.idx[a], self.idx[c], s, t, b.name)
+                )
                 self.learn(n)
                 self.body_used[bi] += 2
             added = True
@@ -294,7 +302,9 @@ class PlanBuilder:
             ref = None if refb.ground else (self.idx[refb.points[0]], self.idx[refb.points[1]])
             radius = self.shapes[d.body].distance(p, d.pivot)
             self.steps.append(
-                Rotate(self.idx[p], self.idx[d.pivot], radius, self.in_idx[d.name], ref, d.name)
+                _kind(Rotate).build(
+                    self.idx[p], self.idx[d.pivot], radius, self.in_idx[d.name], ref, d.name
+                )
             )
             self.used_rotary.add(ri)
             self.learn(p)
@@ -330,7 +340,7 @@ class PlanBuilder:
             index = len(self.transmissions)
             sign = math.copysign(1.0, cr)
             self.steps.append(
-                Dyad(self.idx[p], self.idx[a], self.idx[b], o1[1], o2[1], sign, index)
+                _kind(Dyad).build(self.idx[p], self.idx[a], self.idx[b], o1[1], o2[1], sign, index)
             )
             self.transmissions.append(p)
             self.consume(o1)
@@ -367,7 +377,7 @@ class PlanBuilder:
                 )
             idx = self.idx
             self.steps.append(
-                SliderStep(
+                _kind(SliderStep).build(
                     idx[p],
                     idx[a],
                     o[1],
@@ -400,7 +410,7 @@ class PlanBuilder:
         pts = tuple(self.idx[n] for n in unknown)
         sketch = [self.sketch[n] for n in self.names]
         dyads = group_dyads(pts, cons, sketch, self.scale)
-        self.steps.append(NewtonGroup(pts, tuple(cons), dyads))
+        self.steps.append(_kind(NewtonGroup).build(pts, tuple(cons), dyads))
 
     # ---- helpers of the step kinds
     def distance_options(self, p: str) -> list[Option]:
@@ -622,3 +632,8 @@ def _unit(p: tuple[float, float], q: tuple[float, float]) -> tuple[float, float]
 
 def _cross(ax: float, ay: float, bx: float, by: float) -> float:
     return ax * by - ay * bx
+
+
+def _kind(record: type) -> StepKind[Step]:
+    """The registered kind whose steps are ``record``s: the builder makes each step by it."""
+    return registered()[record]

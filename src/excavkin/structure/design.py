@@ -36,19 +36,8 @@ from numpy.typing import NDArray
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import unknown_name
 from excavkin.model.entities import Model
-from excavkin.structure.plan import (
-    Attach,
-    CDist,
-    CFrame,
-    Dist,
-    Dyad,
-    Fixed,
-    NewtonGroup,
-    Rotate,
-    SliderStep,
-    SolvePlan,
-    Step,
-)
+from excavkin.step_kinds import kind_of
+from excavkin.structure.plan import SolvePlan, Step
 from excavkin.structure.shapes import LocalFrame, com_coords, local_frame
 
 Num = Any  # a float, or an array of one value per design
@@ -359,73 +348,8 @@ def vary(plan: SolvePlan, values: Mapping[str, Any]) -> tuple[SolvePlan, list[An
     designs build no mechanism."""
     geo = _Geometry(plan.model, values)
     names = plan.points
-    steps = [_step(st, geo, names, plan.model) for st in plan.steps]
+    steps = [kind_of(st).vary(st, geo, names, plan.model) for st in plan.steps]
     return dataclasses.replace(plan, steps=tuple(steps)), _input_sketch(plan, geo), geo.bad
-
-
-def _varies(value: Num) -> bool:
-    return bool(np.ndim(value))
-
-
-def _dist(d: Dist, geo: _Geometry, names: tuple[str, ...]) -> Dist:
-    if d.kind != "fixed" or d.pair == (-1, -1):
-        return d
-    p, q = names[d.pair[0]], names[d.pair[1]]
-    if d.body:
-        value = geo.distance(d.body, p, q)
-    else:  # a locked element: its [lengths] entry, or its sketch length
-        given = geo.override(p, q)
-        (px, py), (qx, qy) = geo.sketch[p], geo.sketch[q]
-        value = given if given is not None else np.hypot(px - qx, py - qy)
-    return dataclasses.replace(d, value=value) if _varies(value) else d
-
-
-def _step(st: Step, geo: _Geometry, names: tuple[str, ...], model: Model) -> Step:
-    """One step with its constants for the designs (those that do not vary kept as they are)."""
-    if isinstance(st, Fixed):
-        coords = _ground_coords(geo, model)
-        if any(_varies(c) for xy in coords for c in xy):
-            return dataclasses.replace(st, coords=coords)
-        return st
-    if isinstance(st, Rotate):
-        body = next(d.body for d in model.rotary if d.name == st.driver)
-        radius = geo.distance(body, names[st.point], names[st.pivot])
-        return dataclasses.replace(st, radius=radius) if _varies(radius) else st
-    if isinstance(st, Attach):
-        s, t = geo.frame_coords(st.body, names[st.point], names[st.a], names[st.b])
-        return dataclasses.replace(st, s=s, t=t) if _varies(s) or _varies(t) else st
-    if isinstance(st, Dyad):
-        return dataclasses.replace(st, da=_dist(st.da, geo, names), db=_dist(st.db, geo, names))
-    if isinstance(st, SliderStep):
-        return dataclasses.replace(st, da=_dist(st.da, geo, names))
-    assert isinstance(st, NewtonGroup)
-    cons = []
-    for con in st.constraints:
-        if isinstance(con, CDist):
-            con = dataclasses.replace(con, dist=_dist(con.dist, geo, names))
-        elif isinstance(con, CFrame) and con.body:
-            s, t = geo.frame_coords(con.body, names[con.p], names[con.a], names[con.b])
-            if _varies(s) or _varies(t):
-                con = dataclasses.replace(con, s=s, t=t)
-        cons.append(con)
-    return dataclasses.replace(st, constraints=tuple(cons))
-
-
-def _ground_coords(geo: _Geometry, model: Model) -> tuple[tuple[Num, Num], ...]:
-    """As the plan builder places the ground: its sketch, or its shape where reshaped."""
-    ground = model.ground
-    members = set(ground.points)
-    reshaped = any(p in members and q in members for p, q in model.lengths)
-    if not reshaped:
-        return tuple(geo.sketch[n] for n in ground.points)
-    g0 = ground.points[0]
-    gex, gey = geo.unit(ground.points[1], g0)
-    local = geo.frames[ground.name].local
-    x0, y0 = geo.sketch[g0]
-    return tuple(
-        (x0 + local[n][0] * gex - local[n][1] * gey, y0 + local[n][0] * gey + local[n][1] * gex)
-        for n in ground.points
-    )
 
 
 def _input_sketch(plan: SolvePlan, geo: _Geometry) -> list[Num]:
@@ -497,51 +421,7 @@ def take(plan: SolvePlan, index: slice | NDArray[np.intp]) -> SolvePlan:
     return dataclasses.replace(plan, steps=tuple(steps))
 
 
-def _at(value: Any, index: slice | NDArray[np.intp]) -> Any:
-    return value[index] if np.ndim(value) else value
-
-
-def _take_dist(d: Dist, index: slice | NDArray[np.intp]) -> Dist:
-    return dataclasses.replace(d, value=_at(d.value, index)) if np.ndim(d.value) else d
-
-
 def take_step(st: Step, index: slice | NDArray[np.intp]) -> Step:
-    """One step's per-sample constants taken at ``index``."""
-    if isinstance(st, Fixed):
-        if any(np.ndim(c) for xy in st.coords for c in xy):
-            coords = tuple((_at(x, index), _at(y, index)) for x, y in st.coords)
-            return dataclasses.replace(st, coords=coords)
-        return st
-    if isinstance(st, Rotate):
-        return dataclasses.replace(st, radius=_at(st.radius, index)) if np.ndim(st.radius) else st
-    if isinstance(st, Attach):
-        if np.ndim(st.s) or np.ndim(st.t):
-            return dataclasses.replace(st, s=_at(st.s, index), t=_at(st.t, index))
-        return st
-    if isinstance(st, Dyad):
-        if np.ndim(st.sign) or np.ndim(st.da.value) or np.ndim(st.db.value):
-            return dataclasses.replace(
-                st,
-                da=_take_dist(st.da, index),
-                db=_take_dist(st.db, index),
-                sign=_at(st.sign, index),
-            )
-        return st
-    if isinstance(st, SliderStep):
-        return dataclasses.replace(st, da=_take_dist(st.da, index)) if np.ndim(st.da.value) else st
-    assert isinstance(st, NewtonGroup)
-    cons = []
-    changed = False
-    for con in st.constraints:
-        if isinstance(con, CDist) and np.ndim(con.dist.value):
-            con = dataclasses.replace(con, dist=_take_dist(con.dist, index))
-            changed = True
-        elif isinstance(con, CFrame) and (np.ndim(con.s) or np.ndim(con.t)):
-            con = dataclasses.replace(con, s=_at(con.s, index), t=_at(con.t, index))
-            changed = True
-        cons.append(con)
-    dyads = st.dyads
-    if any(np.ndim(d.sign) for d in dyads):  # a smooth continuation's sides, per sample
-        dyads = tuple(dataclasses.replace(d, sign=_at(d.sign, index)) for d in dyads)
-        changed = True
-    return dataclasses.replace(st, constraints=tuple(cons), dyads=dyads) if changed else st
+    """One step's per-sample constants taken at ``index`` (its kind's ``take``)."""
+    out: Step = kind_of(st).take(st, index)
+    return out

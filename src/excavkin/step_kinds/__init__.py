@@ -1,0 +1,69 @@
+"""Step kinds: one module each, a registry.
+
+A solve plan (`excavkin.structure.plan`) is a sequence of steps of a few kinds: `Fixed`,
+`Rotate`, `Attach`, `Dyad`, `SliderStep` and `NewtonGroup`. Each kind's module holds its record
+and every operation on it (`excavkin.step_kinds.base.StepKind` lists them): building it, its
+constants for a family of designs, its NumPy kernel, its compiled source, the precision check's
+part, its description, its part in the statics and its drawing. Importing this package
+registers every kind; `kind_of` finds a step's kind by its record's type.
+
+To add a kind: write a module here with its record (a frozen dataclass) and a `StepKind`
+subclass decorated with `register` that implements every operation, import it below, and add
+its record to `Step`.
+"""
+
+from __future__ import annotations
+
+from excavkin.step_kinds import attach, dyad, fixed, newton_group, rotate, slider
+from excavkin.step_kinds.attach import Attach
+from excavkin.step_kinds.base import (
+    OPERATIONS,
+    Primitive,
+    Role,
+    StepKind,
+    kind_of,
+    of_kind,
+    register,
+    registered,
+)
+from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
+from excavkin.step_kinds.dist import Dist
+from excavkin.step_kinds.dyad import Dyad
+from excavkin.step_kinds.fixed import Fixed
+from excavkin.step_kinds.newton_group import NewtonGroup
+from excavkin.step_kinds.rotate import Rotate
+from excavkin.step_kinds.slider import SliderStep
+
+#: a step of a solve plan: a record of one of the registered kinds
+Step = Fixed | Rotate | Attach | Dyad | SliderStep | NewtonGroup
+
+__all__ = [
+    "OPERATIONS",
+    "Attach",
+    "CAngle",
+    "CDist",
+    "CFrame",
+    "CLine",
+    "Constraint",
+    "Dist",
+    "Dyad",
+    "Fixed",
+    "GroupDyad",
+    "NewtonGroup",
+    "Primitive",
+    "Role",
+    "Rotate",
+    "SliderStep",
+    "Step",
+    "StepKind",
+    "attach",
+    "dyad",
+    "fixed",
+    "kind_of",
+    "newton_group",
+    "of_kind",
+    "register",
+    "registered",
+    "rotate",
+    "slider",
+]
