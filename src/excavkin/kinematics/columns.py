@@ -42,6 +42,10 @@ QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
     "force": ("driver", "force"),
     "torque": ("driver", "torque"),
     "normal": ("slider", "force"),
+    "tension": ("driver", "force"),
+    "motor_angle": ("driver", "angle"),
+    "motor_speed": ("driver", "angular_velocity"),
+    "motor_accel": ("driver", "angular_acceleration"),
     "power": ("driver", "power"),
     "pressure": ("driver", "pressure"),
 }

@@ -315,7 +315,11 @@ class KinematicResult:
             sensitivities.
         """
         for j, e in enumerate(plan.elements):
-            if e.input >= 0:  # a driven length is its input, exactly (failed samples too)
+            if e.input >= 0 and e.ratio:  # a winch rope's: from its motor's angle
+                derived.element[0, j] = e.ratio * q[e.input]
+                derived.element[1, j] = e.ratio * qd[e.input]
+                derived.element[2, j] = e.ratio * qdd[e.input]
+            elif e.input >= 0:  # a driven length is its input, exactly (failed samples too)
                 derived.element[0, j] = q[e.input]
                 derived.element[1, j] = qd[e.input]
                 derived.element[2, j] = qdd[e.input]
@@ -552,8 +556,14 @@ class KinematicResult:
             for qty, arr in zip(("angle", "omega", "epsilon"), body_arrays, strict=True):
                 cols.append((column(b, "body", qty, QUANTITIES[qty][1]), arr[:, j]))
         input_arrays = (self.inputs, self.input_rates, self.input_accels)
+        winches = {e.input for e in plan.elements if e.ratio}
         for i, name in enumerate(plan.inputs):
-            if plan.input_kinds[i] == "angle":
+            if i in winches:  # a winch rope: its motor's angle (its length is the element's)
+                for qty, arr in zip(
+                    ("motor_angle", "motor_speed", "motor_accel"), input_arrays, strict=True
+                ):
+                    cols.append((column(name, "driver", qty, QUANTITIES[qty][1]), arr[:, i]))
+            elif plan.input_kinds[i] == "angle":
                 for c, arr in zip(driver_columns(name, "angle"), input_arrays, strict=True):
                     cols.append((c, arr[:, i]))
         element_arrays = (

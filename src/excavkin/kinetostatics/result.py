@@ -8,6 +8,10 @@ N·m)::
                              acts, the cylinder's force passed through the pin)
     <driver>.force           axial force of a driven or locked linear element; > 0 pushes its
                              two points apart (a rope in tension is negative)
+    <rope>.tension           a rope's tension, N (its blocks' force / its parts); a sample
+                             where it would be < 0 (the rope would push) is "slack rope", not ok
+    <rope>.torque            a winch rope's motor torque, N·m, in the sense of its angle
+                             (power = torque · motor speed; < 0 holds a load hanging on it)
     <driver>.torque          torque of a rotary driver on its body (CCW > 0); its reference body
                              receives the opposite torque
     <slider>.normal          normal force on the slider's point, along perp(l2 − l1); the body
@@ -32,6 +36,7 @@ from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import StaticsSystem
 from excavkin.kinetostatics.inertia import MassProperties, centre_of_mass, kinetic_energy_rate
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load
+from excavkin.model.entities import Rope
 from excavkin.structure.design import parameter_kind
 
 if TYPE_CHECKING:
@@ -260,8 +265,76 @@ class ForceResult:
 
     @property
     def ok(self) -> np.ndarray:
-        """Samples with both kinematics and forces solved, shape (n,)."""
-        return np.asarray(self.kinematics.status.ok & ~self.singular)
+        """Samples with both kinematics and forces solved and no rope slack, shape (n,)."""
+        return np.asarray(self.kinematics.status.ok & ~self.singular & ~self.slack)
+
+    # ---- ropes: tension only
+    def _ropes(self) -> list[tuple[Rope, int]]:
+        """Each rope of the model with its column of ``element_force``."""
+        names = [e[0] for e in self.system.elements]
+        return [(r, names.index(r.name)) for r in self.kinematics.plan.model.ropes]
+
+    @property
+    def slack(self) -> np.ndarray:
+        """Samples where some rope would have to push (its tension < 0): a rope carries tension
+        only, so these forces are not the mechanism's (not `ok`), shape (n,)."""
+        out = np.zeros(len(self), dtype=bool)
+        for _, k in self._ropes():
+            out |= self.element_force[:, k] > 0.0
+        return out
+
+    def tension(self, name: str) -> F:
+        """A rope's tension, N, shape (n,): its blocks' force over its parts.
+
+        Parameters
+        ----------
+        name : str
+            The rope's name.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            ``−force / parts`` (N); negative where the rope would have to push (`slack`).
+
+        Raises
+        ------
+        UnknownNameError
+            No rope of that name, with the nearest names (a `KeyError` too).
+        """
+        for rope, k in self._ropes():
+            if rope.name == name:
+                return np.asarray(-self.element_force[:, k] / rope.parts)
+        raise unknown_name("rope", name, [r.name for r, _ in self._ropes()])
+
+    def winch_torque(self, name: str) -> F:
+        """A winch rope's motor torque, N·m, shape (n,), in the sense of the motor's angle.
+
+        The rope pulls its blocks together with ``parts·T``; a motor angle θ sets their
+        distance ``d = θ·R/(i·parts)``, so by virtual work the motor's torque is
+        ``force·R/(i·parts) = −T·R/i`` and its power ``torque·ω`` is the rope's on the
+        mechanism.
+
+        Parameters
+        ----------
+        name : str
+            The winch rope's name.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            The torque (N·m); negative while the rope holds a load (hauling in, ω < 0,
+            then takes power from the motor).
+
+        Raises
+        ------
+        UnknownNameError
+            No winch rope of that name, with the nearest names (a `KeyError` too).
+        """
+        winches = [(r, k) for r, k in self._ropes() if r.mode == "winch"]
+        for rope, k in winches:
+            if rope.name == name:
+                return np.asarray(self.element_force[:, k] * rope.ratio)
+        raise unknown_name("winch rope", name, [r.name for r, _ in winches])
 
     # ---- lookups by name
     def pin(self, point: str, body: str) -> F:
@@ -395,6 +468,11 @@ class ForceResult:
             cols.append((column(d[0], "driver", "torque", "torque"), self.driver_torque[:, k]))
         for k, s in enumerate(sy.sliders):
             cols.append((column(s[0], "slider", "normal", "force"), self.slider_force[:, k]))
+        for rope, _ in self._ropes():
+            cols.append((column(rope.name, "driver", "tension", "force"), self.tension(rope.name)))
+            if rope.mode == "winch":
+                torque = self.winch_torque(rope.name)
+                cols.append((column(rope.name, "driver", "torque", "torque"), torque))
         for b in resultants:
             r = self.resultant(b)
             cols += [(column(b, "body", q, "force"), r[:, c]) for c, q in enumerate(("Rx", "Ry"))]
@@ -462,7 +540,8 @@ class ForceResult:
         return self.kinematics.sensitivity(column, parameter)
 
     def status_labels(self) -> np.ndarray:
-        """Per-sample label: the kinematic status, or ``"statically singular"``, shape (n,).
+        """Per-sample label: the kinematic status, ``"statically singular"`` or ``"slack
+        rope"``, shape (n,).
 
         Returns
         -------
@@ -473,6 +552,9 @@ class ForceResult:
         labels = self.kinematics.status.labels()
         bad = self.singular & self.kinematics.status.ok
         labels[bad] = "statically singular (redundant joint at this position)"
+        for rope, k in self._ropes():
+            pushes = (self.element_force[:, k] > 0.0) & self.kinematics.status.ok & ~bad
+            labels[pushes] = f"slack rope {rope.name!r} (it would have to push)"
         return labels
 
     def to_frame(
@@ -519,7 +601,7 @@ class ForceResult:
         # copies, no insertions
         data: dict[str, Any] = {c.name: arr for c, arr in [*kin, *described]}
         status = self.kinematics.status
-        if self.singular.any():
+        if self.singular.any() or self.slack.any():
             data["status"] = pd.Categorical(self.status_labels())
         else:
             data["status"] = status.categorical()

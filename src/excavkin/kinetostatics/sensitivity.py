@@ -230,6 +230,12 @@ def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
         out[f"{d[0]}.torque"] = tan[t0 + k]
     for k, s in enumerate(sy.sliders):
         out[f"{s[0]}.normal"] = tan[s0 + k]
+    elements = [e[0] for e in sy.elements]
+    for rope in forces.kinematics.plan.model.ropes:  # tension and winch torque: linear in force
+        df = tan[e0 + elements.index(rope.name)]
+        out[f"{rope.name}.tension"] = -df / rope.parts
+        if rope.mode == "winch":
+            out[f"{rope.name}.torque"] = df * rope.ratio
     ground = sy.ground
     rx, ry = np.zeros(n), np.zeros(n)
     for k, (_, j) in enumerate(sy.slots):

@@ -19,6 +19,10 @@ Conventions (drawn in ``docs/conventions.md``)::
   rope); ``mode`` says whether it is an input (``driven``), a rigid strut at its sketch length
   (``locked``) or passive, its length following the mechanism (``free``).
 * A slider keeps a point on the line through two points of another body.
+* A rope ([`Rope`][excavkin.model.entities.Rope]) reeved ``parts`` times between two blocks
+  is also a linear element of the model, of the rope's name, between its blocks: it pulls
+  them together with ``parts`` times its tension and never pushes. A winch rope's input is its
+  motor's angle (a positive angle pays rope out); a locked rope keeps its length.
 * Loads ([`PointForce`][excavkin.model.entities.PointForce],
 [`Torque`][excavkin.model.entities.Torque], [`Gravity`][excavkin.model.entities.Gravity]) act on
 bodies; a force acts at
@@ -38,6 +42,7 @@ if TYPE_CHECKING:
     from excavkin.kinematics.result import KinematicResult
 
 LinearMode = Literal["driven", "locked", "free"]
+RopeMode = Literal["winch", "locked"]
 
 #: A load's value: a constant, an array with one row per sample, or a function of the
 #: kinematic result returning either (see [`PointForce`][excavkin.model.entities.PointForce] and
@@ -122,6 +127,68 @@ class LinearDriver:
     between: tuple[str, str]
     mode: LinearMode = "driven"
     stroke: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Rope:
+    """A rope reeved ``parts`` times between two blocks, wound on a winch or locked.
+
+    The rope runs ``parts`` times between the blocks at ``path[0]`` and ``path[1]``, so its
+    length is ``L = parts·d + L0`` with ``d`` the blocks' distance and ``L0`` what lies off
+    the blocks (constant). It pulls the blocks together with ``parts·T`` (T ≥ 0 its tension)
+    and never pushes: a sample where it would have to is slack, not ok.
+
+    ``winch``: the rope comes off a drum of radius ``drum_radius`` driven by a motor through
+    ``gear_ratio`` (motor turns per drum turn). The motor's angle θ is the input, counted from
+    the blocks together; a positive rate pays rope out: ``d = θ·R/(i·parts)``, so the blocks
+    part at ``ω·R/(i·parts)`` (the sketch's θ is ``d_sketch·i·parts/R``).
+
+    ``locked``: a pendant or suspension rope of fixed length (its sketch length, or its
+    ``[lengths]`` entry).
+
+    The model lists it also as a linear element of its name between its blocks (driven for
+    a winch, locked otherwise): a [`Model`][excavkin.model.entities.Model] adds that element.
+
+    Attributes
+    ----------
+    name : str
+        The rope's name (the winch motor's input, for a winch).
+    path : tuple of str
+        The two blocks (points) the rope runs between (a path over sheaves between them is
+        not supported yet: the model refuses one).
+    parts : int
+        Parts of the rope between the blocks (the block's multiplicity), ≥ 1.
+    mode : {"winch", "locked"}
+    drum_radius : float or None
+        m; a winch's drum radius (to the rope's centre line).
+    gear_ratio : float
+        Motor turns per drum turn (> 0), for a winch.
+    """
+
+    name: str
+    path: tuple[str, ...]
+    parts: int = 1
+    mode: RopeMode = "locked"
+    drum_radius: float | None = None
+    gear_ratio: float = 1.0
+
+    @property
+    def ratio(self) -> float:
+        """The blocks' distance per motor angle, ``R/(i·parts)`` (m/rad); 0 for a locked rope."""
+        if self.mode != "winch" or self.drum_radius is None:
+            return 0.0
+        return self.drum_radius / (self.gear_ratio * self.parts)
+
+    def element(self) -> LinearDriver:
+        """The linear element the rope is between its blocks.
+
+        Returns
+        -------
+        LinearDriver
+            Of the rope's name, between its blocks: driven for a winch, locked otherwise.
+        """
+        ends = (self.path[0], self.path[-1])
+        return LinearDriver(self.name, ends, "driven" if self.mode == "winch" else "locked")
 
 
 @dataclass(frozen=True, slots=True)
@@ -253,6 +320,9 @@ class Model:
         Gravity, when the model enables it (``None``: off).
     design : tuple of DesignVariable
         The file's named design variables and the entries that refer to them.
+    ropes : tuple of Rope
+        Ropes between blocks; each is also in ``linear`` (added when absent), as the element
+        of its name between its blocks.
     """
 
     name: str
@@ -266,9 +336,16 @@ class Model:
     loads: tuple[PointForce | Torque, ...] = ()
     gravity: Gravity | None = None
     design: tuple[DesignVariable, ...] = ()
+    ropes: tuple[Rope, ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.ropes:
+            object.__setattr__(self, "linear", with_rope_elements(self.linear, self.ropes))
 
     def __hash__(self) -> int:
-        return hash((self.name, tuple(self.points), self.bodies, self.rotary, self.linear))
+        return hash(
+            (self.name, tuple(self.points), self.bodies, self.rotary, self.linear, self.ropes)
+        )
 
     @property
     def ground(self) -> Body:
@@ -317,3 +394,24 @@ class Model:
             for n in dict.fromkeys(b.points):
                 out.setdefault(n, []).append(b)
         return out
+
+
+def with_rope_elements(
+    linear: tuple[LinearDriver, ...], ropes: tuple[Rope, ...]
+) -> tuple[LinearDriver, ...]:
+    """The linear elements with each rope's own added, where none of its name is there.
+
+    Parameters
+    ----------
+    linear : tuple of LinearDriver
+        The model's linear elements.
+    ropes : tuple of Rope
+        Its ropes.
+
+    Returns
+    -------
+    tuple of LinearDriver
+        ``linear``, then the element (`Rope.element`) of each rope not in it, in order.
+    """
+    names = {d.name for d in linear}
+    return linear + tuple(r.element() for r in ropes if r.name not in names and r.path)

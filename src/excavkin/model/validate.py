@@ -21,6 +21,7 @@ def validate(model: Model) -> None:
     _check_names(model)
     _check_bodies(model)
     _check_rotary(model)
+    _check_ropes(model)
     _check_linear(model)
     _check_sliders(model)
     _check_lengths(model)
@@ -179,6 +180,71 @@ def _check_linear(model: Model) -> None:
                 "change",
                 table=f"drivers.{ld.name}",
                 entry="between",
+                source=src,
+            )
+
+
+def _check_ropes(model: Model) -> None:
+    """``[ropes]``: two known, distinct blocks not on one body, a whole number of parts, a
+    winch's drum radius and gear ratio positive, and the element of its name its own."""
+    src = model.source
+    bodies_at = model.bodies_at()
+    _unique([r.name for r in model.ropes], "ropes", src)
+    elements = {d.name: d for d in model.linear}
+    for rope in model.ropes:
+        table = f"ropes.{rope.name}"
+        if len(rope.path) != 2:
+            raise ModelError(
+                f"path must list the rope's two blocks (got {len(rope.path)} points; a path "
+                "over sheaves is not supported yet)",
+                table=table,
+                entry="path",
+                source=src,
+            )
+        _known_points(model, rope.path, table, "path")
+        p, q = rope.path
+        if p == q:
+            raise ModelError(
+                "its two blocks are the same point", table=table, entry="path", source=src
+            )
+        common = [b.name for b in bodies_at.get(p, ()) if q in b.points]
+        if common:
+            raise ModelError(
+                f"{p} and {q} are both points of body {common[0]!r}, so the rope between "
+                "them cannot move",
+                table=table,
+                entry="path",
+                source=src,
+            )
+        if isinstance(rope.parts, bool) or not isinstance(rope.parts, int) or rope.parts < 1:
+            raise ModelError(
+                f"parts must be a whole number ≥ 1, not {rope.parts!r}",
+                table=table,
+                entry="parts",
+                source=src,
+            )
+        if rope.mode not in ("winch", "locked"):
+            raise ModelError(
+                f"mode must be 'winch' or 'locked', not {rope.mode!r}",
+                table=table,
+                entry="mode",
+                source=src,
+            )
+        if rope.mode == "winch":
+            for key, value in (("drum_radius", rope.drum_radius), ("gear_ratio", rope.gear_ratio)):
+                if value is None or not (math.isfinite(value) and value > 0.0):
+                    raise ModelError(
+                        f"a winch needs a finite {key} > 0 (got {value!r})",
+                        table=table,
+                        entry=key,
+                        source=src,
+                    )
+        el = elements.get(rope.name)
+        if el is not None and el != rope.element():
+            raise ModelError(
+                f"a driver is also called {rope.name!r}: the rope is the linear element of its "
+                "name between its blocks; rename one",
+                table=table,
                 source=src,
             )
 

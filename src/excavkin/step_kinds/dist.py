@@ -24,7 +24,9 @@ Index = slice | NDArray[np.intp]
 
 @dataclass(frozen=True, slots=True)
 class Dist:
-    """A distance used by a step: fixed (a body or a locked element) or an input's value."""
+    """A distance used by a step: fixed (a body or a locked element) or an input's value
+    (``scale·q``: the input itself for a cylinder; for a winch rope, its motor's angle times
+    the blocks' distance per motor angle)."""
 
     kind: Literal["fixed", "input"]
     value: float
@@ -34,6 +36,8 @@ class Dist:
     #: it: the two points (plan indices), and the body they are on ("" for a locked element)
     pair: tuple[int, int] = (-1, -1)
     body: str = ""
+    #: an input's distance is ``scale·q`` (m per input unit)
+    scale: float = 1.0
 
 
 def varies(value: Num) -> bool:

@@ -199,14 +199,17 @@ class PlanBuilder:
                     source=self.model.source,
                 )
             length = override or math.dist(sk[p], sk[q])
+            ratio = winch_ratio(self.model, ld.name)
             if ld.mode == "driven":
-                self.kinds.append("length")
-                self.input_sketch.append(length)
+                self.kinds.append("angle" if ratio else "length")
+                self.input_sketch.append(length / ratio if ratio else length)
             driven = ld.mode == "driven"
             index = self.in_idx.get(ld.name, -1) if driven else -1
             self.point_elements[p].append(len(self.elements))
             self.point_elements[q].append(len(self.elements))
-            self.elements.append(Element(ld.name, self.idx[p], self.idx[q], ld.mode, index, length))
+            self.elements.append(
+                Element(ld.name, self.idx[p], self.idx[q], ld.mode, index, length, ratio)
+            )
 
     def check_lengths_are_dimensions(self) -> None:
         """Every ``[lengths]`` pair is on a common body or joined by a cylinder."""
@@ -617,8 +620,29 @@ class PlanBuilder:
         )
 
 
+def winch_ratio(model: Model, name: str) -> float:
+    """The blocks' distance per motor angle of the winch rope called ``name`` (m/rad).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    name : str
+        A linear element's name.
+
+    Returns
+    -------
+    float
+        ``R/(i·parts)`` of the winch rope of that name; 0.0 when it is no winch rope.
+    """
+    return next((r.ratio for r in model.ropes if r.name == name), 0.0)
+
+
 def _element_dist(el: Element) -> Dist:
-    """A driven element's distance is its input; a locked one's is its fixed length."""
+    """A driven element's distance is its input (a winch rope's: ``ratio`` times its motor's
+    angle); a locked one's is its fixed length."""
+    if el.mode == "driven" and el.ratio:
+        return Dist("input", el.length, el.input, label=el.name, scale=el.ratio)
     if el.mode == "driven":
         return Dist("input", el.length, el.input, label=el.name)
     return Dist("fixed", el.length, label=f"locked {el.name!r}", pair=(el.p, el.q))

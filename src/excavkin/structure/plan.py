@@ -77,6 +77,9 @@ class Element:
     mode: Literal["driven", "locked", "free"]
     input: int
     length: float
+    #: a winch rope's blocks' distance per motor angle (m/rad): its distance is ``ratio·q``
+    #: (0: a cylinder's length is its input itself)
+    ratio: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)

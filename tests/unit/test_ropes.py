@@ -1,0 +1,142 @@
+"""Ropes in the model and its file: a rope is the linear element of its name between its blocks
+(driven by its winch motor's angle, or locked), and every bad entry is one message naming it."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from excavkin import Mechanism, Model, Rope
+from excavkin.errors import ModelError
+from excavkin.io.toml_model import loads_model
+from excavkin.model.entities import Body, LinearDriver
+
+BOOM = """
+schema_version = 1
+name = "boom on a hoist rope"
+[units]
+length = "m"
+[points]
+O = [0.0, 0.0]
+A = [-1.0, 3.0]
+B = [1.5, 2.0]
+[bodies]
+ground = { points = ["O", "A"], ground = true }
+boom = { points = ["O", "B"] }
+"""
+
+WINCH = """
+[ropes.hoist]
+path = ["A", "B"]
+parts = 2
+mode = "winch"
+drum_radius = "250 mm"
+gear_ratio = 20
+"""
+
+
+def test_winch_rope_from_the_file() -> None:
+    model = loads_model(BOOM + WINCH, "boom.toml")
+    (rope,) = model.ropes
+    assert rope == Rope("hoist", ("A", "B"), 2, "winch", 0.25, 20.0)
+    assert rope.ratio == 0.25 / (20.0 * 2)
+    # the rope is the model's linear element of its name, driven: its motor's angle the input
+    assert model.linear == (LinearDriver("hoist", ("A", "B"), "driven"),)
+    assert model.inputs == ("hoist",)
+    plan = Mechanism(model).plan
+    assert plan.input_kinds == ("angle",)
+    # the sketch's motor angle puts the blocks at their sketch distance
+    assert plan.input_sketch[0] * rope.ratio == pytest.approx(np.hypot(2.5, 1.0), rel=1e-15)
+
+
+def test_locked_rope_holds_its_length() -> None:
+    text = BOOM.replace("B = [1.5, 2.0]", "B = [1.5, 2.0]\nC = [2.0, 0.0]").replace(
+        'boom = { points = ["O", "B"] }',
+        'boom = { points = ["O", "B"] }\nlink = { points = ["B", "C"] }',
+    )
+    text += '[ropes.pendant]\npath = ["A", "B"]\n'
+    text += '[drivers.crank]\ntype = "linear"\nbetween = ["O", "C"]\n'
+    model = loads_model(text, "pendant.toml")
+    assert model.ropes[0].mode == "locked" and model.ropes[0].parts == 1
+    assert LinearDriver("pendant", ("A", "B"), "locked") in model.linear
+    assert model.inputs == ("crank",)
+
+
+def test_python_api_adds_the_element_once() -> None:
+    model = loads_model(BOOM + WINCH)
+    again = dataclasses.replace(model, name="again")
+    assert again.linear == model.linear
+    bare = Model(
+        "boom",
+        dict(model.points),
+        (Body("ground", ("O", "A"), ground=True), Body("boom", ("O", "B"))),
+        ropes=(Rope("hoist", ("A", "B"), 2, "winch", 0.25, 20.0),),
+    )
+    assert bare.linear == model.linear
+    assert hash(bare) == hash(dataclasses.replace(bare))
+
+
+@pytest.mark.parametrize(
+    ("entry", "expect"),
+    [
+        ("parts = 0", "[ropes.hoist] 'parts': parts must be a whole number ≥ 1, not 0"),
+        ("parts = 2.5", "parts must be a whole number ≥ 1, not 2.5"),
+        ('mode = "free"', "mode must be 'winch' or 'locked', not 'free'"),
+        ('mode = "winch"', "a winch needs its drum_radius"),
+        ('drum_radius = "0.2 m"', "drum_radius belong to a winch; a locked rope has none"),
+        ('path = ["A"]', "path must list the rope's two blocks (got 1 points"),
+        ('path = ["A", "Q", "B"]', "a path over sheaves is not supported yet"),
+        ('path = ["A", "Z"]', "Z"),
+        ('path = ["A", "A"]', "its two blocks are the same point"),
+        ('path = ["O", "A"]', "are both points of body 'ground'"),
+        ("path = []", "path must list the point names of the rope's blocks"),
+        ('colour = "red"', "unknown key colour"),
+        ('mode = "winch"\ndrum_radius = "3 kg"', "[ropes.hoist] 'drum_radius'"),
+        ('mode = "winch"\ndrum_radius = "-1 m"', "a winch needs a finite drum_radius > 0"),
+        ('mode = "winch"\ndrum_radius = "1 m"\ngear_ratio = 0', "finite gear_ratio > 0"),
+    ],
+)
+def test_bad_rope_entries_are_named(entry: str, expect: str) -> None:
+    lines = ["[ropes.hoist]"]
+    if not entry.startswith("path"):
+        lines.append('path = ["A", "B"]')
+    lines.append(entry)
+    with pytest.raises(ModelError) as info:
+        loads_model(BOOM + "\n".join(lines) + "\n", "boom.toml")
+    message = str(info.value)
+    assert expect in message
+    assert "boom.toml" in message
+
+
+def test_a_driver_of_the_rope_s_name_elsewhere_is_refused() -> None:
+    text = BOOM + WINCH + '[drivers.hoist]\ntype = "linear"\nbetween = ["O", "B"]\n'
+    with pytest.raises(ModelError, match="a driver is also called 'hoist'"):
+        loads_model(text, "boom.toml")
+
+
+def test_winch_solves_the_same_in_numpy_compiled_and_newton() -> None:
+    model = loads_model(BOOM + WINCH)
+    mech = Mechanism(model)
+    ratio = model.ropes[0].ratio
+    theta = mech.plan.input_sketch[0] + np.linspace(-60.0, 60.0, 7)
+    runs = [
+        mech.solve({"hoist": theta}, {"hoist": 3.0}, {"hoist": 0.5}, compiled=c)
+        for c in (False, True)
+    ]
+    runs.append(
+        Mechanism(model, method="newton").solve({"hoist": theta}, {"hoist": 3.0}, {"hoist": 0.5})
+    )
+    for r in runs:
+        assert r.status.all_ok
+        # the blocks' distance, its rate and its acceleration: ratio times the motor's
+        np.testing.assert_allclose(r.element_length[:, 0], ratio * theta, rtol=1e-15)
+        np.testing.assert_allclose(r.element_rate[:, 0], ratio * 3.0, rtol=1e-15)
+        np.testing.assert_allclose(r.element_accel[:, 0], ratio * 0.5, rtol=1e-15)
+        d = np.linalg.norm(r.positions[:, 2] - r.positions[:, 1], axis=1)
+        np.testing.assert_allclose(d, ratio * theta, rtol=1e-14)
+    for r in runs[1:]:
+        np.testing.assert_allclose(r.positions, runs[0].positions, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(r.velocities, runs[0].velocities, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(r.accelerations, runs[0].accelerations, rtol=0, atol=1e-13)
