@@ -4,8 +4,12 @@
 from __future__ import annotations
 
 import dataclasses
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from excavkin import Mechanism, Model, Rope
@@ -140,3 +144,64 @@ def test_winch_solves_the_same_in_numpy_compiled_and_newton() -> None:
         np.testing.assert_allclose(r.positions, runs[0].positions, rtol=0, atol=1e-13)
         np.testing.assert_allclose(r.velocities, runs[0].velocities, rtol=0, atol=1e-13)
         np.testing.assert_allclose(r.accelerations, runs[0].accelerations, rtol=0, atol=1e-13)
+
+
+def test_command_line_refuses_a_slack_rope_unless_keep_going(tmp_path: Path) -> None:
+    """The boom's tip passes over its pivot at the motor angle sqrt(1.25)/ratio = 178.9 rad:
+    beyond it the rope would have to push."""
+    model = tmp_path / "boom.toml"
+    model.write_text(
+        BOOM
+        + WINCH
+        + '[loads.hook]\ntype = "force"\nbody = "boom"\npoint = "B"\nvalue = ["0 N", "-1 kN"]\n'
+    )
+    out = tmp_path / "boom.csv"
+    sweep = ["--sweep", "hoist=150rad:250rad:11", "--forces", "-o", str(out)]
+    r = subprocess.run(
+        [sys.executable, "-m", "excavkin", "solve", str(model), *sweep],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 3, r.stderr
+    assert "3 samples have a slack rope ('hoist'" in r.stderr and "samples 0, 1, 2" in r.stderr
+    assert "Traceback" not in r.stderr and not out.exists()
+    r = subprocess.run(
+        [sys.executable, "-m", "excavkin", "solve", str(model), *sweep, "--keep-going"],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 0, r.stderr
+    frame = pd.read_csv(out)
+    assert list(frame["status"] == "ok") == [False] * 3 + [True] * 8
+    assert (frame["hoist.tension"][:3] < 0).all() and (frame["hoist.tension"][3:] > 0).all()
+    np.testing.assert_allclose(frame["hoist.motor_angle"], np.linspace(150, 250, 11))
+
+
+def test_a_rope_is_drawn_as_a_line() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from excavkin.outputs.drawing import draw_mechanism
+
+    mech = Mechanism(loads_model(BOOM + WINCH))
+    res = mech.solve({"hoist": mech.plan.input_sketch[0] + np.linspace(-20.0, 20.0, 3)})
+    barrel, rod = draw_mechanism(res).cylinders["hoist"]
+    assert barrel is rod  # one line from block to block, no barrel and rod
+    np.testing.assert_allclose(
+        np.column_stack([barrel.get_xdata(), barrel.get_ydata()]),
+        res.positions[0, [1, 2]] * 1000.0,
+        atol=1e-9,
+    )
+
+
+def test_default_sweep_of_a_winch_spans_its_blocks_distance() -> None:
+    from excavkin.default_sweep import default_sweep
+
+    mech = Mechanism(loads_model(BOOM + WINCH))
+    theta = default_sweep(mech)["hoist"]
+    ratio = mech.model.ropes[0].ratio
+    d0 = np.hypot(2.5, 1.0)
+    # 0.8 to 1.25 times the sketch's distance (the boom reaches all of it)
+    assert theta[0] * ratio == pytest.approx(0.8 * d0, rel=1e-12)
+    assert theta[-1] * ratio == pytest.approx(1.25 * d0, rel=1e-12)
+    assert mech.solve({"hoist": theta}).status.all_ok

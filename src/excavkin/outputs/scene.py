@@ -123,7 +123,8 @@ class Scene:
     positions : ndarray, shape (n, n_points, 2)
         Point positions, m.
     ropes : iterable of str
-        Linear elements to draw as plain lines rather than cylinders.
+        Linear elements to draw as plain lines rather than cylinders (the model's ropes are
+        drawn so always).
     length_unit : str
         Display unit of lengths.
 
@@ -177,6 +178,7 @@ class Scene:
         unknown = ropes - {e.name for e in plan.elements}
         if unknown:
             raise ValueError(f"ropes: no linear element named {', '.join(sorted(unknown))}")
+        ropes |= {r.name for r in model.ropes}
         ends: set[str] = set()
         self.elements = []
         for e in plan.elements:
