@@ -457,16 +457,18 @@ def _drivers(r: TomlReader, bodies: list[Body]) -> tuple[list[RotaryDriver], lis
 
 
 def _ropes(r: TomlReader) -> tuple[Rope, ...]:
-    """The ``[ropes]`` table: ``path = [A, B]`` (its two blocks), ``parts`` (default 1),
-    ``mode = "winch" | "locked"`` (default locked), and for a winch ``drum_radius`` (a
-    length) and ``gear_ratio`` (motor turns per drum turn, default 1)."""
+    """The ``[ropes]`` table: ``path = [A, B]`` (its two blocks; or ``[A, S1, …, B]`` over
+    sheaves centred at S1 …, with ``radii`` and ``wraps = ["ccw" | "cw", …]``, one per
+    sheave), ``parts`` (default 1), ``mode = "winch" | "locked"`` (default locked), and for a
+    winch ``drum_radius`` (a length) and ``gear_ratio`` (motor turns per drum turn, default
+    1)."""
     ropes = []
     for rname, spec in r.table("ropes").items():
         r.name(rname, "ropes")
         table = f"ropes.{rname}"
         if not isinstance(spec, dict):
             raise r.err('must be a table such as { path = ["A", "B"], mode = "locked" }', table)
-        allowed = {"path", "parts", "mode", "drum_radius", "gear_ratio"}
+        allowed = {"path", "parts", "mode", "drum_radius", "gear_ratio", "radii", "wraps"}
         r.keys(spec, allowed, "ropes", rname)
         path = spec.get("path")
         if not isinstance(path, list) or not all(isinstance(p, str) for p in path) or not path:
@@ -492,7 +494,16 @@ def _ropes(r: TomlReader) -> tuple[Rope, ...]:
             radius = r.qty(spec["drum_radius"], "length", table, "drum_radius")
             if "gear_ratio" in spec:
                 ratio = r.qty(spec["gear_ratio"], "dimensionless", table, "gear_ratio")
-        ropes.append(Rope(rname, tuple(path), parts, mode, radius, ratio))
+        radii = spec.get("radii", [])
+        if not isinstance(radii, list):
+            raise r.err("radii must list each sheave's radius", table, "radii")
+        wraps = spec.get("wraps", [])
+        if not isinstance(wraps, list) or not all(isinstance(w, str) for w in wraps):
+            raise r.err('wraps must list "ccw" or "cw" for each sheave', table, "wraps")
+        sizes = tuple(r.qty(v, "length", table, "radii") for v in radii)
+        ropes.append(
+            Rope(rname, tuple(path), parts, mode, radius, ratio, sizes, tuple(wraps))  # type: ignore[arg-type]
+        )
     return tuple(ropes)
 
 

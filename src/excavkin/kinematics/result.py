@@ -556,7 +556,7 @@ class KinematicResult:
             for qty, arr in zip(("angle", "omega", "epsilon"), body_arrays, strict=True):
                 cols.append((column(b, "body", qty, QUANTITIES[qty][1]), arr[:, j]))
         input_arrays = (self.inputs, self.input_rates, self.input_accels)
-        winches = {e.input for e in plan.elements if e.ratio}
+        winches = {plan.inputs.index(r.name) for r in plan.model.ropes if r.mode == "winch"}
         for i, name in enumerate(plan.inputs):
             if i in winches:  # a winch rope: its motor's angle (its length is the element's)
                 for qty, arr in zip(

@@ -150,6 +150,8 @@ class ForceResult:
     at_rest : tuple of str
         The swept drivers given no rate, taken at rest (rate 0) for these forces: forces
         without given rates are static (`static`, `motion_note`).
+    rope_tension : ndarray, shape (n, n_sheaved), optional
+        The tension of each rope over sheaves, N (`tension` reads every rope's).
     """
 
     kinematics: KinematicResult
@@ -164,6 +166,7 @@ class ForceResult:
     mass: MassProperties
     tangents: dict[str, dict[str, F]] | None = None
     at_rest: tuple[str, ...] = ()
+    rope_tension: F | None = None
 
     @property
     def static(self) -> bool:
@@ -231,6 +234,7 @@ class ForceResult:
               for k, d in enumerate(self.system.rotary)),
             *((f"{sl[0]}.normal", self.slider_force[:, k], "force")
               for k, sl in enumerate(self.system.sliders)),
+            *((f"{r.name}.tension", t, "force") for r, t in self._ropes() if r.over_sheaves),
         ]  # fmt: skip
         solved = int(ok.sum())
         if efforts:
@@ -269,22 +273,32 @@ class ForceResult:
         return np.asarray(self.kinematics.status.ok & ~self.singular & ~self.slack)
 
     # ---- ropes: tension only
-    def _ropes(self) -> list[tuple[Rope, int]]:
-        """Each rope of the model with its column of ``element_force``."""
+    def _ropes(self) -> list[tuple[Rope, F]]:
+        """Each rope of the model with its tension (N, shape (n,)): a rope between blocks
+        carries its blocks' force over its parts, one over sheaves its own unknown."""
         names = [e[0] for e in self.system.elements]
-        return [(r, names.index(r.name)) for r in self.kinematics.plan.model.ropes]
+        sheaved = [r[0] for r in self.system.ropes]
+        out: list[tuple[Rope, F]] = []
+        for rope in self.kinematics.plan.model.ropes:
+            if rope.over_sheaves:
+                assert self.rope_tension is not None
+                t = self.rope_tension[:, sheaved.index(rope.name)]
+            else:
+                t = -self.element_force[:, names.index(rope.name)] / rope.parts
+            out.append((rope, np.asarray(t)))
+        return out
 
     @property
     def slack(self) -> np.ndarray:
         """Samples where some rope would have to push (its tension < 0): a rope carries tension
         only, so these forces are not the mechanism's (not `ok`), shape (n,)."""
         out = np.zeros(len(self), dtype=bool)
-        for _, k in self._ropes():
-            out |= self.element_force[:, k] > 0.0
+        for _, tension in self._ropes():
+            out |= tension < 0.0
         return out
 
     def tension(self, name: str) -> F:
-        """A rope's tension, N, shape (n,): its blocks' force over its parts.
+        """A rope's tension, N, shape (n,).
 
         Parameters
         ----------
@@ -294,25 +308,25 @@ class ForceResult:
         Returns
         -------
         ndarray, shape (n,)
-            ``−force / parts`` (N); negative where the rope would have to push (`slack`).
+            Between two blocks, ``−force / parts``; over sheaves, the tension along each free
+            segment (N). Negative where the rope would have to push (`slack`).
 
         Raises
         ------
         UnknownNameError
             No rope of that name, with the nearest names (a `KeyError` too).
         """
-        for rope, k in self._ropes():
+        ropes = self._ropes()
+        for rope, tension in ropes:
             if rope.name == name:
-                return np.asarray(-self.element_force[:, k] / rope.parts)
-        raise unknown_name("rope", name, [r.name for r, _ in self._ropes()])
+                return tension
+        raise unknown_name("rope", name, [r.name for r, _ in ropes])
 
     def winch_torque(self, name: str) -> F:
         """A winch rope's motor torque, N·m, shape (n,), in the sense of the motor's angle.
 
-        The rope pulls its blocks together with ``parts·T``; a motor angle θ sets their
-        distance ``d = θ·R/(i·parts)``, so by virtual work the motor's torque is
-        ``force·R/(i·parts) = −T·R/i`` and its power ``torque·ω`` is the rope's on the
-        mechanism.
+        A motor angle θ pays out ``θ·R/i`` of rope, so by virtual work the motor's torque is
+        ``−T·R/i`` and its power ``torque·ω`` is the rope's on the mechanism.
 
         Parameters
         ----------
@@ -330,10 +344,11 @@ class ForceResult:
         UnknownNameError
             No winch rope of that name, with the nearest names (a `KeyError` too).
         """
-        winches = [(r, k) for r, k in self._ropes() if r.mode == "winch"]
-        for rope, k in winches:
+        winches = [(r, t) for r, t in self._ropes() if r.mode == "winch"]
+        for rope, tension in winches:
             if rope.name == name:
-                return np.asarray(self.element_force[:, k] * rope.ratio)
+                assert rope.drum_radius is not None
+                return np.asarray(-tension * (rope.drum_radius / rope.gear_ratio))
         raise unknown_name("winch rope", name, [r.name for r, _ in winches])
 
     # ---- lookups by name
@@ -468,8 +483,8 @@ class ForceResult:
             cols.append((column(d[0], "driver", "torque", "torque"), self.driver_torque[:, k]))
         for k, s in enumerate(sy.sliders):
             cols.append((column(s[0], "slider", "normal", "force"), self.slider_force[:, k]))
-        for rope, _ in self._ropes():
-            cols.append((column(rope.name, "driver", "tension", "force"), self.tension(rope.name)))
+        for rope, tension in self._ropes():
+            cols.append((column(rope.name, "driver", "tension", "force"), tension))
             if rope.mode == "winch":
                 torque = self.winch_torque(rope.name)
                 cols.append((column(rope.name, "driver", "torque", "torque"), torque))
@@ -552,8 +567,8 @@ class ForceResult:
         labels = self.kinematics.status.labels()
         bad = self.singular & self.kinematics.status.ok
         labels[bad] = "statically singular (redundant joint at this position)"
-        for rope, k in self._ropes():
-            pushes = (self.element_force[:, k] > 0.0) & self.kinematics.status.ok & ~bad
+        for rope, tension in self._ropes():
+            pushes = (tension < 0.0) & self.kinematics.status.ok & ~bad
             labels[pushes] = f"slack rope {rope.name!r} (it would have to push)"
         return labels
 
@@ -634,6 +649,12 @@ class ForceResult:
             p = self.element_force[:, k] * kin.element_rate[:, e]
             driver += p
             scale += np.abs(p)
+        inputs = kin.plan.inputs
+        for rope, _ in self._ropes():  # a winch over sheaves: its motor's torque times speed
+            if rope.over_sheaves and rope.mode == "winch":
+                p = self.winch_torque(rope.name) * kin.input_rates[:, inputs.index(rope.name)]
+                driver += p
+                scale += np.abs(p)
         load = np.zeros(n)
         ev = self.evaluated
         for _, point, fx, fy in ev.forces:

@@ -231,11 +231,16 @@ def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
     for k, s in enumerate(sy.sliders):
         out[f"{s[0]}.normal"] = tan[s0 + k]
     elements = [e[0] for e in sy.elements]
+    sheaved = [r[0] for r in sy.ropes]
     for rope in forces.kinematics.plan.model.ropes:  # tension and winch torque: linear in force
-        df = tan[e0 + elements.index(rope.name)]
-        out[f"{rope.name}.tension"] = -df / rope.parts
+        if rope.over_sheaves:
+            dt = tan[sy.rope_col0 + sheaved.index(rope.name)]
+        else:
+            dt = -tan[e0 + elements.index(rope.name)] / rope.parts
+        out[f"{rope.name}.tension"] = dt
         if rope.mode == "winch":
-            out[f"{rope.name}.torque"] = df * rope.ratio
+            assert rope.drum_radius is not None
+            out[f"{rope.name}.torque"] = -dt * (rope.drum_radius / rope.gear_ratio)
     ground = sy.ground
     rx, ry = np.zeros(n), np.zeros(n)
     for k, (_, j) in enumerate(sy.slots):

@@ -43,6 +43,7 @@ if TYPE_CHECKING:
 
 LinearMode = Literal["driven", "locked", "free"]
 RopeMode = Literal["winch", "locked"]
+Wrap = Literal["ccw", "cw"]
 
 #: A load's value: a constant, an array with one row per sample, or a function of the
 #: kinematic result returning either (see [`PointForce`][excavkin.model.entities.PointForce] and
@@ -131,7 +132,8 @@ class LinearDriver:
 
 @dataclass(frozen=True, slots=True)
 class Rope:
-    """A rope reeved ``parts`` times between two blocks, wound on a winch or locked.
+    """A rope reeved ``parts`` times between two blocks, or run over sheaves; wound on a winch
+    or locked.
 
     The rope runs ``parts`` times between the blocks at ``path[0]`` and ``path[1]``, so its
     length is ``L = parts·d + L0`` with ``d`` the blocks' distance and ``L0`` what lies off
@@ -149,13 +151,19 @@ class Rope:
     The model lists it also as a linear element of its name between its blocks (driven for
     a winch, locked otherwise): a [`Model`][excavkin.model.entities.Model] adds that element.
 
+    Over sheaves (a ``path`` of more than two points, one part): the rope runs from
+    ``path[0]`` over a sheave of radius ``radii[k]`` centred at each inner point, turning
+    counter-clockwise (``"ccw"``: the sheave on the rope's left as it runs from the first point
+    to the last) or clockwise around it, to ``path[-1]``. Its length is the sum of its free
+    tangent segments and its arcs on the sheaves; a winch's length is ``θ·R/i``.
+
     Attributes
     ----------
     name : str
         The rope's name (the winch motor's input, for a winch).
     path : tuple of str
-        The two blocks (points) the rope runs between (a path over sheaves between them is
-        not supported yet: the model refuses one).
+        The two blocks (points) the rope runs between, or its two ends with the centres of
+        the sheaves it runs over between them, in order.
     parts : int
         Parts of the rope between the blocks (the block's multiplicity), ≥ 1.
     mode : {"winch", "locked"}
@@ -163,6 +171,10 @@ class Rope:
         m; a winch's drum radius (to the rope's centre line).
     gear_ratio : float
         Motor turns per drum turn (> 0), for a winch.
+    radii : tuple of float
+        m; each sheave's radius (to the rope's centre line), one per inner point of ``path``.
+    wraps : tuple of {"ccw", "cw"}
+        The way the rope turns around each sheave, one per inner point of ``path``.
     """
 
     name: str
@@ -171,10 +183,18 @@ class Rope:
     mode: RopeMode = "locked"
     drum_radius: float | None = None
     gear_ratio: float = 1.0
+    radii: tuple[float, ...] = ()
+    wraps: tuple[Wrap, ...] = ()
+
+    @property
+    def over_sheaves(self) -> bool:
+        """Whether the rope runs over sheaves (a path of more than two points)."""
+        return len(self.path) > 2
 
     @property
     def ratio(self) -> float:
-        """The blocks' distance per motor angle, ``R/(i·parts)`` (m/rad); 0 for a locked rope."""
+        """The blocks' distance (over sheaves: the rope's length) per motor angle,
+        ``R/(i·parts)`` (m/rad); 0 for a locked rope."""
         if self.mode != "winch" or self.drum_radius is None:
             return 0.0
         return self.drum_radius / (self.gear_ratio * self.parts)
@@ -354,9 +374,12 @@ class Model:
 
     @property
     def inputs(self) -> tuple[str, ...]:
-        """Names of the drivers whose values are inputs: rotary ones and driven linear ones."""
-        return tuple(d.name for d in self.rotary) + tuple(
-            d.name for d in self.linear if d.mode == "driven"
+        """Names of the drivers whose values are inputs: rotary ones, driven linear ones (a
+        winch rope between two blocks among them), then winch ropes over sheaves."""
+        return (
+            tuple(d.name for d in self.rotary)
+            + tuple(d.name for d in self.linear if d.mode == "driven")
+            + tuple(r.name for r in self.ropes if r.mode == "winch" and r.over_sheaves)
         )
 
     def body(self, name: str) -> Body:
@@ -414,4 +437,6 @@ def with_rope_elements(
         ``linear``, then the element (`Rope.element`) of each rope not in it, in order.
     """
     names = {d.name for d in linear}
-    return linear + tuple(r.element() for r in ropes if r.name not in names and r.path)
+    return linear + tuple(
+        r.element() for r in ropes if r.name not in names and r.path and not r.over_sheaves
+    )

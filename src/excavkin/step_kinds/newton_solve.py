@@ -27,7 +27,8 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.step_kinds.base import kind_of
-from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, GroupDyad
+from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, CRope, GroupDyad
+from excavkin.step_kinds.rope_path import rope_path
 from excavkin.step_kinds.small_systems import Factors
 from excavkin.step_kinds.state import Chunk, Code, dist, flag
 
@@ -112,8 +113,47 @@ def _equations(
                         + _cross(ux, uy, gax, gay)
                     )
             yield f, grad, f1, f2
+        elif isinstance(con, CRope):
+            yield _rope(c, con, x, v, a, want)
         else:
             yield _angle(c, con, x, v, a, want)
+
+
+def _rope(
+    c: Chunk, con: CRope, x: F, v: F | None, a: F | None, want: frozenset[int]
+) -> tuple[F, Grad, F | None, F | None]:
+    """``L² − d²`` of a rope over sheaves (`excavkin.step_kinds.rope_path`), its gradient
+    ``2L·(u_{k−1} − u_k)`` per path point, and its rates ``2L·L̇ − 2d·ḋ`` and
+    ``2L̇² + 2L·L̈ − 2(ḋ² + d·d̈)``, L̈ = Σ u_k·D̈_k + Σ (n_k·Ḋ_k)²/ℓ_k."""
+    d, dd, ddd = dist(c, con.dist)
+    pts = con.points
+    geo = rope_path([(x[p, 0], x[p, 1]) for p in pts], con.signed, con.wraps0)
+    length = geo.length
+    zero = np.zeros(x.shape[-1], dtype=x.dtype)
+    f = length * length - d * d + zero
+    if c.nudge is not None:  # the rounding of the difference, emulated
+        f = f + c.nudge * (length * length + d * d)
+    grad: Grad = []
+    if want:
+        acc: dict[int, tuple[Any, Any]] = {}
+        last = len(pts) - 1
+        for k, p in enumerate(pts):
+            if p not in want:
+                continue
+            gx = (geo.ux[k - 1] if k else 0.0) - (geo.ux[k] if k < last else 0.0)
+            gy = (geo.uy[k - 1] if k else 0.0) - (geo.uy[k] if k < last else 0.0)
+            ox, oy = acc.get(p, (0.0, 0.0))
+            acc[p] = (ox + 2 * length * gx, oy + 2 * length * gy)
+        grad = [(p, gx, gy) for p, (gx, gy) in acc.items()]
+    f1 = f2 = None
+    if v is not None:
+        vel = [(v[p, 0], v[p, 1]) for p in pts]
+        rate = geo.rate(vel)
+        f1 = 2 * length * rate - 2 * d * dd + zero
+        if a is not None:
+            accel = geo.rate([(a[p, 0], a[p, 1]) for p in pts]) + geo.curvature(vel)
+            f2 = 2 * rate * rate + 2 * length * accel - 2 * (dd * dd + d * ddd) + zero
+    return f, grad, f1, f2
 
 
 def _frame(arr: F, con: CFrame, comp: int) -> F:
@@ -205,7 +245,7 @@ def tangents(c: Chunk, g: NewtonGroup, values: tuple[F, F, F]) -> None:
     # the group's own constants at their values: its Jacobian is a plain one
     cons: list[Any] = []
     for con in g.constraints:
-        if isinstance(con, CDist):
+        if isinstance(con, CDist | CRope):
             con = replace(con, dist=replace(con.dist, value=val(con.dist.value)))
         elif isinstance(con, CFrame):
             con = replace(con, s=val(con.s), t=val(con.t))
