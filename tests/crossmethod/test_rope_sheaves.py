@@ -230,3 +230,26 @@ def test_locked_rope_over_a_sheave_in_a_family_of_designs() -> None:
             family.positions[3 * k : 3 * k + 3], alone.positions, rtol=0, atol=1e-12
         )
     np.testing.assert_allclose(family.positions[1, 4], (1.5, 2.0), atol=1e-12)
+
+
+def test_drawn_along_its_tangents_and_arcs() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from excavkin.outputs.drawing import draw_mechanism
+
+    mech = Mechanism(boom(mass=False))
+    res = mech.solve({"hoist": mech.plan.input_sketch[0] + np.linspace(-30.0, 30.0, 3)})
+    d = draw_mechanism(res, sample=0)
+    line, same = d.cylinders["hoist"]
+    assert line is same
+    d.set_sample(2)
+    poly = np.column_stack([line.get_xdata(), line.get_ydata()]) / 1000.0  # drawn in mm
+    # from the mast, round the sheave at its radius, down to the anchor
+    np.testing.assert_allclose(poly[0], (-1.0, 3.0), atol=1e-12)
+    np.testing.assert_allclose(poly[-1], (-2.0, 0.5), atol=1e-12)
+    s = res.positions[2, 3]
+    np.testing.assert_allclose(np.hypot(*(poly[1:-1] - s).T), 0.3, rtol=1e-12)
+    # its drawn length is the rope's, to the arcs' chords
+    drawn = np.sum(np.hypot(*np.diff(poly, axis=0).T))
+    assert drawn == pytest.approx((mech.plan.input_sketch[0] + 30.0) * 0.25 / 20.0, rel=1e-3)

@@ -60,8 +60,8 @@ def test_seeds_winch_relation_by_the_solved_model() -> None:
     v_rope = float(ref.rope_speed(d.omega_motor, d.r_drum, d.gear_ratio, d.multiplicity)[0])
     assert motor.status.all_ok
     frame = motor.to_frame()
-    np.testing.assert_allclose(frame["drag.motor_speed"], omega, rtol=0)
-    np.testing.assert_allclose(-frame["drag.rate"], v_rope, rtol=4e-16)  # to one rounding
+    np.testing.assert_allclose(frame["drag.rate"], omega, rtol=0)  # the motor's speed
+    np.testing.assert_allclose(-frame["drag.length_rate"], v_rope, rtol=4e-16)  # one rounding
     lengths = by_length.solve({"drag": length}, {"drag": -v_rope}, {"drag": eps * winch.ratio})
     assert lengths.status.all_ok
     np.testing.assert_allclose(motor.positions, lengths.positions, rtol=0, atol=1e-12)

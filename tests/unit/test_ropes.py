@@ -181,7 +181,7 @@ def test_command_line_refuses_a_slack_rope_unless_keep_going(tmp_path: Path) -> 
     frame = pd.read_csv(out)
     assert list(frame["status"] == "ok") == [False] * 3 + [True] * 8
     assert (frame["hoist.tension"][:3] < 0).all() and (frame["hoist.tension"][3:] > 0).all()
-    np.testing.assert_allclose(frame["hoist.motor_angle"], np.linspace(150, 250, 11))
+    np.testing.assert_allclose(frame["hoist.value"], np.linspace(150, 250, 11))
 
 
 def test_a_rope_is_drawn_as_a_line() -> None:

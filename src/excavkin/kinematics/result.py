@@ -16,6 +16,7 @@ from excavkin.kinematics.change_points import ChangePoint
 from excavkin.kinematics.columns import (
     QUANTITIES,
     TIME,
+    WINCH_LENGTH,
     Column,
     column,
     derivative_column,
@@ -556,14 +557,8 @@ class KinematicResult:
             for qty, arr in zip(("angle", "omega", "epsilon"), body_arrays, strict=True):
                 cols.append((column(b, "body", qty, QUANTITIES[qty][1]), arr[:, j]))
         input_arrays = (self.inputs, self.input_rates, self.input_accels)
-        winches = {plan.inputs.index(r.name) for r in plan.model.ropes if r.mode == "winch"}
         for i, name in enumerate(plan.inputs):
-            if i in winches:  # a winch rope: its motor's angle (its length is the element's)
-                for qty, arr in zip(
-                    ("motor_angle", "motor_speed", "motor_accel"), input_arrays, strict=True
-                ):
-                    cols.append((column(name, "driver", qty, QUANTITIES[qty][1]), arr[:, i]))
-            elif plan.input_kinds[i] == "angle":
+            if plan.input_kinds[i] == "angle":
                 for c, arr in zip(driver_columns(name, "angle"), input_arrays, strict=True):
                     cols.append((c, arr[:, i]))
         element_arrays = (
@@ -579,9 +574,13 @@ class KinematicResult:
                 column(e.name, "driver", qty, QUANTITIES[qty][1])
                 for qty in ("angle", "omega", "epsilon")
             ]
-            for c, arr in zip(
-                [*driver_columns(e.name, "length"), *line], element_arrays, strict=True
-            ):
+            # a winch rope's value is its motor's angle: its blocks' distance is its length
+            lengths = (
+                [column(e.name, "driver", q, QUANTITIES[q][1]) for q in WINCH_LENGTH]
+                if e.ratio
+                else driver_columns(e.name, "length")
+            )
+            for c, arr in zip([*lengths, *line], element_arrays, strict=True):
                 cols.append((c, arr[:, j]))
         for k, p in enumerate(plan.transmissions):
             cols.append((column(p, "point", "transmission", "angle"), self.transmission[:, k]))
