@@ -212,3 +212,8 @@ def test_default_sweep_of_a_winch_spans_its_blocks_distance() -> None:
     assert theta[0] * ratio == pytest.approx(0.8 * d0, rel=1e-12)
     assert theta[-1] * ratio == pytest.approx(1.25 * d0, rel=1e-12)
     assert mech.solve({"hoist": theta}).status.all_ok
+
+
+def test_check_lists_the_rope() -> None:
+    text = Mechanism(loads_model(BOOM + WINCH)).describe()
+    assert "  rope    : hoist winch, 2 parts A–B, drum R 0.25 m, i = 20" in text.splitlines()

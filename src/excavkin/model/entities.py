@@ -419,6 +419,32 @@ class Model:
         return out
 
 
+def rope_line(rope: Rope) -> str:
+    """A rope in one line, as ``excavkin check`` lists it.
+
+    Parameters
+    ----------
+    rope : Rope
+
+    Returns
+    -------
+    str
+        ``"hoist winch, 2 parts A–B, drum R 0.25 m, i = 20"`` and the like.
+    """
+    if rope.over_sheaves:
+        sheaves = ", ".join(
+            f"{p} (r {r:g} m, {w})"
+            for p, r, w in zip(rope.path[1:-1], rope.radii, rope.wraps, strict=False)
+        )
+        where = f"{rope.path[0]} over {sheaves} to {rope.path[-1]}"
+    else:
+        where = f"{rope.parts} part{'s' if rope.parts != 1 else ''} {'–'.join(rope.path)}"
+    drum = (
+        f", drum R {rope.drum_radius:g} m, i = {rope.gear_ratio:g}" if rope.mode == "winch" else ""
+    )
+    return f"{rope.name} {rope.mode}, {where}{drum}"
+
+
 def with_rope_elements(
     linear: tuple[LinearDriver, ...], ropes: tuple[Rope, ...]
 ) -> tuple[LinearDriver, ...]:
