@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from excavkin import Gravity, Mechanism, Model, PointForce, Rope
-from excavkin.model.entities import Body, RotaryDriver
+from excavkin.model.entities import Body, RotaryDriver, Slider
 from excavkin.step_kinds.rope_path import rope_path, sketch_wraps
 from tests.conftest import fd_derivatives
 
@@ -253,3 +253,49 @@ def test_drawn_along_its_tangents_and_arcs() -> None:
     # its drawn length is the rope's, to the arcs' chords
     drawn = np.sum(np.hypot(*np.diff(poly, axis=0).T))
     assert drawn == pytest.approx((mech.plan.input_sketch[0] + 30.0) * 0.25 / 20.0, rel=1e-3)
+
+
+def test_a_rope_that_would_leave_its_sheave_is_a_failing_sample() -> None:
+    """A carriage E on a 45° guide, pulled by a rope from A under a fixed sheave S (r = 0.2 m,
+    turning counter-clockwise) up to E. Paid in, E slides down its guide until it reaches the
+    line of the rope's tangent from A: there the wrap is zero (by hand, the rope is straight,
+    L = |E − A|), and beyond it the rope would leave the sheave: those samples fail."""
+    model = Model(
+        "carriage on a rope",
+        {
+            "A": (-3.0, 0.0),
+            "S": (0.0, 0.0),
+            "G1": (2.0, 0.0),
+            "H1": (3.0, 1.0),
+            "G2": (2.5, 0.0),
+            "H2": (3.5, 1.0),
+            "E": (2.7, 0.7),
+            "E2": (3.2, 0.7),
+        },
+        (
+            Body("ground", ("A", "S", "G1", "H1", "G2", "H2"), ground=True),
+            Body("car", ("E", "E2")),
+        ),
+        sliders=(Slider("left", "E", ("G1", "H1")), Slider("right", "E2", ("G2", "H2"))),
+        ropes=(
+            Rope(
+                "hoist",
+                ("A", "S", "E"),
+                mode="winch",
+                drum_radius=0.5,
+                radii=(0.2,),
+                wraps=("ccw",),
+            ),
+        ),  # fmt: skip
+    )
+    mech = Mechanism(model)
+    slope = -np.tan(np.arcsin(0.2 / 3.0))  # the tangent from A under the sheave
+    x = (2.0 + 3.0 * slope) / (1.0 - slope)  # where it meets the guide y = x − 2
+    boundary = np.hypot(x + 3.0, x - 2.0) / 0.5  # the motor angle: L = |E − A| / (R/i)
+    theta = boundary + np.array([-0.1, -1e-6, 1e-6, 0.1, 1.0])
+    res = mech.solve({"hoist": theta})
+    labels = list(res.status.labels())
+    off = "a rope leaves a sheave (its wrap would be negative) at group E, E2"
+    assert labels == [off, off, "ok", "ok", "ok"]
+    assert np.isnan(res.positions[:2, 6]).all()
+    np.testing.assert_allclose(res.positions[2, 6], (x, x - 2.0), atol=1e-6)

@@ -43,6 +43,7 @@ _REASON = {
     Code.UNDETERMINED: "undetermined (its two partners coincide)",
     Code.IMPRECISE: "rates lose precision near a dead position",
     Code.BAD_DESIGN: "the design's dimensions build no mechanism",
+    Code.ROPE_OFF_SHEAVE: "a rope leaves a sheave (its wrap would be negative)",
 }
 
 

@@ -17,7 +17,7 @@ from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
 from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, Constraint, CRope, GroupDyad
 from excavkin.step_kinds.dist import Index, at, dist_inputs, take_dist, varies, vary_dist
-from excavkin.step_kinds.newton_solve import newton_positions, newton_rates
+from excavkin.step_kinds.newton_solve import newton_positions, newton_rates, ropes_on_sheaves
 from excavkin.step_kinds.rope_path import rope_path
 from excavkin.step_kinds.state import Chunk
 
@@ -95,6 +95,7 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
         by one factorisation of the Jacobian; returns its determinant's sign (order 2)."""
         if newton:
             newton_positions(c, st, k, scale)
+            ropes_on_sheaves(c, st, k)
         if order:
             return newton_rates(c, st, k)
         return None

@@ -483,6 +483,28 @@ def newton_rates(c: Chunk, g: NewtonGroup, k: int) -> F:
     return np.sign(ratio)  # type: ignore[no-any-return]
 
 
+def ropes_on_sheaves(c: Chunk, g: NewtonGroup, k: int) -> None:
+    """Flag the samples where a rope of the group would leave a sheave: a wrap below zero
+    (the rope would not touch it, and its length is not the one solved for) or a segment with
+    no tangent; their points are NaN."""
+    bad = np.zeros(c.x.shape[-1], dtype=bool)
+    for con in g.constraints:
+        if not isinstance(con, CRope):
+            continue
+        x = c.x
+        with np.errstate(invalid="ignore"):
+            geo = rope_path([(x[p, 0], x[p, 1]) for p in con.points], con.signed, con.wraps0)
+            for w in geo.wraps:
+                bad |= ~(np.asarray(w) >= -1e-12)
+            for ell in geo.ell:
+                bad |= ~np.isfinite(ell)
+    bad &= c.status == 0
+    if bad.any():
+        flag(c, bad, Code.ROPE_OFF_SHEAVE, k)
+        for p in g.points:
+            c.x[p][:, bad] = np.nan
+
+
 def rotary_branch_ok(c: Chunk, g: NewtonGroup) -> NDArray[np.bool_]:
     """True where every driver-angle constraint points its body the driven way (not θ + π)."""
     ok = np.ones(c.x.shape[-1], dtype=bool)

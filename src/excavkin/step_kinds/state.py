@@ -32,6 +32,7 @@ class Code(IntEnum):
     UNDETERMINED = 8
     IMPRECISE = 9
     BAD_DESIGN = 10
+    ROPE_OFF_SHEAVE = 11
 
 
 @dataclass(slots=True)
