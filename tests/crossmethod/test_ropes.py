@@ -144,3 +144,28 @@ def test_sensitivities_against_8th_order_differences() -> None:
             floor = 1e-3 * max(np.abs(table[col].to_numpy()).max(), 1e-3) / mech.plan.scale
             scale = max(np.abs(fd[col]).max(), floor)
             assert np.abs(exact - fd[col]).max() / scale < 1e-8, (col, name)
+
+
+@pytest.mark.parametrize("sheaved", [False, True])
+def test_a_held_winch_in_a_family_of_designs_holds_each_design_s_sketch(sheaved: bool) -> None:
+    """A winch not given a value is held at its sketch: each design's own sketch length over
+    R/(i·n), so that every design is drawn at its sketch."""
+    if sheaved:
+        rope = Rope("hoist", ("A", "B", "O2"), mode="winch", drum_radius=0.25, gear_ratio=20.0,
+                    radii=(0.2,), wraps=("cw",))  # fmt: skip
+        model = dataclasses.replace(
+            boom(rope, mass=False),
+            points={
+                "O": (0.0, 0.0),
+                "A": (-1.0, 3.0),
+                "B": (1.5, 2.0),
+                "O2": (-2.0, 0.5),
+            },  # fmt: skip
+            bodies=(Body("ground", ("O", "A", "O2"), ground=True), Body("boom", ("O", "B"))),
+        )
+    else:
+        model = boom(mass=False)
+    mech = Mechanism(model)
+    res = mech.solve({}, params={"B.x": np.array([1.5, 1.6]), "B.y": np.array([2.0, 1.9])})
+    assert res.status.all_ok
+    np.testing.assert_allclose(res.positions[:, 2], [(1.5, 2.0), (1.6, 1.9)], atol=1e-12)

@@ -37,6 +37,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.errors import unknown_name
 from excavkin.model.entities import Model
 from excavkin.step_kinds import kind_of
+from excavkin.step_kinds.rope_path import rope_path, sketch_wraps
 from excavkin.structure.plan import SolvePlan, Step
 from excavkin.structure.shapes import LocalFrame, com_coords, local_frame
 
@@ -371,6 +372,19 @@ def _input_sketch(plan: SolvePlan, geo: _Geometry) -> list[Num]:
             given = geo.override(p, q)
             (px, py), (qx, qy) = sk[p], sk[q]
             out[input_index[ld.name]] = given if given is not None else np.hypot(px - qx, py - qy)
+    for rope in model.ropes:  # a winch's input is its motor's angle: the length over R/(i·n)
+        if rope.mode != "winch":
+            continue
+        i = input_index[rope.name]
+        if rope.over_sheaves:
+            signed = (
+                0.0,
+                *(r if w == "ccw" else -r for r, w in zip(rope.radii, rope.wraps, strict=True)),
+                0.0,
+            )
+            wraps0 = sketch_wraps([model.points[p] for p in rope.path], signed)
+            out[i] = rope_path([sk[p] for p in rope.path], signed, wraps0).length
+        out[i] = out[i] / rope.ratio
     return out
 
 
