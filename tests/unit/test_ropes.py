@@ -217,3 +217,17 @@ def test_default_sweep_of_a_winch_spans_its_blocks_distance() -> None:
 def test_check_lists_the_rope() -> None:
     text = Mechanism(loads_model(BOOM + WINCH)).describe()
     assert "  rope    : hoist winch, 2 parts A–B, drum R 0.25 m, i = 20" in text.splitlines()
+
+
+def test_simulate_drives_a_winch_by_its_motor() -> None:
+    from excavkin.errors import InputError
+    from excavkin.motion.drives import ConstantSpeedCrank, RopeWinch
+    from excavkin.simulation.timeline import simulate
+
+    mech = Mechanism(loads_model(BOOM + WINCH))
+    frame = simulate(mech, {"hoist": ConstantSpeedCrank(-10.0)}, duration=2.0, samples=5).to_frame()
+    np.testing.assert_allclose(frame["hoist.rate"], -10.0)
+    # the blocks close at ω·R/(i·parts)
+    np.testing.assert_allclose(frame["hoist.length_rate"], -10.0 * 0.25 / (20 * 2), rtol=1e-15)
+    with pytest.raises(InputError, match="is a winch rope of the model"):
+        simulate(mech, {"hoist": RopeWinch(10.0, 0.25, 20.0, 2.0)}, duration=1.0)
