@@ -231,3 +231,14 @@ def test_simulate_drives_a_winch_by_its_motor() -> None:
     np.testing.assert_allclose(frame["hoist.length_rate"], -10.0 * 0.25 / (20 * 2), rtol=1e-15)
     with pytest.raises(InputError, match="is a winch rope of the model"):
         simulate(mech, {"hoist": RopeWinch(10.0, 0.25, 20.0, 2.0)}, duration=1.0)
+
+
+def test_a_study_counts_a_slack_rope_as_a_failed_pose() -> None:
+    from excavkin.studies.metrics import Poses, solve_set
+
+    text = BOOM + WINCH
+    text += '[loads.hook]\ntype = "force"\nbody = "boom"\npoint = "B"\nvalue = ["0 N", "-1 kN"]\n'
+    mech = Mechanism(loads_model(text))
+    poses = Poses({"hoist": np.array([170.0, 190.0])}, {}, {})  # either side of 178.9 rad
+    _, ok = solve_set(mech, {"B.x": np.array([1.5, 1.4])}, poses, 2, "model")
+    assert ok.tolist() == [[False, True], [False, True]]
