@@ -149,7 +149,7 @@ def plot_dimensions(machine: Loader, dims: Dimensions, *, ax: Axes | None = None
     -------
     LoaderPlot
     """
-    fig, ax = _figure_axes(ax, (9.0, 6.5))
+    fig, ax = _figure_axes(ax, (10.0, 5.6))
     art: dict[str, Any] = {"chassis": draw_chassis(machine, ax)}
     by = {f.name: f for f in dims.figures}
     yg = machine.ground_line
