@@ -270,14 +270,14 @@ def _stability(machine: Loader, samples: int) -> Section:
     cap = capacity(machine, samples)
     rows: list[tuple[Cell, ...]] = []
     for c in (tl.straight, tl.full_turn):
-        k = f"tipping.{c.name}"
+        name = f"tipping.{c.name}"
         rows.append(
             (
                 c.name,
-                Value(c.articulation, "angle", "deg", 1, f"{k}.articulation"),
-                _kg(c.load, f"{k}.load"),
+                Value(c.articulation, "angle", "deg", 1, f"{name}.articulation"),
+                _kg(c.load, f"{name}.load"),
                 c.line,
-                _mm(c.lengths[0], f"{k}.lift_cyl"),
+                _mm(c.lengths[0], f"{name}.lift_cyl"),
             )
         )
     rows.append(
@@ -355,7 +355,7 @@ def _cycle(machine: Loader) -> Section:
     from excavkin.loader.cycle import cycle
 
     cy = cycle(machine)
-    rows = []
+    rows: list[tuple[Cell, ...]] = []
     limits = []
     for p in cy.phases:
         k = f"cycle.{p.name}"

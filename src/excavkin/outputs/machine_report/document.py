@@ -162,12 +162,11 @@ def build_machine_report(report: MachineReport) -> str:
 
     from excavkin import __version__
 
-    plotly = any(_is_plotly(c.figure) for s in report.sections for c in s.charts)
     plotlyjs = ""
-    if plotly:
-        import plotly.offline
+    if any(_is_plotly(c.figure) for s in report.sections for c in s.charts):
+        from plotly.offline import get_plotlyjs
 
-        plotlyjs = f"<script>{plotly.offline.get_plotlyjs()}</script>"
+        plotlyjs = f"<script>{get_plotlyjs()}</script>"
     identity = (
         '<table class="identity"><tbody>'
         + "".join(
