@@ -45,7 +45,7 @@ FAMILY = "hydraulic excavator"
 SAMPLES = 21
 
 #: poses between two working-range poses of the moving front
-FRONT_STEPS = 24
+FRONT_STEPS = 16
 
 #: the working-range poses the moving front passes through, in order
 FRONT_POSES = (

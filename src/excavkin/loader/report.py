@@ -44,7 +44,7 @@ FAMILY = "wheel loader"
 SAMPLES = 41
 
 #: poses of each stage of the moving front (raise, dump, roll back, lower)
-FRONT_STEPS = 30
+FRONT_STEPS = 20
 
 
 def _mm(v: float, key: str) -> Value:
