@@ -328,3 +328,34 @@ def test_the_default_file_is_named_after_the_machine(tmp_path, monkeypatch) -> N
     r = CliRunner().invoke(main, ["loader", "report", "wheel_loader_machine", "--samples", "3"])
     assert r.exit_code == 0, r.output
     assert (tmp_path / "wheel_loader_machine.html").is_file()
+
+
+def _cut(name: str, header: str, tmp_path: Path) -> Path:
+    """A copy of a built-in machine file without its tables from ``header`` on."""
+    text = excavkin.example_path(name).read_text()
+    assert header in text
+    path = tmp_path / f"{name}.toml"
+    path.write_text(
+        text[: text.index(header)]
+        .replace('"wheel_loader.toml"', f'"{excavkin.example_path("wheel_loader")}"')
+        .replace('"excavator.toml"', f'"{excavkin.example_path("excavator")}"')
+    )
+    return path
+
+
+def test_a_machine_without_hydraulics_or_base_has_no_such_section(tmp_path) -> None:
+    from excavkin.loader.report import report_sections
+
+    loader = load_machine(_cut("wheel_loader_machine", "[hydraulics]", tmp_path))
+    assert loader.hydraulics is None
+    assert "cycle" not in [s.key for s in report_sections(loader, samples=3)]
+    out = tmp_path / "excavator.html"
+    path = _cut("excavator_machine", "# The base machine", tmp_path)
+    r = CliRunner().invoke(
+        main, ["excavator", "report", str(path), "-o", str(out), "--samples", "2"]
+    )
+    assert r.exit_code == 0, r.output
+    ids = values(out.read_text()).ids
+    assert "stability-section" not in ids and "cycle-section" not in ids
+    assert "forces-section" in ids and "front" in ids
+    assert "No base machine in the machine file: no stability section." in out.read_text()
