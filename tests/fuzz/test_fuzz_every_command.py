@@ -71,6 +71,8 @@ BASE: dict[str, list[str]] = {
     "excavator optimize": ["{machine_study}", "--method", "slsqp", "-o", "{d}/b.csv", "--force"],
     "excavator pins": ["excavator_machine", "--samples", "3"],
     "excavator ranges": ["excavator_machine"],
+    "excavator report": ["excavator_machine", "--samples", "2", "-o", "{d}/e.html", "--force",
+                         "-q"],
     "excavator stability": ["excavator_machine", "--samples", "3"],
     "excavator study": ["{machine_study}", "-o", "{d}/m.parquet", "--force", "-q"],
     "loader breakout": ["wheel_loader_machine"],
@@ -79,6 +81,8 @@ BASE: dict[str, list[str]] = {
     "loader pins": ["wheel_loader_machine", "--samples", "3"],
     "loader lift": ["wheel_loader_tp_machine", "--samples", "5"],
     "loader ranges": ["wheel_loader_machine"],
+    "loader report": ["wheel_loader_machine", "--samples", "3", "-o", "{d}/l.html", "--force",
+                      "-q"],
     "loader tipping": ["wheel_loader_machine"],
     "reproduce arm": ["--out-dir", "{d}/arm"],
     "reproduce mo100": ["--out-dir", "{d}/mo100", "--samples", "36"],
@@ -224,7 +228,8 @@ def test_garbage_files(tmp_path_factory, path: str, content: str | bytes) -> Non
 
 
 #: commands whose valid run takes seconds (a figure, a dense sweep): fewer cases
-SLOW = {"demo", "excavator cycle", "excavator forces", "excavator ranges", "excavator stability",
+SLOW = {"demo", "excavator cycle", "excavator forces", "excavator ranges", "excavator report",
+        "excavator stability", "loader report",
         *(p for p in BASE if p.startswith("reproduce "))}  # fmt: skip
 
 

@@ -22,6 +22,7 @@ from excavkin.cli.common import (
     model_path,
     si_value,
 )
+from excavkin.cli.machine_report import report_options
 from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
@@ -1359,3 +1360,33 @@ def optimize(
     with optimizer_progress(quiet) as report:
         best = optimize_machine(spec, method=method, progress=report)
     report_optimum(best, output, plot, force)
+
+
+@command.command("report")
+@click.argument("machine", type=click.Path(dir_okay=False))
+@click.option(
+    "--samples",
+    default=21,
+    show_default=True,
+    type=click.IntRange(min=2, max=51),
+    help="Grid points per stroke of the force-map and pin-load sweeps.",
+)
+@report_options
+@handle_errors
+def report(machine: str, samples: int, out: str | None, force: bool, quiet: bool) -> None:
+    """Write a self-contained HTML spec sheet of MACHINE: working ranges, tool forces,
+    stability and lift capacity, pin loads, cycle, their charts and the moving front."""
+    import shlex
+
+    from excavkin.cli.machine_report import report_target, write_report
+    from excavkin.excavator.report import machine_report
+
+    m = _machine(machine)
+    target = report_target(machine, out, force)
+    line = f"excavkin excavator report {shlex.quote(machine)} --samples {samples}"
+    write_report(
+        lambda progress: machine_report(m, samples=samples, command=line, progress=progress),
+        target,
+        force=force,
+        quiet=quiet,
+    )

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 from excavkin.cli.common import handle_errors, model_path
+from excavkin.cli.machine_report import report_options
 
 if TYPE_CHECKING:
     from excavkin.loader.machine import Loader
@@ -170,3 +171,33 @@ def lift(machine: str, samples: int, output: str | None, force: bool) -> None:
 
     _check(output, force)
     _write(parallel_lift(_machine(machine), samples), output, force)
+
+
+@command.command("report")
+@_MACHINE
+@click.option(
+    "--samples",
+    default=41,
+    show_default=True,
+    type=click.IntRange(min=2, max=1001),
+    help="Lift lengths of the capacity, parallel-lift and pin-load sweeps.",
+)
+@report_options
+@handle_errors
+def report(machine: str, samples: int, out: str | None, force: bool, quiet: bool) -> None:
+    """Write a self-contained HTML spec sheet of MACHINE: dimensions, breakout force, tipping
+    loads and capacity, cycle, pin loads, their charts and the moving front."""
+    import shlex
+
+    from excavkin.cli.machine_report import report_target, write_report
+    from excavkin.loader.report import machine_report
+
+    m = _machine(machine)
+    target = report_target(machine, out, force)
+    line = f"excavkin loader report {shlex.quote(machine)} --samples {samples}"
+    write_report(
+        lambda progress: machine_report(m, samples=samples, command=line, progress=progress),
+        target,
+        force=force,
+        quiet=quiet,
+    )

@@ -35,8 +35,10 @@ from excavkin.machinery.pin_loads import pin_forces
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
 
     from excavkin.kinetostatics import ForceResult
+    from excavkin.loader.plots import LoaderPlot
 
 #: the load cases, in order
 CASES = ("breakout", "rated load", "tipping")
@@ -169,6 +171,22 @@ class LoaderPins:
         }
         frame.attrs.update(table_attrs(self.machine, kinds))
         return frame
+
+    def plot(self, *, ax: Axes | None = None) -> LoaderPlot:
+        """Each pin's largest load over the lift in each load case.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Drawn on; a new figure when omitted.
+
+        Returns
+        -------
+        LoaderPlot
+        """
+        from excavkin.loader.plots import plot_pins
+
+        return plot_pins(self, ax=ax)
 
     def summary(self) -> str:
         """Each pin's largest load with its case and height, and each cylinder's largest push
