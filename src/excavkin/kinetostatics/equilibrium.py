@@ -55,6 +55,7 @@ __all__ = [
     "StaticsSystem",
     "Unknown",
     "compile_statics",
+    "dense_block_solve",
     "solve_system",
 ]
 
@@ -556,6 +557,31 @@ def _as_array(v: Entry, c: int) -> F:
         return np.full(c, v)
     assert not isinstance(v, _Var)
     return v
+
+
+def dense_block_solve(
+    a: list[list[Value]], b: list[Value], c: int, rel_tol: float
+) -> tuple[list[F], np.ndarray]:
+    """Solve ``a·y = b`` for c samples at once by Gaussian elimination with partial pivoting.
+
+    Parameters
+    ----------
+    a : list of list of (float or ndarray of shape (c,))
+        The square matrix, row by row (a float: the same for every sample).
+    b : list of (float or ndarray of shape (c,))
+        The right-hand side.
+    c : int
+        Number of samples.
+    rel_tol : float
+        A sample is singular where a pivot is below ``rel_tol`` times the largest entry.
+
+    Returns
+    -------
+    y : list of ndarray, shape (c,)
+        One array per unknown.
+    singular : ndarray of bool, shape (c,)
+    """
+    return _dense_solve(cast("list[list[Entry]]", a), cast("list[Entry]", b), c, rel_tol)
 
 
 def _dense_solve(

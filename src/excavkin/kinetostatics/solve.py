@@ -2,8 +2,10 @@
 
 For each cache-sized chunk of samples: the known load of every moving body (its applied forces
 and couples, its weight and its d'Alembert inertia, reduced to a force and a moment about the
-body's first point), then the compiled elimination of
-`excavkin.kinetostatics.equilibrium`. Samples whose kinematics failed stay NaN.
+body's first point), then the back-substitution along the solve plan of
+`excavkin.kinetostatics.structured` (linear in the model's size), or, compiled, the
+elimination of `excavkin.kinetostatics.equilibrium` as one machine-code loop. Samples whose
+kinematics failed stay NaN.
 """
 
 from __future__ import annotations
@@ -21,11 +23,12 @@ from excavkin.kinetostatics.equilibrium import (
     StaticsSystem,
     compile_statics,
     dense_matrix,
-    solve_system,
 )
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, evaluate_loads
 from excavkin.kinetostatics.result import ForceResult
+from excavkin.kinetostatics.structured import compile_structured, solve_structured
+from excavkin.structure.plan import SolvePlan
 
 __all__ = ["solve_forces"]
 
@@ -55,10 +58,11 @@ def solve_forces(
     inertia : bool
         Include the d'Alembert inertia loads (default); ``False`` solves statics at each pose.
     method : {"sparse", "dense"}
-        ``"sparse"``: the compiled elimination (fast). ``"dense"``: the full matrix per sample
-        with LAPACK (slow; for cross-checking).
+        ``"sparse"``: the back-substitution along the solve plan, or the compiled
+        elimination (fast). ``"dense"``: the full matrix per sample with LAPACK (slow; for
+        cross-checking).
     chunk : int
-        Samples per pass.
+        Samples per pass (memory beyond the result's arrays is bounded by a pass).
     compiled : bool, optional
         Run the ``"sparse"`` elimination as one compiled loop over samples
         (`excavkin.kinetostatics.compiled`, needs numba) or in NumPy. Default: compiled
@@ -100,7 +104,7 @@ def solve_forces(
         if method == "dense":
             _solve_dense(sy, mp, ev, x, a, eps, out, singular)
         elif not _solve_compiled((sy, mp, ev), (x, a, eps), out, singular, compiled):
-            _solve_sparse((sy, mp, ev), (x, a, eps), out, singular, chunk)
+            _solve_sparse((sy, mp, ev), (x, a, eps), out, singular, chunk, plan)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
     bad = singular | ~result.status.solved
@@ -129,13 +133,15 @@ def _solve_sparse(
     out: F,
     singular: np.ndarray,
     chunk: int,
+    plan: SolvePlan,
 ) -> None:
-    """The sparse elimination in NumPy, chunk by chunk."""
+    """The back-substitution along the plan in NumPy, chunk by chunk."""
     sy, mp, ev = known
     x, a, eps = motion
+    structured = compile_structured(plan, sy)
     for s in range(0, out.shape[1], chunk):
         sl = slice(s, min(s + chunk, out.shape[1]))
-        xc = x[:, :, sl]
+        xc = np.ascontiguousarray(x[:, :, sl])
         rhs = body_loads(
             sy,
             mp.at(sl),
@@ -145,10 +151,7 @@ def _solve_sparse(
             None if eps is None else eps[:, sl],
             sl,
         )
-        sol, sing = solve_system(sy, xc, rhs)
-        for col, val in enumerate(sol):
-            out[col, sl] = val
-        singular[sl] = sing
+        out[:, sl], singular[sl] = solve_structured(structured, xc, rhs)
 
 
 def _solve_compiled(
