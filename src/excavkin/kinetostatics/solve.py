@@ -16,7 +16,7 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
-from excavkin.kinematics.compiled import THRESHOLD, available
+from excavkin.kinematics.compiled import AUTO_POINTS, THRESHOLD, available
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
@@ -27,8 +27,11 @@ from excavkin.kinetostatics.equilibrium import (
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, evaluate_loads
 from excavkin.kinetostatics.result import ForceResult
-from excavkin.kinetostatics.structured import compile_structured, solve_structured
-from excavkin.structure.plan import SolvePlan
+from excavkin.kinetostatics.structured import (
+    StructuredSystem,
+    compile_structured,
+    solve_structured,
+)
 
 __all__ = ["solve_forces"]
 
@@ -98,13 +101,14 @@ def solve_forces(
     x = np.moveaxis(result.positions, 0, -1)
     a = np.moveaxis(result.accelerations, 0, -1) if inertia else None
     eps = np.moveaxis(result.body_epsilon, 0, -1) if inertia else None
+    structured = compile_structured(plan, sy)
     out = np.empty((sy.size, n))
     singular = np.zeros(n, dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
         if method == "dense":
             _solve_dense(sy, mp, ev, x, a, eps, out, singular)
-        elif not _solve_compiled((sy, mp, ev), (x, a, eps), out, singular, compiled):
-            _solve_sparse((sy, mp, ev), (x, a, eps), out, singular, chunk, plan)
+        elif not _solve_compiled((structured, mp, ev), (x, a, eps), out, singular, compiled):
+            _solve_sparse((structured, mp, ev), (x, a, eps), out, singular, chunk)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
     bad = singular | ~result.status.solved
@@ -128,17 +132,16 @@ def solve_forces(
 
 
 def _solve_sparse(
-    known: tuple[StaticsSystem, MassProperties, EvaluatedLoads],
+    known: tuple[StructuredSystem, MassProperties, EvaluatedLoads],
     motion: tuple[F, F | None, F | None],
     out: F,
     singular: np.ndarray,
     chunk: int,
-    plan: SolvePlan,
 ) -> None:
     """The back-substitution along the plan in NumPy, chunk by chunk."""
-    sy, mp, ev = known
+    structured, mp, ev = known
+    sy = structured.system
     x, a, eps = motion
-    structured = compile_structured(plan, sy)
     for s in range(0, out.shape[1], chunk):
         sl = slice(s, min(s + chunk, out.shape[1]))
         xc = np.ascontiguousarray(x[:, :, sl])
@@ -155,18 +158,19 @@ def _solve_sparse(
 
 
 def _solve_compiled(
-    known: tuple[StaticsSystem, MassProperties, EvaluatedLoads],
+    known: tuple[StructuredSystem, MassProperties, EvaluatedLoads],
     motion: tuple[F, F | None, F | None],
     out: F,
     singular: np.ndarray,
     compiled: bool | None,
 ) -> bool:
-    """The sparse elimination as its compiled kernel, if ``compiled`` (see
+    """The back-substitution as its compiled kernel, if ``compiled`` (see
     `solve_forces`) asks for it here; whether it ran."""
     from excavkin.kinetostatics import compiled as kernel
 
     n = out.shape[1]
-    if compiled is False or compiled is None and (n < THRESHOLD or not available()):
+    big = len(known[0].system.points) > AUTO_POINTS  # (numba's compile grows with the model)
+    if compiled is False or compiled is None and (n < THRESHOLD or big or not available()):
         return False  # (before the source is traced: small batches stay cheap)
     x, a, eps = motion
     text, values = kernel.source(*known, inertia=a is not None)

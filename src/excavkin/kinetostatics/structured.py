@@ -70,6 +70,7 @@ from excavkin.structure.plan import (
 
 __all__ = [
     "Arithmetic",
+    "determinate",
     "StructuredSystem",
     "back_substitute",
     "compile_structured",
@@ -229,6 +230,47 @@ def compile_structured(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem:
             blocks.append(Block(st.points, tuple(scalars), True))
     slot_of = {s: k for k, s in enumerate(sy.slots)}
     return StructuredSystem(sy, tuple(blocks), slot_of)
+
+
+def determinate(plan: SolvePlan, sy: StaticsSystem, seed: int = 20240601) -> bool:
+    """Whether the plan shows the equilibrium determinate: every closed-form step's block is
+    regular wherever the step assembles, and each Newton group's block has full rank at
+    random positions of the points.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        A plan of the system's model.
+    sy : StaticsSystem
+        The equilibrium system's layout.
+    seed : int
+        For the random positions.
+
+    Returns
+    -------
+    bool
+    """
+    ss = compile_structured(plan, sy)
+    groups = [b for b in ss.blocks if len(b.points) > 1]
+    if not groups:
+        return True
+    rng = np.random.default_rng(seed)
+    sketch = np.asarray(plan.sketch, dtype=np.float64)
+    span = float(np.ptp(sketch, axis=0).max()) if len(sketch) > 1 else 1.0
+    x = (sketch + (span if span > 0 else 1.0) * rng.standard_normal(sketch.shape))[:, :, None]
+    for block in groups:
+        pos = {q: i for i, q in enumerate(block.points)}
+        m = 2 * len(block.points)
+        a = np.zeros((m, m))
+        for col, sc in enumerate(block.scalars):
+            for q, (gx, gy) in zip(sc.points, _gradients(sc, x), strict=True):
+                if q in pos:
+                    a[2 * pos[q], col] += float(np.asarray(gx).ravel()[0])
+                    a[2 * pos[q] + 1, col] += float(np.asarray(gy).ravel()[0])
+        sv = np.linalg.svd(a, compute_uv=False)
+        if sv[-1] <= m * np.finfo(float).eps * 1e3 * sv[0]:
+            return False
+    return True
 
 
 def _add(a: Value, b: Value) -> Value:
