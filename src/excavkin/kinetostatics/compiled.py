@@ -47,7 +47,7 @@ CHUNK = 32768
 
 
 class _Sym:
-    """A per-sample value while the elimination is traced: each operation on it writes a line
+    """A per-sample value while the back-substitution is traced: each operation on it writes a line
     computing a new local variable. NumPy's scalars defer to it (``__array_ufunc__``)."""
 
     __slots__ = ("g", "name", "nonzero")

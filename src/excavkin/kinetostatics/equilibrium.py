@@ -71,7 +71,7 @@ class StaticallyIndeterminateError(MobilityError):
 
 
 class _Var:
-    """Stand-in for a per-sample value while the elimination is planned."""
+    """Stand-in for a per-sample value: the rows' structure (`assemble_rows` without positions)."""
 
     __slots__ = ()
 

@@ -3,9 +3,9 @@
 For each cache-sized chunk of samples: the known load of every moving body (its applied forces
 and couples, its weight and its d'Alembert inertia, reduced to a force and a moment about the
 body's first point), then the back-substitution along the solve plan of
-`excavkin.kinetostatics.structured` (linear in the model's size), or, compiled, the
-elimination of `excavkin.kinetostatics.equilibrium` as one machine-code loop. Samples whose
-kinematics failed stay NaN.
+`excavkin.kinetostatics.structured` (linear in the model's size), in NumPy or compiled as one
+machine-code loop (`excavkin.kinetostatics.compiled`). Samples whose kinematics failed stay
+NaN.
 """
 
 from __future__ import annotations
@@ -61,15 +61,16 @@ def solve_forces(
     inertia : bool
         Include the d'Alembert inertia loads (default); ``False`` solves statics at each pose.
     method : {"sparse", "dense"}
-        ``"sparse"``: the back-substitution along the solve plan, or the compiled
-        elimination (fast). ``"dense"``: the full matrix per sample with LAPACK (slow; for
+        ``"sparse"``: the back-substitution along the solve plan (fast, linear in the model's
+        size). ``"dense"``: the full matrix per sample with LAPACK (slow; for
         cross-checking).
     chunk : int
         Samples per pass (memory beyond the result's arrays is bounded by a pass).
     compiled : bool, optional
-        Run the ``"sparse"`` elimination as one compiled loop over samples
+        Run the ``"sparse"`` back-substitution as one compiled loop over samples
         (`excavkin.kinetostatics.compiled`, needs numba) or in NumPy. Default: compiled
-        when numba is installed and the batch is large (the rule of the kinematics'
+        when numba is installed, the batch is large and the model has at most
+        `excavkin.kinematics.compiled.AUTO_POINTS` points (the rule of the kinematics'
         ``compiled``).
 
     Returns
