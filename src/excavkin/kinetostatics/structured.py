@@ -46,7 +46,7 @@ pin equations' solution to round-off (a statically determinate model has one).
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -427,31 +427,7 @@ def back_substitute(
         One value per unknown, in the equilibrium system's order (a float where it is 0).
     """
     sy = ss.system
-    acc: dict[int, list[Value]] = {}  # the known force at each point
-    att: dict[int, list[Value]] = {}  # what acts on each slot's body at its pin
-    pin: dict[int, list[Value]] = {}  # the elements' and sliders' forces on each pin
-    out: list[Value] = [0.0] * sy.size
-    slot_of = ss.slot_of
-
-    def put(into: dict[int, list[Value]], key: int, fx: Value, fy: Value) -> None:
-        old = into.get(key)
-        if old is None:
-            into[key] = [fx, fy]
-        else:
-            old[0], old[1] = _add(old[0], fx), _add(old[1], fy)
-
-    def add(point: int, owner: int, fx: Value, fy: Value, into_acc: bool) -> None:
-        if _zero(fx) and _zero(fy):
-            return
-        if into_acc:
-            put(acc, point, fx, fy)
-        if owner == PIN:
-            put(pin, point, fx, fy)
-            return
-        k = slot_of.get((point, owner))
-        if k is not None:
-            put(att, k, fx, fy)
-
+    f = _Forces(ss.slot_of)
     # the loads: each body's force at p0, its moment as a couple of forces at p0 and p1
     for j, (fx, fy, mz) in zip(sy.moving, rhs_body, strict=True):
         i0, i1 = sy.base[j]
@@ -461,69 +437,111 @@ def back_substitute(
             dx, dy = x[i1, 0] - x[i0, 0], x[i1, 1] - x[i0, 1]
             inv = mz / (dx * dx + dy * dy)
             gx, gy = -dy * inv, dx * inv
-            add(i1, j, gx, gy, True)
-        add(i0, j, _add(fx, _neg(gx)), _add(fy, _neg(gy)), True)
-
+            f.add(i1, j, gx, gy, True)
+        f.add(i0, j, _add(fx, _neg(gx)), _add(fy, _neg(gy)), True)
+    out: list[Value] = [0.0] * sy.size
     for block in reversed(ss.blocks):
-        if len(block.points) == 1:
-            p = block.points[0]
-            known = acc.get(p)
-            if known is None:
-                continue  # nothing acts on the point: its constraints carry no force
-            rx, ry = _neg(known[0]), _neg(known[1])
-            first = block.scalars[0]
-            if first.kind == "frame_x":  # attach: ∇_P g = I, so λ = r
-                _attach(first, x, rx, ry, add)
-                continue
-            grads = [_gradients(sc, x) for sc in block.scalars]
-            (ax, ay), (bx, by) = grads[0][0], grads[1][0]
-            det = ax * by - ay * bx
-            lam: list[Value] = [(rx * by - bx * ry) / det, (ax * ry - ay * rx) / det]
-            if block.can_be_singular:  # two unit directions: det is their sine
-                ops.flag(det)
-        else:
-            grads = [_gradients(sc, x) for sc in block.scalars]
-            pos = {q: i for i, q in enumerate(block.points)}
-            m = 2 * len(block.points)
-            a: list[list[Value]] = [[0.0] * m for _ in range(m)]
-            for col, (sc, g) in enumerate(zip(block.scalars, grads, strict=True)):
-                for q, (gx_, gy_) in zip(sc.points, g, strict=True):
-                    if q in pos:
-                        a[2 * pos[q]][col] = _add(a[2 * pos[q]][col], gx_)
-                        a[2 * pos[q] + 1][col] = _add(a[2 * pos[q] + 1][col], gy_)
-            b: list[Value] = []
-            for q in block.points:
-                known = acc.get(q, [0.0, 0.0])
-                b += [_neg(known[0]), _neg(known[1])]
-            lam = ops.dense(a, b)
-        own = block.points
-        for sc, g, lm in zip(block.scalars, grads, lam, strict=True):
-            if sc.column >= 0:
-                out[sc.column] = lm
-            for q, owner, (gx_, gy_) in zip(sc.points, sc.owners, g, strict=True):
-                add(q, owner, _mul(lm, gx_), _mul(lm, gy_), q not in own)
+        _solve_block(block, x, f, ops, out)
+    return _pin_forces(sy, f, out)
 
-    ground = sy.ground
+
+class _Forces:
+    """The forces known so far, point by point: at each point (its balance's known part), on
+    each pin slot's body (what it takes from its pin), on each pin (the elements' and sliders'
+    forces)."""
+
+    def __init__(self, slot_of: dict[tuple[int, int], int]) -> None:
+        self.slot_of = slot_of
+        self.acc: dict[int, list[Value]] = {}
+        self.att: dict[int, list[Value]] = {}
+        self.pin: dict[int, list[Value]] = {}
+
+    @staticmethod
+    def _put(into: dict[int, list[Value]], key: int, fx: Value, fy: Value) -> None:
+        old = into.get(key)
+        if old is None:
+            into[key] = [fx, fy]
+        else:
+            old[0], old[1] = _add(old[0], fx), _add(old[1], fy)
+
+    def add(self, point: int, owner: int, fx: Value, fy: Value, into_acc: bool) -> None:
+        """A force (fx, fy) at ``point`` on ``owner`` (a body, or PIN); ``into_acc``: the
+        point's balance is still to solve."""
+        if _zero(fx) and _zero(fy):
+            return
+        if into_acc:
+            self._put(self.acc, point, fx, fy)
+        if owner == PIN:
+            self._put(self.pin, point, fx, fy)
+            return
+        k = self.slot_of.get((point, owner))
+        if k is not None:
+            self._put(self.att, k, fx, fy)
+
+
+def _solve_block(block: Block, x: F, f: _Forces, ops: Arithmetic, out: list[Value]) -> None:
+    """One step's multipliers from its points' balance; their forces added to ``f``, the
+    unknowns they are put in ``out``."""
+    if len(block.points) == 1:
+        p = block.points[0]
+        known = f.acc.get(p)
+        if known is None:
+            return  # nothing acts on the point: its constraints carry no force
+        rx, ry = _neg(known[0]), _neg(known[1])
+        first = block.scalars[0]
+        if first.kind == "frame_x":  # attach: ∇_P g = I, so λ = r
+            _attach(first, x, rx, ry, f)
+            return
+        grads = [_gradients(sc, x) for sc in block.scalars]
+        (ax, ay), (bx, by) = grads[0][0], grads[1][0]
+        det = ax * by - ay * bx
+        lam: list[Value] = [(rx * by - bx * ry) / det, (ax * ry - ay * rx) / det]
+        if block.can_be_singular:  # two unit directions: det is their sine
+            ops.flag(det)
+    else:
+        grads = [_gradients(sc, x) for sc in block.scalars]
+        pos = {q: i for i, q in enumerate(block.points)}
+        m = 2 * len(block.points)
+        a: list[list[Value]] = [[0.0] * m for _ in range(m)]
+        for col, (sc, g) in enumerate(zip(block.scalars, grads, strict=True)):
+            for q, (gx, gy) in zip(sc.points, g, strict=True):
+                if q in pos:
+                    a[2 * pos[q]][col] = _add(a[2 * pos[q]][col], gx)
+                    a[2 * pos[q] + 1][col] = _add(a[2 * pos[q] + 1][col], gy)
+        b: list[Value] = []
+        for q in block.points:
+            known = f.acc.get(q, [0.0, 0.0])
+            b += [_neg(known[0]), _neg(known[1])]
+        lam = ops.dense(a, b)
+    own = block.points
+    for sc, g, lm in zip(block.scalars, grads, lam, strict=True):
+        if sc.column >= 0:
+            out[sc.column] = lm
+        for q, owner, (gx, gy) in zip(sc.points, sc.owners, g, strict=True):
+            f.add(q, owner, _mul(lm, gx), _mul(lm, gy), q not in own)
+
+
+def _pin_forces(sy: StaticsSystem, f: _Forces, out: list[Value]) -> list[Value]:
+    """``out`` with the pin forces: on a moving body, minus what else acts on it at the pin;
+    on the ground, from the pin's balance (Σ_b F[p, b] = the elements' and sliders' forces)."""
     on_ground: list[tuple[int, int]] = []
     others: dict[int, list[int]] = {}
     for k, (i, j) in enumerate(sy.slots):
-        if j == ground:
+        if j == sy.ground:
             on_ground.append((k, i))
             continue
-        f = att.get(k, [0.0, 0.0])
-        out[2 * k], out[2 * k + 1] = _neg(f[0]), _neg(f[1])
+        fx, fy = f.att.get(k, [0.0, 0.0])
+        out[2 * k], out[2 * k + 1] = _neg(fx), _neg(fy)
         others.setdefault(i, []).append(k)
-    for k, i in on_ground:  # the pin's balance: Σ_b F[p, b] = the elements' and sliders' forces
-        fx_, fy_ = pin.get(i, [0.0, 0.0])
+    for k, i in on_ground:
+        fx, fy = f.pin.get(i, [0.0, 0.0])
         for kk in others.get(i, ()):
-            fx_, fy_ = _add(fx_, _neg(out[2 * kk])), _add(fy_, _neg(out[2 * kk + 1]))
-        out[2 * k], out[2 * k + 1] = fx_, fy_
+            fx, fy = _add(fx, _neg(out[2 * kk])), _add(fy, _neg(out[2 * kk + 1]))
+        out[2 * k], out[2 * k + 1] = fx, fy
     return out
 
 
-def _attach(
-    sc: Scalar, x: F, lx: Value, ly: Value, add: Callable[[int, int, Value, Value, bool], None]
-) -> None:
+def _attach(sc: Scalar, x: F, lx: Value, ly: Value, f: _Forces) -> None:
     """The forces of an attach step's frame constraint (multipliers ``λ = (lx, ly)``): λ on the
     point, and on a and b ``(∇_a g)ᵀλ``, ``(∇_b g)ᵀλ`` (their sum is −λ)."""
     p, a, b = sc.points
@@ -531,9 +549,9 @@ def _attach(
     s, t = _frame(x, sc.points)
     fbx = _neg(_add(s * lx, t * ly))
     fby = _add(t * lx, _neg(s * ly))
-    add(p, j, lx, ly, False)
-    add(a, j, _neg(_add(lx, fbx)), _neg(_add(ly, fby)), True)
-    add(b, j, fbx, fby, True)
+    f.add(p, j, lx, ly, False)
+    f.add(a, j, _neg(_add(lx, fbx)), _neg(_add(ly, fby)), True)
+    f.add(b, j, fbx, fby, True)
 
 
 def solve_structured(
