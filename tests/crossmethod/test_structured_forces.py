@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 import excavkin
+from excavkin.errors import InputError
 from excavkin.excavator.machine_file import load_machine as load_excavator
 from excavkin.excavator.pin_loads import pin_loads
 from excavkin.excavator.ranges import stroke_grid
@@ -201,6 +202,35 @@ def test_chunks_give_the_same_forces_to_the_bit() -> None:
         part = solve_forces(kin, loads, system=mech.statics, compiled=False, chunk=chunk)
         np.testing.assert_array_equal(columns(part), columns(whole))
         np.testing.assert_array_equal(part.singular, whole.singular)
+
+
+@pytest.mark.parametrize("name", ["fourbar", "slider_crank", "excavator"])
+def test_one_newton_group_gives_the_closed_forms_forces(name: str) -> None:
+    """``method="newton"``: every moving point in one Newton group, its block dense (28×28
+    for the excavator), solved with partial pivoting per sample — the forces of the plan of
+    closed-form steps."""
+    closed = excavkin.load(excavkin.example_path(name))
+    generic = excavkin.Mechanism(closed.model, method="newton")
+    assert len(generic.plan.steps) == 2 and generic.plan.has_newton
+    kin = sweep(closed, 200, 6)
+    values = {k: kin.inputs[:, i] for i, k in enumerate(kin.plan.inputs)}
+    rates = {k: kin.input_rates[:, i] for i, k in enumerate(kin.plan.inputs)}
+    accels = {k: kin.input_accels[:, i] for i, k in enumerate(kin.plan.inputs)}
+    other = generic.solve(values, rates, accels, compiled=False)
+    loads = loads_on(closed, len(kin), 9)
+    a = columns(closed.forces(kin, loads, compiled=False))
+    b = columns(generic.forces(other, loads, compiled=False))
+    ok = kin.status.solved & other.status.solved
+    assert ok.sum() > 150
+    assert np.max(np.abs(a[ok] - b[ok])) <= 1e-12 * np.max(np.abs(a[ok]))
+
+
+def test_a_system_of_another_model_is_refused() -> None:
+    fourbar = excavkin.load(excavkin.example_path("fourbar"))
+    other = excavkin.load(excavkin.example_path("slider_crank"))
+    kin = fourbar.solve({"crank": [0.0, 1.0]})
+    with pytest.raises(InputError, match="another model"):
+        solve_forces(kin, system=other.statics)
 
 
 def test_solve_with_loads_equals_solve_then_forces() -> None:

@@ -52,6 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
+from excavkin.errors import InputError
 from excavkin.kinetostatics.equilibrium import StaticsSystem, Value, dense_block_solve
 from excavkin.structure.plan import (
     Attach,
@@ -148,9 +149,14 @@ def compile_structured(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem:
     Returns
     -------
     StructuredSystem
+
+    Raises
+    ------
+    InputError
+        The system is of another model than the plan.
     """
-    if plan.points != sy.points or plan.bodies != sy.bodies:  # pragma: no cover - one model
-        raise ValueError("the plan and the equilibrium system are of different models")
+    if plan.points != sy.points or plan.bodies != sy.bodies:
+        raise InputError("the equilibrium system belongs to another model than the solve plan")
     body = {name: j for j, name in enumerate(sy.bodies)}
     element_col = {e[3]: sy.element_col0 + k for k, e in enumerate(sy.elements)}
     by_pair = {frozenset((el.p, el.q)): k for k, el in enumerate(plan.elements)}
