@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import click
 
+from excavkin.cli.commands.optimize import write_machine_option
 from excavkin.cli.common import (
     EXIT_SAMPLES,
     check_count,
@@ -1338,24 +1339,24 @@ def study(
     type=click.Path(dir_okay=False),
     help="Draw the convergence: the objective after each iteration (.png, .svg or .pdf).",
 )
+@write_machine_option
 @click.option("--force", is_flag=True, help="Replace the output files if they exist.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def optimize(
-    study: str, method: str | None, output: str | None, plot: str | None, force: bool, quiet: bool
+    study: str,
+    method: str | None,
+    output: str | None,
+    plot: str | None,
+    machine_out: str | None,
+    force: bool,
+    quiet: bool,
 ) -> None:
     """The best design of a STUDY file that names a machine (``machine = ...`` in [study]):
     its [optimize] objective over its parameter box under its constraints, every population or
     gradient solved as one batch of designs."""
-    from excavkin.cli.commands.optimize import optimizer_progress, report_optimum
-    from excavkin.excavator.study import load_machine_study, optimize_machine
-    from excavkin.io.files import check_target
+    from excavkin.cli.commands.optimize import optimize_machine_study
+    from excavkin.excavator.study import load_machine_study
 
     spec = load_machine_study(model_path(study, "study"))
-    if output is not None:
-        check_target(output, force=force, suffixes=(".csv", ".parquet"))
-    if plot is not None:
-        check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
-    with optimizer_progress(quiet) as report:
-        best = optimize_machine(spec, method=method, progress=report)
-    report_optimum(best, output, plot, force)
+    optimize_machine_study(spec, method, output, plot, machine_out, force, quiet)

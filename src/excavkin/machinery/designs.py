@@ -21,14 +21,17 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 
-__all__ = ["DesignFamily"]
+if TYPE_CHECKING:
+    from excavkin.model.entities import Model
+
+__all__ = ["DesignFamily", "model_parameter", "model_with"]
 
 
 class DesignFamily(Protocol):
@@ -129,3 +132,74 @@ class DesignFamily(Protocol):
             Which samples are valid (the design assembles and its figures exist there).
         """
         ...
+
+
+def model_parameter(model: Model, name: str) -> bool:
+    """Whether `model_with` sets the mechanism parameter ``name`` of ``model``: a point's
+    coordinate (``P.x``, ``P.y``), a body's ``mass`` or ``inertia``, or its centre of mass
+    (``BODY.center_of_mass.x``, ``.y``).
+
+    Parameters
+    ----------
+    model : Model
+    name : str
+
+    Returns
+    -------
+    bool
+    """
+    head, _, key = name.rpartition(".")
+    bodies = {b.name for b in model.bodies}
+    if key in ("x", "y") and head in model.points:
+        return True
+    if key in ("mass", "inertia") and head in bodies:
+        return True
+    return (
+        key in ("x", "y")
+        and head.endswith(".center_of_mass")
+        and (head[: -len(".center_of_mass")] in bodies)
+    )
+
+
+def model_with(model: Model, params: Mapping[str, float]) -> Model:
+    """One design's model: ``model`` with the points, bodies' masses, inertias and centres of
+    mass of ``params`` (others as they are). A body's other points and its centre of mass stay
+    where the sketch puts them when one of its points moves (the engine's convention for
+    designs, `excavkin.structure.design`).
+
+    Parameters
+    ----------
+    model : Model
+        The nominal model.
+    params : mapping of str to float
+        Parameter name (`model_parameter`) → its SI value; names that are not the model's
+        (a machine file's ``cylinders.…``) are left to the caller.
+
+    Returns
+    -------
+    Model
+        Not yet validated: a `Mechanism` of it checks that it assembles.
+    """
+    import dataclasses
+
+    points = dict(model.points)
+    bodies = {b.name: b for b in model.bodies}
+    for name, value in params.items():
+        if not model_parameter(model, name):
+            continue
+        head, _, key = name.rpartition(".")
+        if head in points:
+            x, y = points[head]
+            points[head] = (float(value), y) if key == "x" else (x, float(value))
+        elif key == "mass":
+            bodies[head] = dataclasses.replace(bodies[head], mass=float(value))
+        elif key == "inertia":
+            bodies[head] = dataclasses.replace(bodies[head], inertia=float(value))
+        else:
+            b = bodies[head[: -len(".center_of_mass")]]
+            cx, cy = b.center_of_mass or (0.0, 0.0)
+            com = (float(value), cy) if key == "x" else (cx, float(value))
+            bodies[b.name] = dataclasses.replace(b, center_of_mass=com)
+    return dataclasses.replace(
+        model, points=points, bodies=tuple(bodies[b.name] for b in model.bodies)
+    )

@@ -452,6 +452,7 @@ class MachineProblem(Problem):
 
     #: the step in the scaled parameters (a 100 mm box: 1 µm)
     STEP = 1e-5
+    SCALE_OBJECTIVE = True
 
     def __init__(
         self, study: MachineStudy, objective: Metric, sense: str, metrics: Sequence[Metric]
