@@ -211,8 +211,9 @@ def test_loader_study_and_optimize_on_the_command_line(tmp_path: Path) -> None:
     r = CliRunner().invoke(main, ["loader", "optimize", str(spec), "--write-machine", str(taken)])
     assert r.exit_code == 2 and "excavkin: error:" in r.output and "taken.toml" in r.output
     assert taken.read_text() == "keep me"
+    best = str(tmp_path / "best.toml")
     r = CliRunner().invoke(main, ["loader", "optimize", str(spec), "-o", str(tmp_path / "b.csv"),
-                                  "--write-machine", str(tmp_path / "best.toml"), "-q"])  # fmt: skip
+                                  "--write-machine", best, "-q"])  # fmt: skip
     assert r.exit_code == 0, r.output
     assert "maximum of breakout" in r.output and "feasible" in r.output
     assert "wrote the optimal design as a machine file" in r.output
