@@ -751,12 +751,12 @@ def pins(
 ) -> None:
     """Print the largest load on each pin and in each cylinder over the working range, the load
     case and the pose where it occurs."""
-    from excavkin.excavator.pin_loads import CASES, load_maxima, pin_loads
-    from excavkin.excavator.ranges import stroke_grid
+    from excavkin.cli.progress import staged
+    from excavkin.excavator.pin_loads import CASES, lift_grid, working_range_pin_loads
     from excavkin.outputs.tables import check_target, write_table
 
     check_count(samples, "--samples", least=2, most=MAX_GRID,
-                samples=max(samples**3, (2 * samples - 1) ** 2 * max(3, round(samples / 4))),
+                samples=max(samples**3, math.prod(lift_grid(samples))),
                 bytes_per_sample=10_000, what="poses of the stroke sweep")  # fmt: skip
     chosen = [c for c in CASES if c in cases] if cases else list(CASES)
     mass = None
@@ -774,95 +774,23 @@ def pins(
         for case in chosen:
             check_target(f"{map_prefix}-{case}.png", force=force, suffixes=(".png",))
     m = _machine(machine)
-    grav = not no_gravity
-    W = None if mass is None else mass * m.gravity
-    # a lift load's point moves with the boom and the stick: a finer grid of those two, at
-    # about the same count of poses, covers its map and its maxima better
-    lift_grid = (2 * samples - 1, 2 * samples - 1, max(3, round(samples / 4)))
-    from excavkin.cli.progress import staged
-
     with staged("pin loads", len(chosen), quiet=quiet) as next_stage:
-        results = tuple(
-            pin_loads(
-                m,
-                stroke_grid(m, lift_grid if case == "lift" else samples),
-                case,
-                load=W if case == "lift" else None,
-                at=at,  # type: ignore[arg-type]
-                gravity=grav,
-                progress=next_stage(),
-            )
-            for case in chosen
-        )
-    maxima = load_maxima(results)
-    grids = f"{samples}³ stroke sweep" if chosen != ["lift"] else ""
-    if "lift" in chosen:
-        grids += (", " if grids else "") + "{} × {} × {} for the lift load".format(*lift_grid)
-    std = "ISO 6015, lip" if at == "lip" else "SAE J1179, tooth tip"
-    text = {
-        "bucket": f"bucket: bucket-cylinder tool force ({std})",
-        "arm": f"arm: arm-cylinder tool force ({std})",
-        "lift": f"lift: {'the hydraulic lift capacity' if W is None else f'{mass:.0f} kg'} "
-        f"hanging at {m.lift_point}",
-    }
-    click.echo(f"{m.name} — pin loads and cylinder forces over the working range (kN; mm)")
-    click.echo(
-        f"{grids}; {'with' if grav else 'without'} the front's weight; cases: "
-        + "; ".join(text[c] for c in chosen)
-    )
-    if W is not None:
-        lift = results[chosen.index("lift")]
-        click.echo(f"the front holds the lift load at {100 * lift.held.mean():.0f} % of the poses")
-    per_case = "".join(f" {c:>7}" for c in chosen)
-    click.echo(
-        f"{'pin':<7} {'what':<40} {'max':>7} {'case':<7}{per_case}  {'load':>6} "
-        f"{'x':>6} {'y':>6}  {'boom':>5} {'arm':>5} {'bucket':>6}"
-    )
-    rows = []
-    for mx in maxima:
-        name = mx.name if mx.kind == "pin" else ""
-        cells = "".join(f" {mx.by_case[c] / 1e3:7.1f}" for c in chosen)
-        click.echo(
-            f"{name:<7} {mx.label:<40} {mx.value / 1e3:7.1f} {mx.case:<7}{cells}  "
-            f"{mx.tool_force / 1e3:6.1f} {mx.tool_point[0] * 1e3:6.0f} "
-            f"{mx.tool_point[1] * 1e3:6.0f}  {mx.lengths[0] * 1e3:5.0f} "
-            f"{mx.lengths[1] * 1e3:5.0f} {mx.lengths[2] * 1e3:6.0f}"
-        )
-        rows.append(
-            {
-                "name": mx.name,
-                "label": mx.label,
-                "kind": mx.kind,
-                "load": mx.value,
-                "case": mx.case,
-                **{f"max_{c}": mx.by_case[c] for c in chosen},
-                "tool_force": mx.tool_force,
-                "x": mx.tool_point[0],
-                "y": mx.tool_point[1],
-                "pin_x": mx.bucket_pin[0],
-                "pin_y": mx.bucket_pin[1],
-                "boom": mx.lengths[0],
-                "arm": mx.lengths[1],
-                "bucket": mx.lengths[2],
-            }
-        )
-    click.echo(
-        "max: largest force the pin passes to one of its members (a cylinder: its force, "
-        "> 0 pushing); load: the tool force or lift load there, acting at (x, y)"
-    )
+        result = working_range_pin_loads(
+            m, chosen, samples=samples, mass=mass, at=at, gravity=not no_gravity,  # type: ignore[arg-type]
+            stages=next_stage,
+        )  # fmt: skip
+    click.echo(result.summary())
     if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+        click.echo(f"wrote {write_table(result.to_frame(), output, force=force)}")
     if plot or map_prefix:
         import matplotlib
 
         matplotlib.use("Agg")
-        from excavkin.excavator.pin_plots import plot_load_maxima, plot_pin_maps
-
         if plot:
-            _save_png(plot_load_maxima(m, maxima).figure, plot, force)
+            _save_png(result.plot().figure, plot, force)
         if map_prefix:
-            for r in results:
-                _save_png(plot_pin_maps(m, r).figure, f"{map_prefix}-{r.case}.png", force)
+            for name, handle in result.plot_maps().items():
+                _save_png(handle.figure, f"{map_prefix}-{name}.png", force)
 
 
 @command.command("cycle")
