@@ -215,15 +215,8 @@ def forces(
 ) -> None:
     """Print the rated ISO 6015 (lip) and SAE J1179 (tooth tip) tool forces, and the largest
     over a sweep of the strokes."""
-
-    from excavkin.excavator.forces import (
-        ForceMaximum,
-        RatedForce,
-        force_maximum,
-        rated_force,
-        tool_forces,
-    )
-    from excavkin.excavator.ranges import sweep
+    from excavkin.cli.progress import staged
+    from excavkin.excavator.force_survey import STANDARDS, WORKING, tool_force_survey
     from excavkin.outputs.tables import check_target, write_table
 
     check_count(samples, "--samples", least=2, most=MAX_GRID, samples=samples**3,
@@ -231,82 +224,20 @@ def forces(
     if output:
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
     if map_prefix:
-        for working in ("arm", "bucket"):
+        for working in WORKING:
             check_target(f"{map_prefix}-{working}.png", force=force, suffixes=(".png",))
     m = _machine(machine)
-    grav = not no_gravity
-    kinds = (("lip", "ISO 6015"), ("tip", "SAE J1179"))
-    rows = []
-
-    def row(kind: str, std: str, gravity: bool, r: RatedForce | ForceMaximum) -> None:
-        lim = r.limiting + (" (working pressure)" if r.limiting == r.working else " (relief)")
-        click.echo(
-            f"{std:<10} {r.working:<8} {r.force / 1e3:7.1f} {r.uncapped / 1e3:7.1f}  "
-            f"{r.point[0] * 1e3:6.0f} {r.point[1] * 1e3:6.0f}  {r.lengths[0] * 1e3:6.0f} "
-            f"{r.lengths[1] * 1e3:6.0f} {r.lengths[2] * 1e3:6.0f}  {lim}"
-        )
-        moment, radius = (r.moment, r.radius) if isinstance(r, RatedForce) else (math.nan, math.nan)
-        rows.append(
-            {
-                "kind": kind,
-                "standard": std,
-                "cylinder": r.working,
-                "gravity": gravity,
-                "force": r.force,
-                "own_limit": r.uncapped,
-                "moment": moment,
-                "radius": radius,
-                "x": r.point[0],
-                "y": r.point[1],
-                "boom": r.lengths[0],
-                "arm": r.lengths[1],
-                "bucket": r.lengths[2],
-                "limited_by": r.limiting,
-            }
-        )
-
-    click.echo(f"{m.name} — tool forces (kN; positions mm)")
-    click.echo(
-        "Rated: bucket at its cylinder's largest moment, stick at the arm cylinder's "
-        "(ISO 6015 §5.2, SAE J1179 §3.3); no gravity"
-    )
-    click.echo(
-        f"{'standard':<10} {'cylinder':<8} {'force':>7} {'own':>7}  {'x':>6} {'y':>6}  "
-        f"{'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
-    )
-    from excavkin.cli.progress import staged
-
-    with staged("rated forces", 2 * len(kinds), quiet=quiet) as next_stage:
-        rated = [
-            (std, rated_force(m, working, at=at, progress=next_stage()))  # type: ignore[arg-type]
-            for at, std in kinds
-            for working in ("arm", "bucket")
-        ]
-    for std, r in rated:
-        row("rated", std, False, r)
-    pose = sweep(m, samples)
-    click.echo(
-        f"Largest over a {samples}³ stroke sweep ({'with' if grav else 'without'} gravity "
-        "of the front)"
-    )
-    maps = {}
-    for at, std in kinds:
-        for working in ("arm", "bucket"):
-            tf = tool_forces(m, pose.lengths, working, at=at, gravity=grav)  # type: ignore[arg-type]
-            row("sweep_max", std, grav, force_maximum(tf))
-            if at == "lip":
-                maps[working] = tf
-    click.echo("force: capped by the holding cylinders' reliefs; own: the working cylinder's limit")
+    with staged("rated forces", len(STANDARDS) * len(WORKING), quiet=quiet) as next_stage:
+        survey = tool_force_survey(m, samples, gravity=not no_gravity, stages=next_stage)
+    click.echo(survey.summary())
     if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+        click.echo(f"wrote {write_table(survey.to_frame(), output, force=force)}")
     if map_prefix:
         import matplotlib
 
         matplotlib.use("Agg")
-        from excavkin.excavator.plots import plot_force_map
-
-        for working, tf in maps.items():
-            _save_png(plot_force_map(m, tf).figure, f"{map_prefix}-{working}.png", force)
+        for name, handle in survey.plot_maps().items():
+            _save_png(handle.figure, f"{map_prefix}-{name}.png", force)
 
 
 @command.command("ik")

@@ -1,0 +1,45 @@
+"""The tool forces of ``excavkin excavator forces`` as a library result: each row is the
+forces module's own answer, and its arguments are checked."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import excavkin
+from excavkin.errors import InputError
+from excavkin.excavator.force_survey import tool_force_survey
+from excavkin.excavator.forces import force_maximum, rated_force, tool_forces
+from excavkin.excavator.machine_file import load_machine
+from excavkin.excavator.ranges import sweep
+
+
+@pytest.fixture(scope="module")
+def machine():  # type: ignore[no-untyped-def]
+    return load_machine(excavkin.example_path("excavator_machine"))
+
+
+def test_each_row_is_the_forces_modules_own(machine) -> None:  # type: ignore[no-untyped-def]
+    survey = tool_force_survey(machine, 4, gravity=False)
+    frame = survey.to_frame()
+    assert list(frame["kind"]) == ["rated"] * 4 + ["sweep_max"] * 4
+    assert list(frame["cylinder"]) == ["arm", "bucket"] * 4
+    lengths = sweep(machine, 4).lengths
+    for i, (at, working) in enumerate([(a, w) for a in ("lip", "tip") for w in ("arm", "bucket")]):
+        rated = rated_force(machine, working, at=at)  # type: ignore[arg-type]
+        assert_allclose(frame["force"][i], rated.force, rtol=1e-15)
+        assert_allclose(frame["moment"][i], rated.moment, rtol=1e-15)
+        most = force_maximum(tool_forces(machine, lengths, working, at=at, gravity=False))  # type: ignore[arg-type]
+        assert_allclose(frame["force"][4 + i], most.force, rtol=1e-15)
+        assert np.isnan(frame["moment"][4 + i]) and not frame["gravity"][4 + i]
+    assert set(survey.maps) == {"arm", "bucket"}
+    text = survey.summary()
+    assert "4³ stroke sweep (without gravity of the front)" in text
+    assert len(text.splitlines()) == 3 + 4 + 1 + 4 + 1
+    assert frame.attrs["excavkin.kinds"]["moment"] == "torque"
+
+
+def test_too_few_samples_are_refused(machine) -> None:  # type: ignore[no-untyped-def]
+    with pytest.raises(InputError, match="at least 2"):
+        tool_force_survey(machine, 1)
