@@ -43,3 +43,19 @@ def test_each_row_is_the_forces_modules_own(machine) -> None:  # type: ignore[no
 def test_too_few_samples_are_refused(machine) -> None:  # type: ignore[no-untyped-def]
     with pytest.raises(InputError, match="at least 2"):
         tool_force_survey(machine, 1)
+
+
+def test_working_ranges_give_their_table_and_summary(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.ranges import working_ranges
+
+    wr = working_ranges(machine)
+    frame = wr.to_frame()
+    assert list(frame["key"]) == [f.key for f in wr.figures]
+    assert_allclose(frame["value"], [f.value for f in wr.figures], rtol=0)
+    assert_allclose(frame[["boom", "arm", "bucket"]], [f.lengths for f in wr.figures], rtol=0)
+    assert frame.attrs["excavkin.model"] == machine.name
+    assert_allclose(wr.envelope_frame()[["x", "y"]], wr.envelope, rtol=0)
+    lines = wr.summary().splitlines()
+    assert lines[0].startswith(machine.name) and len(lines) == 2 + len(wr.figures)
+    depth = wr.figure("max_digging_depth")
+    assert f"{round(depth.value * 1000):8d}" in lines[2 + wr.figures.index(depth)]

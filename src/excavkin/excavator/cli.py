@@ -142,38 +142,11 @@ def ranges(
     m = _machine(machine)
     with staged("working ranges", 1, quiet=quiet) as next_stage:
         wr = working_ranges(m, progress=next_stage())
-    click.echo(f"{m.name} — working ranges (tooth tip; mm)")
-    click.echo(
-        f"{'':4} {'figure':<38} {'value':>8}  {'x':>8} {'y':>8}  "
-        f"{'boom':>7} {'arm':>7} {'bucket':>7}  bucket orientation"
-    )
-    rows = []
-    for f in wr.figures:
-        click.echo(
-            f"{f.code:4} {f.label:<38} {_mm(f.value)}  {_mm(f.tip[0])} {_mm(f.tip[1])}  "
-            f"{f.lengths[0] * 1e3:7.0f} {f.lengths[1] * 1e3:7.0f} "
-            f"{f.lengths[2] * 1e3:7.0f}  {f.orientation}"
-        )
-        rows.append(
-            {
-                "key": f.key,
-                "code": f.code,
-                "label": f.label,
-                "value": f.value,
-                "x": f.tip[0],
-                "y": f.tip[1],
-                "boom": f.lengths[0],
-                "arm": f.lengths[1],
-                "bucket": f.lengths[2],
-                "bucket_angle": f.bucket_angle,
-                "orientation": f.orientation,
-            }
-        )
+    click.echo(wr.summary())
     if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+        click.echo(f"wrote {write_table(wr.to_frame(), output, force=force)}")
     if envelope:
-        frame = _si_table({"x": wr.envelope[:, 0], "y": wr.envelope[:, 1]}, m.name)
-        click.echo(f"wrote {write_table(frame, envelope, force=force)}")
+        click.echo(f"wrote {write_table(wr.envelope_frame(), envelope, force=force)}")
     if plot:
         import matplotlib
 
