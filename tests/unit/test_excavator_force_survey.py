@@ -59,3 +59,18 @@ def test_working_ranges_give_their_table_and_summary(machine) -> None:  # type: 
     assert lines[0].startswith(machine.name) and len(lines) == 2 + len(wr.figures)
     depth = wr.figure("max_digging_depth")
     assert f"{round(depth.value * 1000):8d}" in lines[2 + wr.figures.index(depth)]
+
+
+def test_the_lift_table_gives_its_table_and_summary(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.lift import lift_table
+
+    t = lift_table(machine, step=2.0, pressure="relief")
+    frame = t.to_frame()
+    cells = int(t.reachable.sum()) + int(np.isfinite(t.max_reach).sum())
+    assert len(frame) == 2 * cells and set(frame["over"]) == {"front", "side"}
+    inside = frame[~frame["at_max_reach"] & (frame["over"] == "side")]
+    rated = t.rated("side")[t.reachable] / machine.gravity
+    assert_allclose(inside["rated_load"], rated, rtol=1e-15)
+    lines = t.summary().splitlines()
+    assert len(lines) == 4 + len(t.heights) and "relief pressure" in lines[1]
+    assert frame.attrs["excavkin.kinds"]["rated_load"] == "mass"

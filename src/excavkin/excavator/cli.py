@@ -474,12 +474,6 @@ def stability(
             _save_png(fig, f"{map_prefix}-limits-{working}.png", force)
 
 
-def _kg(value: float, star: bool) -> str:
-    if not math.isfinite(value):
-        return ""
-    return f"{value:,.0f}".replace(",", " ") + ("*" if star else " ")
-
-
 @command.command("lift")
 @click.argument("machine", type=click.Path(dir_okay=False))
 @click.option(
@@ -506,8 +500,6 @@ def lift(
 ) -> None:
     """Print the rated lift capacity (ISO 10567, kg) over load radius × height, over the front
     and over the side."""
-    import numpy as np
-
     from excavkin.excavator.lift import lift_table
     from excavkin.outputs.tables import check_target, write_table
 
@@ -520,73 +512,9 @@ def lift(
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
     m = _machine(machine)
     t = lift_table(m, step=dr, pressure=pressure)  # type: ignore[arg-type]
-    g = m.gravity
-    click.echo(
-        f"{m.name} — rated lift capacity (ISO 10567), kg; load point {t.point}"
-        f"{' (bucket pin)' if t.point == m.pins.bucket_pin else ''}, bucket curled"
-    )
-    click.echo(
-        "the lesser of 75 % of the tipping load and 87 % of the hydraulic capacity (boom "
-        f"cylinders at {pressure} pressure, arm and bucket within their relief); "
-        "* hydraulic"
-    )
-    click.echo(
-        f"{'':>7}"
-        + "".join(f" | {f'radius {r:.1f} m':^17}" for r in t.radii)
-        + f" | {'at max reach':^26}"
-    )
-    click.echo(
-        f"{'height':>7}"
-        + f" | {'front':>8} {'side':>8}" * len(t.radii)
-        + f" | {'radius':>8} {'front':>8} {'side':>8}"
-    )
-    front, side = t.rated("front") / g, t.rated("side") / g
-    sf, ss = t.hydraulic_limited("front"), t.hydraulic_limited("side")
-    rows = []
-
-    def record(h: float, r: float, k: int, cap: object, i: int, L: np.ndarray) -> None:
-        for over in ("front", "side"):
-            rows.append(
-                {
-                    "height": h,
-                    "radius": r,
-                    "at_max_reach": k < 0,
-                    "over": over,
-                    "rated_load": cap.rated[over][i] / g,  # type: ignore[attr-defined]
-                    "limit": "hydraulic"
-                    if cap.hydraulic_limited[over][i]  # type: ignore[attr-defined]
-                    else "tipping",
-                    "tipping_load": cap.tipping[over][i] / g,  # type: ignore[attr-defined]
-                    "tipping_line": cap.tipping_line[over][i],  # type: ignore[attr-defined]
-                    "hydraulic_load": cap.hydraulic.load[i] / g,  # type: ignore[attr-defined]
-                    "hydraulic_limit": cap.hydraulic.limiting[i],  # type: ignore[attr-defined]
-                    "boom": L[0],
-                    "arm": L[1],
-                    "bucket": L[2],
-                }
-            )
-
-    R = len(t.radii)
-    for i, h in enumerate(t.heights):
-        cells = ""
-        for j, r in enumerate(t.radii):
-            if t.reachable[i, j]:
-                cells += f" | {_kg(front[i, j], sf[i, j]):>8} {_kg(side[i, j], ss[i, j]):>8}"
-                record(float(h), float(r), j, t.capacity, i * R + j, t.lengths[i, j])
-            else:
-                cells += f" | {'':>17}"
-        a = t.at_max_reach
-        if np.isfinite(t.max_reach[i]):
-            cells += (
-                f" | {t.max_reach[i]:>6.2f} m"
-                f" {_kg(a.rated['front'][i] / g, a.hydraulic_limited['front'][i]):>8}"
-                f" {_kg(a.rated['side'][i] / g, a.hydraulic_limited['side'][i]):>8}"
-            )
-            record(float(h), float(t.max_reach[i]), -1, a, i, t.max_reach_lengths[i])
-        click.echo(f"{h:6.1f}m{cells}")
+    click.echo(t.summary())
     if output:
-        frame = _si_table(rows, m.name)
-        click.echo(f"wrote {write_table(frame, output, force=force)}")
+        click.echo(f"wrote {write_table(t.to_frame(), output, force=force)}")
     if plot:
         import matplotlib
 
