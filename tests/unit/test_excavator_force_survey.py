@@ -74,3 +74,24 @@ def test_the_lift_table_gives_its_table_and_summary(machine) -> None:  # type: i
     lines = t.summary().splitlines()
     assert len(lines) == 4 + len(t.heights) and "relief pressure" in lines[1]
     assert frame.attrs["excavkin.kinds"]["rated_load"] == "mass"
+
+
+def test_the_cycle_sheet_is_the_hydraulics_modules_own(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.cycle_sheet import hydraulic_cycle
+    from excavkin.excavator.hydraulics import cycle_time, relief_buckling, strokes
+
+    sheet = hydraulic_cycle(machine)
+    frame = sheet.to_frame()
+    stroke = frame[frame["section"] == "stroke"]
+    assert_allclose(stroke["extend_time"], [s.extend_time for s in strokes(machine)], rtol=0)
+    cycle = frame[frame["section"] == "cycle"].set_index("phase")["time"]
+    assert cycle["cycle, one motion at a time"] == cycle_time(machine).sequential
+    relief = frame[(frame["section"] == "buckling") & (frame["case"] == "relief, fully extended")]
+    assert_allclose(relief["critical"], [float(b.critical[0]) for b in relief_buckling(machine)],
+                    rtol=0)  # fmt: skip
+    assert [c for c, _ in sheet.buckling] == [
+        "relief, fully extended", "ISO 6015 arm force", "ISO 6015 bucket force"]  # fmt: skip
+    text = sheet.sections()
+    assert list(text) == ["strokes", "cycle", "power", "buckling"]
+    assert sheet.summary() == "\n".join(text.values())
+    assert frame.attrs["excavkin.kinds"]["peak_power"] == "power"

@@ -26,7 +26,7 @@ from excavkin.cli.common import (
 from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
-    from excavkin.excavator.machine import Machine
+    pass
 
 #: the most grid points per stroke of a sweep (101³ ≈ 10⁶ poses, about a minute and a half here)
 MAX_GRID = 101
@@ -645,14 +645,8 @@ def cycle(machine: str, output: str | None, plot: str | None, force: bool, quiet
     """Print cylinder speeds and stroke times from the pump flows, a dig–swing–dump cycle
     estimate with the hydraulic power of each phase, and the buckling check of each cylinder
     at the rated forces."""
-    from excavkin.excavator.forces import rated_force, tool_forces
-    from excavkin.excavator.hydraulics import (
-        Buckling,
-        cycle_time,
-        pose_buckling,
-        relief_buckling,
-        strokes,
-    )
+    from excavkin.cli.progress import staged
+    from excavkin.excavator.cycle_sheet import hydraulic_cycle
     from excavkin.outputs.tables import check_target, write_table
 
     if output:
@@ -660,140 +654,18 @@ def cycle(machine: str, output: str | None, plot: str | None, force: bool, quiet
     if plot:
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
     m = _machine(machine)
-    st = strokes(m)
-    cy = cycle_time(m)
-    h = m.hydraulics
-    assert h is not None  # strokes() refuses a machine without hydraulics
-    rows: list[dict[str, object]] = []
-    click.echo(f"{m.name} — hydraulics (no-load, full-flow speeds; flows of the feeding pumps add)")
-    click.echo(
-        f"{'cylinder':<8} {'count':>5} {'flow L/min':>10} {'ext m/s':>8} {'ret m/s':>8} "
-        f"{'ext s':>6} {'ret s':>6}"
-    )
-    for c, s in zip(m.cylinders, st, strict=True):
-        click.echo(
-            f"{s.role:<8} {c.count:>5} {s.flow * 6e4:10.0f} {s.extend_speed:8.3f} "
-            f"{s.retract_speed:8.3f} {s.extend_time:6.2f} {s.retract_time:6.2f}"
-        )
-        rows.append(
-            {
-                "section": "stroke",
-                "cylinder": s.role,
-                "flow": s.flow,
-                "extend_speed": s.extend_speed,
-                "retract_speed": s.retract_speed,
-                "extend_time": s.extend_time,
-                "retract_time": s.retract_time,
-            }
-        )
-    click.echo(
-        f"Cycle (full strokes; swing {math.degrees(h.swing_angle):.0f}° at "
-        f"{h.swing_speed * 30 / math.pi:.1f} rpm, constant speed), s"
-    )
-    for name, value in (
-        ("dig (arm + bucket in)", cy.dig),
-        ("boom up", cy.boom_up),
-        ("swing (one way)", cy.swing),
-        ("dump (arm + bucket out)", cy.dump),
-        ("boom down", cy.boom_down),
-        ("cycle, one motion at a time", cy.sequential),
-        ("cycle, swing overlapping boom", cy.overlapped),
-    ):
-        click.echo(f"  {name:<30} {value:6.2f}")
-        rows.append({"section": "cycle", "phase": name, "time": value})
-    _cycle_power(m, rows, plot, force)
-    click.echo(
-        f"Buckling (one cylinder; rod alone over the pin-to-pin length, pinned-pinned; "
-        f"E = {h.modulus / 1e9:.0f} GPa, yield {h.rod_yield / 1e6:.0f} MPa)"
-    )
-    click.echo(
-        f"{'case':<26} {'cylinder':<8} {'length':>8} {'push kN':>8} {'L/r':>6} "
-        f"{'P_cr kN':>8} {'formula':<8} {'safety':>6}"
-    )
-
-    def show(case: str, checks: tuple[Buckling, ...]) -> None:
-        for b in checks:
-            safety = float(b.safety[0])
-            click.echo(
-                f"{case:<26} {b.role:<8} {_mm(float(b.length[0]))} "
-                f"{float(b.force[0]) / 1e3:8.1f} {float(b.slenderness[0]):6.1f} "
-                f"{float(b.critical[0]) / 1e3:8.1f} {str(b.formula[0]):<8} "
-                + (f"{safety:6.2f}" if math.isfinite(safety) else f"{'pulls':>6}")
-            )
-            rows.append(
-                {
-                    "section": "buckling",
-                    "case": case,
-                    "cylinder": b.role,
-                    "length": float(b.length[0]),
-                    "force": float(b.force[0]),
-                    "slenderness": float(b.slenderness[0]),
-                    "critical": float(b.critical[0]),
-                    "formula": str(b.formula[0]),
-                    "safety": safety,
-                }
-            )
-
-    show("relief, fully extended", relief_buckling(m))
-    from excavkin.cli.progress import staged
-
     with staged("rated forces", 2, quiet=quiet) as next_stage:
-        rated = {w: rated_force(m, w, progress=next_stage()) for w in ("arm", "bucket")}  # type: ignore[arg-type]
-    for working in ("arm", "bucket"):
-        r = rated[working]
-        tf = tool_forces(m, r.lengths[None, :], working, gravity=False)  # type: ignore[arg-type]
-        show(f"ISO 6015 {working} force", pose_buckling(m, r.lengths[None, :], tf.cylinder_force))
-    click.echo(f"(ISO 6015: rated poses, tool force at the lip, no gravity; {_BUCKLING_NOTE})")
-    if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
-
-
-_BUCKLING_NOTE = "Euler above L/r = √(2π²E/σy), Johnson below"
-
-
-def _cycle_power(m: Machine, rows: list[dict[str, object]], plot: str | None, force: bool) -> None:
-    """The power section of ``cycle``: each phase's peak power, inlet pressure and work."""
-    from excavkin.excavator.cycle_power import cycle_power
-
-    cp = cycle_power(m)
-    click.echo(
-        "Power along the cycle, one motion at a time (weight and inertia, no soil; "
-        f"pumps: {cp.supply / 1e3:.0f} kW at full flow and working pressure)"
-    )
-    click.echo(f"  {'phase':<14} {'peak kW':>8} {'peak bar':>9} {'work kJ':>8}")
-    for ph in cp.phases:
-        if ph.role is None:
-            continue
-        warn = (
-            f"  beyond the working pressure ({ph.working_pressure / 1e5:.0f} bar) over "
-            f"{ph.over_pressure:.0%} of the stroke: cannot run at full flow there"
-            if ph.over_pressure > 0.0
-            else ""
-        )
-        click.echo(
-            f"  {ph.name:<14} {ph.peak / 1e3:8.1f} {ph.peak_pressure / 1e5:9.0f} "
-            f"{ph.work / 1e3:8.1f}{warn}"
-        )
-        rows.append(
-            {
-                "section": "power",
-                "phase": ph.name,
-                "cylinder": ph.role,
-                "time": ph.duration,
-                "peak_power": ph.peak,
-                "peak_pressure": ph.peak_pressure,
-                "over_pressure": ph.over_pressure,
-                "work": ph.work,
-            }
-        )
+        sheet = hydraulic_cycle(m, stages=next_stage)
+    text = sheet.sections()
+    click.echo("\n".join(text[k] for k in ("strokes", "cycle", "power")))
     if plot:
         import matplotlib
 
         matplotlib.use("Agg")
-        from excavkin.excavator.cycle_plots import plot_cycle_power
-
-        title = f"{m.name} — power along the cycle"
-        _save_png(plot_cycle_power(cp, title=title).figure, plot, force)
+        _save_png(sheet.plot().figure, plot, force)
+    click.echo(text["buckling"])
+    if output:
+        click.echo(f"wrote {write_table(sheet.to_frame(), output, force=force)}")
 
 
 #: ``--param`` keys of ``excavator dig``: kind of quantity, and whether soil or tool
