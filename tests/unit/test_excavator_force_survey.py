@@ -95,3 +95,21 @@ def test_the_cycle_sheet_is_the_hydraulics_modules_own(machine) -> None:  # type
     assert list(text) == ["strokes", "cycle", "power", "buckling"]
     assert sheet.summary() == "\n".join(text.values())
     assert frame.attrs["excavkin.kinds"]["peak_power"] == "power"
+
+
+def test_the_stability_survey_is_the_stability_modules_own(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.stability import base_rated_force
+    from excavkin.excavator.stability_survey import MAPS, pin_grid, stability_survey
+
+    survey = stability_survey(machine, 3, swing="side")
+    frame = survey.to_frame()
+    assert list(frame["standard"]) == ["ISO 6015"] * 2 + ["SAE J1179"] * 2
+    direct = base_rated_force(machine, "bucket", at="tip", swing="side")
+    assert_allclose(frame["force"][3], direct.rated.force, rtol=1e-15)
+    assert_allclose(frame["tipping_force"][3], direct.tipping, rtol=1e-15)
+    assert pin_grid(3) == (9, 9, 5) and len(survey.pin) == len(survey.tipping["front"].margin)
+    text = survey.summary()
+    assert "Rated tool forces over the side" in text and "9² × 5 for the bucket pin" in text
+    assert tuple(MAPS) == ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
+    with pytest.raises(InputError, match="at least 2"):
+        stability_survey(machine, 1)

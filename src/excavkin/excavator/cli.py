@@ -320,158 +320,31 @@ def stability(
 ) -> None:
     """Print tipping lines, the rated tool forces capped by tipping and slipping (ISO 6015
     §4.5), and the stability over a sweep of the strokes."""
-    import numpy as np
-
-    from excavkin.excavator.ranges import sweep
-    from excavkin.excavator.stability import (
-        base_rated_force,
-        capped_tool_forces,
-        need_base,
-    )
-    from excavkin.excavator.stability import (
-        stability as stability_of,
-    )
+    from excavkin.cli.progress import staged
+    from excavkin.excavator.stability_survey import MAPS, pin_grid, stability_survey
     from excavkin.outputs.tables import check_target, write_table
 
     check_count(samples, "--samples", least=2, most=MAX_GRID,
-                samples=samples**3 + 5 * (4 * samples - 3) ** 2, bytes_per_sample=10_000,
+                samples=samples**3 + math.prod(pin_grid(samples)), bytes_per_sample=10_000,
                 what="poses of the stroke sweeps")  # fmt: skip
     sw = _swing_option(swing)
-    maps = ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
     if output:
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
     if map_prefix:
-        for name in maps:
+        for name in MAPS:
             check_target(f"{map_prefix}-{name}.png", force=force, suffixes=(".png",))
     m = _machine(machine)
-    base = need_base(m)
-    g = m.gravity
-    total = m.front_mass + base.mass
-    click.echo(f"{m.name} — stability (forces kN, lengths mm)")
-    click.echo(
-        f"masses kg: front {m.front_mass:.0f} (bodies and cylinders), upper structure "
-        f"{base.upper.mass:.0f}, counterweight {base.counterweight.mass:.0f}, undercarriage "
-        f"{base.undercarriage.mass:.0f}; whole machine {total:.0f}; ground friction "
-        f"{base.friction:.2f}"
-    )
-    lines = base.tipping_lines(m.swing_axis)
-    click.echo(
-        "tipping lines (distance from the swing axis): "
-        + ", ".join(f"{ln.name} {ln.offset * 1e3:.0f}" for ln in lines)
-    )
-    where = sw if isinstance(sw, str) else f"swung {math.degrees(sw):.1f}°"
-    click.echo(f"Rated tool forces over the {where}" if isinstance(sw, str) else f"Rated, {where}")
-    click.echo(
-        "(capped by the cylinders, tipping and slipping: ISO 6015 §3.17–3.19, §4.5; the front's "
-        "weight counts for tipping and slipping only)"
-    )
-    click.echo(
-        f"{'standard':<10} {'cylinder':<8} {'force':>7} {'cyl.':>7} {'tipping':>8} "
-        f"{'(line)':<12} {'slip':>7}  {'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
-    )
-    rows = []
-    from excavkin.cli.progress import staged
-
     with staged("rated forces", 4, quiet=quiet) as next_stage:
-        rated = {
-            (at, working): base_rated_force(m, working, at=at, swing=sw, progress=next_stage())  # type: ignore[arg-type]
-            for at in ("lip", "tip")
-            for working in ("arm", "bucket")
-        }
-    for at, std in (("lip", "ISO 6015"), ("tip", "SAE J1179")):
-        for working in ("arm", "bucket"):
-            r = rated[at, working]
-            rf = r.rated
-            click.echo(
-                f"{std:<10} {working:<8} {rf.force / 1e3:7.1f} {r.hydraulic / 1e3:7.1f} "
-                f"{r.tipping / 1e3:8.1f} {'(' + r.tipping_line + ')':<12} "
-                f"{r.slipping / 1e3:7.1f}  {rf.lengths[0] * 1e3:6.0f} {rf.lengths[1] * 1e3:6.0f} "
-                f"{rf.lengths[2] * 1e3:6.0f}  {rf.limiting}"
-            )
-            rows.append(
-                {
-                    "standard": std,
-                    "cylinder": working,
-                    "force": rf.force,
-                    "hydraulic_force": r.hydraulic,
-                    "tipping_force": r.tipping,
-                    "tipping_line": r.tipping_line,
-                    "slipping_force": r.slipping,
-                    "cylinders_only": r.cylinders_only.force,
-                    "x": rf.point[0],
-                    "y": rf.point[1],
-                    "boom": rf.lengths[0],
-                    "arm": rf.lengths[1],
-                    "bucket": rf.lengths[2],
-                    "limited_by": rf.limiting,
-                }
-            )
-    click.echo("cyl.: the cylinders' limit at that pose; slip: where the machine slides")
-    pose = sweep(m, samples)
-    ok = pose.ok & pose.within_stroke
-    L = pose.lengths[ok]
-    # the bucket pin moves with the boom and the arm alone: a finer grid of those two
-    dense = 4 * samples - 3
-    pin_pose = sweep(m, (dense, dense, 5))
-    pin_ok = pin_pose.ok & pin_pose.within_stroke
-    pin = pin_pose.result.point(m.pins.bucket_pin)[0][pin_ok]
-    click.echo(
-        f"Over the working range ({samples}³ stroke sweep; {dense}² × 5 for the bucket pin; the "
-        "front's weight at each pose)"
-    )
-    tipping = {}
-    for over in ("front", "side"):
-        st = stability_of(m, pin_pose.lengths[pin_ok], m.pins.bucket_pin, swing=over)
-        tipping[over] = st.tipping_load
-        k = int(np.argmin(st.tipping_load))
-        j = int(np.argmin(st.margin))
-        click.echo(
-            f"  over the {over}: least tipping load of a load hung at the bucket pin "
-            f"{st.tipping_load[k] / 1e3:.1f} kN ({st.tipping_load[k] / g:.0f} kg) at x "
-            f"{pin[k, 0] * 1e3:.0f}, y {pin[k, 1] * 1e3:.0f}; unloaded, the centre of mass "
-            f"stays {st.margin[j] * 1e3:.0f} or more inside the support"
-        )
-    capped = {}
-    for working in ("arm", "bucket"):
-        c = capped_tool_forces(m, L, working, at="lip", gravity=True, swing=sw)  # type: ignore[arg-type]
-        capped[working] = c
-        kinds = np.array([s.split(" ")[0] for s in c.limiting.astype(str)])
-        share = ", ".join(
-            f"{k} {100 * np.mean(kinds == k):.0f} %" for k in dict.fromkeys(sorted(kinds)) if k
-        )
-        k = int(np.nanargmax(c.force))
-        click.echo(
-            f"  {working}-cylinder tool force (lip, with gravity): largest {c.force[k] / 1e3:.1f}"
-            f" ({c.limiting[k]}); limited by {share}"
-        )
+        survey = stability_survey(m, samples, swing=sw, stages=next_stage)  # type: ignore[arg-type]
+    click.echo(survey.summary())
     if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+        click.echo(f"wrote {write_table(survey.to_frame(), output, force=force)}")
     if map_prefix:
         import matplotlib
 
         matplotlib.use("Agg")
-        from excavkin.excavator.stability_plots import plot_limit_map, plot_value_map
-
-        for over in ("front", "side"):
-            fig = plot_value_map(
-                m,
-                pin,
-                tipping[over] / g / 1e3,
-                label="tipping load (t)",
-                title=f"tipping load of a load at the bucket pin, over the {over}",
-                log=True,
-            ).figure
-            _save_png(fig, f"{map_prefix}-tipping-{over}.png", force)
-        for working, c in capped.items():
-            lip = c.hydraulic.pose.lip
-            fig = plot_limit_map(
-                m,
-                lip,
-                c.force,
-                c.limiting,
-                title=f"{working}-cylinder tool force (ISO 6015, lip): the binding limit",
-            ).figure
-            _save_png(fig, f"{map_prefix}-limits-{working}.png", force)
+        for name, handle in survey.plot_maps().items():
+            _save_png(handle.figure, f"{map_prefix}-{name}.png", force)
 
 
 @command.command("lift")
