@@ -113,3 +113,19 @@ def test_the_stability_survey_is_the_stability_modules_own(machine) -> None:  # 
     assert tuple(MAPS) == ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
     with pytest.raises(InputError, match="at least 2"):
         stability_survey(machine, 1)
+
+
+def test_a_tip_target_gives_every_branch_and_checks_the_valid_one(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.ik import tip_target
+    from excavkin.excavator.machine import forward
+
+    target = tip_target(machine, 7.0, -1.5, np.radians(-90.0))
+    assert target.valid and target.check() < 1e-12
+    k = int(np.argmax(target.solution.valid[0]))
+    fk = forward(machine, target.solution.lengths[0, k][None, :])
+    assert_allclose(fk.tip[0], [7.0 + machine.swing_axis, -1.5 + machine.ground_line], atol=1e-12)
+    assert target.notes(k) == [] and target.branch_name(k) == "pivot+ link+"
+    assert "other assembly branch" in target.notes(2)
+    far = tip_target(machine, 20.0, 0.0, np.radians(-90.0))
+    assert not far.valid and np.isnan(far.check())
+    assert far.summary().endswith("no valid solution: the pose is out of the working range")

@@ -228,50 +228,13 @@ def forces(
 def ik(machine: str, x: str, y: str, angle: str) -> None:
     """Cylinder lengths that put the tooth tip at (X, Y) with the given bucket angle (exit
     status 3 when no branch reaches it within the strokes)."""
-    import numpy as np
-
-    from excavkin.excavator.machine import BRANCHES, forward, inverse
+    from excavkin.excavator.ik import tip_target
 
     m = _machine(machine)
-    tip = np.array(
-        [
-            [
-                si_value(x, "length", "--x") + m.swing_axis,
-                si_value(y, "length", "--y") + m.ground_line,
-            ]
-        ]
-    )
-    beta = si_value(angle, "angle", "--angle")
-    sol = inverse(m, tip, np.array([beta]))
-    click.echo(
-        f"{m.name} — tip at x = {tip[0, 0] * 1e3:.0f} mm, y = {tip[0, 1] * 1e3:.0f} mm, "
-        f"bucket angle {np.degrees(beta):.2f}°"
-    )
-    click.echo(f"{'branch':<14} {'boom mm':>9} {'arm mm':>9} {'bucket mm':>9}  status")
-    lo, hi = m.lengths_min, m.lengths_max
-    for k, (s1, s2) in enumerate(BRANCHES):
-        L = sol.lengths[0, k]
-        name = f"pivot{'+' if s1 > 0 else '−'} link{'+' if s2 > 0 else '−'}"
-        if not sol.reachable[0, k]:
-            click.echo(f"{name:<14} {'—':>9} {'—':>9} {'—':>9}  out of reach")
-            continue
-        notes = []
-        for c, role in enumerate(("boom", "arm", "bucket")):
-            if L[c] < lo[c] - 1e-9 or L[c] > hi[c] + 1e-9:
-                notes.append(f"{role} beyond stroke ({lo[c] * 1e3:.0f}–{hi[c] * 1e3:.0f})")
-        if not sol.model_branch[0, k]:
-            notes.append("other assembly branch")
-        status = "; ".join(notes) or "valid"
-        click.echo(f"{name:<14} {L[0] * 1e3:9.1f} {L[1] * 1e3:9.1f} {L[2] * 1e3:9.1f}  {status}")
-    if sol.valid[0].any():
-        k = int(np.argmax(sol.valid[0]))
-        fk = forward(m, sol.lengths[0, k][None, :])
-        err = float(np.hypot(*(fk.tip[0] - tip[0])))
-        click.echo(
-            f"check: forward kinematics of the first valid solution is {err:.1e} m from the target"
-        )
-    else:
-        click.echo("no valid solution: the pose is out of the working range")
+    reach, height = si_value(x, "length", "--x"), si_value(y, "length", "--y")
+    target = tip_target(m, reach, height, si_value(angle, "angle", "--angle"))
+    click.echo(target.summary())
+    if not target.valid:
         sys.exit(EXIT_SAMPLES)  # as a sample that does not solve
 
 
