@@ -129,3 +129,17 @@ def test_a_tip_target_gives_every_branch_and_checks_the_valid_one(machine) -> No
     far = tip_target(machine, 20.0, 0.0, np.radians(-90.0))
     assert not far.valid and np.isnan(far.check())
     assert far.summary().endswith("no valid solution: the pose is out of the working range")
+
+
+def test_a_dig_gives_its_table_and_summary(machine) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.excavator.dig import default_dig, dig
+    from excavkin.excavator.soil import Tool, soil
+
+    d = dig(machine, default_dig(machine, 9), soil("loam"), Tool(1.2), "balovnev")
+    frame = d.to_frame()
+    assert list(frame["point"]) == list(range(9))
+    assert_allclose(frame["margin"], d.available - d.required, rtol=0)
+    assert_allclose(frame[["boom", "arm", "bucket"]], d.lengths, rtol=0)
+    assert frame.attrs["excavkin.model"] == machine.name
+    lines = d.summary().splitlines()
+    assert len(lines) == 2 + 9 + 3 and lines[0].startswith(f"{machine.name} — balovnev")

@@ -26,7 +26,7 @@ from excavkin.cli.common import (
 from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
-    pass
+    from excavkin.excavator.machine import Machine
 
 #: the most grid points per stroke of a sweep (101³ ≈ 10⁶ poses, about a minute and a half here)
 MAX_GRID = 101
@@ -34,7 +34,7 @@ MAX_GRID = 101
 MAX_DIG_POINTS = 100_000
 
 
-def _machine(path: str):  # type: ignore[no-untyped-def]
+def _machine(path: str) -> Machine:
     from excavkin.excavator.machine_file import load_machine
 
     return load_machine(model_path(path, "machine"))
@@ -46,57 +46,6 @@ def _save_png(fig, path: str, force: bool) -> None:  # type: ignore[no-untyped-d
     target = check_target(path, force=force, suffixes=(".png", ".svg", ".pdf"))
     write_atomic(target, lambda tmp: fig.savefig(tmp, dpi=100, format=target.suffix[1:]))
     click.echo(f"wrote {target}")
-
-
-#: kinds of the excavator tables' columns (SI, plain names, like every excavkin table)
-TABLE_KINDS = {
-    **dict.fromkeys(
-        ("value", "x", "y", "boom", "arm", "bucket", "radius", "height", "pin_x", "pin_y"),
-        "length",
-    ),
-    "bucket_angle": "angle",
-    **dict.fromkeys(
-        (
-            "force",
-            "own_limit",
-            "hydraulic_force",
-            "tipping_force",
-            "slipping_force",
-            "cylinders_only",
-            "load",
-            "tool_force",
-            "max_bucket",
-            "max_arm",
-            "max_lift",
-        ),
-        "force",
-    ),
-    **dict.fromkeys(("rated_load", "tipping_load", "hydraulic_load"), "mass"),
-    "moment": "torque",
-    "length": "length",
-    "critical": "force",
-    "flow": "volume_flow",
-    **dict.fromkeys(("extend_speed", "retract_speed"), "velocity"),
-    **dict.fromkeys(("extend_time", "retract_time", "time"), "time"),
-    "peak_power": "power",
-    "peak_pressure": "pressure",
-    "work": "energy",
-}
-
-
-def _si_table(rows, model: str):  # type: ignore[no-untyped-def]
-    """Rows as a table whose attrs record each column's kind (its unit in a file)."""
-    import pandas as pd
-
-    from excavkin.kinematics.columns import kinds_attrs
-
-    frame = pd.DataFrame(rows)
-    frame.attrs.update(kinds_attrs(model, {c: k for c, k in TABLE_KINDS.items() if c in frame}))
-    return frame
-
-
-def _mm(v: float) -> str:
-    return f"{round(v * 1000) + 0.0:8.0f}"
 
 
 @click.group("excavator", context_settings={"help_option_names": ["-h", "--help"]})
@@ -613,7 +562,6 @@ def dig(
 ) -> None:
     """Soil resistance along a dig against the force the machine can exert: margin and the
     point where the dig stalls."""
-    import numpy as np
 
     from excavkin.errors import InputError
     from excavkin.excavator.dig import default_dig, dig_path
@@ -681,82 +629,9 @@ def dig(
         except InputError as exc:
             raise InputError(f"--depth {depth!r}: {exc}") from None
     d = run_dig(m, L, s, tool, model, at=at, swing=sw)  # type: ignore[arg-type]
-    click.echo(
-        f"{m.name} — {model} resistance along a dig in {s.name}, {tool.width * 1e3:.0f} mm wide "
-        f"(kN; positions mm)"
-    )
-    click.echo(
-        f"{'pt':>3} {'x':>7} {'y':>7} {'depth':>6} {'angle':>5} {'along':>7} {'normal':>7} "
-        f"{'needed':>7} {'avail':>7} {'margin':>7}  limited by"
-    )
-    rows = []
-    for i in range(len(L)):
-        flag = "  ← stalls" if i == d.stall else ""
-        click.echo(
-            f"{i:3d} {_mm(d.point[i, 0]):>7} {_mm(d.point[i, 1]):>7} "
-            f"{_mm(max(d.depth[i], 0.0)).strip():>6} {np.degrees(d.rake[i]):5.1f} "
-            f"{d.resistance.along[i] / 1e3:7.1f} {d.resistance.normal[i] / 1e3:7.1f} "
-            f"{d.required[i] / 1e3:7.1f} {d.available[i] / 1e3:7.1f} {d.margin[i] / 1e3:7.1f}  "
-            f"{d.limiting[i]}{flag}"
-        )
-        rows.append(
-            {
-                "point": i,
-                "boom": L[i, 0],
-                "arm": L[i, 1],
-                "bucket": L[i, 2],
-                "x": d.point[i, 0],
-                "y": d.point[i, 1],
-                "depth": d.depth[i],
-                "cutting_angle": d.rake[i],
-                "resistance_along": d.resistance.along[i],
-                "resistance_normal": d.resistance.normal[i],
-                "required": d.required[i],
-                "available": d.available[i],
-                "margin": d.margin[i],
-                "limited_by": str(d.limiting[i]),
-            }
-        )
-    soil_line = (
-        f"soil {s.name}: ρ {s.density:.0f} kg/m³, φ {np.degrees(s.friction_angle):.0f}°, "
-        f"c {s.cohesion / 1e3:.0f} kPa, δ {np.degrees(s.metal_friction):.0f}°, "
-        f"c_a {s.adhesion / 1e3:.0f} kPa, C {s.blows:g} blows, q {s.surcharge / 1e3:.0f} kPa"
-    )
-    click.echo(soil_line)
-    inside = d.depth > 0.0
-    k = int(np.nanargmax(np.where(inside, d.required, -np.inf)))
-    click.echo(
-        f"largest resistance {d.required[k] / 1e3:.1f} kN at point {k} "
-        f"(depth {d.depth[k] * 1e3:.0f} mm); least margin "
-        f"{np.nanmin(np.where(inside, d.margin, np.inf)) / 1e3:.1f} kN"
-    )
-    if d.stall >= 0:
-        i = d.stall
-        click.echo(
-            f"the dig stalls at point {i} (x {d.point[i, 0] * 1e3:.0f}, y "
-            f"{d.point[i, 1] * 1e3:.0f} mm): {d.required[i] / 1e3:.1f} kN needed, "
-            f"{d.available[i] / 1e3:.1f} kN available, limited by {d.limiting[i]}"
-        )
-    else:
-        click.echo("the dig goes through: the available force exceeds the resistance throughout")
+    click.echo(d.summary())
     if output:
-        kinds = {
-            "depth": "length",
-            "cutting_angle": "angle",
-            "resistance_along": "force",
-            "resistance_normal": "force",
-            "required": "force",
-            "available": "force",
-            "margin": "force",
-        }
-        import pandas as pd
-
-        from excavkin.kinematics.columns import kinds_attrs
-
-        frame = pd.DataFrame(rows)
-        table_kinds = {c: k for c, k in TABLE_KINDS.items() if c in frame} | kinds
-        frame.attrs.update(kinds_attrs(m.name, table_kinds))
-        click.echo(f"wrote {write_table(frame, output, force=force)}")
+        click.echo(f"wrote {write_table(d.to_frame(), output, force=force)}")
     if plot:
         import matplotlib
 
