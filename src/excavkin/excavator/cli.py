@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING
 
 import click
 
-from excavkin.cli.commands.optimize import write_machine_option
 from excavkin.cli.common import (
     EXIT_SAMPLES,
     check_count,
@@ -23,7 +22,7 @@ from excavkin.cli.common import (
     model_path,
     si_value,
 )
-from excavkin.cli.study_options import study_options
+from excavkin.cli.study_options import study_options, write_machine_option
 
 if TYPE_CHECKING:
     from excavkin.excavator.machine import Machine

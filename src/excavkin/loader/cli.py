@@ -12,9 +12,8 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
-from excavkin.cli.commands.optimize import write_machine_option
 from excavkin.cli.common import handle_errors, model_path
-from excavkin.cli.study_options import study_options
+from excavkin.cli.study_options import study_options, write_machine_option
 
 if TYPE_CHECKING:
     from excavkin.loader.machine import Loader

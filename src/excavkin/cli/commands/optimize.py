@@ -113,17 +113,6 @@ def report_optimum(best: Optimum, out: str | None, plot: str | None, force: bool
         click.echo(f"wrote {plot}")
 
 
-#: ``--write-machine``: the machine-study commands' option (``excavkin FAMILY optimize``)
-write_machine_option = click.option(
-    "--write-machine",
-    "machine_out",
-    default=None,
-    metavar="FILE.toml",
-    help="Write the optimum as a machine file: the study's machine file with the design "
-    "parameters' values replaced, each in the file's own unit, and its model inline.",
-)
-
-
 def optimize_machine_study(
     spec: MachineStudy,
     method: str | None,
