@@ -184,7 +184,7 @@ def test_the_study_file_refuses_what_a_loader_study_cannot_be(tmp_path: Path) ->
         "model": (text.replace('machine = "wheel_loader_machine"', 'model = "wheel_loader"'),
                   "excavkin optimize"),
         "excavator": (text.replace('"wheel_loader_machine"', '"excavator_machine"'),
-                      "cannot be read"),
+                      "excavkin excavator study"),
     }  # fmt: skip
     for name, (content, words) in cases.items():
         path = tmp_path / f"{name}.toml"

@@ -425,6 +425,14 @@ def _machine(r: Any, text: Any, folder: Path, family: DesignFamily) -> tuple[Any
             raise r.err(f"{text!r}: no such file beside the study, nor a built-in machine "
                         "example", "study", "machine")  # fmt: skip
         given = excavkin.example_path(text)
+    other = _family_of(given)
+    if other is not None and other != family.name:
+        raise r.err(
+            f"{text!r} is a{'n' if other[0] in 'aeiou' else ''} {other} machine: run the study "
+            f"with `excavkin {other} study` or `excavkin {other} optimize`",
+            "study",
+            "machine",
+        )
     try:
         machine = family.load(given)
     except ExcavkinError as exc:
@@ -435,6 +443,19 @@ def _machine(r: Any, text: Any, folder: Path, family: DesignFamily) -> tuple[Any
     if model.is_file() and model.resolve() != given.resolve():
         texts.append(read_text_file(model))
     return machine, given, "\n".join(texts)
+
+
+def _family_of(path: Path) -> str | None:
+    """The family a machine file names (None where it cannot be told: its reader says why)."""
+    import tomllib
+
+    from excavkin.families import family_of
+
+    try:
+        found = family_of(tomllib.loads(path.read_text(encoding="utf-8")), str(path))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, ExcavkinError):
+        return None
+    return found.name if found is not None else None
 
 
 class MachineProblem(Problem):
