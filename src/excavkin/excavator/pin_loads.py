@@ -44,7 +44,7 @@ from excavkin.excavator.lift import hydraulic_lift
 from excavkin.excavator.machine import ROLES, Machine, as_lengths
 from excavkin.kinematics.summary import batch_repr
 from excavkin.kinetostatics import ForceResult, PointForce
-from excavkin.machinery.pin_loads import pin_forces
+from excavkin.machinery.pin_loads import first_largest, pin_forces
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -295,14 +295,14 @@ def _maximum(
     for r_i, r in enumerate(results):
         values = r.load[:, column] if kind == "pin" else np.abs(r.cylinder_force[:, column])
         v = np.where(r.held & np.isfinite(values), values, -np.inf)
-        k = int(np.argmax(v))
-        by_case[r.case] = float(v[k])
-        if v[k] > best[0]:
-            best = (float(v[k]), r_i, k)
+        k = first_largest(v, prefer=r.tool_force)
+        by_case[r.case] = float(np.max(v))
+        if by_case[r.case] > best[0]:
+            best = (by_case[r.case], r_i, k)
     value, r_i, k = best
     r = results[r_i]
-    if kind == "cylinder":
-        value = float(r.cylinder_force[k, column])
+    if kind == "cylinder":  # signed (> 0 pushing), of the largest magnitude
+        value = float(np.copysign(value, r.cylinder_force[k, column]))
     return LoadMaximum(
         name,
         label,

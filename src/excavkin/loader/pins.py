@@ -31,7 +31,7 @@ from excavkin.arrays import BoolArray as B
 from excavkin.arrays import FloatArray as F
 from excavkin.loader.machine import Loader, bucket_frame_point, floor_angle, table_attrs
 from excavkin.machinery.cylinders import Cylinder
-from excavkin.machinery.pin_loads import pin_forces
+from excavkin.machinery.pin_loads import first_largest, pin_forces
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -128,7 +128,7 @@ class LoaderPins:
             best = (pin, -np.inf, "", np.nan)
             for c in self.cases:
                 col = np.where(c.ok, c.load[:, j], -np.inf)
-                k = int(np.argmax(col))
+                k = first_largest(col)
                 if col[k] > best[1]:
                     best = (pin, float(col[k]), c.name, float(c.hinge_height[k]))
             out.append(best)
