@@ -8,7 +8,7 @@ Prints, in one run:
   a thread per core, computing the same quantities — target ≥ 1.3× its throughput;
 - the excavator model: the compiled plan against the NumPy path (today's engine) — target ≥ 2×;
 - the excavator's forces (inertia, gravity, a load at the bucket tip): the compiled
-  kinetostatic elimination against the NumPy one.
+  kinetostatic back-substitution against the NumPy one.
 
 The programs run in turn, ``repeat`` rounds, so that a change in the machine's load falls on
 all alike; each ratio is printed as the ratio of the best times and the median of the rounds'
@@ -136,7 +136,7 @@ def main(n: int = 1_000_000, repeat: int = 7) -> tuple[float, float, float]:
     t_fast, t_slow = times_in_turn([fast, slow], repeat)
     r_forces, m_forces = _ratios(t_slow, t_fast)
     print(f"excavator, forces (inertia, gravity, a load at the tip), N = {n:,}")
-    print(f"  excavkin, NumPy elimination          : {n / min(t_slow) / 1e6:6.2f} M samples/s")
+    print(f"  excavkin, NumPy forces               : {n / min(t_slow) / 1e6:6.2f} M samples/s")
     print(f"  excavkin, compiled elimination       : {n / min(t_fast) / 1e6:6.2f} M samples/s")
     print(f"  compiled / NumPy                     : {r_forces:6.2f}×, {m_forces:.2f}×")
     return r_fourbar, r_exc, r_forces

@@ -748,7 +748,7 @@ class Mechanism:
         if self._statics is None:
             from excavkin.kinetostatics import compile_statics
 
-            self._statics = compile_statics(self.model)
+            self._statics = compile_statics(self.model, plan=self.plan)
         return self._statics
 
     def forces(

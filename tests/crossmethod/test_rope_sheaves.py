@@ -300,3 +300,21 @@ def test_a_rope_that_would_leave_its_sheave_is_a_failing_sample() -> None:
     assert labels == [off, off, "ok", "ok", "ok"]
     assert np.isnan(res.positions[:2, 6]).all()
     np.testing.assert_allclose(res.positions[2, 6], (x, x - 2.0), atol=1e-6)
+
+
+@pytest.mark.parametrize("sheaved", [False, True])
+def test_back_substitution_equals_the_pin_equations(sheaved: bool) -> None:
+    """The equilibrium along the plan (a one-point Newton group with the rope's constraint)
+    against the whole matrix of pin equations, per sample."""
+    from excavkin.kinetostatics.solve import solve_forces
+
+    model = boom() if sheaved else boom(Rope("hoist", ("A", "S"), 2, "winch", 0.25, 20.0))
+    mech = Mechanism(model)
+    theta = mech.plan.input_sketch[0] + np.linspace(-40.0, 40.0, 7)
+    kin = mech.solve({"hoist": theta}, {"hoist": 5.0}, {"hoist": -2.0})
+    load = [*mech.loads, PointForce("w", "boom", "S", (300.0, -1000.0))]
+    along = solve_forces(kin, load)
+    whole = solve_forces(kin, load, method="dense")
+    scale = np.abs(whole.pin_force).max()
+    np.testing.assert_allclose(along.pin_force, whole.pin_force, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(along.tension("hoist"), whole.tension("hoist"), rtol=1e-12)

@@ -50,9 +50,15 @@ MACHINE_STUDY = (
     .replace("samples = 4096", "samples = 4")
     .replace('bucket_cyl = "1645 mm:2765 mm:57"', 'bucket_cyl = "1645 mm:2765 mm:5"')
 )
+LOADER_STUDY = (
+    excavkin.example_path("wheel_loader_breakout")
+    .read_text()
+    .replace("samples = 64", "samples = 2")
+    .replace("maxiter = 30", "maxiter = 2\npopsize = 4")
+)
 
-#: a small valid command line of every command; "{d}" is a scratch folder, "{study}" and
-#: "{machine_study}" the files above
+#: a small valid command line of every command; "{d}" is a scratch folder, "{study}",
+#: "{machine_study}" and "{loader_study}" the files above
 BASE: dict[str, list[str]] = {
     "check": ["fourbar"],
     "demo": ["--model", "slider_crank", "--out-dir", "{d}/demo"],
@@ -71,6 +77,8 @@ BASE: dict[str, list[str]] = {
     "excavator optimize": ["{machine_study}", "--method", "slsqp", "-o", "{d}/b.csv", "--force"],
     "excavator pins": ["excavator_machine", "--samples", "3"],
     "excavator ranges": ["excavator_machine"],
+    "excavator report": ["excavator_machine", "--samples", "2", "-o", "{d}/e.html", "--force",
+                         "-q"],
     "excavator stability": ["excavator_machine", "--samples", "3"],
     "excavator study": ["{machine_study}", "-o", "{d}/m.parquet", "--force", "-q"],
     "loader breakout": ["wheel_loader_machine"],
@@ -79,7 +87,12 @@ BASE: dict[str, list[str]] = {
     "loader pins": ["wheel_loader_machine", "--samples", "3"],
     "loader lift": ["wheel_loader_tp_machine", "--samples", "5"],
     "loader ranges": ["wheel_loader_machine"],
+    "loader report": ["wheel_loader_machine", "--samples", "3", "-o", "{d}/l.html", "--force",
+                      "-q"],
     "loader tipping": ["wheel_loader_machine"],
+    "loader study": ["{loader_study}", "-o", "{d}/l.parquet", "--force", "-q"],
+    "loader optimize": ["{loader_study}", "-o", "{d}/l.csv", "--write-machine", "{d}/l.toml",
+                        "--force", "-q"],
     "reproduce arm": ["--out-dir", "{d}/arm"],
     "reproduce mo100": ["--out-dir", "{d}/mo100", "--samples", "36"],
     "reproduce pasika": ["--out-dir", "{d}/pasika", "--samples", "11"],
@@ -169,12 +182,14 @@ def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     d = tmp_path_factory.mktemp("fuzz")
     (d / "study.toml").write_text(STUDY)
     (d / "machine_study.toml").write_text(MACHINE_STUDY)
+    (d / "loader_study.toml").write_text(LOADER_STUDY)
     return d
 
 
 def base_args(path: str, d: Path) -> list[str]:
     fill = {"d": str(d), "study": str(d / "study.toml"),
-            "machine_study": str(d / "machine_study.toml")}  # fmt: skip
+            "machine_study": str(d / "machine_study.toml"),
+            "loader_study": str(d / "loader_study.toml")}  # fmt: skip
     return [*path.split(), *(a.format(**fill) for a in BASE[path])]
 
 
@@ -224,7 +239,8 @@ def test_garbage_files(tmp_path_factory, path: str, content: str | bytes) -> Non
 
 
 #: commands whose valid run takes seconds (a figure, a dense sweep): fewer cases
-SLOW = {"demo", "excavator cycle", "excavator forces", "excavator ranges", "excavator stability",
+SLOW = {"demo", "excavator cycle", "excavator forces", "excavator ranges", "excavator report",
+        "excavator stability", "loader report",
         *(p for p in BASE if p.startswith("reproduce "))}  # fmt: skip
 
 

@@ -1,8 +1,8 @@
-"""The compiled kinetostatic elimination (one machine-code loop per equilibrium system) against
-the NumPy elimination, the reference: every force column, the singular flags and the NaN
-pattern, for every example with masses, with loads of every kind (constant, one value per
-sample, functions of the motion, couples with a reaction, gravity), without inertia, and for
-families of designs whose dimensions and masses vary per sample."""
+"""The compiled kinetostatic back-substitution (one machine-code loop per plan and equilibrium
+system) against the NumPy back-substitution, the reference: every force column, the singular
+flags and the NaN pattern, for every example with masses, with loads of every kind (constant,
+one value per sample, functions of the motion, couples with a reaction, gravity), without
+inertia, and for families of designs whose dimensions and masses vary per sample."""
 
 from __future__ import annotations
 
@@ -100,8 +100,8 @@ def test_families_of_designs_compiled_forces_equal_numpy(name: str) -> None:
 
 def test_a_singular_pose_is_flagged_alike() -> None:
     """The four-bar's coupler and rocker made collinear (B on the line A–O4, a dead position):
-    the dense block's pivot vanishes, and the kernel flags the samples the NumPy elimination
-    flags; elsewhere its forces are the NumPy path's."""
+    the dyad's two directions are parallel, and the kernel flags the samples the NumPy
+    back-substitution flags; elsewhere its forces are the NumPy path's."""
     mech = excavkin.load(excavkin.example_path("fourbar"))
     kin = mech.solve({"crank": np.linspace(0.0, 6.0, 400)}, rates={"crank": 1.0})
     x = np.array(np.moveaxis(kin.positions, 0, -1))
@@ -111,20 +111,20 @@ def test_a_singular_pose_is_flagged_alike() -> None:
     ia, ib, io = pts.index("A"), pts.index("B"), pts.index("O4")
     x[ib, :, ::7] = x[ia, :, ::7] + 0.4 * (x[io, :, ::7] - x[ia, :, ::7])
     from excavkin.kinetostatics.body_loads import body_loads
-    from excavkin.kinetostatics.equilibrium import solve_system
     from excavkin.kinetostatics.inertia import MassProperties
     from excavkin.kinetostatics.loads import evaluate_loads
+    from excavkin.kinetostatics.structured import compile_structured, solve_structured
 
     mp, sy = MassProperties.of(kin), mech.statics
+    ss = compile_structured(mech.plan, sy)
     ev = evaluate_loads(mech.model, [Gravity()], kin)
     with np.errstate(all="ignore"):
-        sol, singular = solve_system(sy, x, body_loads(sy, mp, ev, x, a, eps, slice(None)))
-    text, values = compiled.source(sy, mp, ev, inertia=True)
+        ref, singular = solve_structured(ss, x, body_loads(sy, mp, ev, x, a, eps, slice(None)))
+    text, values = compiled.source(ss, mp, ev, inertia=True)
     out, flags = np.empty((sy.size, 400)), np.zeros(400, dtype=bool)
     compiled.solve(text, values, x, a, eps, out, flags)
     assert singular[::7].all() and singular.sum() == len(singular[::7])
     np.testing.assert_array_equal(flags, singular)
-    ref = np.array([np.broadcast_to(v, (400,)) for v in sol])
     ok = ~singular
     scale = np.abs(ref[:, ok]).max()
     assert np.abs(out[:, ok] - ref[:, ok]).max() <= 1e-15 * scale
@@ -135,9 +135,11 @@ def test_the_source_depends_on_the_structure_not_the_values() -> None:
     in the constants table."""
     mech = excavkin.load(excavkin.example_path("fourbar"))
     kin = mech.solve({"crank": np.linspace(0.0, 6.0, 50)})
-    sy = mech.statics
     from excavkin.kinetostatics.inertia import MassProperties
     from excavkin.kinetostatics.loads import evaluate_loads
+    from excavkin.kinetostatics.structured import compile_structured
+
+    sy = compile_structured(mech.plan, mech.statics)
 
     mp = MassProperties.of(kin)
     heavier = MassProperties(mp.mass * 2.0, mp.inertia * 3.0, mp.com * 0.5, mp.base)
@@ -157,8 +159,10 @@ def test_automatic_choice_and_refusal(monkeypatch: pytest.MonkeyPatch) -> None:
     kin = mech.solve({"crank": np.linspace(0.0, 6.0, 10)})
     from excavkin.kinetostatics.inertia import MassProperties
     from excavkin.kinetostatics.loads import evaluate_loads
+    from excavkin.kinetostatics.structured import compile_structured
 
-    text, _ = compiled.source(mech.statics, MassProperties.of(kin),
+    ss = compile_structured(mech.plan, mech.statics)
+    text, _ = compiled.source(ss, MassProperties.of(kin),
                               evaluate_loads(mech.model, [], kin), inertia=True)  # fmt: skip
     assert not compiled.use(text, 1000, None)  # small: NumPy
     assert not compiled.use(text, 10**6, False)

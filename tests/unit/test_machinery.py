@@ -230,3 +230,15 @@ def test_a_cylinder_under_another_role_is_refused() -> None:
     cyl["arm"] = replace(cyl["arm"], role="bucket")
     with pytest.raises(ModelError, match="the arm cylinder says its role is 'bucket'"):
         Machine(m.mechanism, m.front, cyl, m.circuits)
+
+
+def test_a_capped_load_names_its_pose_by_the_rule_not_by_round_off() -> None:
+    from excavkin.machinery.pin_loads import TIE_RTOL, first_largest
+
+    top = 775847.7217
+    v = np.array([1.0, top * (1 - 0.5 * TIE_RTOL), top, -np.inf, top * (1 - 2 * TIE_RTOL)])
+    assert first_largest(v) == 1  # the first of the tied poses, not the last bit's winner
+    assert first_largest(v, prefer=np.array([9.0, 1.0, 3.0, 99.0, 50.0])) == 2
+    assert first_largest(np.array([-np.inf, np.nan])) == 0
+    # the tie is relative: a load just outside it is a different load
+    assert first_largest(np.array([top * (1 - 2 * TIE_RTOL), top])) == 1

@@ -39,3 +39,14 @@ _OPTIONS = [
     ),
     click.option("-q", "--quiet", is_flag=True, help="No progress bar and no header."),
 ]
+
+
+#: ``--write-machine``: the machine-study optimisers' option (``excavkin FAMILY optimize``)
+write_machine_option = click.option(
+    "--write-machine",
+    "machine_out",
+    default=None,
+    metavar="FILE.toml",
+    help="Write the optimum as a machine file: the study's machine file with the design "
+    "parameters' values replaced, each in the file's own unit, and its model inline.",
+)

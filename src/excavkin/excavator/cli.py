@@ -22,7 +22,8 @@ from excavkin.cli.common import (
     model_path,
     si_value,
 )
-from excavkin.cli.study_options import study_options
+from excavkin.cli.machine_report import report_options
+from excavkin.cli.study_options import study_options, write_machine_option
 
 if TYPE_CHECKING:
     from excavkin.excavator.machine import Machine
@@ -33,7 +34,7 @@ MAX_GRID = 101
 MAX_DIG_POINTS = 100_000
 
 
-def _machine(path: str):  # type: ignore[no-untyped-def]
+def _machine(path: str) -> Machine:
     from excavkin.excavator.machine_file import load_machine
 
     return load_machine(model_path(path, "machine"))
@@ -45,57 +46,6 @@ def _save_png(fig, path: str, force: bool) -> None:  # type: ignore[no-untyped-d
     target = check_target(path, force=force, suffixes=(".png", ".svg", ".pdf"))
     write_atomic(target, lambda tmp: fig.savefig(tmp, dpi=100, format=target.suffix[1:]))
     click.echo(f"wrote {target}")
-
-
-#: kinds of the excavator tables' columns (SI, plain names, like every excavkin table)
-TABLE_KINDS = {
-    **dict.fromkeys(
-        ("value", "x", "y", "boom", "arm", "bucket", "radius", "height", "pin_x", "pin_y"),
-        "length",
-    ),
-    "bucket_angle": "angle",
-    **dict.fromkeys(
-        (
-            "force",
-            "own_limit",
-            "hydraulic_force",
-            "tipping_force",
-            "slipping_force",
-            "cylinders_only",
-            "load",
-            "tool_force",
-            "max_bucket",
-            "max_arm",
-            "max_lift",
-        ),
-        "force",
-    ),
-    **dict.fromkeys(("rated_load", "tipping_load", "hydraulic_load"), "mass"),
-    "moment": "torque",
-    "length": "length",
-    "critical": "force",
-    "flow": "volume_flow",
-    **dict.fromkeys(("extend_speed", "retract_speed"), "velocity"),
-    **dict.fromkeys(("extend_time", "retract_time", "time"), "time"),
-    "peak_power": "power",
-    "peak_pressure": "pressure",
-    "work": "energy",
-}
-
-
-def _si_table(rows, model: str):  # type: ignore[no-untyped-def]
-    """Rows as a table whose attrs record each column's kind (its unit in a file)."""
-    import pandas as pd
-
-    from excavkin.kinematics.columns import kinds_attrs
-
-    frame = pd.DataFrame(rows)
-    frame.attrs.update(kinds_attrs(model, {c: k for c, k in TABLE_KINDS.items() if c in frame}))
-    return frame
-
-
-def _mm(v: float) -> str:
-    return f"{round(v * 1000) + 0.0:8.0f}"
 
 
 @click.group("excavator", context_settings={"help_option_names": ["-h", "--help"]})
@@ -141,38 +91,11 @@ def ranges(
     m = _machine(machine)
     with staged("working ranges", 1, quiet=quiet) as next_stage:
         wr = working_ranges(m, progress=next_stage())
-    click.echo(f"{m.name} — working ranges (tooth tip; mm)")
-    click.echo(
-        f"{'':4} {'figure':<38} {'value':>8}  {'x':>8} {'y':>8}  "
-        f"{'boom':>7} {'arm':>7} {'bucket':>7}  bucket orientation"
-    )
-    rows = []
-    for f in wr.figures:
-        click.echo(
-            f"{f.code:4} {f.label:<38} {_mm(f.value)}  {_mm(f.tip[0])} {_mm(f.tip[1])}  "
-            f"{f.lengths[0] * 1e3:7.0f} {f.lengths[1] * 1e3:7.0f} "
-            f"{f.lengths[2] * 1e3:7.0f}  {f.orientation}"
-        )
-        rows.append(
-            {
-                "key": f.key,
-                "code": f.code,
-                "label": f.label,
-                "value": f.value,
-                "x": f.tip[0],
-                "y": f.tip[1],
-                "boom": f.lengths[0],
-                "arm": f.lengths[1],
-                "bucket": f.lengths[2],
-                "bucket_angle": f.bucket_angle,
-                "orientation": f.orientation,
-            }
-        )
+    click.echo(wr.summary())
     if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+        click.echo(f"wrote {write_table(wr.to_frame(), output, force=force)}")
     if envelope:
-        frame = _si_table({"x": wr.envelope[:, 0], "y": wr.envelope[:, 1]}, m.name)
-        click.echo(f"wrote {write_table(frame, envelope, force=force)}")
+        click.echo(f"wrote {write_table(wr.envelope_frame(), envelope, force=force)}")
     if plot:
         import matplotlib
 
@@ -214,15 +137,8 @@ def forces(
 ) -> None:
     """Print the rated ISO 6015 (lip) and SAE J1179 (tooth tip) tool forces, and the largest
     over a sweep of the strokes."""
-
-    from excavkin.excavator.forces import (
-        ForceMaximum,
-        RatedForce,
-        force_maximum,
-        rated_force,
-        tool_forces,
-    )
-    from excavkin.excavator.ranges import sweep
+    from excavkin.cli.progress import staged
+    from excavkin.excavator.force_survey import STANDARDS, WORKING, tool_force_survey
     from excavkin.outputs.tables import check_target, write_table
 
     check_count(samples, "--samples", least=2, most=MAX_GRID, samples=samples**3,
@@ -230,82 +146,20 @@ def forces(
     if output:
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
     if map_prefix:
-        for working in ("arm", "bucket"):
+        for working in WORKING:
             check_target(f"{map_prefix}-{working}.png", force=force, suffixes=(".png",))
     m = _machine(machine)
-    grav = not no_gravity
-    kinds = (("lip", "ISO 6015"), ("tip", "SAE J1179"))
-    rows = []
-
-    def row(kind: str, std: str, gravity: bool, r: RatedForce | ForceMaximum) -> None:
-        lim = r.limiting + (" (working pressure)" if r.limiting == r.working else " (relief)")
-        click.echo(
-            f"{std:<10} {r.working:<8} {r.force / 1e3:7.1f} {r.uncapped / 1e3:7.1f}  "
-            f"{r.point[0] * 1e3:6.0f} {r.point[1] * 1e3:6.0f}  {r.lengths[0] * 1e3:6.0f} "
-            f"{r.lengths[1] * 1e3:6.0f} {r.lengths[2] * 1e3:6.0f}  {lim}"
-        )
-        moment, radius = (r.moment, r.radius) if isinstance(r, RatedForce) else (math.nan, math.nan)
-        rows.append(
-            {
-                "kind": kind,
-                "standard": std,
-                "cylinder": r.working,
-                "gravity": gravity,
-                "force": r.force,
-                "own_limit": r.uncapped,
-                "moment": moment,
-                "radius": radius,
-                "x": r.point[0],
-                "y": r.point[1],
-                "boom": r.lengths[0],
-                "arm": r.lengths[1],
-                "bucket": r.lengths[2],
-                "limited_by": r.limiting,
-            }
-        )
-
-    click.echo(f"{m.name} — tool forces (kN; positions mm)")
-    click.echo(
-        "Rated: bucket at its cylinder's largest moment, stick at the arm cylinder's "
-        "(ISO 6015 §5.2, SAE J1179 §3.3); no gravity"
-    )
-    click.echo(
-        f"{'standard':<10} {'cylinder':<8} {'force':>7} {'own':>7}  {'x':>6} {'y':>6}  "
-        f"{'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
-    )
-    from excavkin.cli.progress import staged
-
-    with staged("rated forces", 2 * len(kinds), quiet=quiet) as next_stage:
-        rated = [
-            (std, rated_force(m, working, at=at, progress=next_stage()))  # type: ignore[arg-type]
-            for at, std in kinds
-            for working in ("arm", "bucket")
-        ]
-    for std, r in rated:
-        row("rated", std, False, r)
-    pose = sweep(m, samples)
-    click.echo(
-        f"Largest over a {samples}³ stroke sweep ({'with' if grav else 'without'} gravity "
-        "of the front)"
-    )
-    maps = {}
-    for at, std in kinds:
-        for working in ("arm", "bucket"):
-            tf = tool_forces(m, pose.lengths, working, at=at, gravity=grav)  # type: ignore[arg-type]
-            row("sweep_max", std, grav, force_maximum(tf))
-            if at == "lip":
-                maps[working] = tf
-    click.echo("force: capped by the holding cylinders' reliefs; own: the working cylinder's limit")
+    with staged("rated forces", len(STANDARDS) * len(WORKING), quiet=quiet) as next_stage:
+        survey = tool_force_survey(m, samples, gravity=not no_gravity, stages=next_stage)
+    click.echo(survey.summary())
     if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+        click.echo(f"wrote {write_table(survey.to_frame(), output, force=force)}")
     if map_prefix:
         import matplotlib
 
         matplotlib.use("Agg")
-        from excavkin.excavator.plots import plot_force_map
-
-        for working, tf in maps.items():
-            _save_png(plot_force_map(m, tf).figure, f"{map_prefix}-{working}.png", force)
+        for name, handle in survey.plot_maps().items():
+            _save_png(handle.figure, f"{map_prefix}-{name}.png", force)
 
 
 @command.command("ik")
@@ -323,50 +177,13 @@ def forces(
 def ik(machine: str, x: str, y: str, angle: str) -> None:
     """Cylinder lengths that put the tooth tip at (X, Y) with the given bucket angle (exit
     status 3 when no branch reaches it within the strokes)."""
-    import numpy as np
-
-    from excavkin.excavator.machine import BRANCHES, forward, inverse
+    from excavkin.excavator.ik import tip_target
 
     m = _machine(machine)
-    tip = np.array(
-        [
-            [
-                si_value(x, "length", "--x") + m.swing_axis,
-                si_value(y, "length", "--y") + m.ground_line,
-            ]
-        ]
-    )
-    beta = si_value(angle, "angle", "--angle")
-    sol = inverse(m, tip, np.array([beta]))
-    click.echo(
-        f"{m.name} — tip at x = {tip[0, 0] * 1e3:.0f} mm, y = {tip[0, 1] * 1e3:.0f} mm, "
-        f"bucket angle {np.degrees(beta):.2f}°"
-    )
-    click.echo(f"{'branch':<14} {'boom mm':>9} {'arm mm':>9} {'bucket mm':>9}  status")
-    lo, hi = m.lengths_min, m.lengths_max
-    for k, (s1, s2) in enumerate(BRANCHES):
-        L = sol.lengths[0, k]
-        name = f"pivot{'+' if s1 > 0 else '−'} link{'+' if s2 > 0 else '−'}"
-        if not sol.reachable[0, k]:
-            click.echo(f"{name:<14} {'—':>9} {'—':>9} {'—':>9}  out of reach")
-            continue
-        notes = []
-        for c, role in enumerate(("boom", "arm", "bucket")):
-            if L[c] < lo[c] - 1e-9 or L[c] > hi[c] + 1e-9:
-                notes.append(f"{role} beyond stroke ({lo[c] * 1e3:.0f}–{hi[c] * 1e3:.0f})")
-        if not sol.model_branch[0, k]:
-            notes.append("other assembly branch")
-        status = "; ".join(notes) or "valid"
-        click.echo(f"{name:<14} {L[0] * 1e3:9.1f} {L[1] * 1e3:9.1f} {L[2] * 1e3:9.1f}  {status}")
-    if sol.valid[0].any():
-        k = int(np.argmax(sol.valid[0]))
-        fk = forward(m, sol.lengths[0, k][None, :])
-        err = float(np.hypot(*(fk.tip[0] - tip[0])))
-        click.echo(
-            f"check: forward kinematics of the first valid solution is {err:.1e} m from the target"
-        )
-    else:
-        click.echo("no valid solution: the pose is out of the working range")
+    reach, height = si_value(x, "length", "--x"), si_value(y, "length", "--y")
+    target = tip_target(m, reach, height, si_value(angle, "angle", "--angle"))
+    click.echo(target.summary())
+    if not target.valid:
         sys.exit(EXIT_SAMPLES)  # as a sample that does not solve
 
 
@@ -415,164 +232,31 @@ def stability(
 ) -> None:
     """Print tipping lines, the rated tool forces capped by tipping and slipping (ISO 6015
     §4.5), and the stability over a sweep of the strokes."""
-    import numpy as np
-
-    from excavkin.excavator.ranges import sweep
-    from excavkin.excavator.stability import (
-        base_rated_force,
-        capped_tool_forces,
-        need_base,
-    )
-    from excavkin.excavator.stability import (
-        stability as stability_of,
-    )
+    from excavkin.cli.progress import staged
+    from excavkin.excavator.stability_survey import MAPS, pin_grid, stability_survey
     from excavkin.outputs.tables import check_target, write_table
 
     check_count(samples, "--samples", least=2, most=MAX_GRID,
-                samples=samples**3 + 5 * (4 * samples - 3) ** 2, bytes_per_sample=10_000,
+                samples=samples**3 + math.prod(pin_grid(samples)), bytes_per_sample=10_000,
                 what="poses of the stroke sweeps")  # fmt: skip
     sw = _swing_option(swing)
-    maps = ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
     if output:
         check_target(output, force=force, suffixes=(".csv", ".parquet"))
     if map_prefix:
-        for name in maps:
+        for name in MAPS:
             check_target(f"{map_prefix}-{name}.png", force=force, suffixes=(".png",))
     m = _machine(machine)
-    base = need_base(m)
-    g = m.gravity
-    total = m.front_mass + base.mass
-    click.echo(f"{m.name} — stability (forces kN, lengths mm)")
-    click.echo(
-        f"masses kg: front {m.front_mass:.0f} (bodies and cylinders), upper structure "
-        f"{base.upper.mass:.0f}, counterweight {base.counterweight.mass:.0f}, undercarriage "
-        f"{base.undercarriage.mass:.0f}; whole machine {total:.0f}; ground friction "
-        f"{base.friction:.2f}"
-    )
-    lines = base.tipping_lines(m.swing_axis)
-    click.echo(
-        "tipping lines (distance from the swing axis): "
-        + ", ".join(f"{ln.name} {ln.offset * 1e3:.0f}" for ln in lines)
-    )
-    where = sw if isinstance(sw, str) else f"swung {math.degrees(sw):.1f}°"
-    click.echo(f"Rated tool forces over the {where}" if isinstance(sw, str) else f"Rated, {where}")
-    click.echo(
-        "(capped by the cylinders, tipping and slipping: ISO 6015 §3.17–3.19, §4.5; the front's "
-        "weight counts for tipping and slipping only)"
-    )
-    click.echo(
-        f"{'standard':<10} {'cylinder':<8} {'force':>7} {'cyl.':>7} {'tipping':>8} "
-        f"{'(line)':<12} {'slip':>7}  {'boom':>6} {'arm':>6} {'bucket':>6}  limited by"
-    )
-    rows = []
-    from excavkin.cli.progress import staged
-
     with staged("rated forces", 4, quiet=quiet) as next_stage:
-        rated = {
-            (at, working): base_rated_force(m, working, at=at, swing=sw, progress=next_stage())  # type: ignore[arg-type]
-            for at in ("lip", "tip")
-            for working in ("arm", "bucket")
-        }
-    for at, std in (("lip", "ISO 6015"), ("tip", "SAE J1179")):
-        for working in ("arm", "bucket"):
-            r = rated[at, working]
-            rf = r.rated
-            click.echo(
-                f"{std:<10} {working:<8} {rf.force / 1e3:7.1f} {r.hydraulic / 1e3:7.1f} "
-                f"{r.tipping / 1e3:8.1f} {'(' + r.tipping_line + ')':<12} "
-                f"{r.slipping / 1e3:7.1f}  {rf.lengths[0] * 1e3:6.0f} {rf.lengths[1] * 1e3:6.0f} "
-                f"{rf.lengths[2] * 1e3:6.0f}  {rf.limiting}"
-            )
-            rows.append(
-                {
-                    "standard": std,
-                    "cylinder": working,
-                    "force": rf.force,
-                    "hydraulic_force": r.hydraulic,
-                    "tipping_force": r.tipping,
-                    "tipping_line": r.tipping_line,
-                    "slipping_force": r.slipping,
-                    "cylinders_only": r.cylinders_only.force,
-                    "x": rf.point[0],
-                    "y": rf.point[1],
-                    "boom": rf.lengths[0],
-                    "arm": rf.lengths[1],
-                    "bucket": rf.lengths[2],
-                    "limited_by": rf.limiting,
-                }
-            )
-    click.echo("cyl.: the cylinders' limit at that pose; slip: where the machine slides")
-    pose = sweep(m, samples)
-    ok = pose.ok & pose.within_stroke
-    L = pose.lengths[ok]
-    # the bucket pin moves with the boom and the arm alone: a finer grid of those two
-    dense = 4 * samples - 3
-    pin_pose = sweep(m, (dense, dense, 5))
-    pin_ok = pin_pose.ok & pin_pose.within_stroke
-    pin = pin_pose.result.point(m.pins.bucket_pin)[0][pin_ok]
-    click.echo(
-        f"Over the working range ({samples}³ stroke sweep; {dense}² × 5 for the bucket pin; the "
-        "front's weight at each pose)"
-    )
-    tipping = {}
-    for over in ("front", "side"):
-        st = stability_of(m, pin_pose.lengths[pin_ok], m.pins.bucket_pin, swing=over)
-        tipping[over] = st.tipping_load
-        k = int(np.argmin(st.tipping_load))
-        j = int(np.argmin(st.margin))
-        click.echo(
-            f"  over the {over}: least tipping load of a load hung at the bucket pin "
-            f"{st.tipping_load[k] / 1e3:.1f} kN ({st.tipping_load[k] / g:.0f} kg) at x "
-            f"{pin[k, 0] * 1e3:.0f}, y {pin[k, 1] * 1e3:.0f}; unloaded, the centre of mass "
-            f"stays {st.margin[j] * 1e3:.0f} or more inside the support"
-        )
-    capped = {}
-    for working in ("arm", "bucket"):
-        c = capped_tool_forces(m, L, working, at="lip", gravity=True, swing=sw)  # type: ignore[arg-type]
-        capped[working] = c
-        kinds = np.array([s.split(" ")[0] for s in c.limiting.astype(str)])
-        share = ", ".join(
-            f"{k} {100 * np.mean(kinds == k):.0f} %" for k in dict.fromkeys(sorted(kinds)) if k
-        )
-        k = int(np.nanargmax(c.force))
-        click.echo(
-            f"  {working}-cylinder tool force (lip, with gravity): largest {c.force[k] / 1e3:.1f}"
-            f" ({c.limiting[k]}); limited by {share}"
-        )
+        survey = stability_survey(m, samples, swing=sw, stages=next_stage)  # type: ignore[arg-type]
+    click.echo(survey.summary())
     if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+        click.echo(f"wrote {write_table(survey.to_frame(), output, force=force)}")
     if map_prefix:
         import matplotlib
 
         matplotlib.use("Agg")
-        from excavkin.excavator.stability_plots import plot_limit_map, plot_value_map
-
-        for over in ("front", "side"):
-            fig = plot_value_map(
-                m,
-                pin,
-                tipping[over] / g / 1e3,
-                label="tipping load (t)",
-                title=f"tipping load of a load at the bucket pin, over the {over}",
-                log=True,
-            ).figure
-            _save_png(fig, f"{map_prefix}-tipping-{over}.png", force)
-        for working, c in capped.items():
-            lip = c.hydraulic.pose.lip
-            fig = plot_limit_map(
-                m,
-                lip,
-                c.force,
-                c.limiting,
-                title=f"{working}-cylinder tool force (ISO 6015, lip): the binding limit",
-            ).figure
-            _save_png(fig, f"{map_prefix}-limits-{working}.png", force)
-
-
-def _kg(value: float, star: bool) -> str:
-    if not math.isfinite(value):
-        return ""
-    return f"{value:,.0f}".replace(",", " ") + ("*" if star else " ")
+        for name, handle in survey.plot_maps().items():
+            _save_png(handle.figure, f"{map_prefix}-{name}.png", force)
 
 
 @command.command("lift")
@@ -601,8 +285,6 @@ def lift(
 ) -> None:
     """Print the rated lift capacity (ISO 10567, kg) over load radius × height, over the front
     and over the side."""
-    import numpy as np
-
     from excavkin.excavator.lift import lift_table
     from excavkin.outputs.tables import check_target, write_table
 
@@ -615,73 +297,9 @@ def lift(
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
     m = _machine(machine)
     t = lift_table(m, step=dr, pressure=pressure)  # type: ignore[arg-type]
-    g = m.gravity
-    click.echo(
-        f"{m.name} — rated lift capacity (ISO 10567), kg; load point {t.point}"
-        f"{' (bucket pin)' if t.point == m.pins.bucket_pin else ''}, bucket curled"
-    )
-    click.echo(
-        "the lesser of 75 % of the tipping load and 87 % of the hydraulic capacity (boom "
-        f"cylinders at {pressure} pressure, arm and bucket within their relief); "
-        "* hydraulic"
-    )
-    click.echo(
-        f"{'':>7}"
-        + "".join(f" | {f'radius {r:.1f} m':^17}" for r in t.radii)
-        + f" | {'at max reach':^26}"
-    )
-    click.echo(
-        f"{'height':>7}"
-        + f" | {'front':>8} {'side':>8}" * len(t.radii)
-        + f" | {'radius':>8} {'front':>8} {'side':>8}"
-    )
-    front, side = t.rated("front") / g, t.rated("side") / g
-    sf, ss = t.hydraulic_limited("front"), t.hydraulic_limited("side")
-    rows = []
-
-    def record(h: float, r: float, k: int, cap: object, i: int, L: np.ndarray) -> None:
-        for over in ("front", "side"):
-            rows.append(
-                {
-                    "height": h,
-                    "radius": r,
-                    "at_max_reach": k < 0,
-                    "over": over,
-                    "rated_load": cap.rated[over][i] / g,  # type: ignore[attr-defined]
-                    "limit": "hydraulic"
-                    if cap.hydraulic_limited[over][i]  # type: ignore[attr-defined]
-                    else "tipping",
-                    "tipping_load": cap.tipping[over][i] / g,  # type: ignore[attr-defined]
-                    "tipping_line": cap.tipping_line[over][i],  # type: ignore[attr-defined]
-                    "hydraulic_load": cap.hydraulic.load[i] / g,  # type: ignore[attr-defined]
-                    "hydraulic_limit": cap.hydraulic.limiting[i],  # type: ignore[attr-defined]
-                    "boom": L[0],
-                    "arm": L[1],
-                    "bucket": L[2],
-                }
-            )
-
-    R = len(t.radii)
-    for i, h in enumerate(t.heights):
-        cells = ""
-        for j, r in enumerate(t.radii):
-            if t.reachable[i, j]:
-                cells += f" | {_kg(front[i, j], sf[i, j]):>8} {_kg(side[i, j], ss[i, j]):>8}"
-                record(float(h), float(r), j, t.capacity, i * R + j, t.lengths[i, j])
-            else:
-                cells += f" | {'':>17}"
-        a = t.at_max_reach
-        if np.isfinite(t.max_reach[i]):
-            cells += (
-                f" | {t.max_reach[i]:>6.2f} m"
-                f" {_kg(a.rated['front'][i] / g, a.hydraulic_limited['front'][i]):>8}"
-                f" {_kg(a.rated['side'][i] / g, a.hydraulic_limited['side'][i]):>8}"
-            )
-            record(float(h), float(t.max_reach[i]), -1, a, i, t.max_reach_lengths[i])
-        click.echo(f"{h:6.1f}m{cells}")
+    click.echo(t.summary())
     if output:
-        frame = _si_table(rows, m.name)
-        click.echo(f"wrote {write_table(frame, output, force=force)}")
+        click.echo(f"wrote {write_table(t.to_frame(), output, force=force)}")
     if plot:
         import matplotlib
 
@@ -750,12 +368,12 @@ def pins(
 ) -> None:
     """Print the largest load on each pin and in each cylinder over the working range, the load
     case and the pose where it occurs."""
-    from excavkin.excavator.pin_loads import CASES, load_maxima, pin_loads
-    from excavkin.excavator.ranges import stroke_grid
+    from excavkin.cli.progress import staged
+    from excavkin.excavator.pin_loads import CASES, lift_grid, working_range_pin_loads
     from excavkin.outputs.tables import check_target, write_table
 
     check_count(samples, "--samples", least=2, most=MAX_GRID,
-                samples=max(samples**3, (2 * samples - 1) ** 2 * max(3, round(samples / 4))),
+                samples=max(samples**3, math.prod(lift_grid(samples))),
                 bytes_per_sample=10_000, what="poses of the stroke sweep")  # fmt: skip
     chosen = [c for c in CASES if c in cases] if cases else list(CASES)
     mass = None
@@ -773,95 +391,23 @@ def pins(
         for case in chosen:
             check_target(f"{map_prefix}-{case}.png", force=force, suffixes=(".png",))
     m = _machine(machine)
-    grav = not no_gravity
-    W = None if mass is None else mass * m.gravity
-    # a lift load's point moves with the boom and the stick: a finer grid of those two, at
-    # about the same count of poses, covers its map and its maxima better
-    lift_grid = (2 * samples - 1, 2 * samples - 1, max(3, round(samples / 4)))
-    from excavkin.cli.progress import staged
-
     with staged("pin loads", len(chosen), quiet=quiet) as next_stage:
-        results = tuple(
-            pin_loads(
-                m,
-                stroke_grid(m, lift_grid if case == "lift" else samples),
-                case,
-                load=W if case == "lift" else None,
-                at=at,  # type: ignore[arg-type]
-                gravity=grav,
-                progress=next_stage(),
-            )
-            for case in chosen
-        )
-    maxima = load_maxima(results)
-    grids = f"{samples}³ stroke sweep" if chosen != ["lift"] else ""
-    if "lift" in chosen:
-        grids += (", " if grids else "") + "{} × {} × {} for the lift load".format(*lift_grid)
-    std = "ISO 6015, lip" if at == "lip" else "SAE J1179, tooth tip"
-    text = {
-        "bucket": f"bucket: bucket-cylinder tool force ({std})",
-        "arm": f"arm: arm-cylinder tool force ({std})",
-        "lift": f"lift: {'the hydraulic lift capacity' if W is None else f'{mass:.0f} kg'} "
-        f"hanging at {m.lift_point}",
-    }
-    click.echo(f"{m.name} — pin loads and cylinder forces over the working range (kN; mm)")
-    click.echo(
-        f"{grids}; {'with' if grav else 'without'} the front's weight; cases: "
-        + "; ".join(text[c] for c in chosen)
-    )
-    if W is not None:
-        lift = results[chosen.index("lift")]
-        click.echo(f"the front holds the lift load at {100 * lift.held.mean():.0f} % of the poses")
-    per_case = "".join(f" {c:>7}" for c in chosen)
-    click.echo(
-        f"{'pin':<7} {'what':<40} {'max':>7} {'case':<7}{per_case}  {'load':>6} "
-        f"{'x':>6} {'y':>6}  {'boom':>5} {'arm':>5} {'bucket':>6}"
-    )
-    rows = []
-    for mx in maxima:
-        name = mx.name if mx.kind == "pin" else ""
-        cells = "".join(f" {mx.by_case[c] / 1e3:7.1f}" for c in chosen)
-        click.echo(
-            f"{name:<7} {mx.label:<40} {mx.value / 1e3:7.1f} {mx.case:<7}{cells}  "
-            f"{mx.tool_force / 1e3:6.1f} {mx.tool_point[0] * 1e3:6.0f} "
-            f"{mx.tool_point[1] * 1e3:6.0f}  {mx.lengths[0] * 1e3:5.0f} "
-            f"{mx.lengths[1] * 1e3:5.0f} {mx.lengths[2] * 1e3:6.0f}"
-        )
-        rows.append(
-            {
-                "name": mx.name,
-                "label": mx.label,
-                "kind": mx.kind,
-                "load": mx.value,
-                "case": mx.case,
-                **{f"max_{c}": mx.by_case[c] for c in chosen},
-                "tool_force": mx.tool_force,
-                "x": mx.tool_point[0],
-                "y": mx.tool_point[1],
-                "pin_x": mx.bucket_pin[0],
-                "pin_y": mx.bucket_pin[1],
-                "boom": mx.lengths[0],
-                "arm": mx.lengths[1],
-                "bucket": mx.lengths[2],
-            }
-        )
-    click.echo(
-        "max: largest force the pin passes to one of its members (a cylinder: its force, "
-        "> 0 pushing); load: the tool force or lift load there, acting at (x, y)"
-    )
+        result = working_range_pin_loads(
+            m, chosen, samples=samples, mass=mass, at=at, gravity=not no_gravity,  # type: ignore[arg-type]
+            stages=next_stage,
+        )  # fmt: skip
+    click.echo(result.summary())
     if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
+        click.echo(f"wrote {write_table(result.to_frame(), output, force=force)}")
     if plot or map_prefix:
         import matplotlib
 
         matplotlib.use("Agg")
-        from excavkin.excavator.pin_plots import plot_load_maxima, plot_pin_maps
-
         if plot:
-            _save_png(plot_load_maxima(m, maxima).figure, plot, force)
+            _save_png(result.plot().figure, plot, force)
         if map_prefix:
-            for r in results:
-                _save_png(plot_pin_maps(m, r).figure, f"{map_prefix}-{r.case}.png", force)
+            for name, handle in result.plot_maps().items():
+                _save_png(handle.figure, f"{map_prefix}-{name}.png", force)
 
 
 @command.command("cycle")
@@ -884,14 +430,8 @@ def cycle(machine: str, output: str | None, plot: str | None, force: bool, quiet
     """Print cylinder speeds and stroke times from the pump flows, a dig–swing–dump cycle
     estimate with the hydraulic power of each phase, and the buckling check of each cylinder
     at the rated forces."""
-    from excavkin.excavator.forces import rated_force, tool_forces
-    from excavkin.excavator.hydraulics import (
-        Buckling,
-        cycle_time,
-        pose_buckling,
-        relief_buckling,
-        strokes,
-    )
+    from excavkin.cli.progress import staged
+    from excavkin.excavator.cycle_sheet import hydraulic_cycle
     from excavkin.outputs.tables import check_target, write_table
 
     if output:
@@ -899,140 +439,18 @@ def cycle(machine: str, output: str | None, plot: str | None, force: bool, quiet
     if plot:
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
     m = _machine(machine)
-    st = strokes(m)
-    cy = cycle_time(m)
-    h = m.hydraulics
-    assert h is not None  # strokes() refuses a machine without hydraulics
-    rows: list[dict[str, object]] = []
-    click.echo(f"{m.name} — hydraulics (no-load, full-flow speeds; flows of the feeding pumps add)")
-    click.echo(
-        f"{'cylinder':<8} {'count':>5} {'flow L/min':>10} {'ext m/s':>8} {'ret m/s':>8} "
-        f"{'ext s':>6} {'ret s':>6}"
-    )
-    for c, s in zip(m.cylinders, st, strict=True):
-        click.echo(
-            f"{s.role:<8} {c.count:>5} {s.flow * 6e4:10.0f} {s.extend_speed:8.3f} "
-            f"{s.retract_speed:8.3f} {s.extend_time:6.2f} {s.retract_time:6.2f}"
-        )
-        rows.append(
-            {
-                "section": "stroke",
-                "cylinder": s.role,
-                "flow": s.flow,
-                "extend_speed": s.extend_speed,
-                "retract_speed": s.retract_speed,
-                "extend_time": s.extend_time,
-                "retract_time": s.retract_time,
-            }
-        )
-    click.echo(
-        f"Cycle (full strokes; swing {math.degrees(h.swing_angle):.0f}° at "
-        f"{h.swing_speed * 30 / math.pi:.1f} rpm, constant speed), s"
-    )
-    for name, value in (
-        ("dig (arm + bucket in)", cy.dig),
-        ("boom up", cy.boom_up),
-        ("swing (one way)", cy.swing),
-        ("dump (arm + bucket out)", cy.dump),
-        ("boom down", cy.boom_down),
-        ("cycle, one motion at a time", cy.sequential),
-        ("cycle, swing overlapping boom", cy.overlapped),
-    ):
-        click.echo(f"  {name:<30} {value:6.2f}")
-        rows.append({"section": "cycle", "phase": name, "time": value})
-    _cycle_power(m, rows, plot, force)
-    click.echo(
-        f"Buckling (one cylinder; rod alone over the pin-to-pin length, pinned-pinned; "
-        f"E = {h.modulus / 1e9:.0f} GPa, yield {h.rod_yield / 1e6:.0f} MPa)"
-    )
-    click.echo(
-        f"{'case':<26} {'cylinder':<8} {'length':>8} {'push kN':>8} {'L/r':>6} "
-        f"{'P_cr kN':>8} {'formula':<8} {'safety':>6}"
-    )
-
-    def show(case: str, checks: tuple[Buckling, ...]) -> None:
-        for b in checks:
-            safety = float(b.safety[0])
-            click.echo(
-                f"{case:<26} {b.role:<8} {_mm(float(b.length[0]))} "
-                f"{float(b.force[0]) / 1e3:8.1f} {float(b.slenderness[0]):6.1f} "
-                f"{float(b.critical[0]) / 1e3:8.1f} {str(b.formula[0]):<8} "
-                + (f"{safety:6.2f}" if math.isfinite(safety) else f"{'pulls':>6}")
-            )
-            rows.append(
-                {
-                    "section": "buckling",
-                    "case": case,
-                    "cylinder": b.role,
-                    "length": float(b.length[0]),
-                    "force": float(b.force[0]),
-                    "slenderness": float(b.slenderness[0]),
-                    "critical": float(b.critical[0]),
-                    "formula": str(b.formula[0]),
-                    "safety": safety,
-                }
-            )
-
-    show("relief, fully extended", relief_buckling(m))
-    from excavkin.cli.progress import staged
-
     with staged("rated forces", 2, quiet=quiet) as next_stage:
-        rated = {w: rated_force(m, w, progress=next_stage()) for w in ("arm", "bucket")}  # type: ignore[arg-type]
-    for working in ("arm", "bucket"):
-        r = rated[working]
-        tf = tool_forces(m, r.lengths[None, :], working, gravity=False)  # type: ignore[arg-type]
-        show(f"ISO 6015 {working} force", pose_buckling(m, r.lengths[None, :], tf.cylinder_force))
-    click.echo(f"(ISO 6015: rated poses, tool force at the lip, no gravity; {_BUCKLING_NOTE})")
-    if output:
-        click.echo(f"wrote {write_table(_si_table(rows, m.name), output, force=force)}")
-
-
-_BUCKLING_NOTE = "Euler above L/r = √(2π²E/σy), Johnson below"
-
-
-def _cycle_power(m: Machine, rows: list[dict[str, object]], plot: str | None, force: bool) -> None:
-    """The power section of ``cycle``: each phase's peak power, inlet pressure and work."""
-    from excavkin.excavator.cycle_power import cycle_power
-
-    cp = cycle_power(m)
-    click.echo(
-        "Power along the cycle, one motion at a time (weight and inertia, no soil; "
-        f"pumps: {cp.supply / 1e3:.0f} kW at full flow and working pressure)"
-    )
-    click.echo(f"  {'phase':<14} {'peak kW':>8} {'peak bar':>9} {'work kJ':>8}")
-    for ph in cp.phases:
-        if ph.role is None:
-            continue
-        warn = (
-            f"  beyond the working pressure ({ph.working_pressure / 1e5:.0f} bar) over "
-            f"{ph.over_pressure:.0%} of the stroke: cannot run at full flow there"
-            if ph.over_pressure > 0.0
-            else ""
-        )
-        click.echo(
-            f"  {ph.name:<14} {ph.peak / 1e3:8.1f} {ph.peak_pressure / 1e5:9.0f} "
-            f"{ph.work / 1e3:8.1f}{warn}"
-        )
-        rows.append(
-            {
-                "section": "power",
-                "phase": ph.name,
-                "cylinder": ph.role,
-                "time": ph.duration,
-                "peak_power": ph.peak,
-                "peak_pressure": ph.peak_pressure,
-                "over_pressure": ph.over_pressure,
-                "work": ph.work,
-            }
-        )
+        sheet = hydraulic_cycle(m, stages=next_stage)
+    text = sheet.sections()
+    click.echo("\n".join(text[k] for k in ("strokes", "cycle", "power")))
     if plot:
         import matplotlib
 
         matplotlib.use("Agg")
-        from excavkin.excavator.cycle_plots import plot_cycle_power
-
-        title = f"{m.name} — power along the cycle"
-        _save_png(plot_cycle_power(cp, title=title).figure, plot, force)
+        _save_png(sheet.plot().figure, plot, force)
+    click.echo(text["buckling"])
+    if output:
+        click.echo(f"wrote {write_table(sheet.to_frame(), output, force=force)}")
 
 
 #: ``--param`` keys of ``excavator dig``: kind of quantity, and whether soil or tool
@@ -1144,7 +562,6 @@ def dig(
 ) -> None:
     """Soil resistance along a dig against the force the machine can exert: margin and the
     point where the dig stalls."""
-    import numpy as np
 
     from excavkin.errors import InputError
     from excavkin.excavator.dig import default_dig, dig_path
@@ -1212,82 +629,9 @@ def dig(
         except InputError as exc:
             raise InputError(f"--depth {depth!r}: {exc}") from None
     d = run_dig(m, L, s, tool, model, at=at, swing=sw)  # type: ignore[arg-type]
-    click.echo(
-        f"{m.name} — {model} resistance along a dig in {s.name}, {tool.width * 1e3:.0f} mm wide "
-        f"(kN; positions mm)"
-    )
-    click.echo(
-        f"{'pt':>3} {'x':>7} {'y':>7} {'depth':>6} {'angle':>5} {'along':>7} {'normal':>7} "
-        f"{'needed':>7} {'avail':>7} {'margin':>7}  limited by"
-    )
-    rows = []
-    for i in range(len(L)):
-        flag = "  ← stalls" if i == d.stall else ""
-        click.echo(
-            f"{i:3d} {_mm(d.point[i, 0]):>7} {_mm(d.point[i, 1]):>7} "
-            f"{_mm(max(d.depth[i], 0.0)).strip():>6} {np.degrees(d.rake[i]):5.1f} "
-            f"{d.resistance.along[i] / 1e3:7.1f} {d.resistance.normal[i] / 1e3:7.1f} "
-            f"{d.required[i] / 1e3:7.1f} {d.available[i] / 1e3:7.1f} {d.margin[i] / 1e3:7.1f}  "
-            f"{d.limiting[i]}{flag}"
-        )
-        rows.append(
-            {
-                "point": i,
-                "boom": L[i, 0],
-                "arm": L[i, 1],
-                "bucket": L[i, 2],
-                "x": d.point[i, 0],
-                "y": d.point[i, 1],
-                "depth": d.depth[i],
-                "cutting_angle": d.rake[i],
-                "resistance_along": d.resistance.along[i],
-                "resistance_normal": d.resistance.normal[i],
-                "required": d.required[i],
-                "available": d.available[i],
-                "margin": d.margin[i],
-                "limited_by": str(d.limiting[i]),
-            }
-        )
-    soil_line = (
-        f"soil {s.name}: ρ {s.density:.0f} kg/m³, φ {np.degrees(s.friction_angle):.0f}°, "
-        f"c {s.cohesion / 1e3:.0f} kPa, δ {np.degrees(s.metal_friction):.0f}°, "
-        f"c_a {s.adhesion / 1e3:.0f} kPa, C {s.blows:g} blows, q {s.surcharge / 1e3:.0f} kPa"
-    )
-    click.echo(soil_line)
-    inside = d.depth > 0.0
-    k = int(np.nanargmax(np.where(inside, d.required, -np.inf)))
-    click.echo(
-        f"largest resistance {d.required[k] / 1e3:.1f} kN at point {k} "
-        f"(depth {d.depth[k] * 1e3:.0f} mm); least margin "
-        f"{np.nanmin(np.where(inside, d.margin, np.inf)) / 1e3:.1f} kN"
-    )
-    if d.stall >= 0:
-        i = d.stall
-        click.echo(
-            f"the dig stalls at point {i} (x {d.point[i, 0] * 1e3:.0f}, y "
-            f"{d.point[i, 1] * 1e3:.0f} mm): {d.required[i] / 1e3:.1f} kN needed, "
-            f"{d.available[i] / 1e3:.1f} kN available, limited by {d.limiting[i]}"
-        )
-    else:
-        click.echo("the dig goes through: the available force exceeds the resistance throughout")
+    click.echo(d.summary())
     if output:
-        kinds = {
-            "depth": "length",
-            "cutting_angle": "angle",
-            "resistance_along": "force",
-            "resistance_normal": "force",
-            "required": "force",
-            "available": "force",
-            "margin": "force",
-        }
-        import pandas as pd
-
-        from excavkin.kinematics.columns import kinds_attrs
-
-        frame = pd.DataFrame(rows)
-        table_kinds = {c: k for c, k in TABLE_KINDS.items() if c in frame} | kinds
-        frame.attrs.update(kinds_attrs(m.name, table_kinds))
-        click.echo(f"wrote {write_table(frame, output, force=force)}")
+        click.echo(f"wrote {write_table(d.to_frame(), output, force=force)}")
     if plot:
         import matplotlib
 
@@ -1338,24 +682,54 @@ def study(
     type=click.Path(dir_okay=False),
     help="Draw the convergence: the objective after each iteration (.png, .svg or .pdf).",
 )
+@write_machine_option
 @click.option("--force", is_flag=True, help="Replace the output files if they exist.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def optimize(
-    study: str, method: str | None, output: str | None, plot: str | None, force: bool, quiet: bool
+    study: str,
+    method: str | None,
+    output: str | None,
+    plot: str | None,
+    machine_out: str | None,
+    force: bool,
+    quiet: bool,
 ) -> None:
     """The best design of a STUDY file that names a machine (``machine = ...`` in [study]):
     its [optimize] objective over its parameter box under its constraints, every population or
     gradient solved as one batch of designs."""
-    from excavkin.cli.commands.optimize import optimizer_progress, report_optimum
-    from excavkin.excavator.study import load_machine_study, optimize_machine
-    from excavkin.io.files import check_target
+    from excavkin.cli.commands.optimize import optimize_machine_study
+    from excavkin.excavator.study import load_machine_study
 
     spec = load_machine_study(model_path(study, "study"))
-    if output is not None:
-        check_target(output, force=force, suffixes=(".csv", ".parquet"))
-    if plot is not None:
-        check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
-    with optimizer_progress(quiet) as report:
-        best = optimize_machine(spec, method=method, progress=report)
-    report_optimum(best, output, plot, force)
+    optimize_machine_study(spec, method, output, plot, machine_out, force, quiet)
+
+
+@command.command("report")
+@click.argument("machine", type=click.Path(dir_okay=False))
+@click.option(
+    "--samples",
+    default=21,
+    show_default=True,
+    type=click.IntRange(min=2, max=51),
+    help="Grid points per stroke of the force-map and pin-load sweeps.",
+)
+@report_options
+@handle_errors
+def report(machine: str, samples: int, out: str | None, force: bool, quiet: bool) -> None:
+    """Write a self-contained HTML spec sheet of MACHINE: working ranges, tool forces,
+    stability and lift capacity, pin loads, cycle, their charts and the moving front."""
+    import shlex
+
+    from excavkin.cli.machine_report import report_target, write_report
+    from excavkin.excavator.report import machine_report
+
+    m = _machine(machine)
+    target = report_target(machine, out, force)
+    line = f"excavkin excavator report {shlex.quote(machine)} --samples {samples}"
+    write_report(
+        lambda progress: machine_report(m, samples=samples, command=line, progress=progress),
+        target,
+        force=force,
+        quiet=quiet,
+    )

@@ -24,6 +24,7 @@ spaced by a motion law). At each point:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -37,6 +38,9 @@ from excavkin.kinematics.summary import batch_repr
 from excavkin.machinery.equilibrium import equilibrium
 from excavkin.machinery.soil import Resistance, Soil, Tool, resistance
 from excavkin.motion import get_law
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,6 +76,8 @@ class Dig:
     stall : int
         First point in the soil with a negative margin; −1 where the dig goes through.
     pose : FrontPose
+    machine : str
+        The machine's name (for the table and the summary).
     """
 
     def __repr__(self) -> str:
@@ -93,6 +99,107 @@ class Dig:
     margin: F
     stall: int
     pose: FrontPose
+    machine: str = ""
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per point of the dig, SI.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``point``, the cylinder lengths ``boom``, ``arm``, ``bucket``, the tool point
+            ``x``, ``y`` and ``depth`` (m), ``cutting_angle`` (rad), ``resistance_along``,
+            ``resistance_normal``, ``required``, ``available`` and ``margin`` (N),
+            ``limited_by``; its ``attrs`` name the machine and each column's kind.
+        """
+        import pandas as pd
+
+        from excavkin.kinematics.columns import kinds_attrs
+
+        L = self.lengths
+        frame = pd.DataFrame(
+            [
+                {
+                    "point": i,
+                    "boom": L[i, 0],
+                    "arm": L[i, 1],
+                    "bucket": L[i, 2],
+                    "x": self.point[i, 0],
+                    "y": self.point[i, 1],
+                    "depth": self.depth[i],
+                    "cutting_angle": self.rake[i],
+                    "resistance_along": self.resistance.along[i],
+                    "resistance_normal": self.resistance.normal[i],
+                    "required": self.required[i],
+                    "available": self.available[i],
+                    "margin": self.margin[i],
+                    "limited_by": str(self.limiting[i]),
+                }
+                for i in range(len(L))
+            ]
+        )
+        kinds = {
+            **dict.fromkeys(("x", "y", "boom", "arm", "bucket", "depth"), "length"),
+            "cutting_angle": "angle",
+            **dict.fromkeys(
+                ("resistance_along", "resistance_normal", "required", "available", "margin"),
+                "force",
+            ),
+        }
+        frame.attrs.update(kinds_attrs(self.machine, kinds))
+        return frame
+
+    def summary(self) -> str:
+        """The dig as ``excavkin excavator dig`` prints it (kN; positions mm).
+
+        Returns
+        -------
+        str
+        """
+
+        def mm(v: float) -> str:
+            return f"{round(v * 1000) + 0.0:8.0f}"
+
+        s, d = self.soil, self
+        lines = [
+            f"{self.machine} — {self.model} resistance along a dig in {s.name}, "
+            f"{self.tool.width * 1e3:.0f} mm wide (kN; positions mm)",
+            f"{'pt':>3} {'x':>7} {'y':>7} {'depth':>6} {'angle':>5} {'along':>7} {'normal':>7} "
+            f"{'needed':>7} {'avail':>7} {'margin':>7}  limited by",
+        ]
+        for i in range(len(self.lengths)):
+            flag = "  ← stalls" if i == d.stall else ""
+            lines.append(
+                f"{i:3d} {mm(d.point[i, 0]):>7} {mm(d.point[i, 1]):>7} "
+                f"{mm(max(d.depth[i], 0.0)).strip():>6} {np.degrees(d.rake[i]):5.1f} "
+                f"{d.resistance.along[i] / 1e3:7.1f} {d.resistance.normal[i] / 1e3:7.1f} "
+                f"{d.required[i] / 1e3:7.1f} {d.available[i] / 1e3:7.1f} "
+                f"{d.margin[i] / 1e3:7.1f}  {d.limiting[i]}{flag}"
+            )
+        lines.append(
+            f"soil {s.name}: ρ {s.density:.0f} kg/m³, φ {np.degrees(s.friction_angle):.0f}°, "
+            f"c {s.cohesion / 1e3:.0f} kPa, δ {np.degrees(s.metal_friction):.0f}°, "
+            f"c_a {s.adhesion / 1e3:.0f} kPa, C {s.blows:g} blows, q {s.surcharge / 1e3:.0f} kPa"
+        )
+        inside = d.depth > 0.0
+        k = int(np.nanargmax(np.where(inside, d.required, -np.inf)))
+        lines.append(
+            f"largest resistance {d.required[k] / 1e3:.1f} kN at point {k} "
+            f"(depth {d.depth[k] * 1e3:.0f} mm); least margin "
+            f"{np.nanmin(np.where(inside, d.margin, np.inf)) / 1e3:.1f} kN"
+        )
+        if d.stall >= 0:
+            i = d.stall
+            lines.append(
+                f"the dig stalls at point {i} (x {d.point[i, 0] * 1e3:.0f}, y "
+                f"{d.point[i, 1] * 1e3:.0f} mm): {d.required[i] / 1e3:.1f} kN needed, "
+                f"{d.available[i] / 1e3:.1f} kN available, limited by {d.limiting[i]}"
+            )
+        else:
+            lines.append(
+                "the dig goes through: the available force exceeds the resistance throughout"
+            )
+        return "\n".join(lines)
 
 
 def dig_path(
@@ -351,4 +458,5 @@ def dig(
         margin,
         stall,
         pose,
+        machine.name,
     )

@@ -35,7 +35,7 @@ the machine: its weight is the machine's, not the load's.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -57,6 +57,9 @@ from excavkin.excavator.stability import SWING
 from excavkin.kinematics.summary import batch_repr
 from excavkin.machinery.capped_force import gravity_terms
 from excavkin.machinery.equilibrium import equilibrium, need_base
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: ISO 10567 rating factors
 TIPPING_FACTOR = 0.75
@@ -325,6 +328,16 @@ class LiftTable:
     max_reach_lengths : ndarray, shape (H, 3)
     point : str
         The load point.
+    machine : str
+        The machine's name (for the table and the summary).
+    gravity : float
+        g (m/s²): loads in kg are the capacities over it.
+    lifting : {"boom", "arm"}
+        The lifting cylinder.
+    pressure : {"working", "relief"}
+        The lifting cylinder's pressure.
+    bucket_pin : bool
+        Whether the load point is the bucket pin.
     """
 
     def __repr__(self) -> str:
@@ -339,6 +352,11 @@ class LiftTable:
     at_max_reach: LiftCapacity
     max_reach_lengths: F
     point: str
+    machine: str = ""
+    gravity: float = 9.80665
+    lifting: str = "boom"
+    pressure: str = "working"
+    bucket_pin: bool = False
 
     def rated(self, over: str) -> F:
         """Rated capacity (N), shape (H, R), over ``"front"`` or ``"side"``."""
@@ -347,6 +365,117 @@ class LiftTable:
     def hydraulic_limited(self, over: str) -> B:
         """Cells where the hydraulic part governs, shape (H, R)."""
         return self.capacity.hydraulic_limited[over].reshape(self.reachable.shape)
+
+    def _cells(self) -> list[tuple[int, float, float, int, LiftCapacity, int, F]]:
+        """(height index, height, radius, radius index or -1 at max reach, capacity, its
+        index, lengths) of every reachable cell, height by height, max reach last."""
+        out = []
+        R = len(self.radii)
+        for i, h in enumerate(self.heights):
+            for j, r in enumerate(self.radii):
+                if self.reachable[i, j]:
+                    out.append((i, float(h), float(r), j, self.capacity, i * R + j,
+                                self.lengths[i, j]))  # fmt: skip
+            if np.isfinite(self.max_reach[i]):
+                out.append((i, float(h), float(self.max_reach[i]), -1, self.at_max_reach, i,
+                            self.max_reach_lengths[i]))  # fmt: skip
+        return out
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per reachable height, radius and side (over the front, over the side), the
+        radius at max reach of each height included, SI.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``height``, ``radius`` (m), ``at_max_reach``, ``over``, ``rated_load`` (kg),
+            ``limit`` (``"hydraulic"`` or ``"tipping"``), ``tipping_load`` (kg),
+            ``tipping_line``, ``hydraulic_load`` (kg), ``hydraulic_limit`` and the cylinder
+            lengths ``boom``, ``arm``, ``bucket`` (m); its ``attrs`` name the machine and each
+            column's kind.
+        """
+        import pandas as pd
+
+        from excavkin.kinematics.columns import kinds_attrs
+
+        g = self.gravity
+        rows = [
+            {
+                "height": h,
+                "radius": r,
+                "at_max_reach": j < 0,
+                "over": over,
+                "rated_load": cap.rated[over][k] / g,
+                "limit": "hydraulic" if cap.hydraulic_limited[over][k] else "tipping",
+                "tipping_load": cap.tipping[over][k] / g,
+                "tipping_line": cap.tipping_line[over][k],
+                "hydraulic_load": cap.hydraulic.load[k] / g,
+                "hydraulic_limit": cap.hydraulic.limiting[k],
+                "boom": L[0],
+                "arm": L[1],
+                "bucket": L[2],
+            }
+            for _, h, r, j, cap, k, L in self._cells()
+            for over in ("front", "side")
+        ]
+        frame = pd.DataFrame(rows)
+        kinds = {
+            **dict.fromkeys(("boom", "arm", "bucket", "radius", "height"), "length"),
+            **dict.fromkeys(("rated_load", "tipping_load", "hydraulic_load"), "mass"),
+        }
+        frame.attrs.update(
+            kinds_attrs(self.machine, {c: k for c, k in kinds.items() if c in frame})
+        )
+        return frame
+
+    def summary(self) -> str:
+        """The lift chart as ``excavkin excavator lift`` prints it (kg; ``*``: the hydraulic
+        capacity governs).
+
+        Returns
+        -------
+        str
+        """
+        import math
+
+        def kg(value: float, star: bool) -> str:
+            if not math.isfinite(value):
+                return ""
+            return f"{value:,.0f}".replace(",", " ") + ("*" if star else " ")
+
+        g = self.gravity
+        others = "arm and bucket" if self.lifting == "boom" else "boom and bucket"
+        lines = [
+            f"{self.machine} — rated lift capacity (ISO 10567), kg; load point {self.point}"
+            f"{' (bucket pin)' if self.bucket_pin else ''}, bucket curled",
+            "the lesser of 75 % of the tipping load and 87 % of the hydraulic capacity "
+            f"({self.lifting} cylinders at {self.pressure} pressure, {others} within their "
+            "relief); * hydraulic",
+            f"{'':>7}"
+            + "".join(f" | {f'radius {r:.1f} m':^17}" for r in self.radii)
+            + f" | {'at max reach':^26}",
+            f"{'height':>7}"
+            + f" | {'front':>8} {'side':>8}" * len(self.radii)
+            + f" | {'radius':>8} {'front':>8} {'side':>8}",
+        ]
+        front, side = self.rated("front") / g, self.rated("side") / g
+        sf, ss = self.hydraulic_limited("front"), self.hydraulic_limited("side")
+        a = self.at_max_reach
+        for i, h in enumerate(self.heights):
+            cells = ""
+            for j in range(len(self.radii)):
+                if self.reachable[i, j]:
+                    cells += f" | {kg(front[i, j], sf[i, j]):>8} {kg(side[i, j], ss[i, j]):>8}"
+                else:
+                    cells += f" | {'':>17}"
+            if np.isfinite(self.max_reach[i]):
+                cells += (
+                    f" | {self.max_reach[i]:>6.2f} m"
+                    f" {kg(a.rated['front'][i] / g, a.hydraulic_limited['front'][i]):>8}"
+                    f" {kg(a.rated['side'][i] / g, a.hydraulic_limited['side'][i]):>8}"
+                )
+            lines.append(f"{h:6.1f}m{cells}")
+        return "\n".join(lines)
 
 
 def load_point_extent(machine: Machine, n: int = 41) -> tuple[F, F]:
@@ -459,4 +588,9 @@ def lift_table(
         at_reach,
         L_reach,
         machine.lift_point,
+        machine.name,
+        machine.gravity,
+        lifting,
+        pressure,
+        machine.lift_point == machine.pins.bucket_pin,
     )

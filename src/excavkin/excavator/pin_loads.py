@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -44,7 +44,13 @@ from excavkin.excavator.lift import hydraulic_lift
 from excavkin.excavator.machine import ROLES, Machine, as_lengths
 from excavkin.kinematics.summary import batch_repr
 from excavkin.kinetostatics import ForceResult, PointForce
-from excavkin.machinery.pin_loads import pin_forces
+from excavkin.machinery.pin_loads import first_largest, pin_forces
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.axes import Axes
+
+    from excavkin.excavator.plots import ExcavatorPlot
 
 Case = Literal["bucket", "arm", "lift"]
 #: the load cases, in the order of every table
@@ -289,14 +295,14 @@ def _maximum(
     for r_i, r in enumerate(results):
         values = r.load[:, column] if kind == "pin" else np.abs(r.cylinder_force[:, column])
         v = np.where(r.held & np.isfinite(values), values, -np.inf)
-        k = int(np.argmax(v))
-        by_case[r.case] = float(v[k])
-        if v[k] > best[0]:
-            best = (float(v[k]), r_i, k)
+        k = first_largest(v, prefer=r.tool_force)
+        by_case[r.case] = float(np.max(v))
+        if by_case[r.case] > best[0]:
+            best = (by_case[r.case], r_i, k)
     value, r_i, k = best
     r = results[r_i]
-    if kind == "cylinder":
-        value = float(r.cylinder_force[k, column])
+    if kind == "cylinder":  # signed (> 0 pushing), of the largest magnitude
+        value = float(np.copysign(value, r.cylinder_force[k, column]))
     return LoadMaximum(
         name,
         label,
@@ -379,3 +385,257 @@ def largest_pin_loads(
         for c in cases
     )
     return results, load_maxima(results)
+
+
+def lift_grid(samples: int) -> tuple[int, int, int]:
+    """The stroke grid of the lift case for ``samples`` points per stroke of the others: a lift
+    load's point moves with the boom and the stick, so a finer grid of those two, at about the
+    same count of poses, covers its map and its maxima better.
+
+    Parameters
+    ----------
+    samples : int
+        Grid points per stroke of the tool-force cases' sweep.
+
+    Returns
+    -------
+    (int, int, int)
+        Boom, arm and bucket points: ``2 samples - 1``, ``2 samples - 1``,
+        ``max(3, round(samples / 4))``.
+    """
+    return (2 * samples - 1, 2 * samples - 1, max(3, round(samples / 4)))
+
+
+#: the kinds of `WorkingRangePinLoads.to_frame`'s columns
+FRAME_KINDS: dict[str, str] = {
+    **dict.fromkeys(("x", "y", "boom", "arm", "bucket", "pin_x", "pin_y"), "length"),
+    **dict.fromkeys(("load", "tool_force", *(f"max_{c}" for c in CASES)), "force"),
+}
+
+
+@dataclass(frozen=True)
+class WorkingRangePinLoads:
+    """The largest load on each pin and in each cylinder over the working range, over the load
+    cases given (`working_range_pin_loads`).
+
+    Attributes
+    ----------
+    machine : Machine
+    cases : tuple of str
+        The load cases, in the order of `CASES`.
+    samples : int
+        Grid points per stroke of the tool-force cases' sweep.
+    at : {"lip", "tip"}
+        The tool point.
+    gravity : bool
+        With the front's weight.
+    mass : float or None
+        The lift load (kg); None for the hydraulic lift capacity at each pose.
+    results : tuple of PinLoads
+        One per case.
+    maxima : tuple of LoadMaximum
+        Per pin, then per cylinder (`load_maxima`).
+    """
+
+    machine: Machine
+    cases: tuple[Case, ...]
+    samples: int
+    at: At
+    gravity: bool
+    mass: float | None
+    results: tuple[PinLoads, ...]
+    maxima: tuple[LoadMaximum, ...]
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per pin and cylinder: its largest load, the case and the pose, SI.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``name``, ``label``, ``kind``, ``load`` (N), ``case``, ``max_<case>`` per case
+            (N), ``tool_force`` (N), the tool point ``x``, ``y`` and bucket pin ``pin_x``,
+            ``pin_y`` (m), and the cylinder lengths ``boom``, ``arm``, ``bucket`` (m); its
+            ``attrs`` name the machine and each column's kind.
+        """
+        import pandas as pd
+
+        from excavkin.kinematics.columns import kinds_attrs
+
+        rows = [
+            {
+                "name": mx.name,
+                "label": mx.label,
+                "kind": mx.kind,
+                "load": mx.value,
+                "case": mx.case,
+                **{f"max_{c}": mx.by_case[c] for c in self.cases},
+                "tool_force": mx.tool_force,
+                "x": mx.tool_point[0],
+                "y": mx.tool_point[1],
+                "pin_x": mx.bucket_pin[0],
+                "pin_y": mx.bucket_pin[1],
+                "boom": mx.lengths[0],
+                "arm": mx.lengths[1],
+                "bucket": mx.lengths[2],
+            }
+            for mx in self.maxima
+        ]
+        frame = pd.DataFrame(rows)
+        kinds = {c: k for c, k in FRAME_KINDS.items() if c in frame}
+        frame.attrs.update(kinds_attrs(self.machine.name, kinds))
+        return frame
+
+    def summary(self) -> str:
+        """The table of largest loads as ``excavkin excavator pins`` prints it (kN; mm).
+
+        Returns
+        -------
+        str
+        """
+        m, chosen = self.machine, list(self.cases)
+        grids = f"{self.samples}³ stroke sweep" if chosen != ["lift"] else ""
+        if "lift" in chosen:
+            grids += (", " if grids else "") + "{} × {} × {} for the lift load".format(
+                *lift_grid(self.samples)
+            )
+        std = "ISO 6015, lip" if self.at == "lip" else "SAE J1179, tooth tip"
+        lifted = "the hydraulic lift capacity" if self.mass is None else f"{self.mass:.0f} kg"
+        text = {
+            "bucket": f"bucket: bucket-cylinder tool force ({std})",
+            "arm": f"arm: arm-cylinder tool force ({std})",
+            "lift": f"lift: {lifted} hanging at {m.lift_point}",
+        }
+        lines = [
+            f"{m.name} — pin loads and cylinder forces over the working range (kN; mm)",
+            f"{grids}; {'with' if self.gravity else 'without'} the front's weight; cases: "
+            + "; ".join(text[c] for c in chosen),
+        ]
+        if self.mass is not None:
+            lift = self.results[chosen.index("lift")]
+            lines.append(
+                f"the front holds the lift load at {100 * lift.held.mean():.0f} % of the poses"
+            )
+        per_case = "".join(f" {c:>7}" for c in chosen)
+        lines.append(
+            f"{'pin':<7} {'what':<40} {'max':>7} {'case':<7}{per_case}  {'load':>6} "
+            f"{'x':>6} {'y':>6}  {'boom':>5} {'arm':>5} {'bucket':>6}"
+        )
+        for mx in self.maxima:
+            name = mx.name if mx.kind == "pin" else ""
+            cells = "".join(f" {mx.by_case[c] / 1e3:7.1f}" for c in chosen)
+            lines.append(
+                f"{name:<7} {mx.label:<40} {mx.value / 1e3:7.1f} {mx.case:<7}{cells}  "
+                f"{mx.tool_force / 1e3:6.1f} {mx.tool_point[0] * 1e3:6.0f} "
+                f"{mx.tool_point[1] * 1e3:6.0f}  {mx.lengths[0] * 1e3:5.0f} "
+                f"{mx.lengths[1] * 1e3:5.0f} {mx.lengths[2] * 1e3:6.0f}"
+            )
+        lines.append(
+            "max: largest force the pin passes to one of its members (a cylinder: its force, "
+            "> 0 pushing); load: the tool force or lift load there, acting at (x, y)"
+        )
+        return "\n".join(lines)
+
+    def plot(self, *, ax: Axes | None = None) -> ExcavatorPlot:
+        """Bar chart of the largest loads
+        ([`plot_load_maxima`][excavkin.excavator.pin_plots.plot_load_maxima]).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+
+        Returns
+        -------
+        ExcavatorPlot
+        """
+        from excavkin.excavator.pin_plots import plot_load_maxima
+
+        return plot_load_maxima(self.machine, self.maxima, ax=ax)
+
+    def plot_maps(self) -> dict[str, ExcavatorPlot]:
+        """Heat maps of the pin loads over the working range, one figure per case
+        ([`plot_pin_maps`][excavkin.excavator.pin_plots.plot_pin_maps]).
+
+        Returns
+        -------
+        dict of str to ExcavatorPlot
+            Case → its figure.
+        """
+        from excavkin.excavator.pin_plots import plot_pin_maps
+
+        return {r.case: plot_pin_maps(self.machine, r) for r in self.results}
+
+
+def working_range_pin_loads(
+    machine: Machine,
+    cases: Sequence[Case] = CASES,
+    *,
+    samples: int = 31,
+    mass: float | None = None,
+    at: At = "lip",
+    gravity: bool = True,
+    stages: Callable[[], Callable[[int, int], None] | None] | None = None,
+) -> WorkingRangePinLoads:
+    """[`pin_loads`][excavkin.excavator.pin_loads.pin_loads] of each case over the working
+    range and the largest load on each pin and cylinder: the tool-force cases over a
+    ``samples``³ stroke grid, the lift case over `lift_grid` (``excavkin excavator pins``).
+
+    Parameters
+    ----------
+    machine : Machine
+    cases : sequence of {"bucket", "arm", "lift"}
+        The load cases (taken in the order of `CASES`).
+    samples : int, default 31
+        Grid points per stroke (at least 2).
+    mass : float, optional
+        The lift load (kg); default the hydraulic lift capacity at each pose. Only with the
+        lift case.
+    at : {"lip", "tip"}
+        The tool point: the lip (ISO 6015) or the tooth tip (SAE J1179).
+    gravity : bool, default True
+        With the front's weight.
+    stages : callable, optional
+        ``stages()`` → the next case's ``progress(done, total)`` (a staged progress bar).
+
+    Returns
+    -------
+    WorkingRangePinLoads
+
+    Raises
+    ------
+    InputError
+        No case or an unknown one, a mass without the lift case or not a finite mass of 0 kg
+        or more, fewer than 2 samples.
+    """
+    from excavkin.excavator.ranges import stroke_grid
+
+    for c in cases:
+        if c not in CASES:
+            from excavkin.errors import unknown_name
+
+            raise unknown_name("load case", str(c), list(CASES))
+    chosen = tuple(c for c in CASES if c in cases)
+    if not chosen:
+        raise InputError("no load case")
+    if int(samples) < 2:
+        raise InputError(f"samples must be at least 2, not {samples}")
+    if mass is not None:
+        if "lift" not in chosen:
+            raise InputError("a lift mass applies to the lift case only")
+        if not (np.isfinite(mass) and mass >= 0.0):
+            raise InputError(f"the lift mass must be a finite mass of 0 kg or more, not {mass}")
+    weight = None if mass is None else mass * machine.gravity
+    results = tuple(
+        pin_loads(
+            machine,
+            stroke_grid(machine, lift_grid(samples) if case == "lift" else samples),
+            case,
+            load=weight if case == "lift" else None,
+            at=at,
+            gravity=gravity,
+            progress=None if stages is None else stages(),
+        )
+        for case in chosen
+    )
+    return WorkingRangePinLoads(
+        machine, chosen, int(samples), at, gravity, mass, results, load_maxima(results)
+    )

@@ -32,6 +32,7 @@ from __future__ import annotations
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
@@ -49,6 +50,9 @@ from excavkin.excavator.machine import (
     wrap_angle,
 )
 from excavkin.machinery.search import Evaluate, Progress, maximize_strokes, part
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,11 +99,14 @@ class WorkingRanges:
         Closed polygon (first vertex not repeated) of the tip's reachable region (m).
     extra : dict of str to ndarray
         Supporting points: ``"level_bottom"`` shape (2, 2), the level cut's end points.
+    machine : str
+        The machine's name (for the table and the summary).
     """
 
     figures: tuple[RangeFigure, ...]
     envelope: F
     extra: dict[str, F]
+    machine: str = ""
 
     def __repr__(self) -> str:
         shown = ", ".join(f"{f.label} {f.value * 1000:.0f} mm" for f in self.figures[:3])
@@ -111,6 +118,81 @@ class WorkingRanges:
             if f.key == key:
                 return f
         raise KeyError(f"no figure {key!r} (known: {', '.join(f.key for f in self.figures)})")
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per figure, SI.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``key``, ``code``, ``label``, ``value``, the tip ``x``, ``y``, the cylinder
+            lengths ``boom``, ``arm``, ``bucket`` (m), ``bucket_angle`` (rad) and
+            ``orientation``; its ``attrs`` name the machine and each column's kind.
+        """
+        rows = [
+            {
+                "key": f.key,
+                "code": f.code,
+                "label": f.label,
+                "value": f.value,
+                "x": f.tip[0],
+                "y": f.tip[1],
+                "boom": f.lengths[0],
+                "arm": f.lengths[1],
+                "bucket": f.lengths[2],
+                "bucket_angle": f.bucket_angle,
+                "orientation": f.orientation,
+            }
+            for f in self.figures
+        ]
+        kinds = dict.fromkeys(("value", "x", "y", "boom", "arm", "bucket"), "length")
+        return _frame(rows, self.machine, {**kinds, "bucket_angle": "angle"})
+
+    def envelope_frame(self) -> pd.DataFrame:
+        """The envelope's vertices as a table, SI.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``x``, ``y`` (m), one row per vertex.
+        """
+        xy = {"x": self.envelope[:, 0], "y": self.envelope[:, 1]}
+        return _frame(xy, self.machine, {"x": "length", "y": "length"})
+
+    def summary(self) -> str:
+        """The figures as ``excavkin excavator ranges`` prints them (mm).
+
+        Returns
+        -------
+        str
+        """
+
+        def mm(v: float) -> str:
+            return f"{round(v * 1000) + 0.0:8.0f}"
+
+        lines = [
+            f"{self.machine} — working ranges (tooth tip; mm)",
+            f"{'':4} {'figure':<38} {'value':>8}  {'x':>8} {'y':>8}  "
+            f"{'boom':>7} {'arm':>7} {'bucket':>7}  bucket orientation",
+        ]
+        lines += [
+            f"{f.code:4} {f.label:<38} {mm(f.value)}  {mm(f.tip[0])} {mm(f.tip[1])}  "
+            f"{f.lengths[0] * 1e3:7.0f} {f.lengths[1] * 1e3:7.0f} "
+            f"{f.lengths[2] * 1e3:7.0f}  {f.orientation}"
+            for f in self.figures
+        ]
+        return "\n".join(lines)
+
+
+def _frame(rows: Any, machine: str, kinds: dict[str, str]) -> pd.DataFrame:
+    """A table whose attrs name the machine and its columns' kinds."""
+    import pandas as pd
+
+    from excavkin.kinematics.columns import kinds_attrs
+
+    frame = pd.DataFrame(rows)
+    frame.attrs.update(kinds_attrs(machine, {c: k for c, k in kinds.items() if c in frame}))
+    return frame
 
 
 # ---------------------------------------------------------------------------- sweeps
@@ -544,7 +626,7 @@ def working_ranges(
     )
     outline = envelope(machine, envelope_samples)
     done()
-    return WorkingRanges(tuple(figs), outline, {"level_bottom": ends})
+    return WorkingRanges(tuple(figs), outline, {"level_bottom": ends}, machine.name)
 
 
 def _x_extent(machine: Machine, ys: F) -> tuple[F, F, F, F]:

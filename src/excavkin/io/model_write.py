@@ -56,18 +56,52 @@ def model_text_with(path: str | PathLike[str], values: Mapping[str, float], note
     source = str(path)
     text = read_text_file(Path(path))
     data = read_toml(text, source)
-    units = data.get("units", {}) if isinstance(data.get("units"), dict) else {}
-    for name, value in values.items():
-        holder, key, kind = _entry(data, name, source)
-        holder[key] = _written(holder[key], float(value), kind, units, data)
-    dropped = _drop_orphans(data)
-    head = [line for line in _leading_comments(text)]
+    dropped = set_model_values(data, values, source)
+    head = [line for line in leading_comments(text)]
     if values:
         listed = ", ".join(values)
         head += ["#"] * bool(head) + [f"# {note or 'values set'}: {listed}"]
     if dropped:
         head.append(f"# (no entry refers to design variable {', '.join(dropped)} any more)")
     return "\n".join([*head, dumps(data)]) if head else dumps(data)
+
+
+def set_model_values(
+    data: dict[str, Any],
+    values: Mapping[str, float],
+    source: str,
+    units: Mapping[str, Any] | None = None,
+) -> list[str]:
+    """Write the parameters ``values`` (SI) into a parsed model ``data`` (in place), as
+    [`model_text_with`][excavkin.io.model_write.model_text_with] does.
+
+    Parameters
+    ----------
+    data : dict
+        The model's tables, as ``tomllib`` parses them.
+    values : mapping of str to float
+        Parameter name → its value, SI.
+    source : str
+        The model's file, for messages.
+    units : mapping of str to str, optional
+        The units bare numbers are written in, per kind (default: the model's ``[units]``).
+
+    Returns
+    -------
+    list of str
+        The design variables no entry refers to any more, removed.
+
+    Raises
+    ------
+    ModelError
+        A parameter with no entry in the model, naming the source and the parameter.
+    """
+    if units is None:
+        units = data.get("units", {}) if isinstance(data.get("units"), dict) else {}
+    for name, value in values.items():
+        holder, key, kind = _entry(data, name, source)
+        holder[key] = written_value(holder[key], float(value), kind, units, data)
+    return _drop_orphans(data)
 
 
 def write_model(
@@ -180,9 +214,29 @@ def _drop_orphans(data: dict[str, Any]) -> list[str]:
     return dropped
 
 
-def _written(given: Any, value: float, kind: str, units: Mapping[str, Any], data: Any) -> Any:
+def written_value(given: Any, value: float, kind: str, units: Mapping[str, Any], data: Any) -> Any:
     """``value`` (SI) as the file writes the entry ``given``: with its unit where it has one,
-    else a bare number in the file's ``[units]`` for the kind, else with the SI unit."""
+    else a bare number in the file's ``[units]`` for the kind, else with the SI unit.
+
+    Parameters
+    ----------
+    given : object
+        The entry as the file writes it now (``"90 mm"``, a bare number, a design variable's
+        name).
+    value : float
+        The new value, SI.
+    kind : str
+        Its physical kind (``"length"``, ``"pressure"`` …).
+    units : mapping of str to str
+        The file's units of bare numbers, per kind.
+    data : mapping
+        The whole parsed file (its ``[design]`` variables).
+
+    Returns
+    -------
+    str or float
+        ``"<number> <unit>"`` or a bare number.
+    """
     from excavkin.units import KINDS
 
     if isinstance(given, str):
@@ -219,8 +273,18 @@ def _number(value: float, kind: str, unit: str) -> float:
     return plain
 
 
-def _leading_comments(text: str) -> list[str]:
-    """The comment lines at the top of a file (its description)."""
+def leading_comments(text: str) -> list[str]:
+    """The comment lines at the top of a file (its description).
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+
+    Returns
+    -------
+    list of str
+    """
     out = []
     for line in text.splitlines():
         if not line.startswith("#"):
@@ -295,4 +359,4 @@ def _value(v: Any) -> str:
     raise ModelError(f"a value of type {type(v).__name__} cannot be written back")
 
 
-__all__ = ["dumps", "model_text_with", "write_model"]
+__all__ = ["dumps", "model_text_with", "set_model_values", "write_model", "written_value"]

@@ -1,23 +1,24 @@
-"""The kinetostatic elimination compiled to one machine-code loop over samples (numba, optional).
+"""The kinetostatic back-substitution compiled to one machine-code loop over samples (numba,
+optional).
 
-`solve_forces` reduces each moving body's loads to a force
-and a moment, assembles the equilibrium rows, eliminates the constant pivots, solves the small
-dense block with partial pivoting and substitutes back — each step an array operation over a
-chunk of samples. Here those same steps are *traced*: they run once on symbols instead of
-arrays, and every arithmetic operation they do is written down as one line of straight-line
-source. numba compiles the loop over samples of that source (as
-`excavkin.kinematics.compiled` does for a solve plan), so a sample's equations stay in
-registers. Because the trace runs the NumPy path's own functions
-(`body_loads`, `assemble_rows`,
-`eliminate_one`, `mul_entry` …), the operations and their order are the NumPy
-path's; only the dense block's row swaps, which NumPy makes with ``where``, become a branch.
-Tests hold the two to 1e-15 of each column's scale.
+`solve_forces` reduces each moving body's loads to a force and a moment, then solves the
+equilibrium along the solve plan, step by step from the last
+(`excavkin.kinetostatics.structured`) — each operation an array operation over a chunk of
+samples. Here those same operations are *traced*: they run once on symbols instead of arrays,
+and every arithmetic operation they do is written down as one line of straight-line source.
+numba compiles the loop over samples of that source (as `excavkin.kinematics.compiled` does
+for a solve plan), so a sample's equations stay in registers. Because the trace runs the NumPy
+path's own functions (`body_loads`, `back_substitute`), the operations and their order are the
+NumPy path's; only a Newton group's dense block's row swaps, which NumPy makes with ``where``,
+become a branch. Tests hold the two to 1e-15 of each column's scale.
 
-The source depends on the equilibrium system's structure, which bodies have a mass (and a
-moment of inertia), which loads act where, and whether inertia and gravity are on; every value —
-a mass, a centre of mass, a load — is read from a constants table (one column for all samples,
-or one per sample for a family of designs or loads that vary), so one kernel serves every
-design of a model, and it is cached on disk.
+The source depends on the plan's steps, the equilibrium system's unknowns, which bodies have a
+mass (and a moment of inertia), which loads act where, and whether inertia and gravity are on;
+every value — a mass, a centre of mass, a load — is read from a constants table (one column
+for all samples, or one per sample for a family of designs or loads that vary), so one kernel
+serves every design of a model, and it is cached on disk. Its length grows with the model's
+size, and so does numba's compile time: the automatic choice compiles models of at most
+`excavkin.kinematics.compiled.AUTO_POINTS` points, as the kinematics does.
 """
 
 from __future__ import annotations
@@ -32,24 +33,21 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import compiled as kernels
 from excavkin.kinematics.threads import over_chunks
 from excavkin.kinetostatics.body_loads import body_loads
-from excavkin.kinetostatics.equilibrium import (
-    StaticsSystem,
-    assemble_rows,
-    div_entry,
-    eliminate_one,
-    mul_entry,
-    neg_entry,
-    sub_entry,
-)
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads
+from excavkin.kinetostatics.structured import (
+    SINGULAR_SINE,
+    Arithmetic,
+    StructuredSystem,
+    back_substitute,
+)
 
 #: samples per call of the kernel (a thread's share of the work at a time)
 CHUNK = 32768
 
 
 class _Sym:
-    """A per-sample value while the elimination is traced: each operation on it writes a line
+    """A per-sample value while the back-substitution is traced: each operation on it writes a line
     computing a new local variable. NumPy's scalars defer to it (``__array_ufunc__``)."""
 
     __slots__ = ("g", "name", "nonzero")
@@ -219,13 +217,15 @@ _lock = threading.Lock()
 
 
 def _shape(
-    sy: StaticsSystem, mp: MassProperties, ev: EvaluatedLoads, inertia: bool
+    ss: StructuredSystem, mp: MassProperties, ev: EvaluatedLoads, inertia: bool
 ) -> tuple[Any, ...]:
-    """All that the traced source depends on: the system, which bodies have a mass and a
-    moment of inertia, where each load acts, whether gravity and inertia are on."""
+    """All that the traced source depends on: the system and the plan's blocks, which bodies
+    have a mass and a moment of inertia, where each load acts, whether gravity and inertia are
+    on."""
     massive = mp.massive
     return (
-        sy,
+        ss.system,
+        ss.blocks,
         inertia,
         massive,
         tuple(bool(np.any(mp.inertia[j] != 0.0)) for j in massive),
@@ -237,18 +237,34 @@ def _shape(
 
 
 def source(
-    sy: StaticsSystem, mp: MassProperties, ev: EvaluatedLoads, inertia: bool
+    ss: StructuredSystem, mp: MassProperties, ev: EvaluatedLoads, inertia: bool
 ) -> tuple[str, list[float | F]]:
     """The kernel's source for this system, masses and loads, and the values its constants
     table holds (in the order it reads them). The trace is made once for each
-    `_shape`; the values are read anew each time."""
-    key = _shape(sy, mp, ev, inertia)
+    `_shape`; the values are read anew each time.
+
+    Parameters
+    ----------
+    ss : StructuredSystem
+        The plan's steps and the equilibrium's unknowns
+        (`excavkin.kinetostatics.structured.compile_structured`).
+    mp : MassProperties
+    ev : EvaluatedLoads
+    inertia : bool
+        Whether the d'Alembert inertia is on.
+
+    Returns
+    -------
+    text : str
+    values : list of float or ndarray
+    """
+    key = _shape(ss, mp, ev, inertia)
     g = _Source()
     masses: Any = _Masses(g, mp)
     loads = _loads(g, ev)
     text = _traced.get(key)
     if text is None:
-        text = _trace(g, sy, masses, loads, inertia)
+        text = _trace(g, ss, masses, loads, inertia)
         with _lock:  # (forces may be solved on several threads)
             while len(_traced) >= 16:
                 _traced.pop(next(iter(_traced)), None)
@@ -256,31 +272,31 @@ def source(
     return text, g.values
 
 
-def _trace(g: _Source, sy: StaticsSystem, masses: Any, loads: EvaluatedLoads, inertia: bool) -> str:
-    """Run the NumPy path's elimination on the symbols of ``g``: the kernel's source."""
+class _Traced(Arithmetic):
+    """The back-substitution's singular flags and dense blocks, written as source."""
+
+    def __init__(self, g: _Source) -> None:
+        self.g = g
+
+    def flag(self, det: Any) -> None:
+        self.g.emit(f"if abs({_text(det)}) <= {SINGULAR_SINE!r}:")
+        self.g.emit("    sg = True")
+
+    def dense(self, a: list[list[Any]], b: list[Any]) -> list[Any]:
+        return [self.g.tmp(y.name) for y in _dense(self.g, a, b)]  # (the next block's y's)
+
+
+def _trace(
+    g: _Source, ss: StructuredSystem, masses: Any, loads: EvaluatedLoads, inertia: bool
+) -> str:
+    """Run the NumPy path's back-substitution on the symbols of ``g``: the kernel's source."""
+    sy = ss.system
     x = _Points(g, "x")
     acc = _Points(g, "a") if inertia else None
     eps = _Points(g, "eps") if inertia else None
     rhs_body = body_loads(sy, masses, loads, x, acc, eps, slice(None))  # type: ignore[arg-type]
-    rows = assemble_rows(sy, x)  # type: ignore[arg-type]
-    rhs: list[Any] = [0.0] * (2 * len(sy.nodes))
-    for fx, fy, mz in rhs_body:
-        rhs += [neg_entry(fx), neg_entry(fy), neg_entry(mz)]
-    for p in sy.pivots:
-        eliminate_one(rows, rhs, p.row, p.col, p.value, p.targets)
-    sol: list[Any] = [0.0] * sy.size
     g.emit("sg = False")
-    if sy.residual_cols:
-        a = [[rows[r].get(col, 0.0) for col in sy.residual_cols] for r in sy.residual_rows]
-        y = _dense(g, a, [rhs[r] for r in sy.residual_rows])
-        for col, val in zip(sy.residual_cols, y, strict=True):
-            sol[col] = val
-    for p in reversed(sy.pivots):
-        s = rhs[p.row]
-        for j, w in rows[p.row].items():
-            if j != p.col:
-                s = sub_entry(s, mul_entry(w, sol[j]))
-        sol[p.col] = div_entry(s, p.value)
+    sol = back_substitute(ss, x, rhs_body, _Traced(g))  # type: ignore[arg-type]
     for col, val in enumerate(sol):
         g.emit(f"out[{col}, i] = {_text(val)}")
     g.emit("singular[i] = sg")
@@ -288,8 +304,8 @@ def _trace(g: _Source, sy: StaticsSystem, masses: Any, loads: EvaluatedLoads, in
 
 
 def _dense(g: _Source, a: list[list[Any]], b: list[Any]) -> list[_Sym]:
-    """Gaussian elimination with partial pivoting of the dense block, as
-    `_dense_solve` does it for each sample: the same
+    """Gaussian elimination with partial pivoting of a dense block, as
+    `dense_block_solve` does it for each sample: the same
     operations, a row swap where its ``where`` swaps. Sets ``sg``: a pivot below ``rel_tol``
     times the block's largest entry."""
     r = len(b)

@@ -31,35 +31,41 @@ A pin is a point shared by two or more bodies, or a point of one body where an e
 slider acts; the ground's equilibrium is not written, so the force of each pin on the ground is
 an output. With a model whose driver count equals its mobility the system is square.
 
-Solution: a compiled sparse elimination, batched over samples. At compile time the system's
-structure is known: the pin and force-balance rows have constant coefficients ±1, and so do the
-driver torques in the moment rows. Pivots are chosen once, greedily, among the constant entries
-(fewest array operations first), which leaves a small dense block — for a mechanism driven by
-rotary drivers, one row per moving body minus one per driver — solved per sample by Gaussian
-elimination with partial pivoting, vectorised over the samples; then the eliminated unknowns
-follow by back-substitution. Each step is a handful of array operations over a cache-sized
-chunk of samples; there is no loop over samples.
+These equations, with the unknowns named as above, define the forces and their conventions;
+`excavkin.kinetostatics.structured` solves them along the solve plan, step by step from the
+last, in time linear in the model's size. Here they are assembled as a matrix
+(`dense_matrix`) for the check that a model is statically determinate and for the dense
+per-sample solve kept for cross-checks (``solve_forces(method="dense")``).
+
+A model whose solve plan builds (`excavkin.structure.builder.compile_plan`) is statically
+determinate: each constraint is used by exactly one step, so the equilibrium's matrix is
+block-triangular with one generically regular block per step; only a Newton group's block is
+checked, at random positions. A model without a plan (redundant joints, an undriven freedom)
+gets the rank check of the whole matrix, whose message names the joints involved.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Literal, TypeAlias, cast
 
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.errors import MobilityError
+from excavkin.errors import ExcavkinError, MobilityError
 from excavkin.model.entities import Model
+from excavkin.model.validate import validate
 from excavkin.step_kinds.rope_path import segment_directions
+from excavkin.structure.builder import compile_plan
+from excavkin.structure.plan import SolvePlan
 
 __all__ = [
     "StaticallyIndeterminateError",
     "StaticsSystem",
     "Unknown",
     "compile_statics",
-    "solve_system",
+    "dense_block_solve",
+    "dense_matrix",
 ]
 
 
@@ -69,7 +75,7 @@ class StaticallyIndeterminateError(MobilityError):
 
 
 class _Var:
-    """Stand-in for a per-sample value while the elimination is planned."""
+    """Stand-in for a per-sample value: the rows' structure (`assemble_rows` without positions)."""
 
     __slots__ = ()
 
@@ -81,54 +87,6 @@ VAR = _Var()
 Entry: TypeAlias = "float | F | _Var"
 #: A per-chunk value: a constant (float) or one value per sample (shape (c,)).
 Value: TypeAlias = "float | F"
-
-
-def mul_entry(a: Entry, b: Entry) -> Entry:
-    """``a · b`` of two entries, skipping the product by 0 and ±1 (a float), or ``VAR`` where
-    either is unknown until the samples come; `excavkin.kinetostatics.compiled` traces it."""
-    if isinstance(a, float):
-        if a == 0.0:
-            return 0.0
-        if a == 1.0:
-            return b
-        if a == -1.0 and not isinstance(b, _Var):
-            return -b
-    if isinstance(b, float):
-        if b == 0.0:
-            return 0.0
-        if b == 1.0:
-            return a
-        if b == -1.0 and not isinstance(a, _Var):
-            return -a
-    if isinstance(a, _Var) or isinstance(b, _Var):
-        return VAR
-    return a * b
-
-
-def sub_entry(a: Entry, b: Entry) -> Entry:
-    """``a − b`` of two entries, skipping a zero float (``VAR`` where either is unknown)."""
-    if isinstance(b, float) and b == 0.0:
-        return a
-    if isinstance(a, _Var) or isinstance(b, _Var):
-        return VAR
-    if isinstance(a, float) and a == 0.0:
-        return -b
-    return a - b
-
-
-def div_entry(a: Entry, piv: float) -> Entry:
-    """``a / piv`` of an entry by a pivot, skipping ±1 (``VAR`` where ``a`` is unknown)."""
-    if piv == 1.0:
-        return a
-    if isinstance(a, _Var):
-        return VAR
-    if piv == -1.0:
-        return -a
-    return a / piv
-
-
-def _is_array_op(a: Entry, b: Entry) -> bool:
-    return isinstance(a, _Var) or isinstance(b, _Var)
 
 
 @dataclass(frozen=True, slots=True)
@@ -150,14 +108,6 @@ class Unknown:
     index: int
     comp: int
     label: str
-
-
-@dataclass(frozen=True, slots=True)
-class _Pivot:
-    row: int
-    col: int
-    value: float
-    targets: tuple[int, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -202,20 +152,12 @@ class StaticsSystem:
     rotary: tuple[tuple[str, int, int], ...]
     unknowns: tuple[Unknown, ...]
     rows: tuple[str, ...]
-    pivots: tuple[_Pivot, ...] = field(default=(), repr=False)
-    residual_rows: tuple[int, ...] = field(default=(), repr=False)
-    residual_cols: tuple[int, ...] = field(default=(), repr=False)
     ropes: tuple[tuple[str, tuple[int, ...], tuple[float, ...]], ...] = ()
 
     @property
     def size(self) -> int:
         """Number of unknowns (and equations)."""
         return len(self.unknowns)
-
-    @property
-    def residual_size(self) -> int:
-        """Size of the dense block solved per sample after the constant pivots."""
-        return len(self.residual_cols)
 
     def slot_cols(self) -> tuple[int, ...]:
         """Column of the x component of each pin slot (y is the next one)."""
@@ -434,86 +376,23 @@ def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
     return rows
 
 
-def _plan_pivots(sy: StaticsSystem) -> tuple[tuple[_Pivot, ...], tuple[int, ...], tuple[int, ...]]:
-    """Choose constant pivots greedily, fewest per-sample operations first."""
-    rows = assemble_rows(sy, None)
-    rhs: list[Entry] = [0.0] * (2 * len(sy.nodes))
-    rhs += [VAR] * (3 * len(sy.moving))
-    active = set(range(len(rows)))
-    pivots: list[_Pivot] = []
-    while True:
-        best: tuple[tuple[int, float, int, int], int, int, tuple[int, ...]] | None = None
-        cols: dict[int, list[int]] = {}
-        for r in active:
-            for c in rows[r]:
-                cols.setdefault(c, []).append(r)
-        for r in sorted(active):
-            for c, v in rows[r].items():
-                if isinstance(v, _Var) or not isinstance(v, float) or abs(v) < 0.5:
-                    continue
-                targets = tuple(i for i in cols[c] if i != r)
-                cost = 0
-                for i in targets:
-                    f = rows[i][c]
-                    for j, w in rows[r].items():
-                        if j != c and (_is_array_op(f, w) or isinstance(rows[i].get(j), _Var)):
-                            cost += 1
-                    if _is_array_op(f, rhs[r]):
-                        cost += 1
-                key = (cost, -float(abs(v) == 1.0), r, c)
-                if best is None or key < best[0]:
-                    best = (key, r, c, targets)
-        if best is None:
-            break
-        _, r, c, targets = best
-        piv = rows[r][c]
-        assert isinstance(piv, float)
-        eliminate_one(rows, rhs, r, c, piv, targets)
-        pivots.append(_Pivot(r, c, piv, targets))
-        active.discard(r)
-    used = {p.col for p in pivots}
-    res_cols = tuple(c for c in range(len(sy.unknowns)) if c not in used)
-    return tuple(pivots), tuple(sorted(active)), res_cols
+def compile_statics(
+    model: Model, *, seed: int = 20240601, plan: SolvePlan | None = None
+) -> StaticsSystem:
+    """Build the equilibrium system of ``model`` and check that it is statically determinate.
 
-
-def eliminate_one(
-    rows: list[dict[int, Entry]],
-    rhs: list[Entry],
-    r: int,
-    c: int,
-    piv: float,
-    targets: tuple[int, ...],
-) -> None:
-    """Eliminate column ``c`` from the rows ``targets`` by pivot row ``r`` (pivot value
-    ``piv``), in place in ``rows`` and ``rhs``: one step of the elimination, shared with the
-    compiled path's trace."""
-    prow = rows[r]
-    for i in targets:
-        row = rows[i]
-        f = div_entry(row.pop(c), piv)
-        for j, w in prow.items():
-            if j == c:
-                continue
-            new = sub_entry(row.get(j, 0.0), mul_entry(f, w))
-            if isinstance(new, float) and new == 0.0:
-                row.pop(j, None)
-            else:
-                row[j] = new
-        rhs[i] = sub_entry(rhs[i], mul_entry(f, rhs[r]))
-
-
-def compile_statics(model: Model, *, seed: int = 20240601) -> StaticsSystem:
-    """Build and check the equilibrium system of ``model``; plan its elimination.
-
-    The generic rank is checked at random positions of the points (any positions: the
-    equilibrium matrix depends only on them): a rank deficit there holds at every
-    configuration, and is reported with the joints involved.
+    A model whose solve plan builds is determinate (a Newton group's block is checked at random
+    positions); otherwise the generic rank of the whole system is checked at random positions
+    of the points (any positions: the equilibrium matrix depends only on them): a rank deficit
+    there holds at every configuration, and is reported with the joints involved.
 
     Parameters
     ----------
     model : Model
     seed : int
-        For the random positions of the rank check (reproducible).
+        For the random positions of the rank checks (reproducible).
+    plan : SolvePlan, optional
+        The model's solve plan, if compiled already (compiled here if not given).
 
     Returns
     -------
@@ -526,32 +405,17 @@ def compile_statics(model: Model, *, seed: int = 20240601) -> StaticsSystem:
         joints cannot carry), naming them.
     """
     sy = _structure(model)
-    _check_rank(sy, model, seed)
-    pivots, res_rows, res_cols = _plan_pivots(sy)
-    if len(res_rows) != len(res_cols):  # pragma: no cover - the rank check catches it first
-        raise StaticallyIndeterminateError(
-            f"{len(res_rows)} equations are left for {len(res_cols)} unknowns",
-            table="bodies",
-            source=model.source,
-        )
-    return StaticsSystem(
-        sy.points,
-        sy.bodies,
-        sy.ground,
-        sy.base,
-        sy.moving,
-        sy.nodes,
-        sy.slots,
-        sy.elements,
-        sy.sliders,
-        sy.rotary,
-        sy.unknowns,
-        sy.rows,
-        pivots,
-        res_rows,
-        res_cols,
-        ropes=sy.ropes,
-    )
+    from excavkin.kinetostatics.structured import determinate  # (it solves this system)
+
+    if plan is None:
+        try:
+            validate(model)
+            plan = compile_plan(model)
+        except ExcavkinError:
+            plan = None
+    if plan is None or not determinate(plan, sy, seed):
+        _check_rank(sy, model, seed)
+    return sy
 
 
 def dense_matrix(sy: StaticsSystem, x: F) -> F:
@@ -618,6 +482,31 @@ def _as_array(v: Entry, c: int) -> F:
     return v
 
 
+def dense_block_solve(
+    a: list[list[Value]], b: list[Value], c: int, rel_tol: float
+) -> tuple[list[F], np.ndarray]:
+    """Solve ``a·y = b`` for c samples at once by Gaussian elimination with partial pivoting.
+
+    Parameters
+    ----------
+    a : list of list of (float or ndarray of shape (c,))
+        The square matrix, row by row (a float: the same for every sample).
+    b : list of (float or ndarray of shape (c,))
+        The right-hand side.
+    c : int
+        Number of samples.
+    rel_tol : float
+        A sample is singular where a pivot is below ``rel_tol`` times the largest entry.
+
+    Returns
+    -------
+    y : list of ndarray, shape (c,)
+        One array per unknown.
+    singular : ndarray of bool, shape (c,)
+    """
+    return _dense_solve(cast("list[list[Entry]]", a), cast("list[Entry]", b), c, rel_tol)
+
+
 def _dense_solve(
     a: list[list[Entry]], b: list[Entry], c: int, rel_tol: float
 ) -> tuple[list[F], np.ndarray]:
@@ -665,74 +554,3 @@ def _dense_solve_unguarded(
             acc = acc - m[k][j] * sol[j]
         sol[k] = acc / m[k][k]
     return sol, singular
-
-
-def solve_system(
-    sy: StaticsSystem,
-    x: F,
-    rhs_body: Sequence[tuple[Value, Value, Value]],
-    *,
-    rel_tol: float = 1e-12,
-) -> tuple[list[Value], np.ndarray]:
-    """Solve the equilibrium of one chunk of samples.
-
-    Parameters
-    ----------
-    sy : StaticsSystem
-    x : ndarray, shape (n_points, 2, c)
-        Point positions of the chunk.
-    rhs_body : list of (float or ndarray, ...)
-        Per moving body (in ``sy.moving`` order), the known force x, y and moment about its
-        first point: applied loads plus inertia. A float is a constant (zero: no load).
-    rel_tol : float
-        A sample is singular where a pivot of the dense block is below ``rel_tol`` times the
-        block's largest entry.
-
-    Returns
-    -------
-    solution : list
-        One entry per unknown (float or ndarray of shape (c,)).
-    singular : ndarray of bool, shape (c,)
-    """
-    c = x.shape[-1]
-    rows = assemble_rows(sy, x)
-    rhs: list[Entry] = [0.0] * (2 * len(sy.nodes))
-    for fx, fy, mz in rhs_body:
-        rhs += [neg_entry(fx), neg_entry(fy), neg_entry(mz)]
-    for p in sy.pivots:
-        eliminate_one(rows, rhs, p.row, p.col, p.value, p.targets)
-    sol: list[Entry] = [0.0] * len(sy.unknowns)
-    singular = np.zeros(c, dtype=bool)
-    if sy.residual_cols:
-        a = [[rows[r].get(col, 0.0) for col in sy.residual_cols] for r in sy.residual_rows]
-        b = [rhs[r] for r in sy.residual_rows]
-        y, singular = _dense_solve(a, b, c, rel_tol)
-        for col, val in zip(sy.residual_cols, y, strict=True):
-            sol[col] = val
-    for p in reversed(sy.pivots):
-        acc = rhs[p.row]
-        for j, w in rows[p.row].items():
-            if j != p.col:
-                acc = sub_entry(acc, mul_entry(w, sol[j]))
-        sol[p.col] = div_entry(acc, p.value)
-    return cast("list[Value]", sol), singular
-
-
-def neg_entry(v: Entry) -> Entry:
-    """``−v`` of an entry, keeping a float zero positive and ``VAR`` as it is."""
-    if isinstance(v, float):
-        return -v if v != 0.0 else 0.0
-    if isinstance(v, _Var):
-        return v
-    return -v
-
-
-def structure_summary(sy: StaticsSystem) -> str:
-    """A few lines describing the system's size and elimination, for ``describe``."""
-    n_ops = sum(len(p.targets) for p in sy.pivots)
-    return (
-        f"{sy.size} unknowns ({len(sy.slots)} pin forces, {len(sy.elements)} element "
-        f"forces, {len(sy.sliders)} slider forces, {len(sy.rotary)} torques); "
-        f"{len(sy.pivots)} constant pivots ({n_ops} row updates), dense block "
-        f"{sy.residual_size}×{sy.residual_size}"
-    )

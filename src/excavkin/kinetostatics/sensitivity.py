@@ -1,14 +1,15 @@
 """Exact sensitivities of the forces: the kinetostatic equilibrium differentiated with respect to
-the dimensions and masses, by running the same elimination on dual numbers.
+the dimensions and masses, by running the same back-substitution on dual numbers.
 
 The positions, accelerations and angular accelerations carry their tangents from the kinematic
 sensitivities (`excavkin.kinematics.sensitivity`); the masses, moments of inertia and
-centres of mass carry theirs from the parameters. The equilibrium's own elimination and dense
-block solve run on them unchanged, so each force's tangent is the exact derivative of the
-solved forces. A load given as a function of the result (a spring, a damper) is evaluated
-once more on a result whose arrays are dual numbers, so that its own dependence on the
-dimensions is differentiated too; a function that cannot take them (it converts the arrays,
-or uses a function the duals do not carry) is refused by name rather than held fixed.
+centres of mass carry theirs from the parameters. The equilibrium's own back-substitution
+along the plan (`excavkin.kinetostatics.structured`) and its dense blocks run on them
+unchanged, so each force's tangent is the exact derivative of the solved forces. A load given
+as a function of the result (a spring, a damper) is evaluated once more on a result whose
+arrays are dual numbers, so that its own dependence on the dimensions is differentiated too; a
+function that cannot take them (it converts the arrays, or uses a function the duals do not
+carry) is refused by name rather than held fixed.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinetostatics.body_loads import body_loads
-from excavkin.kinetostatics.equilibrium import solve_system
+from excavkin.kinetostatics.structured import Arithmetic, back_substitute, compile_structured
 from excavkin.structure.design import mass_items
 
 if TYPE_CHECKING:
@@ -75,6 +76,7 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
     eps_t = np.stack([np.moveaxis(t.body_epsilon, 0, -1) for t in tangents])
     masses = _dual_masses(forces, names, n)
     ev = _dual_loads(forces, names, n)
+    structured = compile_structured(kin.plan, sy)
     out = np.zeros((m, sy.size, n))
     for s in range(0, n, CHUNK):
         part = slice(s, min(s + CHUNK, n))
@@ -89,7 +91,8 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
                 Dual(eps[..., part], eps_t[..., part]),  # type: ignore[arg-type]
                 part,
             )
-            sol, _ = solve_system(sy, xd, rhs)  # type: ignore[arg-type]
+            ops = Arithmetic(part.stop - part.start)
+            sol = back_substitute(structured, xd, rhs, ops)  # type: ignore[arg-type]
         for col, val in enumerate(sol):
             if isinstance(val, Dual) and val.tan.ndim:
                 out[:, col, part] = val.tan

@@ -2,8 +2,10 @@
 
 For each cache-sized chunk of samples: the known load of every moving body (its applied forces
 and couples, its weight and its d'Alembert inertia, reduced to a force and a moment about the
-body's first point), then the compiled elimination of
-`excavkin.kinetostatics.equilibrium`. Samples whose kinematics failed stay NaN.
+body's first point), then the back-substitution along the solve plan of
+`excavkin.kinetostatics.structured` (linear in the model's size), in NumPy or compiled as one
+machine-code loop (`excavkin.kinetostatics.compiled`). Samples whose kinematics failed stay
+NaN.
 """
 
 from __future__ import annotations
@@ -14,18 +16,22 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
-from excavkin.kinematics.compiled import THRESHOLD, available
+from excavkin.kinematics.compiled import AUTO_POINTS, THRESHOLD, available
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
     StaticsSystem,
     compile_statics,
     dense_matrix,
-    solve_system,
 )
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, evaluate_loads
 from excavkin.kinetostatics.result import ForceResult
+from excavkin.kinetostatics.structured import (
+    StructuredSystem,
+    compile_structured,
+    solve_structured,
+)
 
 __all__ = ["solve_forces"]
 
@@ -55,14 +61,16 @@ def solve_forces(
     inertia : bool
         Include the d'Alembert inertia loads (default); ``False`` solves statics at each pose.
     method : {"sparse", "dense"}
-        ``"sparse"``: the compiled elimination (fast). ``"dense"``: the full matrix per sample
-        with LAPACK (slow; for cross-checking).
+        ``"sparse"``: the back-substitution along the solve plan (fast, linear in the model's
+        size). ``"dense"``: the full matrix per sample with LAPACK (slow; for
+        cross-checking).
     chunk : int
-        Samples per pass.
+        Samples per pass (memory beyond the result's arrays is bounded by a pass).
     compiled : bool, optional
-        Run the ``"sparse"`` elimination as one compiled loop over samples
+        Run the ``"sparse"`` back-substitution as one compiled loop over samples
         (`excavkin.kinetostatics.compiled`, needs numba) or in NumPy. Default: compiled
-        when numba is installed and the batch is large (the rule of the kinematics'
+        when numba is installed, the batch is large and the model has at most
+        `excavkin.kinematics.compiled.AUTO_POINTS` points (the rule of the kinematics'
         ``compiled``).
 
     Returns
@@ -94,13 +102,14 @@ def solve_forces(
     x = np.moveaxis(result.positions, 0, -1)
     a = np.moveaxis(result.accelerations, 0, -1) if inertia else None
     eps = np.moveaxis(result.body_epsilon, 0, -1) if inertia else None
+    structured = compile_structured(plan, sy)
     out = np.empty((sy.size, n))
     singular = np.zeros(n, dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
         if method == "dense":
             _solve_dense(sy, mp, ev, x, a, eps, out, singular)
-        elif not _solve_compiled((sy, mp, ev), (x, a, eps), out, singular, compiled):
-            _solve_sparse((sy, mp, ev), (x, a, eps), out, singular, chunk)
+        elif not _solve_compiled((structured, mp, ev), (x, a, eps), out, singular, compiled):
+            _solve_sparse((structured, mp, ev), (x, a, eps), out, singular, chunk)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
     bad = singular | ~result.status.solved
@@ -125,18 +134,19 @@ def solve_forces(
 
 
 def _solve_sparse(
-    known: tuple[StaticsSystem, MassProperties, EvaluatedLoads],
+    known: tuple[StructuredSystem, MassProperties, EvaluatedLoads],
     motion: tuple[F, F | None, F | None],
     out: F,
     singular: np.ndarray,
     chunk: int,
 ) -> None:
-    """The sparse elimination in NumPy, chunk by chunk."""
-    sy, mp, ev = known
+    """The back-substitution along the plan in NumPy, chunk by chunk."""
+    structured, mp, ev = known
+    sy = structured.system
     x, a, eps = motion
     for s in range(0, out.shape[1], chunk):
         sl = slice(s, min(s + chunk, out.shape[1]))
-        xc = x[:, :, sl]
+        xc = np.ascontiguousarray(x[:, :, sl])
         rhs = body_loads(
             sy,
             mp.at(sl),
@@ -146,25 +156,23 @@ def _solve_sparse(
             None if eps is None else eps[:, sl],
             sl,
         )
-        sol, sing = solve_system(sy, xc, rhs)
-        for col, val in enumerate(sol):
-            out[col, sl] = val
-        singular[sl] = sing
+        out[:, sl], singular[sl] = solve_structured(structured, xc, rhs)
 
 
 def _solve_compiled(
-    known: tuple[StaticsSystem, MassProperties, EvaluatedLoads],
+    known: tuple[StructuredSystem, MassProperties, EvaluatedLoads],
     motion: tuple[F, F | None, F | None],
     out: F,
     singular: np.ndarray,
     compiled: bool | None,
 ) -> bool:
-    """The sparse elimination as its compiled kernel, if ``compiled`` (see
+    """The back-substitution as its compiled kernel, if ``compiled`` (see
     `solve_forces`) asks for it here; whether it ran."""
     from excavkin.kinetostatics import compiled as kernel
 
     n = out.shape[1]
-    if compiled is False or compiled is None and (n < THRESHOLD or not available()):
+    big = len(known[0].system.points) > AUTO_POINTS  # (numba's compile grows with the model)
+    if compiled is False or compiled is None and (n < THRESHOLD or big or not available()):
         return False  # (before the source is traced: small batches stay cheap)
     x, a, eps = motion
     text, values = kernel.source(*known, inertia=a is not None)

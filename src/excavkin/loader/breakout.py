@@ -42,6 +42,9 @@ from excavkin.machinery.capped_force import cap_by, capped_force, gravity_terms,
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
+
+    from excavkin.loader.plots import LoaderPlot
 
 #: how far behind the tip of the cutting edge the breakout force acts (SAE J732): 100 mm
 BEHIND_EDGE = 0.1
@@ -131,6 +134,22 @@ class Breakout:
         cols = ("force", "hydraulic", "working", "tipping", "lift_cyl_force", "tilt_cyl_force")
         frame.attrs.update(table_attrs(self.machine, dict.fromkeys(cols, "force")))
         return frame
+
+    def plot(self, *, ax: Axes | None = None) -> LoaderPlot:
+        """Each circuit's breakout force with the limits that cap it (SAE J732).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Drawn on; a new figure when omitted.
+
+        Returns
+        -------
+        LoaderPlot
+        """
+        from excavkin.loader.plots import plot_breakout
+
+        return plot_breakout(self, ax=ax)
 
     def summary(self) -> str:
         """Both breakout forces in kN with their binding limits.

@@ -39,6 +39,9 @@ from excavkin.machinery.capped_force import cap_by, capped_force, gravity_terms,
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
+
+    from excavkin.loader.plots import LoaderPlot
 
 
 @dataclass(frozen=True, slots=True)
@@ -108,6 +111,22 @@ class Capacity:
         }
         frame.attrs.update(table_attrs(self.machine, kinds))
         return frame
+
+    def plot(self, *, ax: Axes | None = None) -> LoaderPlot:
+        """Lift and rollback capacity and the tipping load over the lift (ISO 14397-2).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Drawn on; a new figure when omitted.
+
+        Returns
+        -------
+        LoaderPlot
+        """
+        from excavkin.loader.plots import plot_capacity
+
+        return plot_capacity(self, ax=ax)
 
     def summary(self) -> str:
         """The lift capacity to full height and the least rollback capacity.

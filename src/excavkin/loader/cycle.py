@@ -43,6 +43,9 @@ from excavkin.machinery.flows import cylinder_speed, hydraulics_of, power_of
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
+
+    from excavkin.loader.plots import LoaderPlot
 
 #: poses sampled along each phase for its static pressure
 SAMPLES = 101
@@ -163,6 +166,22 @@ class Cycle:
         }
         frame.attrs.update(table_attrs(self.machine, kinds))
         return frame
+
+    def plot(self, *, ax: Axes | None = None) -> LoaderPlot:
+        """The phases' times with their peak pressures (SAE J732).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Drawn on; a new figure when omitted.
+
+        Returns
+        -------
+        LoaderPlot
+        """
+        from excavkin.loader.plots import plot_cycle
+
+        return plot_cycle(self, ax=ax)
 
     def summary(self) -> str:
         """Each phase's time, pressure and power, and the total.

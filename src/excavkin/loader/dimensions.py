@@ -41,6 +41,9 @@ from excavkin.loader.poses import (
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
+
+    from excavkin.loader.plots import LoaderPlot
 
 #: the discharge angle of dump clearance and reach (SAE J732, ISO 7131): 45° below horizontal
 DISCHARGE = math.radians(45.0)
@@ -113,6 +116,24 @@ class Dimensions:
         )
         frame.attrs.update(table_attrs(self.machine, {"lift_cyl": "length", "tilt_cyl": "length"}))
         return frame
+
+    def plot(self, machine: Loader, *, ax: Axes | None = None) -> LoaderPlot:
+        """Side view of the dimensions at their poses (SAE J732 / ISO 7131).
+
+        Parameters
+        ----------
+        machine : Loader
+            The machine these dimensions are of (its linkage is drawn at their poses).
+        ax : matplotlib Axes, optional
+            Drawn on; a new figure when omitted.
+
+        Returns
+        -------
+        LoaderPlot
+        """
+        from excavkin.loader.plots import plot_dimensions
+
+        return plot_dimensions(machine, self, ax=ax)
 
     def summary(self) -> str:
         """The figures in mm and degrees, one line each.

@@ -23,6 +23,9 @@ from excavkin.loader.poses import ground_pose
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
+
+    from excavkin.loader.plots import LoaderPlot
 
 
 @dataclass(frozen=True, slots=True)
@@ -92,6 +95,22 @@ class ParallelLift:
         kinds = {"lift_cyl": "length", "tilt_cyl": "length", "hinge_height": "length"}
         frame.attrs.update(table_attrs(self.machine, {**kinds, "angle": "angle"}))
         return frame
+
+    def plot(self, *, ax: Axes | None = None) -> LoaderPlot:
+        """The bucket's angle over the lift, the tilt cylinder held.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Drawn on; a new figure when omitted.
+
+        Returns
+        -------
+        LoaderPlot
+        """
+        from excavkin.loader.plots import plot_parallel_lift
+
+        return plot_parallel_lift(self, ax=ax)
 
     def summary(self) -> str:
         """The held tilt length, the total change and the largest deviation.

@@ -31,12 +31,14 @@ from excavkin.arrays import BoolArray as B
 from excavkin.arrays import FloatArray as F
 from excavkin.loader.machine import Loader, bucket_frame_point, floor_angle, table_attrs
 from excavkin.machinery.cylinders import Cylinder
-from excavkin.machinery.pin_loads import pin_forces
+from excavkin.machinery.pin_loads import first_largest, pin_forces
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
 
     from excavkin.kinetostatics import ForceResult
+    from excavkin.loader.plots import LoaderPlot
 
 #: the load cases, in order
 CASES = ("breakout", "rated load", "tipping")
@@ -126,7 +128,7 @@ class LoaderPins:
             best = (pin, -np.inf, "", np.nan)
             for c in self.cases:
                 col = np.where(c.ok, c.load[:, j], -np.inf)
-                k = int(np.argmax(col))
+                k = first_largest(col)
                 if col[k] > best[1]:
                     best = (pin, float(col[k]), c.name, float(c.hinge_height[k]))
             out.append(best)
@@ -169,6 +171,22 @@ class LoaderPins:
         }
         frame.attrs.update(table_attrs(self.machine, kinds))
         return frame
+
+    def plot(self, *, ax: Axes | None = None) -> LoaderPlot:
+        """Each pin's largest load over the lift in each load case.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Drawn on; a new figure when omitted.
+
+        Returns
+        -------
+        LoaderPlot
+        """
+        from excavkin.loader.plots import plot_pins
+
+        return plot_pins(self, ax=ax)
 
     def summary(self) -> str:
         """Each pin's largest load with its case and height, and each cylinder's largest push

@@ -29,6 +29,9 @@ from excavkin.machinery.search import maximize_strokes
 
 if TYPE_CHECKING:
     import pandas as pd
+    from matplotlib.axes import Axes
+
+    from excavkin.loader.plots import LoaderPlot
 
 #: the rated operating capacity's share of the full-turn static tipping load (wheel loaders)
 ROC_FACTOR = 0.5
@@ -119,6 +122,22 @@ class TippingLoad:
         frame.attrs.update(table_attrs(self.machine, kinds))
         frame.attrs["excavkin.rated_operating_capacity"] = self.rated_operating_capacity
         return frame
+
+    def plot(self, *, ax: Axes | None = None) -> LoaderPlot:
+        """The tipping loads and the rated operating capacity (SAE J732, SAE J818).
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Drawn on; a new figure when omitted.
+
+        Returns
+        -------
+        LoaderPlot
+        """
+        from excavkin.loader.plots import plot_tipping
+
+        return plot_tipping(self, ax=ax)
 
     def summary(self) -> str:
         """The tipping loads and the rated operating capacity, one line each.

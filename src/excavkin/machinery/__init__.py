@@ -14,6 +14,7 @@ module                what it holds
 ``capped_force``      a tool force capped by pressures and further limits, the limit named
 ``search``            the vectorised pattern search over cylinder strokes
 ``pin_loads``         pin loads and cylinder forces of a static state, per member
+``designs``           what a family gives for studies of its parameters; a design's model
 ``soil``              soil-cutting resistance: Zelenin's, Balovnev's and McKyes's models
 ``file_fields``       machine-file field lookups (units, ranges, messages)
 ``base_file``         the machine file's ``[base]`` table

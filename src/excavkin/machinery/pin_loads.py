@@ -84,3 +84,39 @@ def pin_forces(
         member_force.append(np.stack(cols, axis=1))
     load = np.stack([m.max(axis=1) for m in member_force], axis=1)
     return PinForces(pins, tuple(members), tuple(member_force), load, cyl)
+
+
+#: values this close to the largest, relative to it, are the same largest load: a load capped
+#: by a relief pressure is equal over many poses, and round-off must not choose among them
+TIE_RTOL = 1e-9
+
+
+def first_largest(values: F, prefer: F | None = None) -> int:
+    """The index at which ``values`` reach their largest, ties taken within `TIE_RTOL`.
+
+    A pin load capped by a relief pressure is the same over many poses of a sweep; the pose a
+    table names for it is then chosen among them by ``prefer`` (the largest of it: the pose
+    with the largest tool load that still meets the cap), or the first in the sweep's order,
+    whatever the last bits of each value.
+
+    Parameters
+    ----------
+    values : ndarray
+        One value a pose (``-inf`` where a pose does not count).
+    prefer : ndarray, optional
+        One value a pose: among the tied poses, the largest of it wins (then the first).
+
+    Returns
+    -------
+    int
+        The chosen index (0 when every value is ``-inf`` or NaN).
+    """
+    v = np.asarray(values, dtype=float)
+    if not np.isfinite(v).any():
+        return 0
+    top = float(np.nanmax(np.where(np.isfinite(v), v, -np.inf)))
+    tied = v >= top - TIE_RTOL * abs(top)
+    if prefer is None:
+        return int(np.argmax(tied))
+    p = np.where(tied, np.nan_to_num(np.asarray(prefer, dtype=float), nan=-np.inf), -np.inf)
+    return int(np.argmax(p))

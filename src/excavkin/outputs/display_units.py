@@ -56,7 +56,7 @@ DEFAULT_UNITS: dict[str, str] = {
 }
 
 #: SI units of the kinds `excavkin.units` does not list
-_EXTRA_SI = {"power": "W"}
+_EXTRA_SI = {"power": "W", "energy": "J"}
 
 #: words for axis labels
 KIND_NAMES = {

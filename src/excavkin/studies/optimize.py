@@ -414,6 +414,10 @@ class Problem:
     [`evaluate`][excavkin.studies.metrics.evaluate] makes).
     """
 
+    #: divide a smooth objective by its size at the start (a subclass's choice: a machine's
+    #: figures in N or kg would otherwise dwarf the scaled parameters' unit box)
+    SCALE_OBJECTIVE = False
+
     def __init__(
         self,
         parameters: Mapping[str, float],
@@ -551,6 +555,9 @@ class Problem:
             z0 = np.append(u0, t0 / self.scale)
         else:
             self.scale = 1.0
+            if self.SCALE_OBJECTIVE:  # the objective's size at the start is 1
+                v0 = self.smooth(obj, u0)[0]
+                self.scale = abs(v0) if np.isfinite(v0) and v0 != 0.0 else 1.0
             z0 = u0
         constraints = self._local_constraints(n)
 

@@ -99,9 +99,10 @@ def load_study(path: str | Path) -> Study:
     )  # fmt: skip
     head = r.table("study", required=True)
     if "machine" in head:
+        family = _machine_family(head.get("machine"), Path(path).parent)
         raise r.err(
-            "a study of an excavator machine: run it with `excavkin excavator study` or "
-            "`excavkin excavator optimize`",
+            f"a study of a{'n' if family[0] in 'aeiou' else ''} {family} machine: run it with "
+            f"`excavkin {family} study` or `excavkin {family} optimize`",
             "study",
             "machine",
         )
@@ -148,6 +149,26 @@ def load_study(path: str | Path) -> Study:
     )
     check_design_count(r, study.designs)
     return study
+
+
+def _machine_family(name: Any, folder: Path) -> str:
+    """The family of the machine file a study names (beside it or built in), as its commands
+    are named; ``FAMILY`` where it cannot be told."""
+    import tomllib
+
+    import excavkin
+    from excavkin.families import family_of
+
+    if not isinstance(name, str) or not name:
+        return "FAMILY"
+    path = folder / name
+    if not path.is_file() and name in excavkin.examples("machine"):
+        path = excavkin.example_path(name)
+    try:
+        family = family_of(tomllib.loads(path.read_text(encoding="utf-8")), str(path))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, ExcavkinError):
+        return "FAMILY"
+    return family.name if family is not None else "FAMILY"
 
 
 def study_units(

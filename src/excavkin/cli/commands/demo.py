@@ -94,6 +94,15 @@ def _family(name: str) -> str:
     return family.name if family else "?"
 
 
+def _study_machine(name: str) -> str | None:
+    """The built-in machine a built-in study names (``[study] machine``), None for a model's."""
+    import tomllib
+
+    head = tomllib.loads(excavkin.example_path(name).read_text("utf-8")).get("study", {})
+    machine = head.get("machine") if isinstance(head, dict) else None
+    return machine if isinstance(machine, str) and machine in excavkin.examples("machine") else None
+
+
 def _listing() -> str:
     """Every built-in example, by kind; a study of a machine is marked as one."""
     lines = []
@@ -101,8 +110,9 @@ def _listing() -> str:
         lines.append(f"{title}:")
         for name in excavkin.examples(kind):
             mark = ""
-            if kind == "study" and "\nmachine" in excavkin.example_path(name).read_text("utf-8"):
-                mark = "  (a machine's: excavkin excavator study)"
+            machine = _study_machine(name) if kind == "study" else None
+            if machine is not None:
+                mark = f"  (a machine's: excavkin {_family(machine)} study)"
             if kind == "machine":
                 mark = f"  (excavkin {_family(name)} …)"
             lines.append(f"  {name}{mark}")

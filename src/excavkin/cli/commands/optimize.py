@@ -11,6 +11,7 @@ import click
 from excavkin.cli.common import handle_errors
 
 if TYPE_CHECKING:
+    from excavkin.studies.machine_study import MachineStudy
     from excavkin.studies.optimize import Optimum
 
 
@@ -110,3 +111,37 @@ def report_optimum(best: Optimum, out: str | None, plot: str | None, force: bool
         fig.tight_layout()
         write_atomic(plot, lambda tmp: fig.savefig(tmp, dpi=110, format=Path(plot).suffix[1:]))
         click.echo(f"wrote {plot}")
+
+
+def optimize_machine_study(
+    spec: MachineStudy,
+    method: str | None,
+    output: str | None,
+    plot: str | None,
+    machine_out: str | None,
+    force: bool,
+    quiet: bool,
+) -> None:
+    """Optimise a machine study (any family's) and report it: the outputs checked before any
+    work, the optimum printed and written as a table, a convergence plot and a machine file
+    as asked."""
+    from excavkin.io.files import check_target
+    from excavkin.studies.machine_study import (
+        check_machine_target,
+        optimize_machine,
+        write_machine,
+    )
+
+    if output is not None:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    if plot is not None:
+        check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
+    if machine_out is not None:
+        check_machine_target(spec, machine_out, force=force)
+    with optimizer_progress(quiet) as report:
+        best = optimize_machine(spec, method=method, progress=report)
+    report_optimum(best, output, plot, force)
+    if machine_out is not None:
+        what = f"{best.sense}imum of {best.objective}" if best.sense else "the optimum"
+        write_machine(spec, best.params, machine_out, force=force, note=f"design at the {what}")
+        click.echo(f"wrote the optimal design as a machine file to {machine_out}")
