@@ -170,3 +170,83 @@ def test_a_held_winch_in_a_family_of_designs_holds_each_design_s_sketch(sheaved:
     res = mech.solve({}, params={"B.x": np.array([1.5, 1.6]), "B.y": np.array([2.0, 1.9])})
     assert res.status.all_ok
     np.testing.assert_allclose(res.positions[:, 2], [(1.5, 2.0), (1.6, 1.9)], atol=1e-12)
+
+
+@pytest.mark.parametrize("sheaved", [False, True])
+def test_drum_radius_and_gear_ratio_as_design_parameters(sheaved: bool) -> None:
+    """A family of winch designs equals the models built with each drum and gear ratio; the
+    exact sensitivities to them, of the motion, the tension and the motor's torque, equal
+    8th-order differences of whole solves."""
+    if sheaved:
+        rope = Rope("hoist", ("A", "B", "O2"), mode="winch", drum_radius=0.25, gear_ratio=20.0,
+                    radii=(0.2,), wraps=("cw",))  # fmt: skip
+
+        def build(r: Rope) -> Model:
+            return dataclasses.replace(
+                boom(r),
+                points={"O": (0.0, 0.0), "A": (-1.0, 3.0), "B": (1.5, 2.0), "O2": (-2.0, 0.5)},
+                bodies=(
+                    Body("ground", ("O", "A", "O2"), ground=True),
+                    Body("boom", ("O", "B"), mass=120.0, inertia=60.0, center_of_mass=(0.8, 1.0)),
+                ),
+            )
+    else:
+        rope = HOIST
+
+        def build(r: Rope) -> Model:
+            return boom(r)
+
+    mech = Mechanism(build(rope))
+    assert mech.parameters["hoist.drum_radius"] == 0.25
+    assert mech.parameters["hoist.gear_ratio"] == 20.0
+    theta = mech.plan.input_sketch[0] + np.array([-40.0, -15.0, 25.0])
+    radii, ratios = np.array([0.25, 0.26, 0.24]), np.array([20.0, 19.0, 21.0])
+    family = mech.solve(
+        {"hoist": theta}, {"hoist": 2.0}, params={"hoist.drum_radius": radii,
+                                                  "hoist.gear_ratio": ratios},
+        loads="model",
+    )  # fmt: skip
+    for k in range(3):
+        one = dataclasses.replace(rope, drum_radius=float(radii[k]), gear_ratio=float(ratios[k]))
+        alone = Mechanism(build(one)).solve(
+            {"hoist": theta[k : k + 1]}, {"hoist": 2.0}, loads="model"
+        )
+        a, b = family.to_frame().iloc[k], alone.to_frame().iloc[0]
+        for col in ("B.x", "B.vy", "hoist.tension", "hoist.torque", "O.boom.Fx"):
+            assert a[col] == pytest.approx(b[col], rel=1e-12, abs=1e-12), (k, col)
+    names = ["hoist.drum_radius", "hoist.gear_ratio"]
+    values = {"hoist": theta}
+    res = mech.solve(values, {"hoist": 2.0}, sensitivities=names, loads="model")
+    for name in names:
+        step = 3e-4 * mech.parameters[name]
+        tables = [
+            mech.solve(values, {"hoist": 2.0}, params={name: mech.parameters[name] + k * step},
+                       loads="model").to_frame()
+            for k in range(-4, 5)
+        ]  # fmt: skip
+        for col in ("B.x", "B.vy", "hoist.tension", "hoist.torque", "O.boom.Fy"):
+            fd = sum(w * t[col].to_numpy() for w, t in zip(WEIGHTS, tables, strict=True)) / step
+            exact = res.sensitivity(col, name)
+            scale = max(np.abs(fd).max(), 1e-3 * np.abs(tables[4][col]).max() / 0.25)
+            assert np.abs(exact - fd).max() / scale < 1e-8, (col, name)
+
+
+def test_a_family_of_winches_compiled_equals_numpy() -> None:
+    mech = Mechanism(boom(HOIST))
+    theta = mech.plan.input_sketch[0] + np.linspace(-40.0, 40.0, 9)
+    params = {
+        "hoist.drum_radius": np.linspace(0.24, 0.26, 9),
+        "hoist.gear_ratio": np.linspace(19.0, 21.0, 9),
+    }
+    names = ["hoist.drum_radius", "B.x"]
+    runs = [
+        mech.solve({"hoist": theta}, {"hoist": 2.0}, params=params, compiled=c, sensitivities=names)
+        for c in (False, True)
+    ]
+    np.testing.assert_allclose(runs[1].positions, runs[0].positions, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(runs[1].accelerations, runs[0].accelerations, rtol=0, atol=1e-13)
+    for col in ("B.x", "B.vy", "hoist.length"):
+        for name in names:
+            np.testing.assert_allclose(
+                runs[1].sensitivity(col, name), runs[0].sensitivity(col, name), atol=1e-13
+            )

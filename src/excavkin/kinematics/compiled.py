@@ -327,8 +327,8 @@ class _Source:
             self.emit(f"{name} = {value}")
             return name, None, None
         i = d.input
-        if d.scale != 1.0:  # a winch: the blocks' distance from its motor's angle
-            k = repr(float(d.scale))
+        if d.winch:  # a winch: the blocks' distance from its motor's angle (the constant)
+            k = value
             self.emit(
                 f"{name} = {k} * q[{i}, i]",
                 f"{name}d = {k} * qd[{i}, i]",

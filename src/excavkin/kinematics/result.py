@@ -317,11 +317,9 @@ class KinematicResult:
             sensitivities.
         """
         for j, e in enumerate(plan.elements):
-            if e.input >= 0 and e.ratio:  # a winch rope's: from its motor's angle
-                derived.element[0, j] = e.ratio * q[e.input]
-                derived.element[1, j] = e.ratio * qd[e.input]
-                derived.element[2, j] = e.ratio * qdd[e.input]
-            elif e.input >= 0:  # a driven length is its input, exactly (failed samples too)
+            # a driven length is its input, exactly (failed samples too); a winch rope's, its
+            # motor's angle times each design's R/(i·n), is its blocks' distance as solved
+            if e.input >= 0 and not e.ratio:
                 derived.element[0, j] = q[e.input]
                 derived.element[1, j] = qd[e.input]
                 derived.element[2, j] = qdd[e.input]

@@ -22,7 +22,7 @@ N·m)::
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -42,7 +42,7 @@ from excavkin.structure.design import parameter_kind
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["ForceResult", "PowerBalance", "motion_note"]
+__all__ = ["ForceResult", "PowerBalance", "motion_note", "winch_drive"]
 
 
 def motion_note(static: bool, at_rest: Sequence[str]) -> str:
@@ -65,6 +65,29 @@ def motion_note(static: bool, at_rest: Sequence[str]) -> str:
     if static:
         return f"static forces, no inertia{why}"
     return f"forces with the inertia of the given driver rates and accelerations{why}"
+
+
+def winch_drive(rope: Rope, params: Mapping[str, Any] | None) -> tuple[Any, Any]:
+    """A winch's drum radius and gear ratio, per design where the result's parameters give
+    them.
+
+    Parameters
+    ----------
+    rope : Rope
+        A winch rope.
+    params : mapping of str to array_like, or None
+        The parameters the result was solved with.
+
+    Returns
+    -------
+    radius, ratio : float or ndarray, shape (n,)
+        m, and motor turns per drum turn.
+    """
+    given = params or {}
+    return (
+        given.get(f"{rope.name}.drum_radius", rope.drum_radius),
+        given.get(f"{rope.name}.gear_ratio", rope.gear_ratio),
+    )
 
 
 def _with_unit(value: float, kind: str) -> str:
@@ -347,8 +370,8 @@ class ForceResult:
         winches = [(r, t) for r, t in self._ropes() if r.mode == "winch"]
         for rope, tension in winches:
             if rope.name == name:
-                assert rope.drum_radius is not None
-                return np.asarray(-tension * (rope.drum_radius / rope.gear_ratio))
+                radius, ratio = winch_drive(rope, self.kinematics.parameters)
+                return np.asarray(-tension * (radius / ratio))
         raise unknown_name("winch rope", name, [r.name for r, _ in winches])
 
     # ---- lookups by name

@@ -64,6 +64,8 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
                 length = rope_path(pts, con.signed, con.wraps0).length
                 if varies(length):
                     con = dataclasses.replace(con, dist=dataclasses.replace(con.dist, value=length))
+            elif isinstance(con, CRope):  # a winch's: its length per motor angle
+                con = dataclasses.replace(con, dist=vary_dist(con.dist, geo, names))
             elif isinstance(con, CFrame) and con.body:
                 s, t = geo.frame_coords(con.body, names[con.p], names[con.a], names[con.b])
                 if varies(s) or varies(t):

@@ -246,7 +246,8 @@ def tangents(c: Chunk, g: NewtonGroup, values: tuple[F, F, F]) -> None:
     cons: list[Any] = []
     for con in g.constraints:
         if isinstance(con, CDist | CRope):
-            con = replace(con, dist=replace(con.dist, value=val(con.dist.value)))
+            d = con.dist
+            con = replace(con, dist=replace(d, value=val(d.value), scale=val(d.scale)))
         elif isinstance(con, CFrame):
             con = replace(con, s=val(con.s), t=val(con.t))
         cons.append(con)

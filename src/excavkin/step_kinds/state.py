@@ -97,7 +97,7 @@ def dist(c: Chunk, d: Dist) -> tuple[F | float, F | float, F | float]:
         if c.x.dtype != np.float64:  # a wider solve: products of lengths in its own precision
             return c.x.dtype.type(d.value), 0.0, 0.0
         return d.value, 0.0, 0.0
-    if d.scale != 1.0:  # a winch: the blocks' distance from its motor's angle
+    if d.winch:  # a winch: the blocks' distance from its motor's angle
         k = d.scale
         return k * c.q[d.input], k * c.qd[d.input], k * c.qdd[d.input]
     return c.q[d.input], c.qd[d.input], c.qdd[d.input]

@@ -229,7 +229,14 @@ class PlanBuilder:
             if rope.mode == "winch":
                 self.kinds.append("angle")
                 self.input_sketch.append(length / rope.ratio)
-                d = Dist("input", length, self.in_idx[rope.name], label=rope.name, scale=rope.ratio)
+                d = Dist(
+                    "input",
+                    length,
+                    self.in_idx[rope.name],
+                    label=rope.name,
+                    scale=rope.ratio,
+                    winch=rope.name,
+                )
             else:
                 d = Dist("fixed", length, label=f"locked rope {rope.name!r}")
             points = tuple(self.idx[n] for n in rope.path)
@@ -694,7 +701,7 @@ def _element_dist(el: Element) -> Dist:
     """A driven element's distance is its input (a winch rope's: ``ratio`` times its motor's
     angle); a locked one's is its fixed length."""
     if el.mode == "driven" and el.ratio:
-        return Dist("input", el.length, el.input, label=el.name, scale=el.ratio)
+        return Dist("input", el.length, el.input, label=el.name, scale=el.ratio, winch=el.name)
     if el.mode == "driven":
         return Dist("input", el.length, el.input, label=el.name)
     return Dist("fixed", el.length, label=f"locked {el.name!r}", pair=(el.p, el.q))
