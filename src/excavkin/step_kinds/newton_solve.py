@@ -460,3 +460,239 @@ def rotary_branch_ok(c: Chunk, g: NewtonGroup) -> NDArray[np.bool_]:
             dpy = c.x[con.p, 1] - c.x[con.pivot, 1]
             ok &= ex * dpx + ey * dpy > 0
     return ok
+
+
+# ---- a pose out of reach: which constraint cannot be met, and by how much
+
+#: a group whose least-squares residual stalls with a constraint missed by more than this
+#: fraction of the size cannot be reached; below it, Newton merely did not get there
+REACH_TOL = 1e-9
+#: Levenberg–Marquardt passes, at most, of each stage of the diagnosis
+REACH_ITER = 200
+#: weight of the constraints kept while the one that cannot be met is pushed to its limit
+REACH_WEIGHT = 1e3
+
+
+def _rows(g: NewtonGroup) -> NDArray[np.intp]:
+    """The constraint of each of the group's equations (a frame gives two), shape (m,)."""
+    return np.array(
+        [
+            k
+            for k, con in enumerate(g.constraints)
+            for _ in range(2 if isinstance(con, CFrame) else 1)
+        ],
+        dtype=np.intp,
+    )
+
+
+def _reference(x: F, con: CAngle, q: F) -> tuple[F, F]:
+    """The direction a driver-angle constraint drives its body (not unit), shape (n,) each."""
+    if con.ref is None:
+        vx, vy = np.ones_like(q), np.zeros_like(q)
+    else:
+        vx = x[con.ref[1], 0] - x[con.ref[0], 0]
+        vy = x[con.ref[1], 1] - x[con.ref[0], 1]
+    cs, sn = np.cos(q), np.sin(q)
+    return cs * vx - sn * vy, sn * vx + cs * vy
+
+
+def _metres(c: Chunk, g: NewtonGroup) -> F:
+    """Per equation, the factor that makes its residual a length (m), shape (m, n).
+
+    ``|p − q|² − d²`` over ``|p − q| + d`` is ``|p − q| − d``; a point-on-line cross product
+    over the line's length is the point's distance from it; a driver angle's cross product
+    over its reference's length is the point's distance from the driven direction; a frame's
+    equations are lengths already. The factors are taken as constants of each iteration.
+    """
+    x, n = c.x, c.x.shape[-1]
+    out: list[F] = []
+    for con in g.constraints:
+        if isinstance(con, CDist):
+            r = np.hypot(x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1])
+            size = r + np.abs(dist(c, con.dist)[0])
+        elif isinstance(con, CFrame):
+            out += [np.ones(n), np.ones(n)]
+            continue
+        elif isinstance(con, CLine):
+            size = np.hypot(x[con.l2, 0] - x[con.l1, 0], x[con.l2, 1] - x[con.l1, 1])
+        else:
+            size = np.hypot(*_reference(x, con, c.q[con.input]))
+        out.append(1.0 / np.where(size > 0, size, 1.0))
+    return np.array([np.broadcast_to(f, (n,)) for f in out])
+
+
+def misses(c: Chunk, g: NewtonGroup) -> tuple[F, F]:
+    """How far each of the group's constraints is from met, at the chunk's positions.
+
+    Parameters
+    ----------
+    c : Chunk
+        The positions (and inputs) of the samples.
+    g : NewtonGroup
+        The group.
+
+    Returns
+    -------
+    length : ndarray, shape (n_constraints, n)
+        The miss as a length (m, ≥ 0): a distance's error, a point's distance from where its
+        body's frame or its slider's line puts it, or the arc by which a driven body misses
+        its angle, at the point's radius.
+    amount : ndarray, shape (n_constraints, n)
+        The miss in the constraint's own terms: a distance's error (achieved − required, m), a
+        point's distance from its frame's place or its line (m), a driver's angle error (rad).
+    """
+    x, n = c.x, c.x.shape[-1]
+    length = np.empty((len(g.constraints), n))
+    amount = np.empty((len(g.constraints), n))
+    for k, con in enumerate(g.constraints):
+        if isinstance(con, CDist):
+            r = np.hypot(x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1])
+            amount[k] = r - np.abs(dist(c, con.dist)[0])
+            length[k] = np.abs(amount[k])
+        elif isinstance(con, CFrame):
+            amount[k] = length[k] = np.hypot(_frame(x, con, 0), _frame(x, con, 1))
+        elif isinstance(con, CLine):
+            ux, uy = x[con.l2, 0] - x[con.l1, 0], x[con.l2, 1] - x[con.l1, 1]
+            gx, gy = x[con.p, 0] - x[con.l1, 0], x[con.p, 1] - x[con.l1, 1]
+            amount[k] = _cross(ux, uy, gx, gy) / np.hypot(ux, uy)
+            length[k] = np.abs(amount[k])
+        else:
+            ex, ey = _reference(x, con, c.q[con.input])
+            dx, dy = x[con.p, 0] - x[con.pivot, 0], x[con.p, 1] - x[con.pivot, 1]
+            amount[k] = np.arctan2(_cross(ex, ey, dx, dy), ex * dx + ey * dy)
+            length[k] = np.abs(amount[k]) * np.hypot(dx, dy)
+    return length, amount
+
+
+def _least_squares(c: Chunk, g: NewtonGroup, weight: F | None, iters: int) -> NDArray[np.bool_]:
+    """Levenberg–Marquardt on the group's residuals in metres (times ``weight``, shape (m, n),
+    where given), in place in ``c.x``, every sample at once; returns where it stalled (no
+    step lowered the sum of squares by more than rounding for eight passes running)."""
+    pts = list(g.points)
+    n = c.x.shape[-1]
+    size = 2 * len(pts)
+
+    def evaluate(jacobian: bool) -> tuple[F, F | None]:
+        res, jac, _, _ = _system(c, g, jacobian=jacobian)
+        s = _metres(c, g) if weight is None else _metres(c, g) * weight
+        return res * s, None if jac is None else jac * s[:, None, :]
+
+    res, jac = evaluate(True)
+    cost = np.sum(res * res, axis=0)
+    lam = np.full(n, 1e-3)
+    idle = np.zeros(n, dtype=np.int64)
+    eye = np.eye(size)[:, :, None]
+    for _ in range(iters):
+        assert jac is not None
+        normal = np.einsum("rin,rjn->ijn", jac, jac)
+        grad = np.einsum("rin,rn->in", jac, res)
+        trace = np.einsum("iin->n", normal)
+        damp = lam * np.where(trace > 0, trace / size, 1.0)
+        step = -Factors(normal + damp * eye, overwrite=True).solve(grad)
+        step[:, ~np.isfinite(step).all(axis=0)] = 0.0
+        before = np.stack([c.x[p].copy() for p in pts])
+        for j, p in enumerate(pts):
+            c.x[p] += step[2 * j : 2 * j + 2]
+        trial, _ = evaluate(False)
+        new = np.sum(trial * trial, axis=0)
+        better = new < cost
+        for j, p in enumerate(pts):
+            c.x[p][:, ~better] = before[j][:, ~better]
+        gain = np.where(better, cost - new, 0.0)
+        idle = np.where(gain > 1e-13 * cost, 0, idle + 1)
+        cost = np.where(better, new, cost)
+        lam = np.clip(np.where(better, lam / 3.0, lam * 4.0), 1e-12, 1e12)
+        if np.all(idle >= 8):
+            break
+        res, jac = evaluate(True)
+    return idle >= 8  # type: ignore[no-any-return]
+
+
+def _project(c: Chunk, g: NewtonGroup, keep: F, tol: float) -> None:
+    """Move the group's points, least, onto its equations where ``keep`` is 1 (shape (m, n);
+    0 leaves an equation out) by Gauss–Newton's minimum-norm steps, in place; a sample whose
+    kept equations are not then met to ``tol`` (m) goes back to where it was."""
+    pts = list(g.points)
+    before = np.stack([c.x[p].copy() for p in pts])
+    eq = keep.shape[0]
+    for _ in range(8):
+        res, jac, _, _ = _system(c, g)
+        assert jac is not None
+        s = _metres(c, g) * keep
+        res, jac = res * s, jac * s[:, None, :]
+        outer = np.einsum("rin,sin->rsn", jac, jac)
+        trace = np.einsum("rrn->n", outer)
+        outer += (1e-14 * trace + (keep == 0)) * np.eye(eq)[:, :, None]
+        step = -np.einsum("rin,rn->in", jac, Factors(outer, overwrite=True).solve(res))
+        step[:, ~np.isfinite(step).all(axis=0)] = 0.0
+        for j, p in enumerate(pts):
+            c.x[p] += step[2 * j : 2 * j + 2]
+    res, _, _, _ = _system(c, g, jacobian=False)
+    met = np.max(np.abs(res * _metres(c, g) * keep), axis=0) <= tol
+    for j, p in enumerate(pts):
+        c.x[p][:, ~met] = before[j][:, ~met]
+
+
+def out_of_reach(
+    c: Chunk, g: NewtonGroup, scale: float, iters: int = REACH_ITER
+) -> tuple[NDArray[np.bool_], NDArray[np.int16], F]:
+    """Which of a group's samples that Newton did not solve cannot be reached at all, the
+    constraint that cannot be met, and by how much.
+
+    From the chunk's positions of the group's points (a start near the sample: a solved
+    neighbour's, or the sketch's), Levenberg–Marquardt minimises the sum of the squares of the
+    group's residuals, each in metres (`misses`). Where it stalls with a constraint missed by
+    more than `REACH_TOL` of the size, no pose meets them all (near the start): the pose is out
+    of reach. Where the residual goes to zero, a pose exists and Newton merely did not get there
+    (its status stays "did not converge").
+
+    The constraint named is the one missed most at that stall. By how much is then measured
+    with every other constraint met: the named one alone is pushed to its limit (a second
+    minimisation, the others weighted by `REACH_WEIGHT`, then the points moved onto the others
+    exactly). For a point held by two distances a and b from points c apart, that is the
+    triangle's own shortfall, c − (a + b) or |a − b| − c.
+
+    Parameters
+    ----------
+    c : Chunk
+        The samples (only those Newton did not solve): their known points, inputs, and the
+        group's points at the start; the group's points are moved in place.
+    g : NewtonGroup
+        The group, its per-sample constants taken at these samples.
+    scale : float
+        The mechanism's size (m).
+    iters : int
+        Passes, at most, of each minimisation.
+
+    Returns
+    -------
+    out : ndarray of bool, shape (n,)
+        True where the pose is out of reach.
+    unmet : ndarray of int16, shape (n,)
+        Index into ``g.constraints`` of the constraint that cannot be met (−1 where ``out`` is
+        False).
+    amount : ndarray, shape (n,)
+        By how much, in that constraint's own terms (`misses`): a distance achieved less that
+        required (m, negative where the points cannot get that far apart), a point's distance
+        from its body's frame or its slider's line (m), a driver's angle error (rad); NaN where
+        ``out`` is False.
+    """
+    n = c.x.shape[-1]
+    unmet = np.full(n, -1, dtype=np.int16)
+    amount = np.full(n, np.nan)
+    start = np.isfinite(c.x[list(g.points)]).all(axis=(0, 1))
+    stalled = _least_squares(c, g, None, iters)
+    length, _ = misses(c, g)
+    worst = np.argmax(np.nan_to_num(length, nan=-1.0), axis=0)
+    missed = np.take_along_axis(length, worst[None], axis=0)[0]
+    out = start & stalled & (missed > REACH_TOL * scale)
+    if not out.any():
+        return out, unmet, amount
+    rows = _rows(g)
+    mine = rows[:, None] == worst[None, :]  # (m, n): the named constraint's equations
+    _least_squares(c, g, np.where(mine, 1.0, REACH_WEIGHT), iters)
+    _project(c, g, np.where(mine, 0.0, 1.0), REACH_TOL * scale)
+    _, final = misses(c, g)
+    unmet[out] = worst[out]
+    amount[out] = np.take_along_axis(final, worst[None], axis=0)[0][out]
+    return out, unmet, amount
