@@ -297,15 +297,35 @@ class Status:
         groups = []
         for lab in dict.fromkeys(labels[bad]):
             idx = bad[labels[bad] == lab]
-            shown = [_named(int(i), describe, self.shortfall(int(i), "mm")) for i in idx[:limit]]
+            shown = [
+                sample_named(
+                    int(i), describe(int(i)) if describe else None, self.shortfall(int(i), "mm")
+                )
+                for i in idx[:limit]
+            ]
             groups.append((str(lab), int(idx.size), shown))
         return summary.failures(int(self.code.size), groups, limit)
 
 
-def _named(i: int, describe: Callable[[int], str] | None, short: str | None) -> str:
-    """A failing sample in a summary: its number, its inputs and by how much it is out of
-    reach (each where known)."""
-    said = [text for text in (describe(i) if describe else None, short) if text]
+def sample_named(i: int, inputs: str | None, short: str | None) -> str:
+    """A failing sample as a summary lists it: its number, then its inputs and by how much
+    it is out of reach, each where known.
+
+    Parameters
+    ----------
+    i : int
+        The sample's number.
+    inputs : str or None
+        Its inputs in words (``"crank = 132°"``).
+    short : str or None
+        By how much it is out of reach (`Status.shortfall`).
+
+    Returns
+    -------
+    str
+        ``"12 (crank = 132°; 4.3 mm too long)"``, ``"12 (crank = 132°)"`` or ``"12"``.
+    """
+    said = [text for text in (inputs, short) if text]
     return f"{i} ({'; '.join(said)})" if said else str(i)
 
 

@@ -61,6 +61,7 @@ _LABEL_CODES = (
     ("dead position", Code.SINGULAR),
     ("cannot close", Code.NO_CLOSURE),
     ("newton did not converge", Code.NO_CONVERGENCE),
+    ("out of reach", Code.OUT_OF_REACH),
     ("assembly branch changed", Code.BRANCH_CHANGED),
     ("undetermined", Code.UNDETERMINED),
     ("a result overflows", Code.NOT_FINITE),
@@ -233,6 +234,20 @@ def failed_runs(data: TableData) -> list[tuple[int, int, str]]:
     return [(a, b, str(labels[a])) for a, b in _runs(bad)]
 
 
+def _worst(kin: Any, a: int, b: int) -> str:
+    """For a run of samples out of reach (a, b inclusive), by how much at worst: ``", by up
+    to 35.9 mm too long"``; ``""`` for a run that is not, or a table without its result."""
+    status = getattr(kin, "status", None)
+    miss = getattr(status, "miss", None)
+    if miss is None or status is None or status.code[a] != Code.OUT_OF_REACH:
+        return ""
+    run = np.abs(miss[a : b + 1])
+    if not np.isfinite(run).any():
+        return ""
+    worst = status.shortfall(a + int(np.nanargmax(run)), "mm")
+    return f", by up to {worst}" if worst else ""
+
+
 def dead_samples(data: TableData, dead_tol: float = np.radians(3.0)) -> np.ndarray:
     """Samples at or next to a dead position, sorted, shape (k,).
 
@@ -285,11 +300,19 @@ def find_events(
     t = as_table(data)
     name = describe_sample or (lambda i: f"sample {i}")
     events: list[Event] = []
+    kin = getattr(t.result, "kinematics", t.result)
     for a, b, label in failed_runs(t):
         where = (
             f"sample {a} ({name(a)})" if a == b else (f"samples {a}–{b} ({name(a)} … {name(b)})")
         )
-        events.append(Event("does not close", np.arange(a, b + 1), f"{label}: {where}", "error"))
+        events.append(
+            Event(
+                "does not close",
+                np.arange(a, b + 1),
+                f"{label}: {where}{_worst(kin, a, b)}",
+                "error",
+            )
+        )
     dead = dead_samples(t, dead_tol)
     if dead.size:
         shown = "; ".join(f"{int(i)} ({name(int(i))})" for i in dead[:8])
@@ -303,7 +326,6 @@ def find_events(
                 "warning",
             )
         )
-    kin = getattr(t.result, "kinematics", t.result)
     for cp in getattr(kin, "change_points", ()):
         where = f"{name(cp.before)} … {name(cp.after)}"
         events.append(

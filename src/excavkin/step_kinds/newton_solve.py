@@ -471,6 +471,8 @@ REACH_TOL = 1e-9
 REACH_ITER = 200
 #: weight of the constraints kept while the one that cannot be met is pushed to its limit
 REACH_WEIGHT = 1e3
+#: rounds of the method of multipliers that meet the other constraints
+REACH_ROUNDS = 4
 
 
 def _rows(g: NewtonGroup) -> NDArray[np.intp]:
@@ -496,29 +498,72 @@ def _reference(x: F, con: CAngle, q: F) -> tuple[F, F]:
     return cs * vx - sn * vy, sn * vx + cs * vy
 
 
-def _metres(c: Chunk, g: NewtonGroup) -> F:
-    """Per equation, the factor that makes its residual a length (m), shape (m, n).
+def _lengths(c: Chunk, g: NewtonGroup, *, jacobian: bool = True) -> tuple[F, F | None]:
+    """The group's equations as lengths (m): residual (m, n) and, with ``jacobian``, its
+    Jacobian (m, m, n).
 
     ``|p − q|² − d²`` over ``|p − q| + d`` is ``|p − q| − d``; a point-on-line cross product
-    over the line's length is the point's distance from it; a driver angle's cross product
-    over its reference's length is the point's distance from the driven direction; a frame's
-    equations are lengths already. The factors are taken as constants of each iteration.
+    over the line's length is the point's distance from it; a frame's equations are lengths
+    already. A driver angle is the signed chord ``2·|p − pivot|·sin(φ/2)`` between the point
+    and where the driven direction puts it at its radius (φ the angle between them): unlike
+    Newton's cross product it is zero at φ = 0 alone, not at φ = π too (a body pointing
+    against its driver is not a pose that meets it). The Jacobian is that of these lengths,
+    exactly: a least-squares minimum is where its gradient vanishes.
     """
+    res, jac, _, _ = _system(c, g, jacobian=jacobian)
     x, n = c.x, c.x.shape[-1]
-    out: list[F] = []
+    col = {p: 2 * k for k, p in enumerate(g.points)}
+    row = 0
     for con in g.constraints:
+        if isinstance(con, CFrame):
+            row += 2
+            continue
+        if isinstance(con, CAngle):
+            ex, ey = _reference(x, con, c.q[con.input])
+            dx, dy = x[con.p, 0] - x[con.pivot, 0], x[con.p, 1] - x[con.pivot, 1]
+            phi = np.arctan2(_cross(ex, ey, dx, dy), ex * dx + ey * dy)
+            r = np.hypot(dx, dy)
+            res[row] = 2.0 * r * np.sin(phi / 2.0)
+            if jac is not None:
+                jac[row] = 0.0
+                ur, cs, sn = 1.0 / np.where(r > 0, r, 1.0), np.cos(phi / 2.0), 2 * np.sin(phi / 2)
+                # ∂/∂(p − pivot): 2 sin(φ/2)·d̂ + cos(φ/2)·perp(d̂)
+                gx, gy = (sn * dx - cs * dy) * ur, (sn * dy + cs * dx) * ur
+                for p, sign in ((con.p, 1.0), (con.pivot, -1.0)):
+                    if p in col:
+                        jac[row, col[p]] += sign * gx
+                        jac[row, col[p] + 1] += sign * gy
+                if con.ref is not None:  # φ falls as the reference turns: −r·cos(φ/2)·∂θ_ref
+                    vx = x[con.ref[1], 0] - x[con.ref[0], 0]
+                    vy = x[con.ref[1], 1] - x[con.ref[0], 1]
+                    v2 = vx * vx + vy * vy
+                    v2 = np.where(v2 > 0, v2, 1.0)
+                    hx, hy = r * cs * vy / v2, -r * cs * vx / v2
+                    for p, sign in ((con.ref[1], 1.0), (con.ref[0], -1.0)):
+                        if p in col:
+                            jac[row, col[p]] += sign * hx
+                            jac[row, col[p] + 1] += sign * hy
+            row += 1
+            continue
         if isinstance(con, CDist):
             r = np.hypot(x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1])
             size = r + np.abs(dist(c, con.dist)[0])
-        elif isinstance(con, CFrame):
-            out += [np.ones(n), np.ones(n)]
-            continue
-        elif isinstance(con, CLine):
-            size = np.hypot(x[con.l2, 0] - x[con.l1, 0], x[con.l2, 1] - x[con.l1, 1])
-        else:
-            size = np.hypot(*_reference(x, con, c.q[con.input]))
-        out.append(1.0 / np.where(size > 0, size, 1.0))
-    return np.array([np.broadcast_to(f, (n,)) for f in out])
+            res[row] /= np.where(size > 0, size, 1.0)
+            if jac is not None:  # ∂|p − q| = ∂(|p − q|²) / (2·|p − q|)
+                jac[row] /= np.where(r > 0, 2.0 * r, 1.0)
+        else:  # ρ = cross(u, g)/|u|: its ends' rows gain ∓ρ·û/|u| from |u|
+            ux, uy = x[con.l2, 0] - x[con.l1, 0], x[con.l2, 1] - x[con.l1, 1]
+            u = np.hypot(ux, uy)
+            u = np.where(u > 0, u, 1.0) + np.zeros(n)
+            res[row] /= u
+            if jac is not None:
+                jac[row] /= u
+                for p, sign in ((con.l2, -1.0), (con.l1, 1.0)):
+                    if p in col:
+                        jac[row, col[p]] += sign * res[row] * ux / (u * u)
+                        jac[row, col[p] + 1] += sign * res[row] * uy / (u * u)
+        row += 1
+    return res, jac
 
 
 def misses(c: Chunk, g: NewtonGroup) -> tuple[F, F]:
@@ -535,7 +580,7 @@ def misses(c: Chunk, g: NewtonGroup) -> tuple[F, F]:
     -------
     length : ndarray, shape (n_constraints, n)
         The miss as a length (m, ≥ 0): a distance's error, a point's distance from where its
-        body's frame or its slider's line puts it, or the arc by which a driven body misses
+        body's frame or its slider's line puts it, or the chord by which a driven body misses
         its angle, at the point's radius.
     amount : ndarray, shape (n_constraints, n)
         The miss in the constraint's own terms: a distance's error (achieved − required, m), a
@@ -560,22 +605,28 @@ def misses(c: Chunk, g: NewtonGroup) -> tuple[F, F]:
             ex, ey = _reference(x, con, c.q[con.input])
             dx, dy = x[con.p, 0] - x[con.pivot, 0], x[con.p, 1] - x[con.pivot, 1]
             amount[k] = np.arctan2(_cross(ex, ey, dx, dy), ex * dx + ey * dy)
-            length[k] = np.abs(amount[k]) * np.hypot(dx, dy)
+            length[k] = 2.0 * np.hypot(dx, dy) * np.abs(np.sin(amount[k] / 2.0))
     return length, amount
 
 
-def _least_squares(c: Chunk, g: NewtonGroup, weight: F | None, iters: int) -> NDArray[np.bool_]:
-    """Levenberg–Marquardt on the group's residuals in metres (times ``weight``, shape (m, n),
-    where given), in place in ``c.x``, every sample at once; returns where it stalled (no
-    step lowered the sum of squares by more than rounding for eight passes running)."""
+def _least_squares(
+    c: Chunk, g: NewtonGroup, weight: F | None, iters: int, shift: F | None = None
+) -> NDArray[np.bool_]:
+    """Levenberg–Marquardt on the group's residuals in metres (plus ``shift`` and times
+    ``weight``, each shape (m, n), where given), in place in ``c.x``, every sample at once;
+    returns where it stalled (no step lowered the sum of squares by more than rounding for
+    eight passes running)."""
     pts = list(g.points)
     n = c.x.shape[-1]
     size = 2 * len(pts)
 
     def evaluate(jacobian: bool) -> tuple[F, F | None]:
-        res, jac, _, _ = _system(c, g, jacobian=jacobian)
-        s = _metres(c, g) if weight is None else _metres(c, g) * weight
-        return res * s, None if jac is None else jac * s[:, None, :]
+        res, jac = _lengths(c, g, jacobian=jacobian)
+        if shift is not None:
+            res = res + shift
+        if weight is None:
+            return res, jac
+        return res * weight, None if jac is None else jac * weight[:, None, :]
 
     res, jac = evaluate(True)
     cost = np.sum(res * res, axis=0)
@@ -616,10 +667,9 @@ def _project(c: Chunk, g: NewtonGroup, keep: F, tol: float) -> None:
     before = np.stack([c.x[p].copy() for p in pts])
     eq = keep.shape[0]
     for _ in range(8):
-        res, jac, _, _ = _system(c, g)
+        res, jac = _lengths(c, g)
         assert jac is not None
-        s = _metres(c, g) * keep
-        res, jac = res * s, jac * s[:, None, :]
+        res, jac = res * keep, jac * keep[:, None, :]
         outer = np.einsum("rin,sin->rsn", jac, jac)
         trace = np.einsum("rrn->n", outer)
         outer += (1e-14 * trace + (keep == 0)) * np.eye(eq)[:, :, None]
@@ -627,8 +677,8 @@ def _project(c: Chunk, g: NewtonGroup, keep: F, tol: float) -> None:
         step[:, ~np.isfinite(step).all(axis=0)] = 0.0
         for j, p in enumerate(pts):
             c.x[p] += step[2 * j : 2 * j + 2]
-    res, _, _, _ = _system(c, g, jacobian=False)
-    met = np.max(np.abs(res * _metres(c, g) * keep), axis=0) <= tol
+    res, _ = _lengths(c, g, jacobian=False)
+    met = np.max(np.abs(res * keep), axis=0) <= tol
     for j, p in enumerate(pts):
         c.x[p][:, ~met] = before[j][:, ~met]
 
@@ -690,7 +740,12 @@ def out_of_reach(
         return out, unmet, amount
     rows = _rows(g)
     mine = rows[:, None] == worst[None, :]  # (m, n): the named constraint's equations
-    _least_squares(c, g, np.where(mine, 1.0, REACH_WEIGHT), iters)
+    # the others as penalties, their multipliers' estimates carried in ``shift`` (the method of
+    # multipliers): each round leaves them a factor of about REACH_WEIGHT² nearer to met
+    shift = np.zeros(mine.shape)
+    for _ in range(REACH_ROUNDS):
+        _least_squares(c, g, np.where(mine, 1.0, REACH_WEIGHT), iters, shift)
+        shift += np.where(mine, 0.0, _lengths(c, g, jacobian=False)[0])
     _project(c, g, np.where(mine, 0.0, 1.0), REACH_TOL * scale)
     _, final = misses(c, g)
     unmet[out] = worst[out]
