@@ -20,6 +20,7 @@ from click.testing import CliRunner
 from excavkin import Mechanism
 from excavkin.cli import main
 from excavkin.kinematics.result import diagnose
+from excavkin.outputs.events import as_table, find_events
 from excavkin.step_kinds import CAngle, CDist, NewtonGroup
 from excavkin.step_kinds.newton_solve import misses, out_of_reach
 from excavkin.step_kinds.state import Chunk, Code
@@ -209,3 +210,30 @@ reference = "crank"
         f"12 (fold = 120°; {(0.7 - d120) * 1e3:.1f} mm too long), "
         f"13 (fold = 130°; {(0.7 - d130) * 1e3:.1f} mm too long)"
     ) in run.output
+
+
+def test_events_say_each_run_out_of_reach_and_its_worst_shortfall() -> None:
+    q = np.radians(np.arange(0.0, 360.0, 5.0))
+    res = Mechanism(_model(), method="newton").solve({"crank": q})
+    runs = [e for e in find_events(res) if e.kind == "does not close"]
+    st = res.status
+    # one run per reason: crank 0°–35°, 125°–235°, 240°–320° (not reached), 325°–355°
+    assert [(int(e.samples[0]), int(e.samples[-1])) for e in runs] == [
+        (0, 7),
+        (25, 47),
+        (48, 64),
+        (65, 71),
+    ]
+    for e in runs:
+        run = e.samples
+        if st.code[run[0]] == Code.NO_CONVERGENCE:
+            assert e.message.startswith("Newton did not converge at group A, B: samples 48–64")
+            continue
+        worst = run[np.argmax(np.abs(st.miss[run]))]
+        assert e.message.startswith(st.label(worst))
+        assert e.message.endswith(
+            f", by up to {abs(st.miss[worst]) * 1e3:.1f} mm "
+            + ("short" if st.miss[worst] < 0 else "too long")
+        )
+    # a table read back without its result: the codes from the status labels
+    np.testing.assert_array_equal(as_table(res.to_frame()).codes, st.code)

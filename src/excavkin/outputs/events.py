@@ -221,7 +221,8 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def failed_runs(data: TableData) -> list[tuple[int, int, str]]:
-    """Runs of samples that did not solve, dead positions aside.
+    """Runs of samples that did not solve for one reason (one status code), dead positions
+    aside.
 
     Returns
     -------
@@ -231,21 +232,28 @@ def failed_runs(data: TableData) -> list[tuple[int, int, str]]:
     t = as_table(data)
     bad = (t.codes != Code.OK) & (t.codes != Code.SINGULAR)
     labels = t.labels
-    return [(a, b, str(labels[a])) for a, b in _runs(bad)]
+    out = []
+    for a, b in _runs(bad):
+        cuts = [a, *(a + 1 + np.flatnonzero(np.diff(t.codes[a : b + 1]))).tolist(), b + 1]
+        out += [
+            (int(lo), int(hi) - 1, str(labels[lo])) for lo, hi in zip(cuts, cuts[1:], strict=False)
+        ]
+    return out
 
 
-def _worst(kin: Any, a: int, b: int) -> str:
-    """For a run of samples out of reach (a, b inclusive), by how much at worst: ``", by up
-    to 35.9 mm too long"``; ``""`` for a run that is not, or a table without its result."""
+def _worst(kin: Any, a: int, b: int, label: str) -> tuple[str, str]:
+    """For a run of samples out of reach (a, b inclusive), the label of its worst sample and
+    by how much: ``", by up to 35.9 mm too long"``; for a run that is not (or a table without
+    its result), ``label`` and ``""``."""
     status = getattr(kin, "status", None)
     miss = getattr(status, "miss", None)
     if miss is None or status is None or status.code[a] != Code.OUT_OF_REACH:
-        return ""
+        return label, ""
     run = np.abs(miss[a : b + 1])
     if not np.isfinite(run).any():
-        return ""
-    worst = status.shortfall(a + int(np.nanargmax(run)), "mm")
-    return f", by up to {worst}" if worst else ""
+        return label, ""
+    i = a + int(np.nanargmax(run))
+    return str(status.label(i)), f", by up to {status.shortfall(i, 'mm')}"
 
 
 def dead_samples(data: TableData, dead_tol: float = np.radians(3.0)) -> np.ndarray:
@@ -305,13 +313,9 @@ def find_events(
         where = (
             f"sample {a} ({name(a)})" if a == b else (f"samples {a}–{b} ({name(a)} … {name(b)})")
         )
+        label, worst = _worst(kin, a, b, label)
         events.append(
-            Event(
-                "does not close",
-                np.arange(a, b + 1),
-                f"{label}: {where}{_worst(kin, a, b)}",
-                "error",
-            )
+            Event("does not close", np.arange(a, b + 1), f"{label}: {where}{worst}", "error")
         )
     dead = dead_samples(t, dead_tol)
     if dead.size:
