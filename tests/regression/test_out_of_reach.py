@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+import excavkin
 from excavkin import Mechanism
 from excavkin.cli import main
 from excavkin.kinematics.result import diagnose
@@ -167,7 +168,8 @@ def test_a_group_that_can_close_is_not_called_out_of_reach() -> None:
 
 def test_the_command_line_lists_the_samples_out_of_reach_in_mm(tmp_path) -> None:
     """A coupler driven by its angle to the crank (a Newton group): folded past 119.0°, the
-    crank and coupler bring B nearer O2 than 0.7 m, and the rocker of 0.3 m cannot reach it."""
+    crank and coupler bring B nearer O2 than 0.7 m, and the rocker of 0.3 m cannot reach it.
+    The driver is named, and how far its angle is beyond the reachable ones."""
     model = tmp_path / "fold.toml"
     model.write_text(
         """schema_version = 1
@@ -202,14 +204,17 @@ reference = "crank"
     run = CliRunner().invoke(main, args)
     assert run.exit_code != 0 and not out.exists()
     assert "Newton did not converge" not in run.output
-    # fold 120°: |O2B| = √(0.37² + 0.8² + 2·0.37·0.8·cos 120°); the rocker named, by hand
-    d120 = np.sqrt(0.37**2 + 0.8**2 + 2 * 0.37 * 0.8 * np.cos(np.radians(120.0)))
-    d130 = np.sqrt(0.37**2 + 0.8**2 + 2 * 0.37 * 0.8 * np.cos(np.radians(130.0)))
+    # the reachable folds: |O2B|² = 0.37² + 0.8² + 2·0.37·0.8·cos(fold) ≥ 0.7², |fold| ≤ 119.0°
+    limit = np.degrees(np.arccos((0.7**2 - 0.37**2 - 0.8**2) / (2 * 0.37 * 0.8)))
     assert (
-        "out of reach at group A, B: O4–B (body 'rocker') cannot be met: samples "
-        f"12 (fold = 120°; {(0.7 - d120) * 1e3:.1f} mm too long), "
-        f"13 (fold = 130°; {(0.7 - d130) * 1e3:.1f} mm too long)"
+        "out of reach at group A, B: driver 'fold' cannot be met: samples "
+        f"12 (fold = 120°; {120 - limit:.3g}° off), 13 (fold = 130°; {130 - limit:.3g}° off)"
     ) in run.output
+    # the amounts, to 1e-14 rad of the hand computation
+    kin = excavkin.load(str(model)).solve({"fold": np.radians([120.0, 130.0])})
+    np.testing.assert_allclose(
+        kin.status.miss, np.radians(limit - np.array([120.0, 130.0])), atol=1e-14
+    )
 
 
 def test_events_say_each_run_out_of_reach_and_its_worst_shortfall() -> None:
@@ -229,11 +234,41 @@ def test_events_say_each_run_out_of_reach_and_its_worst_shortfall() -> None:
         if st.code[run[0]] == Code.NO_CONVERGENCE:
             assert e.message.startswith("Newton did not converge at group A, B: samples 48–64")
             continue
-        worst = run[np.argmax(np.abs(st.miss[run]))]
-        assert e.message.startswith(st.label(worst))
-        assert e.message.endswith(
-            f", by up to {abs(st.miss[worst]) * 1e3:.1f} mm "
-            + ("short" if st.miss[worst] < 0 else "too long")
-        )
+        # the first sample's reason, by up to its worst over the samples that give it
+        alike = run[st.unmet[run] == st.unmet[run[0]]]
+        worst = alike[np.argmax(np.abs(st.miss[alike]))]
+        assert e.message.startswith(st.label(run[0]) + ": samples ")
+        assert e.message.endswith(f", by up to {st.shortfall(worst, 'mm')}")
+        if "driver 'crank'" in e.message:  # an angle, in degrees
+            assert st.shortfall(worst, "mm") == f"{np.degrees(abs(st.miss[worst])):.3g}° off"
     # a table read back without its result: the codes from the status labels
     np.testing.assert_array_equal(as_table(res.to_frame()).codes, st.code)
+
+
+def test_the_rope_shovel_past_its_reach_names_the_drag_rope() -> None:
+    """The EO-4112 rope backhoe's front (``rope_shovel``) by the generic solver, its drag rope
+    F–E let out or hauled in past what the front can take. Let out: E cannot get further from
+    F than |O1F| + |O1E| = 4.2 + 2.8 m (stick and rope in line), by hand. Hauled in: the
+    bucket's four-bar folds flat first; its limit is the closed form's, found by bisection."""
+    shovel = excavkin.load("rope_shovel")
+    mech = Mechanism(shovel.model, method="newton")
+    out = np.array([7.05, 7.3, 7.5])
+    st = mech.solve({"drag": out}).status
+    assert (st.code == Code.OUT_OF_REACH).all()
+    assert all(st.label(i).endswith(": F–E (driven 'drag') cannot be met") for i in range(3))
+    np.testing.assert_allclose(st.miss, 7.0 - out, rtol=0, atol=1e-12)
+    assert st.message(1) == (
+        "out of reach at group O2, K, E, B, C, D, H: F–E (driven 'drag') is 0.3 m short"
+    )
+    lo, hi = 3.0, 3.5  # the closed form: out at 3.0 (dyad D does not close), in at 3.5
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (
+            (lo, mid) if shovel.solve({"drag": np.array([mid])}).status.solved[0] else (mid, hi)
+        )
+    short = np.array([1.0, 2.5, 3.0])
+    st = mech.solve({"drag": short}).status
+    assert (st.code == Code.OUT_OF_REACH).all()
+    # the closed form takes a dyad as closing up to its close tolerance (1e-10 of the base²)
+    np.testing.assert_allclose(st.miss, hi - short, rtol=0, atol=1e-6)
+    assert np.ptp(short + st.miss) < 1e-12  # one limit, from wherever the pose asked for

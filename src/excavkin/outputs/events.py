@@ -241,19 +241,18 @@ def failed_runs(data: TableData) -> list[tuple[int, int, str]]:
     return out
 
 
-def _worst(kin: Any, a: int, b: int, label: str) -> tuple[str, str]:
-    """For a run of samples out of reach (a, b inclusive), the label of its worst sample and
-    by how much: ``", by up to 35.9 mm too long"``; for a run that is not (or a table without
-    its result), ``label`` and ``""``."""
+def _worst(kin: Any, a: int, b: int) -> str:
+    """For a run of samples out of reach (a, b inclusive), how far at worst its first
+    sample's constraint is missed over the samples that name it: ``", by up to 35.9 mm too
+    long"``; ``""`` for a run that is not, or a table without its result."""
     status = getattr(kin, "status", None)
     miss = getattr(status, "miss", None)
     if miss is None or status is None or status.code[a] != Code.OUT_OF_REACH:
-        return label, ""
-    run = np.abs(miss[a : b + 1])
+        return ""
+    run = np.where(status.unmet[a : b + 1] == status.unmet[a], np.abs(miss[a : b + 1]), np.nan)
     if not np.isfinite(run).any():
-        return label, ""
-    i = a + int(np.nanargmax(run))
-    return str(status.label(i)), f", by up to {status.shortfall(i, 'mm')}"
+        return ""
+    return f", by up to {status.shortfall(a + int(np.nanargmax(run)), 'mm')}"
 
 
 def dead_samples(data: TableData, dead_tol: float = np.radians(3.0)) -> np.ndarray:
@@ -313,10 +312,8 @@ def find_events(
         where = (
             f"sample {a} ({name(a)})" if a == b else (f"samples {a}–{b} ({name(a)} … {name(b)})")
         )
-        label, worst = _worst(kin, a, b, label)
-        events.append(
-            Event("does not close", np.arange(a, b + 1), f"{label}: {where}{worst}", "error")
-        )
+        message = f"{label}: {where}{_worst(kin, a, b)}"
+        events.append(Event("does not close", np.arange(a, b + 1), message, "error"))
     dead = dead_samples(t, dead_tol)
     if dead.size:
         shown = "; ".join(f"{int(i)} ({name(int(i))})" for i in dead[:8])

@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.step_kinds.base import kind_of
-from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, GroupDyad
+from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
 from excavkin.step_kinds.small_systems import Factors
 from excavkin.step_kinds.state import Chunk, Code, dist, flag
 
@@ -610,12 +610,18 @@ def misses(c: Chunk, g: NewtonGroup) -> tuple[F, F]:
 
 
 def _least_squares(
-    c: Chunk, g: NewtonGroup, weight: F | None, iters: int, shift: F | None = None
+    c: Chunk,
+    g: NewtonGroup,
+    weight: F | None,
+    iters: int,
+    shift: F | None = None,
+    still: float = 1e-13,
 ) -> NDArray[np.bool_]:
     """Levenberg–Marquardt on the group's residuals in metres (plus ``shift`` and times
     ``weight``, each shape (m, n), where given), in place in ``c.x``, every sample at once;
-    returns where it stalled (no step lowered the sum of squares by more than rounding for
-    eight passes running)."""
+    returns where it stalled (no step lowered the sum of squares by more than ``still`` of
+    it for eight passes running). The damping follows the gain over the one the linear model
+    promised (Nielsen's rule)."""
     pts = list(g.points)
     n = c.x.shape[-1]
     size = 2 * len(pts)
@@ -630,7 +636,7 @@ def _least_squares(
 
     res, jac = evaluate(True)
     cost = np.sum(res * res, axis=0)
-    lam = np.full(n, 1e-3)
+    lam, grow = np.full(n, 1e-3), np.full(n, 2.0)
     idle = np.zeros(n, dtype=np.int64)
     eye = np.eye(size)[:, :, None]
     for _ in range(iters):
@@ -647,12 +653,17 @@ def _least_squares(
         trial, _ = evaluate(False)
         new = np.sum(trial * trial, axis=0)
         better = new < cost
+        promised = -2.0 * np.einsum("in,in->n", step, grad)
+        promised -= np.einsum("in,ijn,jn->n", step, normal, step)
+        ratio = (cost - new) / np.where(promised > 0, promised, np.inf)
         for j, p in enumerate(pts):
             c.x[p][:, ~better] = before[j][:, ~better]
         gain = np.where(better, cost - new, 0.0)
-        idle = np.where(gain > 1e-13 * cost, 0, idle + 1)
+        idle = np.where(gain > still * cost, 0, idle + 1)
         cost = np.where(better, new, cost)
-        lam = np.clip(np.where(better, lam / 3.0, lam * 4.0), 1e-12, 1e12)
+        shrink = np.maximum(1.0 / 3.0, 1.0 - (2.0 * ratio - 1.0) ** 3)
+        lam = np.clip(np.where(better, lam * shrink, lam * grow), 1e-15, 1e12)
+        grow = np.where(better, 2.0, grow * 2.0)
         if np.all(idle >= 8):
             break
         res, jac = evaluate(True)
@@ -683,6 +694,11 @@ def _project(c: Chunk, g: NewtonGroup, keep: F, tol: float) -> None:
         c.x[p][:, ~met] = before[j][:, ~met]
 
 
+def _driven(con: Constraint) -> bool:
+    """Whether a group's constraint is a driver's: a driven length, or a driver's angle."""
+    return isinstance(con, CAngle) or (isinstance(con, CDist) and con.dist.kind == "input")
+
+
 def out_of_reach(
     c: Chunk, g: NewtonGroup, scale: float, iters: int = REACH_ITER
 ) -> tuple[NDArray[np.bool_], NDArray[np.int16], F]:
@@ -696,7 +712,9 @@ def out_of_reach(
     of reach. Where the residual goes to zero, a pose exists and Newton merely did not get there
     (its status stays "did not converge").
 
-    The constraint named is the one missed most at that stall. By how much is then measured
+    The constraint named is the driver (a driven length or a driver's angle) missed most at
+    that stall — the input that asks for the pose — or, where no driver's is missed, the
+    constraint missed most. By how much is then measured
     with every other constraint met: the named one alone is pushed to its limit (a second
     minimisation, the others weighted by `REACH_WEIGHT`, then the points moved onto the others
     exactly). For a point held by two distances a and b from points c apart, that is the
@@ -731,13 +749,22 @@ def out_of_reach(
     unmet = np.full(n, -1, dtype=np.int16)
     amount = np.full(n, np.nan)
     start = np.isfinite(c.x[list(g.points)]).all(axis=(0, 1))
-    stalled = _least_squares(c, g, None, iters)
+    # a sum of squares going to zero falls by a large fraction a pass, even at a singular
+    # root (linearly); one settling on a minimum above zero creeps: 1e-9 a pass is settled
+    stalled = _least_squares(c, g, None, iters, still=1e-9)
     length, _ = misses(c, g)
-    worst = np.argmax(np.nan_to_num(length, nan=-1.0), axis=0)
-    missed = np.take_along_axis(length, worst[None], axis=0)[0]
-    out = start & stalled & (missed > REACH_TOL * scale)
+    length = np.nan_to_num(length, nan=-1.0)
+    out = start & stalled & (np.max(length, axis=0) > REACH_TOL * scale)
     if not out.any():
         return out, unmet, amount
+    # the driver missed most, where one is missed: the input that asks for the pose
+    driven = np.array([_driven(con) for con in g.constraints])[:, None]
+    by_driver = np.where(driven, length, -1.0)
+    worst = np.where(
+        np.max(by_driver, axis=0) > REACH_TOL * scale,
+        np.argmax(by_driver, axis=0),
+        np.argmax(length, axis=0),
+    )
     rows = _rows(g)
     mine = rows[:, None] == worst[None, :]  # (m, n): the named constraint's equations
     # the others as penalties, their multipliers' estimates carried in ``shift`` (the method of
