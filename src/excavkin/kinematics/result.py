@@ -351,7 +351,9 @@ def diagnose(plan: SolvePlan, x: F, q: F, status: Status) -> Status:
         `excavkin.step_kinds.newton_solve.out_of_reach` finds cannot be reached.
     """
     n = status.code.size
-    code, unmet, miss = status.code.copy(), np.full(n, -1, dtype=np.int16), np.full(n, np.nan)
+    # none looked at yet: read-only views of one value, no memory per sample
+    unmet, miss = np.broadcast_to(np.int16(-1), (n,)), np.broadcast_to(np.nan, (n,))
+    code = status.code
     sketch = np.asarray(plan.sketch, dtype=np.float64)
     for k, st in enumerate(plan.steps):
         if not isinstance(st, NewtonGroup):
@@ -359,6 +361,8 @@ def diagnose(plan: SolvePlan, x: F, q: F, status: Status) -> Status:
         idx = np.flatnonzero((code == Code.NO_CONVERGENCE) & (status.step == k))
         if not idx.size:
             continue
+        if code is status.code:
+            code, unmet, miss = code.copy(), np.full(n, -1, dtype=np.int16), np.full(n, np.nan)
         pts = list(st.points)
         sub = np.take(x, idx, axis=-1)
         # the start: the group's points at the nearest sample that has them, else the sketch
