@@ -65,7 +65,7 @@ class Status:
         cannot be met among its Newton group's constraints; −1 elsewhere. None: not looked at.
     miss : ndarray, shape (n,), optional
         By how much that constraint is missed with every other one met, in its own terms
-        (`excavkin.step_kinds.newton_solve.out_of_reach`): a distance achieved less that
+        (`excavkin.step_kinds.newton_solve.out_of_reach`): a distance achieved less the
         required (m), a point's distance from its body's frame or its slider's line (m), a
         driver's angle error (rad); NaN elsewhere.
     """
@@ -157,7 +157,7 @@ class Status:
         -------
         str
             The reason, and the step where one failed (``"cannot close at dyad C (from B and
-            D)"``, ``"out of reach at group A, B: B–O4 (body 'rocker') cannot be met"``).
+            D)"``, ``"out of reach at group A, B: O4–B (body 'rocker') cannot be met"``).
         """
         code = Code(int(self.code[i]))
         if code == Code.OK:
@@ -214,7 +214,7 @@ class Status:
         str
             The reason, and the step where one failed (``"cannot close at dyad C (from B and
             D)"``); for a pose out of reach, the constraint that cannot be met and by how much
-            (``"out of reach at group A, B: B–O4 (body 'rocker') is 0.0231 m short"``).
+            (``"out of reach at group A, B: O4–B (body 'rocker') is 0.01274 m too long"``).
         """
         short = self.shortfall(i)
         if short is None:
@@ -387,7 +387,7 @@ def diagnose(plan: SolvePlan, x: F, q: F, status: Status) -> Status:
                 np.full(idx.size, -1, dtype=np.int16),
                 0.0,
                 0.0,
-            ),  # fmt: skip
+            ),
             take_step(st, idx),  # type: ignore[arg-type]
             plan.scale,
         )

@@ -714,11 +714,12 @@ def out_of_reach(
 
     The constraint named is the driver (a driven length or a driver's angle) missed most at
     that stall — the input that asks for the pose — or, where no driver's is missed, the
-    constraint missed most. By how much is then measured
-    with every other constraint met: the named one alone is pushed to its limit (a second
-    minimisation, the others weighted by `REACH_WEIGHT`, then the points moved onto the others
-    exactly). For a point held by two distances a and b from points c apart, that is the
-    triangle's own shortfall, c − (a + b) or |a − b| − c.
+    constraint missed most. By how much is then measured with every other constraint met: the
+    named one alone is pushed to its limit (a second minimisation, the others weighted by
+    `REACH_WEIGHT` and their targets moved by the method of multipliers for `REACH_ROUNDS`
+    rounds, then the points moved onto the others exactly). For a point held by two distances
+    a and b from points c apart, that is the triangle's own shortfall, c − (a + b) or
+    |a − b| − c.
 
     Parameters
     ----------
@@ -740,7 +741,7 @@ def out_of_reach(
         Index into ``g.constraints`` of the constraint that cannot be met (−1 where ``out`` is
         False).
     amount : ndarray, shape (n,)
-        By how much, in that constraint's own terms (`misses`): a distance achieved less that
+        By how much, in that constraint's own terms (`misses`): a distance achieved less the
         required (m, negative where the points cannot get that far apart), a point's distance
         from its body's frame or its slider's line (m), a driver's angle error (rad); NaN where
         ``out`` is False.
