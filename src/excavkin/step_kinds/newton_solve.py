@@ -621,18 +621,23 @@ def _least_squares(
     ``weight``, each shape (m, n), where given), in place in ``c.x``, every sample at once;
     returns where it stalled (no step lowered the sum of squares by more than ``still`` of
     it for eight passes running). The damping follows the gain over the one the linear model
-    promised (Nielsen's rule)."""
+    promised (Nielsen's rule). Stalled samples leave the iteration, as in Newton's
+    (`SHRINK`): a batch costs what its slowest samples need."""
     pts = list(g.points)
     n = c.x.shape[-1]
     size = 2 * len(pts)
+    live = np.arange(n)  # the samples in ``sub``, as indices of ``c``
+    sub, group = c, g
+    stalled = np.zeros(n, dtype=bool)
 
     def evaluate(jacobian: bool) -> tuple[F, F | None]:
-        res, jac = _lengths(c, g, jacobian=jacobian)
+        res, jac = _lengths(sub, group, jacobian=jacobian)
         if shift is not None:
-            res = res + shift
+            res = res + shift[:, live]
         if weight is None:
             return res, jac
-        return res * weight, None if jac is None else jac * weight[:, None, :]
+        w = weight[:, live]
+        return res * w, None if jac is None else jac * w[:, None, :]
 
     res, jac = evaluate(True)
     cost = np.sum(res * res, axis=0)
@@ -647,9 +652,9 @@ def _least_squares(
         damp = lam * np.where(trace > 0, trace / size, 1.0)
         step = -Factors(normal + damp * eye, overwrite=True).solve(grad)
         step[:, ~np.isfinite(step).all(axis=0)] = 0.0
-        before = np.stack([c.x[p].copy() for p in pts])
+        before = np.stack([sub.x[p].copy() for p in pts])
         for j, p in enumerate(pts):
-            c.x[p] += step[2 * j : 2 * j + 2]
+            sub.x[p] += step[2 * j : 2 * j + 2]
         trial, _ = evaluate(False)
         new = np.sum(trial * trial, axis=0)
         better = new < cost
@@ -657,17 +662,31 @@ def _least_squares(
         promised -= np.einsum("in,ijn,jn->n", step, normal, step)
         ratio = (cost - new) / np.where(promised > 0, promised, np.inf)
         for j, p in enumerate(pts):
-            c.x[p][:, ~better] = before[j][:, ~better]
+            sub.x[p][:, ~better] = before[j][:, ~better]
         gain = np.where(better, cost - new, 0.0)
         idle = np.where(gain > still * cost, 0, idle + 1)
         cost = np.where(better, new, cost)
         shrink = np.maximum(1.0 / 3.0, 1.0 - (2.0 * ratio - 1.0) ** 3)
         lam = np.clip(np.where(better, lam * shrink, lam * grow), 1e-15, 1e12)
         grow = np.where(better, 2.0, grow * 2.0)
-        if np.all(idle >= 8):
+        settled = idle >= 8
+        if settled.all():
             break
+        if np.count_nonzero(~settled) < SHRINK * settled.size:  # the settled ones leave
+            for p in pts:
+                c.x[p][:, live[settled]] = sub.x[p][:, settled]
+            stalled[live[settled]] = True
+            keep = ~settled
+            live = live[keep]
+            sub = _positions_at(sub, keep)
+            group = kind_of(g).take(g, live)
+            cost, lam, grow, idle = cost[keep], lam[keep], grow[keep], idle[keep]
         res, jac = evaluate(True)
-    return idle >= 8  # type: ignore[no-any-return]
+    if sub is not c:
+        for p in pts:
+            c.x[p][:, live] = sub.x[p]
+    stalled[live] = idle >= 8
+    return stalled
 
 
 def _project(c: Chunk, g: NewtonGroup, keep: F, tol: float) -> None:
