@@ -105,6 +105,13 @@ def test_a_pose_out_of_reach_names_the_constraint_and_the_triangle_s_shortfall()
         assert abs(hand) > 1e-3
         both_ways.add(np.sign(hand))
     assert both_ways == {-1.0, 1.0}  # too close and too far, both met
+    # crank 0° and 180°: A on the ground line, every distance of the triangle A, B, O4 in line,
+    # and whichever is named misses by the triangle's slack, by the direct formulas (a = |AB|,
+    # b = |O4B|, c = |AO4|): |a − b| − c folded, c − (a + b) stretched
+    for deg, short in ((0.0, abs(BL - CL) - (G - R)), (180.0, (G + R) - (BL + CL))):
+        i = int(np.flatnonzero(np.isclose(q, np.radians(deg)))[0])
+        assert names[int(st.unmet[i])] != "angle" and short == pytest.approx(0.05)
+        np.testing.assert_allclose(abs(st.miss[i]), short, rtol=0, atol=1e-15)
     # the reachable poses: the closed form's positions
     ok = st.ok
     np.testing.assert_allclose(res.positions[ok], closed.positions[ok], rtol=0, atol=1e-13)
