@@ -32,6 +32,7 @@ class Code(IntEnum):
     UNDETERMINED = 8
     IMPRECISE = 9
     BAD_DESIGN = 10
+    OUT_OF_REACH = 11
 
 
 @dataclass(slots=True)
