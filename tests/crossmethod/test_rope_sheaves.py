@@ -318,3 +318,37 @@ def test_back_substitution_equals_the_pin_equations(sheaved: bool) -> None:
     scale = np.abs(whole.pin_force).max()
     np.testing.assert_allclose(along.pin_force, whole.pin_force, rtol=0, atol=1e-12 * scale)
     np.testing.assert_allclose(along.tension("hoist"), whole.tension("hoist"), rtol=1e-12)
+
+
+def test_a_rope_too_short_for_any_pose_is_out_of_reach_by_its_shortfall() -> None:
+    """A block on a vertical guide under a rope from A over its sheave to E, 6 m apart: no
+    pose makes the rope shorter than 6 m (its tangents straight, no wrap), so a winch paid in
+    to 5.95 m leaves the pose 0.05 m out of reach, the rope named."""
+    model = Model(
+        "block on a rope",
+        {
+            "A": (-3.0, 0.0),
+            "E": (3.0, 0.0),
+            "G1": (0.0, -2.0),
+            "H1": (0.0, 2.0),
+            "G2": (0.5, -2.0),
+            "H2": (0.5, 2.0),
+            "S": (0.0, 1.0),
+            "S2": (0.5, 0.5),
+        },
+        (
+            Body("ground", ("A", "E", "G1", "H1", "G2", "H2"), ground=True),
+            Body("block", ("S", "S2")),
+        ),
+        sliders=(Slider("left", "S", ("G1", "H1")), Slider("right", "S2", ("G2", "H2"))),
+        ropes=(
+            Rope(
+                "hoist", ("A", "S", "E"), mode="winch", drum_radius=0.5, radii=(0.1,), wraps=("cw",)
+            ),
+        ),  # fmt: skip
+    )
+    res = Mechanism(model).solve({"hoist": np.array([5.95 / 0.5, 6.5 / 0.5])})
+    assert res.status.message(0) == (
+        "out of reach at group S, S2: rope 'hoist' A–S–E (driven) is 0.05 m too long"
+    )
+    assert res.status.labels()[1] == "ok"

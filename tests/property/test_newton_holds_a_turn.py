@@ -122,12 +122,12 @@ def grashof(a: float, b: float, c: float, d: float) -> bool:
 
 def status_differences(r1, r2) -> np.ndarray:  # noqa: ANN001
     """Samples whose statuses differ beyond two known kinds: a sample the closed form finds
-    does not close, the generic solver (which cannot tell) reports not converging; and "rates
-    lose precision" is a threshold on each solver's own error estimate, which near the
-    threshold may fall either side for one and not the other (both estimates above a tenth of
-    it)."""
+    does not close, the generic solver reports out of reach (or, within a hair of reach, not
+    converging); and "rates lose precision" is a threshold on each solver's own error
+    estimate, which near the threshold may fall either side for one and not the other (both
+    estimates above a tenth of it)."""
     c1, c2 = r1.status.code, r2.status.code
-    closure = (c1 == Code.NO_CLOSURE) & (c2 == Code.NO_CONVERGENCE)
+    closure = (c1 == Code.NO_CLOSURE) & np.isin(c2, [Code.OUT_OF_REACH, Code.NO_CONVERGENCE])
     e1, e2 = np.nan_to_num(r1.error_estimate), np.nan_to_num(r2.error_estimate)
     borderline = (
         ((c1 == Code.IMPRECISE) | (c2 == Code.IMPRECISE))

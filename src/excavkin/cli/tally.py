@@ -16,7 +16,7 @@ import numpy as np
 
 from excavkin.kinematics import summary
 from excavkin.kinematics.change_points import ChangePoint
-from excavkin.kinematics.result import describe_inputs
+from excavkin.kinematics.result import describe_inputs, sample_named
 from excavkin.step_kinds import kind_of
 from excavkin.structure.plan import SolvePlan
 
@@ -35,7 +35,7 @@ class Tally:
         self.plan = plan
         self.limit = limit
         self.n = 0
-        #: per reason: its count and its first samples (number, inputs, time)
+        #: per reason: its count and its first samples (number, inputs, time, shortfall)
         self.groups: dict[str, list[Any]] = {}
         n_in = len(plan.inputs)
         self.low = np.full(n_in, np.nan)
@@ -68,7 +68,12 @@ class Tally:
                 room = self.limit - len(group[1])
                 t = kin.time
                 group[1] += [
-                    (start + int(i), q[i].copy(), None if t is None else float(t[i]))
+                    (
+                        start + int(i),
+                        q[i].copy(),
+                        None if t is None else float(t[i]),
+                        kin.status.shortfall(int(i), "mm"),
+                    )
                     for i in idx[: max(room, 0)]
                 ]
         if kin is not result:
@@ -104,7 +109,10 @@ class Tally:
             (
                 label,
                 count,
-                [f"{i} ({describe_inputs(self.plan, q, held, t, i)})" for i, q, t in shown],
+                [
+                    sample_named(i, describe_inputs(self.plan, q, held, t, i), short)
+                    for i, q, t, short in shown
+                ],
             )
             for label, (count, shown) in self.groups.items()
         ]

@@ -25,8 +25,10 @@ from excavkin.kinematics.columns import (
     table_attrs,
 )
 from excavkin.kinematics.kernels import Code
-from excavkin.step_kinds import kind_of
-from excavkin.structure.design import parameter_kind
+from excavkin.step_kinds import CAngle, CDist, CFrame, CLine, CRope, NewtonGroup, kind_of
+from excavkin.step_kinds.newton_solve import out_of_reach
+from excavkin.step_kinds.state import Chunk
+from excavkin.structure.design import parameter_kind, take_step
 from excavkin.structure.plan import SolvePlan
 
 if TYPE_CHECKING:
@@ -43,6 +45,7 @@ _REASON = {
     Code.UNDETERMINED: "undetermined (its two partners coincide)",
     Code.IMPRECISE: "rates lose precision near a dead position",
     Code.BAD_DESIGN: "the design's dimensions build no mechanism",
+    Code.OUT_OF_REACH: "out of reach",
     Code.ROPE_OFF_SHEAVE: "a rope leaves a sheave (its wrap would be negative)",
 }
 
@@ -59,11 +62,21 @@ class Status:
         Index of the plan step that failed first, −1 where none did.
     plan : SolvePlan
         The plan solved, whose steps ``step`` indexes.
+    unmet : ndarray of int16, shape (n,), optional
+        Where a pose is out of reach (`Code.OUT_OF_REACH`), the index of the constraint that
+        cannot be met among its Newton group's constraints; −1 elsewhere. None: not looked at.
+    miss : ndarray, shape (n,), optional
+        By how much that constraint is missed with every other one met, in its own terms
+        (`excavkin.step_kinds.newton_solve.out_of_reach`): a distance achieved less the
+        required (m), a point's distance from its body's frame or its slider's line (m), a
+        driver's angle error (rad); NaN elsewhere.
     """
 
     code: np.ndarray
     step: np.ndarray
     plan: SolvePlan
+    unmet: np.ndarray | None = None
+    miss: np.ndarray | None = None
 
     @property
     def ok(self) -> np.ndarray:
@@ -99,6 +112,102 @@ class Status:
         st = self.plan.steps[k]
         return kind_of(st).label(st, self.plan.points, k)
 
+    def constraint(self, k: int, j: int) -> str:
+        """Constraint ``j`` of the Newton group at step ``k``, in words.
+
+        Parameters
+        ----------
+        k : int
+            Index of a Newton group among the steps of `plan`.
+        j : int
+            Index of one of its constraints.
+
+        Returns
+        -------
+        str
+            ``"A–B (body 'coupler')"``, ``"tip–bail (driven 'hoist')"``, ``"C on body
+            'stick'"``, ``"P on slider 's' (A→B)"`` or ``"driver 'crank'"``.
+        """
+        st = self.plan.steps[k]
+        assert isinstance(st, NewtonGroup)
+        con, pts = st.constraints[j], self.plan.points
+        if isinstance(con, CDist):
+            what = con.dist.label if con.dist.kind == "fixed" else f"driven {con.dist.label!r}"
+            return f"{pts[con.p]}–{pts[con.q]} ({what})"
+        if isinstance(con, CFrame):
+            return f"{pts[con.p]} on body {con.body!r}"
+        if isinstance(con, CLine):
+            line = (pts[con.p], (pts[con.l1], pts[con.l2]))
+            names = [s.name for s in self.plan.model.sliders if (s.point, s.along) == line]
+            slider = f"slider {names[0]!r}" if names else "the line"
+            return f"{pts[con.p]} on {slider} ({pts[con.l1]}→{pts[con.l2]})"
+        if isinstance(con, CRope):
+            over = "–".join(pts[p] for p in con.points)
+            return (
+                f"rope {con.name!r} {over} ({'driven' if con.dist.kind == 'input' else 'locked'})"
+            )
+        return f"driver {self.plan.inputs[con.input]!r}"
+
+    def _unmet(self, i: int) -> int:
+        return -1 if self.unmet is None else int(self.unmet[i])
+
+    def label(self, i: int) -> str:
+        """Why sample ``i`` failed, without its own amounts (the text the samples that failed
+        alike share), or ``"ok"``.
+
+        Parameters
+        ----------
+        i : int
+            The sample's index.
+
+        Returns
+        -------
+        str
+            The reason, and the step where one failed (``"cannot close at dyad C (from B and
+            D)"``, ``"out of reach at group A, B: O4–B (body 'rocker') cannot be met"``).
+        """
+        code = Code(int(self.code[i]))
+        if code == Code.OK:
+            return "ok"
+        if code in (Code.BAD_INPUT, Code.BAD_LENGTH, Code.NOT_FINITE, Code.BAD_DESIGN):
+            return _REASON[code]
+        k = int(self.step[i])
+        text = f"{_REASON[code]} at {self.where(k)}"
+        if code == Code.OUT_OF_REACH and self._unmet(i) >= 0:
+            text += f": {self.constraint(k, self._unmet(i))} cannot be met"
+        return text
+
+    def shortfall(self, i: int, unit: str = "m") -> str | None:
+        """By how much sample ``i``'s pose is out of reach, in words, or None.
+
+        Parameters
+        ----------
+        i : int
+            The sample's index.
+        unit : {"m", "mm"}
+            The unit of a length.
+
+        Returns
+        -------
+        str or None
+            ``"0.231 m short"`` (a distance the points cannot stretch to), ``"0.231 m too
+            long"`` (one they cannot come down to), ``"0.012 m off"`` (a point off its body's
+            frame or its slider's line) or ``"3.2° off"`` (a driver's angle); None where the
+            sample is not out of reach.
+        """
+        j = self._unmet(i)
+        if j < 0 or self.miss is None or int(self.code[i]) != Code.OUT_OF_REACH:
+            return None
+        st = self.plan.steps[int(self.step[i])]
+        assert isinstance(st, NewtonGroup)
+        con, amount = st.constraints[j], float(self.miss[i])
+        if isinstance(con, CAngle):
+            return f"{np.degrees(abs(amount)):.3g}° off"
+        size = f"{abs(amount) * 1e3:.1f} mm" if unit == "mm" else f"{abs(amount):.4g} m"
+        if isinstance(con, CDist | CRope):
+            return f"{size} {'short' if amount < 0 else 'too long'}"
+        return f"{size} off"
+
     def message(self, i: int) -> str:
         """Why sample ``i`` failed, or ``"ok"``.
 
@@ -111,14 +220,13 @@ class Status:
         -------
         str
             The reason, and the step where one failed (``"cannot close at dyad C (from B and
-            D)"``).
+            D)"``); for a pose out of reach, the constraint that cannot be met and by how much
+            (``"out of reach at group A, B: O4–B (body 'rocker') is 0.01274 m too long"``).
         """
-        code = Code(int(self.code[i]))
-        if code == Code.OK:
-            return "ok"
-        if code in (Code.BAD_INPUT, Code.BAD_LENGTH, Code.NOT_FINITE, Code.BAD_DESIGN):
-            return _REASON[code]
-        return f"{_REASON[code]} at {self.where(int(self.step[i]))}"
+        short = self.shortfall(i)
+        if short is None:
+            return self.label(i)
+        return f"{self.label(i).removesuffix(' cannot be met')} is {short}"
 
     def labels(self) -> np.ndarray:
         """A short label per sample (``"ok"`` or the reason and place), shape (n,).
@@ -126,7 +234,7 @@ class Status:
         Returns
         -------
         ndarray of object, shape (n,)
-            `message` of each sample.
+            `label` of each sample: its `message` without the amounts of its own.
         """
         codes, labels = self.label_codes()
         return np.asarray(np.array(labels, dtype=object)[codes])
@@ -143,9 +251,11 @@ class Status:
         bad = np.flatnonzero(self.code != 0)
         if not bad.size:
             return np.zeros(self.code.size, dtype=np.int16), ["ok"] if self.code.size else []
-        keys = self.code[bad].astype(np.int32) * 100000 + self.step[bad].astype(np.int32)
+        keys = (self.code[bad].astype(np.int64) * 100000 + self.step[bad]) * 100000
+        if self.unmet is not None:
+            keys += self.unmet[bad].astype(np.int64) + 1
         _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
-        texts = [self.message(int(bad[f])) for f in first]
+        texts = [self.label(int(bad[f])) for f in first]
         distinct = sorted({*texts, *(["ok"] if bad.size < self.code.size else [])})
         index = {text: k for k, text in enumerate(distinct)}
         codes = np.full(self.code.size, index.get("ok", 0), dtype=np.int16)
@@ -195,10 +305,103 @@ class Status:
         for lab in dict.fromkeys(labels[bad]):
             idx = bad[labels[bad] == lab]
             shown = [
-                f"{int(i)} ({describe(int(i))})" if describe else str(int(i)) for i in idx[:limit]
+                sample_named(
+                    int(i), describe(int(i)) if describe else None, self.shortfall(int(i), "mm")
+                )
+                for i in idx[:limit]
             ]
             groups.append((str(lab), int(idx.size), shown))
         return summary.failures(int(self.code.size), groups, limit)
+
+
+def sample_named(i: int, inputs: str | None, short: str | None) -> str:
+    """A failing sample as a summary lists it: its number, then its inputs and by how much
+    it is out of reach, each where known.
+
+    Parameters
+    ----------
+    i : int
+        The sample's number.
+    inputs : str or None
+        Its inputs in words (``"crank = 132°"``).
+    short : str or None
+        By how much it is out of reach (`Status.shortfall`).
+
+    Returns
+    -------
+    str
+        ``"12 (crank = 132°; 4.3 mm too long)"``, ``"12 (crank = 132°)"`` or ``"12"``.
+    """
+    said = [text for text in (inputs, short) if text]
+    return f"{i} ({'; '.join(said)})" if said else str(i)
+
+
+def diagnose(plan: SolvePlan, x: F, q: F, status: Status) -> Status:
+    """The status with every sample that a Newton group did not solve looked at again: out of
+    reach (which constraint, by how much), or Newton's failure to converge.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        The plan solved.
+    x : ndarray, shape (n_points, 2, n)
+        The solved positions (m): those of the points before a failing group are its start.
+    q : ndarray, shape (n_inputs, n)
+        The inputs.
+    status : Status
+        The solve's status.
+
+    Returns
+    -------
+    Status
+        With ``unmet`` and ``miss`` (`Status`), and ``Code.OUT_OF_REACH`` for the samples that
+        `excavkin.step_kinds.newton_solve.out_of_reach` finds cannot be reached.
+    """
+    n = status.code.size
+    # none looked at yet: read-only views of one value, no memory per sample
+    unmet, miss = np.broadcast_to(np.int16(-1), (n,)), np.broadcast_to(np.nan, (n,))
+    code = status.code
+    sketch = np.asarray(plan.sketch, dtype=np.float64)
+    for k, st in enumerate(plan.steps):
+        if not isinstance(st, NewtonGroup):
+            continue
+        idx = np.flatnonzero((code == Code.NO_CONVERGENCE) & (status.step == k))
+        if not idx.size:
+            continue
+        if code is status.code:
+            code, unmet, miss = code.copy(), np.full(n, -1, dtype=np.int16), np.full(n, np.nan)
+        pts = list(st.points)
+        sub = np.take(x, idx, axis=-1)
+        # the start: the group's points at the nearest sample that has them, else the sketch
+        have = np.flatnonzero(np.isfinite(x[pts]).all(axis=(0, 1)))
+        if have.size:
+            at = np.clip(np.searchsorted(have, idx), 1, have.size) - 1
+            after = np.minimum(at + 1, have.size - 1)
+            near = np.where(np.abs(have[after] - idx) < np.abs(have[at] - idx), after, at)
+            sub[pts] = x[pts][:, :, have[near]]
+        else:
+            sub[pts] = sketch[pts][:, :, None]
+        out, j, amount = out_of_reach(
+            Chunk(
+                sub,
+                sub,
+                sub,
+                np.take(q, idx, axis=-1),
+                np.zeros((q.shape[0], idx.size)),
+                np.zeros((q.shape[0], idx.size)),
+                np.empty((0, idx.size)),
+                np.zeros(idx.size, dtype=np.int8),
+                np.full(idx.size, -1, dtype=np.int16),
+                0.0,
+                0.0,
+            ),
+            take_step(st, idx),  # type: ignore[arg-type]
+            plan.scale,
+        )
+        code[idx[out]] = Code.OUT_OF_REACH
+        unmet[idx[out]] = j[out]
+        miss[idx[out]] = amount[out]
+    return Status(code, status.step, status.plan, unmet, miss)
 
 
 @dataclass(frozen=True, slots=True, repr=False)
@@ -308,7 +511,8 @@ class KinematicResult:
         derived : Derived
             Body and element quantities, shapes (3, n_bodies, n) and (6, n_elements, n).
         status : Status
-            Per-sample outcome.
+            Per-sample outcome. One not yet looked at for poses out of reach (its ``unmet``
+            None) is (`diagnose`).
 
         Returns
         -------
@@ -316,6 +520,8 @@ class KinematicResult:
             Views of those arrays with the sample axis first, without time, change points or
             sensitivities.
         """
+        if status.unmet is None:
+            status = diagnose(plan, x, q, status)
         for j, e in enumerate(plan.elements):
             # a driven length is its input, exactly (failed samples too); a winch rope's, its
             # motor's angle times each design's R/(i·n), is its blocks' distance as solved
@@ -684,7 +890,13 @@ class KinematicResult:
         return dataclasses.replace(
             self,
             **{name: getattr(self, name)[s] for name in _ROW_ARRAYS},
-            status=Status(self.status.code[s], self.status.step[s], self.status.plan),
+            status=Status(
+                self.status.code[s],
+                self.status.step[s],
+                self.status.plan,
+                None if self.status.unmet is None else self.status.unmet[s],
+                None if self.status.miss is None else self.status.miss[s],
+            ),
             time=cut(self.time),
             change_points=tuple(c for c in self.change_points if low <= c.after < high),
             error_estimate=cut(self.error_estimate),

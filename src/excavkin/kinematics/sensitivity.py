@@ -186,7 +186,8 @@ class _Tangents:
             derived.body[:, self.plan.ground] = 0.0
             derived.element[..., bad] = np.nan
             self.trans[j][..., bad] = np.nan
-            status = Status(result.status.code, result.status.step, self.plan)
+            st = result.status
+            status = Status(st.code, st.step, self.plan, st.unmet, st.miss)
             x, v, a = arrays
             out[name] = KinematicResult.build(
                 self.plan, x, v, a, self.q[j], zero, zero, self.trans[j], derived, status

@@ -61,6 +61,7 @@ _LABEL_CODES = (
     ("dead position", Code.SINGULAR),
     ("cannot close", Code.NO_CLOSURE),
     ("newton did not converge", Code.NO_CONVERGENCE),
+    ("out of reach", Code.OUT_OF_REACH),
     ("assembly branch changed", Code.BRANCH_CHANGED),
     ("undetermined", Code.UNDETERMINED),
     ("a result overflows", Code.NOT_FINITE),
@@ -220,7 +221,8 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def failed_runs(data: TableData) -> list[tuple[int, int, str]]:
-    """Runs of samples that did not solve, dead positions aside.
+    """Runs of samples that did not solve for one reason (one status code), dead positions
+    aside.
 
     Returns
     -------
@@ -230,7 +232,27 @@ def failed_runs(data: TableData) -> list[tuple[int, int, str]]:
     t = as_table(data)
     bad = (t.codes != Code.OK) & (t.codes != Code.SINGULAR)
     labels = t.labels
-    return [(a, b, str(labels[a])) for a, b in _runs(bad)]
+    out = []
+    for a, b in _runs(bad):
+        cuts = [a, *(a + 1 + np.flatnonzero(np.diff(t.codes[a : b + 1]))).tolist(), b + 1]
+        out += [
+            (int(lo), int(hi) - 1, str(labels[lo])) for lo, hi in zip(cuts, cuts[1:], strict=False)
+        ]
+    return out
+
+
+def _worst(kin: Any, a: int, b: int) -> str:
+    """For a run of samples out of reach (a, b inclusive), how far at worst its first
+    sample's constraint is missed over the samples that name it: ``", by up to 35.9 mm too
+    long"``; ``""`` for a run that is not, or a table without its result."""
+    status = getattr(kin, "status", None)
+    miss = getattr(status, "miss", None)
+    if miss is None or status is None or status.code[a] != Code.OUT_OF_REACH:
+        return ""
+    run = np.where(status.unmet[a : b + 1] == status.unmet[a], np.abs(miss[a : b + 1]), np.nan)
+    if not np.isfinite(run).any():
+        return ""
+    return f", by up to {status.shortfall(a + int(np.nanargmax(run)), 'mm')}"
 
 
 def dead_samples(data: TableData, dead_tol: float = np.radians(3.0)) -> np.ndarray:
@@ -285,11 +307,13 @@ def find_events(
     t = as_table(data)
     name = describe_sample or (lambda i: f"sample {i}")
     events: list[Event] = []
+    kin = getattr(t.result, "kinematics", t.result)
     for a, b, label in failed_runs(t):
         where = (
             f"sample {a} ({name(a)})" if a == b else (f"samples {a}–{b} ({name(a)} … {name(b)})")
         )
-        events.append(Event("does not close", np.arange(a, b + 1), f"{label}: {where}", "error"))
+        message = f"{label}: {where}{_worst(kin, a, b)}"
+        events.append(Event("does not close", np.arange(a, b + 1), message, "error"))
     dead = dead_samples(t, dead_tol)
     if dead.size:
         shown = "; ".join(f"{int(i)} ({name(int(i))})" for i in dead[:8])
@@ -303,7 +327,6 @@ def find_events(
                 "warning",
             )
         )
-    kin = getattr(t.result, "kinematics", t.result)
     for cp in getattr(kin, "change_points", ()):
         where = f"{name(cp.before)} … {name(cp.after)}"
         events.append(

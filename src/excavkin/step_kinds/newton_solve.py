@@ -27,7 +27,15 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.step_kinds.base import kind_of
-from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, CRope, GroupDyad
+from excavkin.step_kinds.constraints import (
+    CAngle,
+    CDist,
+    CFrame,
+    CLine,
+    Constraint,
+    CRope,
+    GroupDyad,
+)
 from excavkin.step_kinds.rope_path import rope_path
 from excavkin.step_kinds.small_systems import Factors
 from excavkin.step_kinds.state import Chunk, Code, dist, flag
@@ -523,3 +531,348 @@ def rotary_branch_ok(c: Chunk, g: NewtonGroup) -> NDArray[np.bool_]:
             dpy = c.x[con.p, 1] - c.x[con.pivot, 1]
             ok &= ex * dpx + ey * dpy > 0
     return ok
+
+
+# ---- a pose out of reach: which constraint cannot be met, and by how much
+
+#: a group whose least-squares residual stalls with a constraint missed by more than this
+#: fraction of the size cannot be reached; below it, Newton merely did not get there
+REACH_TOL = 1e-9
+#: Levenberg–Marquardt passes, at most, of each stage of the diagnosis
+REACH_ITER = 200
+#: weight of the constraints kept while the one that cannot be met is pushed to its limit
+REACH_WEIGHT = 1e3
+#: rounds of the method of multipliers that meet the other constraints
+REACH_ROUNDS = 4
+
+
+def _rows(g: NewtonGroup) -> NDArray[np.intp]:
+    """The constraint of each of the group's equations (a frame gives two), shape (m,)."""
+    return np.array(
+        [
+            k
+            for k, con in enumerate(g.constraints)
+            for _ in range(2 if isinstance(con, CFrame) else 1)
+        ],
+        dtype=np.intp,
+    )
+
+
+def _reference(x: F, con: CAngle, q: F) -> tuple[F, F]:
+    """The direction a driver-angle constraint drives its body (not unit), shape (n,) each."""
+    if con.ref is None:
+        vx, vy = np.ones_like(q), np.zeros_like(q)
+    else:
+        vx = x[con.ref[1], 0] - x[con.ref[0], 0]
+        vy = x[con.ref[1], 1] - x[con.ref[0], 1]
+    cs, sn = np.cos(q), np.sin(q)
+    return cs * vx - sn * vy, sn * vx + cs * vy
+
+
+def _lengths(c: Chunk, g: NewtonGroup, *, jacobian: bool = True) -> tuple[F, F | None]:
+    """The group's equations as lengths (m): residual (m, n) and, with ``jacobian``, its
+    Jacobian (m, m, n).
+
+    ``|p − q|² − d²`` over ``|p − q| + d`` is ``|p − q| − d``; a point-on-line cross product
+    over the line's length is the point's distance from it; a frame's equations are lengths
+    already. A driver angle is the signed chord ``2·|p − pivot|·sin(φ/2)`` between the point
+    and where the driven direction puts it at its radius (φ the angle between them): unlike
+    Newton's cross product it is zero at φ = 0 alone, not at φ = π too (a body pointing
+    against its driver is not a pose that meets it). The Jacobian is that of these lengths,
+    exactly: a least-squares minimum is where its gradient vanishes.
+    """
+    res, jac, _, _ = _system(c, g, jacobian=jacobian)
+    x, n = c.x, c.x.shape[-1]
+    col = {p: 2 * k for k, p in enumerate(g.points)}
+    row = 0
+    for con in g.constraints:
+        if isinstance(con, CFrame):
+            row += 2
+            continue
+        if isinstance(con, CAngle):
+            ex, ey = _reference(x, con, c.q[con.input])
+            dx, dy = x[con.p, 0] - x[con.pivot, 0], x[con.p, 1] - x[con.pivot, 1]
+            phi = np.arctan2(_cross(ex, ey, dx, dy), ex * dx + ey * dy)
+            r = np.hypot(dx, dy)
+            res[row] = 2.0 * r * np.sin(phi / 2.0)
+            if jac is not None:
+                jac[row] = 0.0
+                ur, cs, sn = 1.0 / np.where(r > 0, r, 1.0), np.cos(phi / 2.0), 2 * np.sin(phi / 2)
+                # ∂/∂(p − pivot): 2 sin(φ/2)·d̂ + cos(φ/2)·perp(d̂)
+                gx, gy = (sn * dx - cs * dy) * ur, (sn * dy + cs * dx) * ur
+                for p, sign in ((con.p, 1.0), (con.pivot, -1.0)):
+                    if p in col:
+                        jac[row, col[p]] += sign * gx
+                        jac[row, col[p] + 1] += sign * gy
+                if con.ref is not None:  # φ falls as the reference turns: −r·cos(φ/2)·∂θ_ref
+                    vx = x[con.ref[1], 0] - x[con.ref[0], 0]
+                    vy = x[con.ref[1], 1] - x[con.ref[0], 1]
+                    v2 = vx * vx + vy * vy
+                    v2 = np.where(v2 > 0, v2, 1.0)
+                    hx, hy = r * cs * vy / v2, -r * cs * vx / v2
+                    for p, sign in ((con.ref[1], 1.0), (con.ref[0], -1.0)):
+                        if p in col:
+                            jac[row, col[p]] += sign * hx
+                            jac[row, col[p] + 1] += sign * hy
+            row += 1
+            continue
+        if isinstance(con, CDist | CRope):  # (L² − d²)/(L + d) = L − d, L = |p − q| or a rope's
+            r = _length(x, con)
+            size = r + np.abs(dist(c, con.dist)[0])
+            res[row] /= np.where(size > 0, size, 1.0)
+            if jac is not None:  # ∂L = ∂(L²) / (2·L)
+                jac[row] /= np.where(r > 0, 2.0 * r, 1.0)
+        else:  # ρ = cross(u, g)/|u|: its ends' rows gain ∓ρ·û/|u| from |u|
+            ux, uy = x[con.l2, 0] - x[con.l1, 0], x[con.l2, 1] - x[con.l1, 1]
+            u = np.hypot(ux, uy)
+            u = np.where(u > 0, u, 1.0) + np.zeros(n)
+            res[row] /= u
+            if jac is not None:
+                jac[row] /= u
+                for p, sign in ((con.l2, -1.0), (con.l1, 1.0)):
+                    if p in col:
+                        jac[row, col[p]] += sign * res[row] * ux / (u * u)
+                        jac[row, col[p] + 1] += sign * res[row] * uy / (u * u)
+        row += 1
+    return res, jac
+
+
+def _length(x: F, con: CDist | CRope) -> F:
+    """A distance constraint's |p − q|, or a rope's length over its sheaves, shape (n,)."""
+    if isinstance(con, CDist):
+        return np.hypot(x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1])  # type: ignore[no-any-return]
+    pts = [(x[p, 0], x[p, 1]) for p in con.points]
+    return np.asarray(rope_path(pts, con.signed, con.wraps0).length)
+
+
+def misses(c: Chunk, g: NewtonGroup) -> tuple[F, F]:
+    """How far each of the group's constraints is from met, at the chunk's positions.
+
+    Parameters
+    ----------
+    c : Chunk
+        The positions (and inputs) of the samples.
+    g : NewtonGroup
+        The group.
+
+    Returns
+    -------
+    length : ndarray, shape (n_constraints, n)
+        The miss as a length (m, ≥ 0): a distance's error, a point's distance from where its
+        body's frame or its slider's line puts it, or the chord by which a driven body misses
+        its angle, at the point's radius.
+    amount : ndarray, shape (n_constraints, n)
+        The miss in the constraint's own terms: a distance's error (achieved − required, m), a
+        point's distance from its frame's place or its line (m), a driver's angle error (rad).
+    """
+    x, n = c.x, c.x.shape[-1]
+    length = np.empty((len(g.constraints), n))
+    amount = np.empty((len(g.constraints), n))
+    for k, con in enumerate(g.constraints):
+        if isinstance(con, CDist | CRope):  # a rope's: its length's error
+            amount[k] = _length(x, con) - np.abs(dist(c, con.dist)[0])
+            length[k] = np.abs(amount[k])
+        elif isinstance(con, CFrame):
+            amount[k] = length[k] = np.hypot(_frame(x, con, 0), _frame(x, con, 1))
+        elif isinstance(con, CLine):
+            ux, uy = x[con.l2, 0] - x[con.l1, 0], x[con.l2, 1] - x[con.l1, 1]
+            gx, gy = x[con.p, 0] - x[con.l1, 0], x[con.p, 1] - x[con.l1, 1]
+            amount[k] = _cross(ux, uy, gx, gy) / np.hypot(ux, uy)
+            length[k] = np.abs(amount[k])
+        else:
+            ex, ey = _reference(x, con, c.q[con.input])
+            dx, dy = x[con.p, 0] - x[con.pivot, 0], x[con.p, 1] - x[con.pivot, 1]
+            amount[k] = np.arctan2(_cross(ex, ey, dx, dy), ex * dx + ey * dy)
+            length[k] = 2.0 * np.hypot(dx, dy) * np.abs(np.sin(amount[k] / 2.0))
+    return length, amount
+
+
+def _least_squares(
+    c: Chunk,
+    g: NewtonGroup,
+    weight: F | None,
+    iters: int,
+    shift: F | None = None,
+    still: float = 1e-13,
+) -> NDArray[np.bool_]:
+    """Levenberg–Marquardt on the group's residuals in metres (plus ``shift`` and times
+    ``weight``, each shape (m, n), where given), in place in ``c.x``, every sample at once;
+    returns where it stalled (no step lowered the sum of squares by more than ``still`` of
+    it for eight passes running). The damping follows the gain over the one the linear model
+    promised (Nielsen's rule). Stalled samples leave the iteration, as in Newton's
+    (`SHRINK`): a batch costs what its slowest samples need."""
+    pts = list(g.points)
+    n = c.x.shape[-1]
+    size = 2 * len(pts)
+    live = np.arange(n)  # the samples in ``sub``, as indices of ``c``
+    sub, group = c, g
+    stalled = np.zeros(n, dtype=bool)
+
+    def evaluate(jacobian: bool) -> tuple[F, F | None]:
+        res, jac = _lengths(sub, group, jacobian=jacobian)
+        if shift is not None:
+            res = res + shift[:, live]
+        if weight is None:
+            return res, jac
+        w = weight[:, live]
+        return res * w, None if jac is None else jac * w[:, None, :]
+
+    res, jac = evaluate(True)
+    cost = np.sum(res * res, axis=0)
+    lam, grow = np.full(n, 1e-3), np.full(n, 2.0)
+    idle = np.zeros(n, dtype=np.int64)
+    eye = np.eye(size)[:, :, None]
+    for _ in range(iters):
+        assert jac is not None
+        normal = np.einsum("rin,rjn->ijn", jac, jac)
+        grad = np.einsum("rin,rn->in", jac, res)
+        trace = np.einsum("iin->n", normal)
+        damp = lam * np.where(trace > 0, trace / size, 1.0)
+        step = -Factors(normal + damp * eye, overwrite=True).solve(grad)
+        step[:, ~np.isfinite(step).all(axis=0)] = 0.0
+        before = np.stack([sub.x[p].copy() for p in pts])
+        for j, p in enumerate(pts):
+            sub.x[p] += step[2 * j : 2 * j + 2]
+        trial, _ = evaluate(False)
+        new = np.sum(trial * trial, axis=0)
+        better = new < cost
+        promised = -2.0 * np.einsum("in,in->n", step, grad)
+        promised -= np.einsum("in,ijn,jn->n", step, normal, step)
+        ratio = (cost - new) / np.where(promised > 0, promised, np.inf)
+        for j, p in enumerate(pts):
+            sub.x[p][:, ~better] = before[j][:, ~better]
+        gain = np.where(better, cost - new, 0.0)
+        idle = np.where(gain > still * cost, 0, idle + 1)
+        cost = np.where(better, new, cost)
+        shrink = np.maximum(1.0 / 3.0, 1.0 - (2.0 * ratio - 1.0) ** 3)
+        lam = np.clip(np.where(better, lam * shrink, lam * grow), 1e-15, 1e12)
+        grow = np.where(better, 2.0, grow * 2.0)
+        settled = idle >= 8
+        if settled.all():
+            break
+        if np.count_nonzero(~settled) < SHRINK * settled.size:  # the settled ones leave
+            for p in pts:
+                c.x[p][:, live[settled]] = sub.x[p][:, settled]
+            stalled[live[settled]] = True
+            keep = ~settled
+            live = live[keep]
+            sub = _positions_at(sub, keep)
+            group = kind_of(g).take(g, live)
+            cost, lam, grow, idle = cost[keep], lam[keep], grow[keep], idle[keep]
+        res, jac = evaluate(True)
+    if sub is not c:
+        for p in pts:
+            c.x[p][:, live] = sub.x[p]
+    stalled[live] = idle >= 8
+    return stalled
+
+
+def _project(c: Chunk, g: NewtonGroup, keep: F, tol: float) -> None:
+    """Move the group's points, least, onto its equations where ``keep`` is 1 (shape (m, n);
+    0 leaves an equation out) by Gauss–Newton's minimum-norm steps, in place; a sample whose
+    kept equations are not then met to ``tol`` (m) goes back to where it was."""
+    pts = list(g.points)
+    before = np.stack([c.x[p].copy() for p in pts])
+    eq = keep.shape[0]
+    for _ in range(8):
+        res, jac = _lengths(c, g)
+        assert jac is not None
+        res, jac = res * keep, jac * keep[:, None, :]
+        outer = np.einsum("rin,sin->rsn", jac, jac)
+        trace = np.einsum("rrn->n", outer)
+        outer += (1e-14 * trace + (keep == 0)) * np.eye(eq)[:, :, None]
+        step = -np.einsum("rin,rn->in", jac, Factors(outer, overwrite=True).solve(res))
+        step[:, ~np.isfinite(step).all(axis=0)] = 0.0
+        for j, p in enumerate(pts):
+            c.x[p] += step[2 * j : 2 * j + 2]
+    res, _ = _lengths(c, g, jacobian=False)
+    met = np.max(np.abs(res * keep), axis=0) <= tol
+    for j, p in enumerate(pts):
+        c.x[p][:, ~met] = before[j][:, ~met]
+
+
+def _driven(con: Constraint) -> bool:
+    """Whether a group's constraint is a driver's: a driven length, or a driver's angle."""
+    return isinstance(con, CAngle) or (isinstance(con, CDist | CRope) and con.dist.kind == "input")
+
+
+def out_of_reach(
+    c: Chunk, g: NewtonGroup, scale: float, iters: int = REACH_ITER
+) -> tuple[NDArray[np.bool_], NDArray[np.int16], F]:
+    """Which of a group's samples that Newton did not solve cannot be reached at all, the
+    constraint that cannot be met, and by how much.
+
+    From the chunk's positions of the group's points (a start near the sample: a solved
+    neighbour's, or the sketch's), Levenberg–Marquardt minimises the sum of the squares of the
+    group's residuals, each in metres (`misses`). Where it stalls with a constraint missed by
+    more than `REACH_TOL` of the size, no pose meets them all (near the start): the pose is out
+    of reach. Where the residual goes to zero, a pose exists and Newton merely did not get there
+    (its status stays "did not converge").
+
+    The constraint named is the driver (a driven length or a driver's angle) missed most at
+    that stall — the input that asks for the pose — or, where no driver's is missed, the
+    constraint missed most. By how much is then measured with every other constraint met: the
+    named one alone is pushed to its limit (a second minimisation, the others weighted by
+    `REACH_WEIGHT` and their targets moved by the method of multipliers for `REACH_ROUNDS`
+    rounds, then the points moved onto the others exactly). For a point held by two distances
+    a and b from points c apart, that is the triangle's own shortfall, c − (a + b) or
+    |a − b| − c.
+
+    Parameters
+    ----------
+    c : Chunk
+        The samples (only those Newton did not solve): their known points, inputs, and the
+        group's points at the start; the group's points are moved in place.
+    g : NewtonGroup
+        The group, its per-sample constants taken at these samples.
+    scale : float
+        The mechanism's size (m).
+    iters : int
+        Passes, at most, of each minimisation.
+
+    Returns
+    -------
+    out : ndarray of bool, shape (n,)
+        True where the pose is out of reach.
+    unmet : ndarray of int16, shape (n,)
+        Index into ``g.constraints`` of the constraint that cannot be met (−1 where ``out`` is
+        False).
+    amount : ndarray, shape (n,)
+        By how much, in that constraint's own terms (`misses`): a distance achieved less the
+        required (m, negative where the points cannot get that far apart), a point's distance
+        from its body's frame or its slider's line (m), a driver's angle error (rad); NaN where
+        ``out`` is False.
+    """
+    n = c.x.shape[-1]
+    unmet = np.full(n, -1, dtype=np.int16)
+    amount = np.full(n, np.nan)
+    start = np.isfinite(c.x[list(g.points)]).all(axis=(0, 1))
+    # a sum of squares going to zero falls by a large fraction a pass, even at a singular
+    # root (linearly); one settling on a minimum above zero creeps: 1e-9 a pass is settled
+    stalled = _least_squares(c, g, None, iters, still=1e-9)
+    length, _ = misses(c, g)
+    length = np.nan_to_num(length, nan=-1.0)
+    out = start & stalled & (np.max(length, axis=0) > REACH_TOL * scale)
+    if not out.any():
+        return out, unmet, amount
+    # the driver missed most, where one is missed: the input that asks for the pose
+    driven = np.array([_driven(con) for con in g.constraints])[:, None]
+    by_driver = np.where(driven, length, -1.0)
+    worst = np.where(
+        np.max(by_driver, axis=0) > REACH_TOL * scale,
+        np.argmax(by_driver, axis=0),
+        np.argmax(length, axis=0),
+    )
+    rows = _rows(g)
+    mine = rows[:, None] == worst[None, :]  # (m, n): the named constraint's equations
+    # the others as penalties, their multipliers' estimates carried in ``shift`` (the method of
+    # multipliers): each round leaves them a factor of about REACH_WEIGHT² nearer to met
+    shift = np.zeros(mine.shape)
+    for _ in range(REACH_ROUNDS):
+        _least_squares(c, g, np.where(mine, 1.0, REACH_WEIGHT), iters, shift)
+        shift += np.where(mine, 0.0, _lengths(c, g, jacobian=False)[0])
+    _project(c, g, np.where(mine, 0.0, 1.0), REACH_TOL * scale)
+    _, final = misses(c, g)
+    unmet[out] = worst[out]
+    amount[out] = np.take_along_axis(final, worst[None], axis=0)[0][out]
+    return out, unmet, amount

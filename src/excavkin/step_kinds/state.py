@@ -32,7 +32,8 @@ class Code(IntEnum):
     UNDETERMINED = 8
     IMPRECISE = 9
     BAD_DESIGN = 10
-    ROPE_OFF_SHEAVE = 11
+    OUT_OF_REACH = 11
+    ROPE_OFF_SHEAVE = 12
 
 
 @dataclass(slots=True)

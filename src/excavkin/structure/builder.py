@@ -59,6 +59,11 @@ from excavkin.structure.shapes import body_shape
 Option = tuple[str, Dist, int, int]
 
 
+#: the assembly tolerance: how far, as a fraction of the sketch's size, a point may be drawn
+#: from where a constraint that no length sets (a slider's line) puts it
+ASSEMBLY_TOL = 1e-4
+
+
 def _lengths_by_body(model: Model) -> dict[str, list[tuple[str, str]]]:
     """The ``[lengths]`` pairs with both points on each body, in the file's order."""
     bodies_at = model.bodies_at()
@@ -254,6 +259,34 @@ class PlanBuilder:
                     "distance is not a dimension of the mechanism",
                     table="lengths",
                     entry=f"{p}-{q}",
+                    source=self.model.source,
+                )
+
+    def check_sliders_on_their_lines(self) -> None:
+        """Every slider's point drawn on its line, within the assembly tolerance.
+
+        The solve puts the point on the line at its distance from its partner: a point drawn
+        off the line would be moved there, along the line, by about its offset times the
+        partner's height over the line divided by the point's distance from the partner's
+        foot on it (tens of millimetres for a millimetre off near that foot) — so the sketch
+        would not be the mechanism. Refused, with the distance, where it is more than
+        `ASSEMBLY_TOL` of the sketch's size.
+        """
+        sk = self.sketch
+        for sl in self.model.sliders:
+            (x1, y1), (x2, y2), (px, py) = sk[sl.along[0]], sk[sl.along[1]], sk[sl.point]
+            off = abs(_cross(x2 - x1, y2 - y1, px - x1, py - y1)) / math.dist(
+                sk[sl.along[0]], sk[sl.along[1]]
+            )
+            if off > ASSEMBLY_TOL * self.scale:
+                raise AssemblyError(
+                    f"point {sl.point} is drawn {off * 1e3:.4g} mm off the line "
+                    f"{sl.along[0]}→{sl.along[1]} it slides on (more than the assembly "
+                    f"tolerance, {ASSEMBLY_TOL * self.scale * 1e3:.2g} mm = {ASSEMBLY_TOL:g} of "
+                    "the sketch's size); the solve would move it onto the line, so draw it "
+                    "there",
+                    table=f"sliders.{sl.name}",
+                    entry="point",
                     source=self.model.source,
                 )
 
@@ -625,6 +658,7 @@ class PlanBuilder:
         """Add steps until every point is known, check every constraint is used, and freeze."""
         self.add_inputs()
         self.check_lengths_are_dimensions()
+        self.check_sliders_on_their_lines()
         self.fixed()
         if self.method == "closed-form":
             tries: list[Callable[[], bool]] = [getattr(self, kind) for kind in self.ORDER]
