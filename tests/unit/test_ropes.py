@@ -242,3 +242,14 @@ def test_a_study_counts_a_slack_rope_as_a_failed_pose() -> None:
     poses = Poses({"hoist": np.array([170.0, 190.0])}, {}, {})  # either side of 178.9 rad
     _, ok = solve_set(mech, {"B.x": np.array([1.5, 1.4])}, poses, 2, "model")
     assert ok.tolist() == [[False, True], [False, True]]
+
+
+def test_a_winch_written_back_with_new_drum_and_gear(tmp_path: Path) -> None:
+    from excavkin.io.model_write import model_text_with
+
+    src = tmp_path / "boom.toml"
+    src.write_text(BOOM + WINCH.replace("gear_ratio = 20\n", ""))
+    text = model_text_with(src, {"hoist.drum_radius": 0.3125, "hoist.gear_ratio": 25.5})
+    (rope,) = loads_model(text).ropes
+    assert (rope.drum_radius, rope.gear_ratio) == (0.3125, 25.5)
+    assert 'drum_radius = "312.5 mm"' in text
