@@ -16,6 +16,11 @@
    tension T in [the] cable": ΣM_A = 0, T·sin 15°·12 − 2.5·12·cos 30° − 1·6·cos 30° = 0,
    printed T = 10.0382 kN (the boom at 30° to the horizontal, the cable at 15° to the boom at
    B, 2.5 kN hanging at B).
+4. An open belt over two pulleys (Q&A, sarthaks.com question 509872): "Find the length of belt
+   necessary to drive a pulley of 500 mm diameter running parallel at a distance of 12 m from
+   the driving pulley of diameter 1600 m[m] ... (i) Length of the belt if it is open ...
+   L = 27.32 m". A rope over two sheaves from a point of its straight span round both and back
+   to that point is the belt.
 """
 
 from __future__ import annotations
@@ -132,3 +137,54 @@ drum_radius = "0.2 m"
     assert f"{tension:.4f}" == "10.0382"
     hand = (2.5 * 12.0 + 1.0 * 6.0) * c30 / (12.0 * math.sin(math.radians(15.0)))
     assert tension == pytest.approx(hand, rel=1e-12)
+
+
+def test_open_belt_length() -> None:
+    """The belt as a rope over sheaves: from the middle E of its upper span, clockwise round
+    the driven pulley (r = 0.25 m, 12 m off), clockwise round the driver (r = 0.8 m), back to
+    E. A winch of R/i = 1 m/rad on a carriage at the driven pulley's centre: its sketch angle
+    is the belt's length."""
+    r1, r2, x = 0.8, 0.25, 12.0
+    phi = math.acos((r1 - r2) / x)  # the spans' normal: n·(c2 − c1) = r1 − r2
+    e = ((r1 + r2) * math.cos(phi) / 2 + x / 2, (r1 + r2) * math.sin(phi) / 2)
+    text = f"""
+schema_version = 1
+name = "open belt"
+[units]
+length = "m"
+[points]
+E = [{e[0]!r}, {e[1]!r}]
+S1 = [0.0, 0.0]
+G1 = [11.0, 0.0]
+G2 = [13.0, 0.0]
+G3 = [11.0, -1.0]
+G4 = [13.0, -1.0]
+S2 = [12.0, 0.0]
+C2 = [12.5, -1.0]
+[bodies]
+ground = {{ points = ["S1", "E", "G1", "G2", "G3", "G4"], ground = true }}
+carriage = {{ points = ["S2", "C2"] }}
+[sliders.upper]
+point = "S2"
+along = ["G1", "G2"]
+[sliders.lower]
+point = "C2"
+along = ["G3", "G4"]
+[ropes.belt]
+path = ["E", "S2", "S1", "E"]
+radii = ["250 mm", "800 mm"]
+wraps = ["cw", "cw"]
+mode = "winch"
+drum_radius = "1 m"
+"""
+    mech = Mechanism(loads_model(text, "belt.toml"))
+    length = mech.sketch_values()["belt"] * 1.0
+    assert f"{length:.2f}" == "27.32"
+    exact = (
+        2 * math.sqrt(x * x - (r1 - r2) ** 2)
+        + math.pi * (r1 + r2)
+        + 2 * (r1 - r2) * math.asin((r1 - r2) / x)
+    )
+    assert length == pytest.approx(exact, rel=1e-14)
+    res = mech.solve({"belt": length})  # and the carriage stays where the belt holds it
+    np.testing.assert_allclose(res.positions[0, 6], (12.0, 0.0), atol=1e-10)
