@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from excavkin.kinematics import KinematicResult, Status, Tolerances
     from excavkin.mechanism import Mechanism
     from excavkin.model import Body, LinearDriver, Model, RotaryDriver, Slider
-    from excavkin.model.entities import Gravity, PointForce, Torque
+    from excavkin.model.entities import Gravity, PointForce, Rope, Torque
     from excavkin.studies.optimize import Optimum, optimize_study
     from excavkin.studies.study import StudyResult, run_study
     from excavkin.studies.study_file import load_study
@@ -54,7 +54,7 @@ _LAZY = {
     **dict.fromkeys(("KinematicResult", "Status", "Tolerances"), "excavkin.kinematics"),
     "Mechanism": "excavkin.mechanism",
     **dict.fromkeys(("Body", "LinearDriver", "Model", "RotaryDriver", "Slider"), "excavkin.model"),
-    **dict.fromkeys(("Gravity", "PointForce", "Torque"), "excavkin.model.entities"),
+    **dict.fromkeys(("Gravity", "PointForce", "Rope", "Torque"), "excavkin.model.entities"),
     **dict.fromkeys(("ToleranceBands", "tolerance_bands"), "excavkin.studies.tolerance"),
     **dict.fromkeys(("Optimum", "optimize_study"), "excavkin.studies.optimize"),
     **dict.fromkeys(("StudyResult", "run_study"), "excavkin.studies.study"),
@@ -91,6 +91,7 @@ __all__ = [
     "Model",
     "ModelError",
     "PointForce",
+    "Rope",
     "RotaryDriver",
     "SingularityWarning",
     "Slider",

@@ -21,7 +21,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, SolveFailure, did_you_mean
 from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble
 from excavkin.kinematics.sweep import Part, solve_parts
-from excavkin.model.entities import Model
+from excavkin.model.entities import Model, rope_line
 from excavkin.model.validate import validate
 from excavkin.structure.builder import compile_plan
 from excavkin.structure.plan import SolvePlan
@@ -882,6 +882,7 @@ class Mechanism:
             )
         for s in m.sliders:
             lines.append(f"  slider  : {s.name} — {s.point} on {s.along[0]}→{s.along[1]}")
+        lines += [f"  rope    : {rope_line(r)}" for r in m.ropes]
         mob = self.plan.mobility
         lines.append(f"  mobility: {mob.describe()}; inputs: {', '.join(self.inputs) or 'none'}")
         params = self.parameters

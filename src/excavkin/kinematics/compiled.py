@@ -327,6 +327,14 @@ class _Source:
             self.emit(f"{name} = {value}")
             return name, None, None
         i = d.input
+        if d.winch:  # a winch: the blocks' distance from its motor's angle (the constant)
+            k = value
+            self.emit(
+                f"{name} = {k} * q[{i}, i]",
+                f"{name}d = {k} * qd[{i}, i]",
+                f"{name}dd = {k} * qdd[{i}, i]",
+            )
+            return name, f"{name}d", f"{name}dd"
         self.emit(f"{name} = q[{i}, i]", f"{name}d = qd[{i}, i]", f"{name}dd = qdd[{i}, i]")
         return name, f"{name}d", f"{name}dd"
 

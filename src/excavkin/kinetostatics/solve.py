@@ -117,18 +117,19 @@ def solve_forces(
         out[:, bad] = np.nan
     singular &= result.status.solved
     ns = len(sy.slots)
-    e0, s0, t0 = sy.element_col0, sy.slider_col0, sy.torque_col0
+    e0, s0, t0, r0 = sy.element_col0, sy.slider_col0, sy.torque_col0, sy.rope_col0
     return ForceResult(
         kinematics=result,
         system=sy,
         pin_force=np.moveaxis(out[: 2 * ns].reshape(ns, 2, n), -1, 0),
         element_force=out[e0:s0].T,
         slider_force=out[s0:t0].T,
-        driver_torque=out[t0:].T,
+        driver_torque=out[t0:r0].T,
         singular=singular,
         loads=checked,
         evaluated=ev,
         mass=mp,
+        rope_tension=out[r0:].T,
     )
 
 

@@ -26,7 +26,15 @@ from excavkin.step_kinds.base import (
     register,
     registered,
 )
-from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
+from excavkin.step_kinds.constraints import (
+    CAngle,
+    CDist,
+    CFrame,
+    CLine,
+    Constraint,
+    CRope,
+    GroupDyad,
+)
 from excavkin.step_kinds.dist import Dist
 from excavkin.step_kinds.dyad import Dyad
 from excavkin.step_kinds.fixed import Fixed
@@ -41,6 +49,7 @@ __all__ = [
     "OPERATIONS",
     "Attach",
     "CAngle",
+    "CRope",
     "CDist",
     "CFrame",
     "CLine",

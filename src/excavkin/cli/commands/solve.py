@@ -380,15 +380,15 @@ def command(
         for cp in tally.sorted_change_points():
             click.echo(f"excavkin: warning: {cp.describe()}", err=True)
         report_failures(tally, keep_going)  # stops here: the file is not kept
-        singular = tally.singular_text()
-        if singular and not keep_going:
-            fail(
-                f"{singular}. Nothing was written; pass --keep-going to write the table with "
-                "these rows marked.",
-                EXIT_SAMPLES,
-            )
-        if singular:
-            click.echo(f"excavkin: warning: {singular}", err=True)
+        for singular in (tally.singular_text(), tally.slack_text()):
+            if singular and not keep_going:
+                fail(
+                    f"{singular}. Nothing was written; pass --keep-going to write the table "
+                    "with these rows marked.",
+                    EXIT_SAMPLES,
+                )
+            if singular:
+                click.echo(f"excavkin: warning: {singular}", err=True)
 
     write_tables(frames(), target, force=force, units_row=units_row)
     click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")
