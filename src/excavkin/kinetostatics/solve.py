@@ -12,9 +12,11 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from excavkin import backends
 from excavkin.arrays import FloatArray as F
+from excavkin.backends import Job, Kernel
 from excavkin.errors import InputError
-from excavkin.kinematics.compiled import THRESHOLD, available
+from excavkin.execution import Execution, settings
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
@@ -38,6 +40,8 @@ def solve_forces(
     inertia: bool = True,
     method: str = "sparse",
     chunk: int = 8192,
+    execution: Execution | None = None,
+    backend: str | None = None,
     compiled: bool | None = None,
 ) -> ForceResult:
     """Joint forces, linear-driver forces and rotary-driver torques for every sample.
@@ -58,12 +62,15 @@ def solve_forces(
         ``"sparse"``: the compiled elimination (fast). ``"dense"``: the full matrix per sample
         with LAPACK (slow; for cross-checking).
     chunk : int
-        Samples per pass.
+        Samples per pass of the NumPy elimination.
+    execution : Execution, optional
+        Its backend runs the ``"sparse"`` elimination as one compiled loop over samples
+        (`excavkin.kinetostatics.compiled`) or in NumPy, by the rule of every workload
+        (`excavkin.backends.choose`); its ``workers`` run the compiled loop's chunks.
+    backend : {"auto", "numpy", "numba", "cuda"}, optional
+        Replaces ``execution``'s backend.
     compiled : bool, optional
-        Run the ``"sparse"`` elimination as one compiled loop over samples
-        (`excavkin.kinetostatics.compiled`, needs numba) or in NumPy. Default: compiled
-        when numba is installed and the batch is large (the rule of the kinematics'
-        ``compiled``).
+        Deprecated: ``backend="numba"`` (True) or ``"numpy"`` (False).
 
     Returns
     -------
@@ -84,6 +91,7 @@ def solve_forces(
         raise InputError(f"method must be 'sparse' or 'dense', not {method!r}")
     if chunk < 1:
         raise InputError(f"chunk must be at least 1, got {chunk}")
+    execution = settings(execution, backend=backend, compiled=compiled)
     plan = result.plan
     model = plan.model
     checked = check_loads(model, loads)
@@ -99,8 +107,8 @@ def solve_forces(
     with np.errstate(divide="ignore", invalid="ignore"):
         if method == "dense":
             _solve_dense(sy, mp, ev, x, a, eps, out, singular)
-        elif not _solve_compiled((sy, mp, ev), (x, a, eps), out, singular, compiled):
-            _solve_sparse((sy, mp, ev), (x, a, eps), out, singular, chunk)
+        else:
+            _solve_chosen((sy, mp, ev), (x, a, eps), out, singular, chunk, execution)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
     bad = singular | ~result.status.solved
@@ -151,26 +159,37 @@ def _solve_sparse(
         singular[sl] = sing
 
 
-def _solve_compiled(
+def _solve_chosen(
     known: tuple[StaticsSystem, MassProperties, EvaluatedLoads],
     motion: tuple[F, F | None, F | None],
     out: F,
     singular: np.ndarray,
-    compiled: bool | None,
-) -> bool:
-    """The sparse elimination as its compiled kernel, if ``compiled`` (see
-    `solve_forces`) asks for it here; whether it ran."""
+    chunk: int,
+    execution: Execution,
+) -> None:
+    """The sparse elimination on the backend chosen for it (`excavkin.backends.choose`):
+    its compiled kernel, or NumPy chunk by chunk."""
     from excavkin.kinetostatics import compiled as kernel
 
-    n = out.shape[1]
-    if compiled is False or compiled is None and (n < THRESHOLD or not available()):
-        return False  # (before the source is traced: small batches stay cheap)
     x, a, eps = motion
-    text, values = kernel.source(*known, inertia=a is not None)
-    if not kernel.use(text, n, compiled):
-        return False
-    kernel.solve(text, values, x, a, eps, out, singular)
-    return True
+    traced: list[tuple[str, list[float | F]]] = []
+
+    def source() -> str:  # traced once, and only if a compiled backend asks
+        if not traced:
+            traced.append(kernel.source(*known, inertia=a is not None))
+        return traced[0][0]
+
+    def compiled(k: Kernel) -> None:
+        source()
+        kernel.solve(k, traced[0][1], x, a, eps, out, singular, execution.workers)
+
+    job = Job(
+        "forces",
+        source,
+        numpy=lambda: _solve_sparse(known, motion, out, singular, chunk),
+        compiled=compiled,
+    )
+    backends.choose(execution.backend, job, out.shape[1]).run(job)
 
 
 def _solve_dense(
