@@ -48,6 +48,7 @@ __all__ = [
     "choose",
     "is_cached",
     "kernel_of",
+    "require",
 ]
 
 #: the names ``backend=`` takes
@@ -295,6 +296,33 @@ def available() -> dict[str, str | None]:
     return {name: b.unavailable() for name, b in REGISTRY.items()}
 
 
+def require(name: str, option: str | None = None) -> None:
+    """Refuse a backend name that is unknown, or names a backend that cannot run here.
+
+    Parameters
+    ----------
+    name : str
+        ``"auto"`` or a backend's name.
+    option : str, optional
+        How the caller spells the choice, for the message (default ``backend='name'``;
+        the CLI's ``--backend name``).
+
+    Raises
+    ------
+    InputError
+        Naming the backend and why.
+    """
+    if name == "auto":
+        return
+    b = REGISTRY.get(name)
+    if b is None:
+        raise InputError(f"backend must be one of {', '.join(BACKENDS)}; got {name!r}")
+    why = b.unavailable()
+    if why is not None:
+        said, auto = (f"backend={name!r}", "backend='auto'") if option is None else (option, "auto")
+        raise InputError(f"{said}: {why}; {auto} chooses what can run")
+
+
 def choose(name: str, job: Job, n: int) -> Backend:
     """The backend that runs ``job`` over ``n`` samples, ``backend=name`` asked for.
 
@@ -327,13 +355,10 @@ def choose(name: str, job: Job, n: int) -> Backend:
             if b.ready(job) or (job.unasked and n >= COMPILE_AT):
                 return b
         return NUMPY
-    b = REGISTRY.get(name)  # type: ignore[assignment]
-    if b is None:
-        raise InputError(f"backend must be one of {', '.join(BACKENDS)}; got {name!r}")
-    why = b.unavailable()
-    if why is None and not b.supports(job):
+    require(name)
+    b = REGISTRY[name]
+    if not b.supports(job):
         why = f"the {job.what} {job.unsupported or 'cannot be compiled'}"
-    if why is not None:
         raise InputError(f"backend={name!r}: {why}; backend='auto' chooses what can run")
     return b
 

@@ -13,14 +13,16 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
 from typing import Any
 
-from excavkin.backends import BACKENDS
+from excavkin.backends import BACKENDS, require
 from excavkin.errors import InputError
 
-__all__ = ["Execution", "settings"]
+__all__ = ["Execution", "current", "settings", "use"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,6 +74,39 @@ class Execution:
 
 #: the default settings
 DEFAULT = Execution()
+_current: ContextVar[Execution] = ContextVar("excavkin_execution", default=DEFAULT)
+
+
+def current() -> Execution:
+    """The settings a call without its own takes: `DEFAULT`, or those of the innermost
+    `use` around it (in this thread).
+
+    Returns
+    -------
+    Execution
+    """
+    return _current.get()
+
+
+@contextmanager
+def use(execution: Execution) -> Iterator[Execution]:
+    """Run the block with ``execution`` as the settings of every call that gives none (a
+    study's solves, made deep inside its metrics).
+
+    Parameters
+    ----------
+    execution : Execution
+
+    Yields
+    ------
+    Execution
+        ``execution``.
+    """
+    token = _current.set(execution)
+    try:
+        yield execution
+    finally:
+        _current.reset(token)
 
 
 def settings(
@@ -83,8 +118,9 @@ def settings(
     chunk: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> Execution:
-    """The `Execution` of a public call: ``execution`` as given, with each keyword given
-    replacing its field (the keywords alone: a new one).
+    """The `Execution` of a public call: ``execution`` as given (default: `current`), with
+    each keyword given replacing its field. A backend named that cannot run here is refused
+    at once (`excavkin.backends.require`).
 
     Parameters
     ----------
@@ -103,7 +139,7 @@ def settings(
     Raises
     ------
     InputError
-        ``compiled`` and ``backend`` both given, or a bad value.
+        ``compiled`` and ``backend`` both given, a bad value, or a backend that cannot run.
     """
     if compiled is not None:
         replacement = "numba" if compiled else "numpy"
@@ -121,7 +157,9 @@ def settings(
                      ("progress", progress))
         if v is not None
     }  # fmt: skip
-    base = execution if execution is not None else DEFAULT
+    base = execution if execution is not None else current()
     if not isinstance(base, Execution):
         raise InputError(f"execution must be an Execution, got {type(base).__name__}")
-    return dataclasses.replace(base, **given) if given else base
+    out = dataclasses.replace(base, **given) if given else base
+    require(out.backend)
+    return out
