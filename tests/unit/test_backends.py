@@ -1,0 +1,246 @@
+"""The backend seam (excavkin.backends, excavkin.execution): one rule picks where each workload
+runs — the kinematics, their tangents and the forces alike — the backends give the same
+numbers, the settings travel as one Execution, compiled= still works with a warning, and
+NumPy runs everything when numba cannot be imported."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Iterator
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import excavkin
+from excavkin import backends
+from excavkin.cli import main
+from excavkin.errors import InputError
+from excavkin.execution import Execution, current, settings, use
+from excavkin.kinematics import compiled
+from excavkin.kinetostatics import Gravity, PointForce, solve_forces
+
+#: the examples every backend solves (closed-form plans), and the loads of their forces
+EXAMPLES = ["fourbar", "slider_crank", "excavator", "wheel_loader"]
+
+
+@pytest.fixture
+def chosen(monkeypatch: pytest.MonkeyPatch) -> list[tuple[str, str]]:
+    """(workload, backend) of every choice made while the test runs."""
+    seen: list[tuple[str, str]] = []
+    choose = backends.choose
+
+    def spy(name: str, job: backends.Job, n: int) -> backends.Backend:
+        b = choose(name, job, n)
+        seen.append((job.what, b.name))
+        return b
+
+    monkeypatch.setattr(backends, "choose", spy)
+    return seen
+
+
+@pytest.fixture
+def fresh_cache(tmp_path, monkeypatch: pytest.MonkeyPatch) -> Iterator[None]:  # type: ignore[no-untyped-def]
+    """No kernel compiled: an empty cache folder, and none in memory."""
+    monkeypatch.setenv("EXCAVKIN_CACHE_DIR", str(tmp_path / "kernels"))
+    monkeypatch.setattr(backends, "_kernels", {})
+    yield
+
+
+def sweep(mech: excavkin.Mechanism, n: int) -> dict[str, np.ndarray]:
+    out = {}
+    for k, v in mech.sketch_values().items():
+        span = 0.3 if mech.input_kind(k) == "angle" else 0.03 * v
+        out[k] = v + span * np.sin(np.linspace(0.0, 6.0, n) + len(k))
+    return out
+
+
+def close(a: np.ndarray, b: np.ndarray, what: str) -> None:
+    """Equal NaN patterns, and every finite value within 1e-12 of its column's scale."""
+    a, b = np.asarray(a), np.asarray(b)
+    assert np.array_equal(np.isnan(a), np.isnan(b)), what
+    scale = np.nanmax(np.abs(b), axis=0, initial=0.0)
+    diff = np.abs(np.nan_to_num(a - b))
+    assert np.all(diff <= 1e-12 * np.maximum(scale, 1e-300)), what
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_numba_agrees_with_numpy_on_the_examples(name: str) -> None:
+    """Kinematics, tangents and forces of each example, by both backends: statuses equal,
+    values to 1e-12 of each column's scale."""
+    mech = excavkin.load(excavkin.example_path(name))
+    values = sweep(mech, 300)
+    rates = {k: 0.4 for k in values}
+    names = [p for p in mech.parameters if not p.endswith((".mass", ".inertia"))][:3]
+    loads = [*mech.loads, Gravity()] if not mech.loads else list(mech.loads)
+    out = {
+        b: mech.solve(values, rates, sensitivities=names, loads=loads, backend=b)  # type: ignore[arg-type]
+        for b in ("numpy", "numba")
+    }
+    fast, ref = out["numba"], out["numpy"]
+    np.testing.assert_array_equal(fast.kinematics.status.code, ref.kinematics.status.code)
+    assert fast.kinematics.status.ok.mean() > 0.5
+    for field in ("positions", "velocities", "accelerations", "body_omega", "transmission"):
+        close(getattr(fast.kinematics, field), getattr(ref.kinematics, field), field)
+    for p in names:
+        close(fast.kinematics.tangents[p].positions, ref.kinematics.tangents[p].positions, p)
+        close(
+            fast.kinematics.tangents[p].accelerations, ref.kinematics.tangents[p].accelerations, p
+        )
+    for field in ("pin_force", "element_force", "driver_torque"):
+        close(getattr(fast, field), getattr(ref, field), field)
+
+
+def test_auto_takes_a_cached_kernel_at_any_sample_count(chosen: list[tuple[str, str]]) -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q = {"crank": np.linspace(0.0, 6.0, 50)}
+    names = ["A-B"]
+    mech.solve(q, sensitivities=names, loads="model", backend="numba")  # every kernel ready
+    chosen.clear()
+    for n in (1, 50):
+        mech.solve({"crank": q["crank"][:n]}, sensitivities=names, loads="model")
+    assert chosen == [("kinematics", "numba"), ("tangents", "numba"), ("forces", "numba")] * 2
+
+
+def test_auto_compiles_nothing_unasked_below_its_size(
+    fresh_cache: None, chosen: list[tuple[str, str]]
+) -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    mech.solve({"crank": np.linspace(0.0, 6.0, 1000)}, sensitivities=["A-B"], loads="model")
+    assert chosen == [("kinematics", "numpy"), ("tangents", "numpy"), ("forces", "numpy")]
+    assert not backends._kernels
+    job = compiled.job(mech.plan)
+    assert backends.choose("auto", job, backends.COMPILE_AT - 1) is backends.NUMPY
+    assert backends.choose("auto", job, backends.COMPILE_AT).name == "numba"  # (not run here)
+
+
+def test_auto_stays_on_numpy_when_told(
+    monkeypatch: pytest.MonkeyPatch, chosen: list[tuple[str, str]]
+) -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q = {"crank": np.linspace(0.0, 6.0, 20)}
+    mech.solve(q, backend="numba")
+    monkeypatch.setenv("EXCAVKIN_COMPILED", "0")
+    chosen.clear()
+    mech.solve(q)
+    assert chosen == [("kinematics", "numpy")]
+
+
+def test_a_newton_plan_runs_in_numpy_and_refuses_numba(chosen: list[tuple[str, str]]) -> None:
+    fb = excavkin.load(excavkin.example_path("fourbar"))
+    newton = excavkin.Mechanism(fb.model, method="newton")
+    newton.solve({"crank": np.linspace(0.0, 1.0, 5)}, sensitivities=["A-B"])
+    assert chosen == [("kinematics", "numpy"), ("tangents", "numpy")]
+    with pytest.raises(InputError, match="backend='numba': the kinematics .* Newton group"):
+        newton.solve({"crank": np.zeros(3)}, backend="numba")
+
+
+def test_cuda_is_one_clear_error_and_never_chosen() -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    with pytest.raises(InputError, match="backend='cuda': not available"):
+        mech.solve({"crank": np.zeros(3)}, backend="cuda")
+    with pytest.raises(InputError, match="backend='cuda': not available"):
+        mech.forces(mech.solve({"crank": np.zeros(3)}), backend="cuda")
+    assert "cuda" not in backends.AUTO
+    assert backends.available()["cuda"] is not None
+    r = CliRunner().invoke(
+        main, ["solve", "fourbar", "--sweep", "crank=0:1:3", "-o", "-", "--backend", "cuda"]
+    )
+    assert r.exit_code == 2
+    assert r.output.strip().splitlines() == [
+        "excavkin: error: --backend cuda: not available in this version of excavkin: the "
+        "generated kernels are not yet compiled for the GPU; auto chooses what can run"
+    ]
+
+
+def test_an_unknown_backend_is_refused() -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    with pytest.raises(InputError, match="backend must be one of auto, numpy, numba, cuda"):
+        mech.solve({"crank": np.zeros(3)}, backend="gpu")  # type: ignore[call-overload]
+    with pytest.raises(InputError, match="got 'gpu'"):
+        Execution(backend="gpu")
+
+
+def test_compiled_is_a_deprecated_alias() -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q = {"crank": np.linspace(0.0, 6.0, 40)}
+    for old, new in ((True, "numba"), (False, "numpy")):
+        with pytest.warns(DeprecationWarning, match=f"use backend='{new}'") as caught:
+            res = mech.solve(q, compiled=old)
+        assert caught[0].filename == __file__  # the warning points at the caller's line
+        np.testing.assert_array_equal(res.positions, mech.solve(q, backend=new).positions)  # type: ignore[arg-type]
+        kin = mech.solve(q, backend="numpy")
+        with pytest.warns(DeprecationWarning, match=f"use backend='{new}'"):
+            mech.forces(kin, compiled=old)
+        with pytest.warns(DeprecationWarning, match=f"use backend='{new}'"):
+            solve_forces(kin, [Gravity()], compiled=old)
+    with pytest.warns(DeprecationWarning), pytest.raises(InputError, match="not both"):
+        mech.solve(q, compiled=True, backend="numpy")
+
+
+def test_the_settings_travel_as_one_execution(chosen: list[tuple[str, str]]) -> None:
+    """The old keywords build an Execution; one given whole does the same; a keyword given
+    beside it replaces its field; a bad value is one error."""
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q = {"crank": np.linspace(0.0, 6.0, 5000)}
+    seen: list[tuple[int, int]] = []
+    run = Execution(
+        backend="numpy", workers=2, chunk=700, progress=lambda d, t: seen.append((d, t))
+    )
+    a = mech.solve(q, execution=run)
+    assert seen[-1] == (5000, 5000) and len(seen) == 8  # chunks of 700
+    b = mech.solve(q, backend="numpy", workers=1, chunk=5000)
+    np.testing.assert_array_equal(a.positions, b.positions)
+    assert {c[1] for c in chosen} == {"numpy"}
+    assert settings(run, workers=1) == Execution("numpy", 1, 700, run.progress)
+    assert settings(None, chunk=9) == Execution(chunk=9)
+    with pytest.raises(InputError, match="workers must be a whole number of at least 1"):
+        mech.solve(q, workers=0)
+    with pytest.raises(InputError, match="chunk must be"):
+        Execution(chunk=1.5)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="execution must be an Execution"):
+        mech.solve(q, execution="numba")  # type: ignore[call-overload]
+    with pytest.raises(AttributeError):
+        run.backend = "numba"  # type: ignore[misc]
+
+
+def test_use_sets_the_settings_of_calls_that_give_none(chosen: list[tuple[str, str]]) -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    q = {"crank": np.linspace(0.0, 6.0, 20)}
+    mech.solve(q, backend="numba")
+    chosen.clear()
+    with use(Execution(backend="numpy")):
+        assert current().backend == "numpy"
+        mech.solve(q)
+        mech.solve(q, backend="numba")  # a call's own keyword wins
+    assert current() == Execution()
+    assert chosen == [("kinematics", "numpy"), ("kinematics", "numba")]
+
+
+def test_numpy_runs_everything_when_numba_cannot_be_imported(
+    monkeypatch: pytest.MonkeyPatch, chosen: list[tuple[str, str]]
+) -> None:
+    mech = excavkin.load(excavkin.example_path("excavator"))
+    values = sweep(mech, 200)
+    loads = [Gravity(), PointForce("dig", "bucket", "W", (-20e3, 5e3))]
+    names = ["D.x"]
+    ref = mech.solve(values, sensitivities=names, loads=loads, backend="numpy")
+    mech.solve(values, sensitivities=names, loads=loads, backend="numba")  # kernels ready
+    monkeypatch.setitem(sys.modules, "numba", None)  # `import numba` now fails
+    with pytest.raises(ImportError):
+        import numba  # noqa: F401
+    assert backends.available()["numba"] == "numba cannot be imported (pip install numba)"
+    chosen.clear()
+    res = mech.solve(values, sensitivities=names, loads=loads)
+    assert chosen == [("kinematics", "numpy"), ("tangents", "numpy"), ("forces", "numpy")]
+    np.testing.assert_array_equal(res.kinematics.positions, ref.kinematics.positions)
+    np.testing.assert_array_equal(res.pin_force, ref.pin_force)
+    np.testing.assert_array_equal(
+        res.kinematics.tangents["D.x"].positions, ref.kinematics.tangents["D.x"].positions
+    )
+    with pytest.raises(InputError, match="backend='numba': numba cannot be imported"):
+        mech.solve(values, backend="numba")
+    r = CliRunner().invoke(
+        main, ["solve", "fourbar", "--sweep", "crank=0:1:3", "-o", "-", "--backend", "numba"]
+    )
+    assert r.exit_code == 2 and "--backend numba: numba cannot be imported" in r.output
