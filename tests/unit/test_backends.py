@@ -17,7 +17,7 @@ from excavkin import backends
 from excavkin.cli import main
 from excavkin.errors import InputError
 from excavkin.execution import Execution, current, settings, use
-from excavkin.kinematics import compiled
+from excavkin.kinematics import compiled, solve_kinematics
 from excavkin.kinetostatics import Gravity, PointForce, solve_forces
 
 #: the examples every backend solves (closed-form plans), and the loads of their forces
@@ -192,6 +192,10 @@ def test_the_settings_travel_as_one_execution(chosen: list[tuple[str, str]]) -> 
     b = mech.solve(q, backend="numpy", workers=1, chunk=5000)
     np.testing.assert_array_equal(a.positions, b.positions)
     assert {c[1] for c in chosen} == {"numpy"}
+    q2 = np.asarray(q["crank"]).reshape(1, -1)
+    c = solve_kinematics(mech.plan, mech.assembly, q2, np.ones_like(q2), np.zeros_like(q2),
+                         backend="numpy", chunk=700, workers=1)  # fmt: skip
+    np.testing.assert_array_equal(a.positions, c.positions)
     assert settings(run, workers=1) == Execution("numpy", 1, 700, run.progress)
     assert settings(None, chunk=9) == Execution(chunk=9)
     with pytest.raises(InputError, match="workers must be a whole number of at least 1"):

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
-from excavkin.execution import DEFAULT, Execution
+from excavkin.execution import DEFAULT, Execution, settings
 from excavkin.kinematics.change_points import ChangePoint, Tail, Unit, dyads, find_change_points
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinematics.solve import (
@@ -124,10 +124,14 @@ def solve_kinematics(
     qdd: F,
     *,
     tol: Tolerances | None = None,
-    execution: Execution = DEFAULT,
+    execution: Execution | None = None,
     continuation: str = "side",
     unbuildable: np.ndarray | None = None,
     designs: DesignBatch | None = None,
+    backend: str | None = None,
+    chunk: int | None = None,
+    workers: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> KinematicResult:
     """Positions, velocities and accelerations of every point for every sample.
 
@@ -139,7 +143,7 @@ def solve_kinematics(
     q, qd, qdd : ndarray, shape (n_inputs, n)
         Driver values, rates and accelerations, SI, in ``plan.inputs`` order.
     tol : Tolerances, optional
-    execution : Execution
+    execution : Execution, optional
         Backend, threads, samples per chunk and progress (`excavkin.execution.Execution`);
         ``progress(done, total)`` is called after each chunk with the samples finished so
         far (serialised, ``done`` increasing, though the calls may come from worker threads).
@@ -153,11 +157,16 @@ def solve_kinematics(
     designs : DesignBatch, optional
         A family of designs of ``plan`` (a closed-form one), one per sample: each chunk's
         constants are made as the chunk is solved.
+    backend, chunk, workers, progress : optional
+        Each replaces its field of ``execution``.
 
     Returns
     -------
     KinematicResult
     """
+    execution = settings(
+        execution, backend=backend, chunk=chunk, workers=workers, progress=progress
+    )
     whole = Part(0, q, qd, qdd, plan, unbuildable, designs)
     return next(
         iter(
