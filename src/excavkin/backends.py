@@ -84,6 +84,12 @@ class Job:
     unasked : bool
         Whether ``"auto"`` may compile its kernel unasked for a large batch (False: a plan too
         large to compile quickly; a kernel compiled before is still used).
+    scalar : callable, optional
+        ``scalar()``: the source as one plain loop over samples, for a device that runs a
+        thread a sample (`excavkin.gpu`); None: the job has no device kernel.
+    device : callable, optional
+        ``device(kernel)``: run it with a kernel of ``scalar``'s calling convention; None:
+        ``compiled`` does (the two conventions are the same).
     """
 
     what: str
@@ -92,6 +98,8 @@ class Job:
     compiled: Callable[[Kernel], None]
     unsupported: str | None = None
     unasked: bool = True
+    scalar: Callable[[], str] | None = None
+    device: Callable[[Kernel], None] | None = None
 
 
 class Backend(Protocol):
@@ -221,24 +229,27 @@ class NumbaBackend:
 
 
 class CudaBackend:
-    """The generated source on an NVIDIA GPU: not part of this version."""
+    """The generated source on an NVIDIA GPU, one thread a sample (`excavkin.gpu`): asked
+    for by name only; ``"auto"`` does not pick it."""
 
     name = "cuda"
 
     def unavailable(self) -> str | None:
-        """Why it cannot run: it is not implemented yet.
+        """Why it cannot run here (None: it can): numba or its CUDA target missing, or no
+        GPU (``NUMBA_ENABLE_CUDASIM=1``: numba's simulator stands in for one).
 
         Returns
         -------
-        str
+        str or None
         """
-        return (
-            "not available in this version of excavkin: the generated kernels are not yet "
-            "compiled for the GPU"
-        )
+        if importlib.util.find_spec("numba") is None:
+            return "numba cannot be imported (pip install numba)"
+        from excavkin.gpu import why_not
+
+        return why_not()
 
     def supports(self, job: Job) -> bool:
-        """No job yet.
+        """Whether the job has a per-sample loop for the device.
 
         Parameters
         ----------
@@ -247,12 +258,11 @@ class CudaBackend:
         Returns
         -------
         bool
-            False.
         """
-        return False
+        return job.unsupported is None and job.scalar is not None
 
     def ready(self, job: Job) -> bool:
-        """Never.
+        """Whether the job's device kernel is loaded in this process.
 
         Parameters
         ----------
@@ -261,23 +271,24 @@ class CudaBackend:
         Returns
         -------
         bool
-            False.
         """
-        return False
+        from excavkin.gpu import device_source
+
+        return job.scalar is not None and _key(device_source(job.scalar())) in _kernels
 
     def run(self, job: Job) -> None:
-        """Refuse.
+        """Run the job with its device kernel (made first if it is not loaded).
 
         Parameters
         ----------
         job : Job
-
-        Raises
-        ------
-        InputError
-            Always.
         """
-        raise InputError(f"backend='cuda': {self.unavailable()}")
+        from excavkin.gpu import DeviceKernel, device_source
+
+        assert job.scalar is not None
+        text = device_source(job.scalar())
+        kernel = DeviceKernel(kernel_of(text, f"{job.what} (CUDA)"), text)
+        (job.device or job.compiled)(kernel)
 
 
 NUMPY = NumpyBackend()

@@ -66,10 +66,12 @@ def job(
     per_sample: bool = False,
     numpy: Callable[[], None] = lambda: None,
     compiled: Callable[[Kernel], None] = lambda kernel: None,
+    device: Callable[[Kernel], None] | None = None,
 ) -> backends.Job:
     """The plan's kinematics as a `excavkin.backends.Job`: its kernel's source, run by
-    ``numpy()`` or ``compiled(kernel)`` (nothing, by default: a job to choose for); a plan of
-    more than `AUTO_POINTS` points is not compiled unasked."""
+    ``numpy()``, ``compiled(kernel)`` or, on a device, ``device(kernel)`` with the plain
+    loop's kernel (`source`; nothing, by default: a job to choose for); a plan of more than
+    `AUTO_POINTS` points is not compiled unasked."""
     return backends.Job(
         "kinematics",
         lambda: kernel_source(plan, per_sample),
@@ -77,6 +79,8 @@ def job(
         compiled,
         unsupported(plan),
         unasked=len(plan.points) <= AUTO_POINTS,
+        scalar=lambda: source(plan, write_at_rest=False),
+        device=device,
     )
 
 
@@ -128,6 +132,7 @@ def run(
     near: F,
     near_step: np.ndarray,
     start: int = 0,
+    scalar: bool = False,
 ) -> None:
     """Solve a chunk with the ``kernel`` of ``plan``'s structure (`compile_plan`), at full
     order: its inputs are ``c.q``, ``c.qd`` and ``c.qdd``; it fills ``c``'s outputs, the derived
@@ -139,7 +144,7 @@ def run(
     Bytes not written are bytes not paged in: ``c.v`` and ``c.a`` come zeroed (fresh
     ``np.zeros`` pages cost nothing until written), and a fixed point's rows are left so."""
     k, stride = table(constants(plan), c.q.shape[1])
-    run_table(kernel, (k, stride), c, body, element, near, near_step, start)
+    run_table(kernel, (k, stride), c, body, element, near, near_step, start, scalar)
 
 
 def run_table(
@@ -151,10 +156,21 @@ def run_table(
     near: F,
     near_step: np.ndarray,
     start: int = 0,
+    scalar: bool = False,
 ) -> None:
     """`run` with the chunk's constants table and stride (`table`) given: a
-    whole solve's table is made once, and each chunk takes its columns."""
+    whole solve's table is made once, and each chunk takes its columns. ``scalar``: the
+    kernel is the plain loop's (`source`, on a device): it takes the outputs' chunk, and no
+    ``start``."""
     k, stride = consts
+    if scalar:
+        part = slice(start, start + c.q.shape[1])
+        kernel(
+            c.q, c.qd, c.qdd, k, stride, c.x[..., part], c.v[..., part], c.a[..., part],
+            c.trans[:, part], body[..., part], element[..., part], c.status[part],
+            c.failed[part], c.close_tol, c.singular_tol, near[part], near_step[part],
+        )  # fmt: skip
+        return
     kernel(
         c.q, c.qd, c.qdd, k, stride, c.x, c.v, c.a, c.trans, body, element,
         c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, start,

@@ -83,9 +83,9 @@ def solve_tangents(
     keep = None if columns is None else compiled_tangents.entries(result, columns)
     out = _Tangents(plan, n, m)
 
-    def compiled(kernel: Kernel) -> None:
+    def compiled(kernel: Kernel, workers: int | None = execution.workers) -> None:
         compiled_tangents.fill(
-            out, plan, (q, qd, qdd), list(names), given, base, execution.workers, keep, kernel
+            out, plan, (q, qd, qdd), list(names), given, base, workers, keep, kernel
         )
 
     job = Job(
@@ -95,6 +95,8 @@ def solve_tangents(
         compiled=compiled,
         unsupported=compiled_plan.unsupported(plan),
         unasked=len(plan.points) <= compiled_plan.AUTO_POINTS,
+        scalar=lambda: compiled_tangents.source(plan, keep),  # (a plain loop already)
+        device=lambda kernel: compiled(kernel, 1),  # the chunks one after another
     )
     backends.choose(execution.backend, job, n).run(job)
     return out.results(result, names)

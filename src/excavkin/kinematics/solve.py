@@ -372,6 +372,7 @@ def _solve_chunks(
     each = designs is not None or compiled_plan.per_sample(plan)  # the kernel's constants
     consts: tuple[F, int] | None = None
     kernel: Kernel | None = None
+    scalar = False  # the kernel is the plain loop's, on a device
 
     def one(s: int) -> None:
         e = min(s + chunk, n)
@@ -398,9 +399,9 @@ def _solve_chunks(
             if designs is None and consts is not None:
                 k, stride = consts
                 table = (k[:, part] if stride else k, stride)
-                compiled_plan.run_table(kernel, table, c, *out, s)
+                compiled_plan.run_table(kernel, table, c, *out, s, scalar)
             else:
-                compiled_plan.run(kernel, here, c, *out, s)
+                compiled_plan.run(kernel, here, c, *out, s, scalar)
         else:
             c = dataclasses.replace(_view(full, part), q=q)  # the inputs, unbuildable designs NaN
             near, near_step = nearest[0][part], nearest[1][part]
@@ -419,7 +420,16 @@ def _solve_chunks(
         consts, kernel = compiled_plan.table(compiled_plan.constants(plan), n), k
         over_chunks(n, chunk, workers, one)
 
-    job = compiled_plan.job(plan, each, lambda: over_chunks(n, chunk, workers, one), compiled)
+    def device(k: Kernel) -> None:
+        nonlocal consts, kernel, scalar, workers
+        consts, kernel = compiled_plan.table(compiled_plan.constants(plan), n), k
+        scalar, workers = True, 1  # the chunks one after another: the device runs each whole
+        over_chunks(n, chunk, workers, one)
+
+    def numpy() -> None:
+        over_chunks(n, chunk, workers, one)
+
+    job = compiled_plan.job(plan, each, numpy, compiled, device)
     backends.choose(execution.backend, job, n).run(job)
 
 

@@ -179,15 +179,17 @@ def _solve_chosen(
             traced.append(kernel.source(*known, inertia=a is not None))
         return traced[0][0]
 
-    def compiled(k: Kernel) -> None:
+    def compiled(k: Kernel, workers: int | None = execution.workers) -> None:
         source()
-        kernel.solve(k, traced[0][1], x, a, eps, out, singular, execution.workers)
+        kernel.solve(k, traced[0][1], x, a, eps, out, singular, workers)
 
     job = Job(
         "forces",
         source,
         numpy=lambda: _solve_sparse(known, motion, out, singular, chunk),
         compiled=compiled,
+        scalar=source,  # (a plain loop already)
+        device=lambda k: compiled(k, 1),  # the chunks one after another
     )
     backends.choose(execution.backend, job, out.shape[1]).run(job)
 
