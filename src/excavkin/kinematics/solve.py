@@ -81,6 +81,9 @@ BLOCK = 65536
 #: samples per pass of the kinematics, unless the execution sets it: a chunk's temporaries stay
 #: in cache
 CHUNK = 32768
+#: samples per pass on a device (`excavkin.gpu`), unless the execution sets it: each pass's
+#: arrays are copied to the device and back
+DEVICE_CHUNK = 1 << 20
 
 
 @dataclass(frozen=True, slots=True)
@@ -421,9 +424,10 @@ def _solve_chunks(
         over_chunks(n, chunk, workers, one)
 
     def device(k: Kernel) -> None:
-        nonlocal consts, kernel, scalar, workers
+        nonlocal consts, kernel, scalar, workers, chunk
         consts, kernel = compiled_plan.table(compiled_plan.constants(plan), n), k
         scalar, workers = True, 1  # the chunks one after another: the device runs each whole
+        chunk = execution.chunk_or(DEVICE_CHUNK)  # each crosses the bus: large ones
         over_chunks(n, chunk, workers, one)
 
     def numpy() -> None:
