@@ -5,6 +5,7 @@ NumPy runs everything when numba cannot be imported."""
 
 from __future__ import annotations
 
+import re
 import sys
 from collections.abc import Iterator
 
@@ -254,3 +255,43 @@ def test_numpy_runs_everything_when_numba_cannot_be_imported(
         main, ["solve", "fourbar", "--sweep", "crank=0:1:3", "-o", "-", "--backend", "numba"]
     )
     assert r.exit_code == 2 and "--backend numba: numba cannot be imported" in r.output
+
+
+def test_a_first_compile_is_announced_with_its_time(
+    fresh_cache: None, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A kernel compiled for the first time is logged before and after (the CLI prints the
+    log as notes); loaded again, in this process or from the cache folder, it is not."""
+    import io
+
+    from excavkin.cli.progress import compile_notes
+
+    loads: list[str] = []
+
+    def load(text: str, key: str) -> backends.Kernel:
+        loads.append(key)
+        backends.cache_dir().mkdir(parents=True, exist_ok=True)  # as the import makes it
+        return lambda *args: None
+
+    monkeypatch.setattr(backends, "_load", load)
+    shown = io.StringIO()
+    with compile_notes(stream=shown):
+        backends.kernel_of("# a source\n", "kinematics")
+        backends.kernel_of("# a source\n", "kinematics")  # in memory: nothing to say
+    lines = shown.getvalue().splitlines()
+    assert len(loads) == 1 and len(lines) == 2, lines
+    assert lines[0].startswith("excavkin: note: compiling the kinematics kernel ")
+    assert "(once; kept in " in lines[0]
+    assert re.fullmatch(
+        r"excavkin: note: compiled the kinematics kernel \w+ in \d+\.\d s", lines[1]
+    )
+    assert backends.is_cached("# a source\n")
+    monkeypatch.setattr(backends, "_kernels", {})  # a new process: the marker on disk
+    quiet = io.StringIO()
+    with compile_notes(stream=quiet):
+        backends.kernel_of("# a source\n", "kinematics")
+    assert quiet.getvalue() == "" and len(loads) == 2
+    with compile_notes(quiet=True, stream=quiet):
+        monkeypatch.setattr(backends, "_kernels", {})
+        backends.kernel_of("# another\n", "forces")
+    assert quiet.getvalue() == ""
