@@ -17,6 +17,7 @@ function theorem at its solved values: J·dx = −dΦ, and likewise for the rate
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -88,14 +89,15 @@ def solve_tangents(
             out, plan, (q, qd, qdd), list(names), given, base, workers, keep, kernel
         )
 
+    source = functools.cache(lambda: compiled_tangents.source(plan, keep))  # asked twice
     job = Job(
         "tangents",
-        lambda: compiled_tangents.source(plan, keep),
+        source,
         numpy=lambda: _numpy_tangents(out, plan, (q, qd, qdd), names, given, base, result),
         compiled=compiled,
         unsupported=compiled_plan.unsupported(plan),
         unasked=len(plan.points) <= compiled_plan.AUTO_POINTS,
-        scalar=lambda: compiled_tangents.source(plan, keep),  # (a plain loop already)
+        scalar=source,  # (a plain loop already)
         device=lambda kernel: compiled(kernel, 1),  # the chunks one after another
     )
     backends.choose(execution.backend, job, n).run(job)
