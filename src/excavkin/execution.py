@@ -12,6 +12,7 @@ Execution(backend='numpy', workers=1, chunk=None, progress=None)
 from __future__ import annotations
 
 import dataclasses
+import numbers
 import warnings
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -54,7 +55,10 @@ class Execution:
             raise InputError(f"backend must be one of {', '.join(BACKENDS)}; got {self.backend!r}")
         for name in ("workers", "chunk"):
             value = getattr(self, name)
-            if value is not None and (isinstance(value, bool) or int(value) != value or value < 1):
+            whole = isinstance(value, numbers.Integral) or (
+                isinstance(value, float) and value.is_integer()
+            )
+            if value is not None and (isinstance(value, bool) or not whole or value < 1):
                 raise InputError(f"{name} must be a whole number of at least 1, got {value!r}")
 
     def chunk_or(self, default: int) -> int:

@@ -852,7 +852,7 @@ class Mechanism:
             time=result.time,
             params=result.parameters,
             continuation="smooth" if smooth else "side",
-            execution=execution,
+            execution=dataclasses.replace(execution, progress=None),  # (its bar is done)
             sensitivities=list(result.tangents) if result.tangents else None,
             sensitivity_columns=None
             if result.tangent_columns is None

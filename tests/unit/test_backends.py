@@ -207,8 +207,10 @@ def test_the_settings_travel_as_one_execution(chosen: list[tuple[str, str]]) -> 
     assert settings(None, chunk=9) == Execution(chunk=9)
     with pytest.raises(InputError, match="workers must be a whole number of at least 1"):
         mech.solve(q, workers=0)
-    with pytest.raises(InputError, match="chunk must be"):
-        Execution(chunk=1.5)  # type: ignore[arg-type]
+    for bad in (1.5, "many", True, -3, float("nan")):
+        with pytest.raises(InputError, match="chunk must be a whole number"):
+            Execution(chunk=bad)  # type: ignore[arg-type]
+    assert Execution(chunk=7000.0).chunk_or(1) == 7000  # type: ignore[arg-type]
     with pytest.raises(InputError, match="execution must be an Execution"):
         mech.solve(q, execution="numba")  # type: ignore[call-overload]
     with pytest.raises(AttributeError):
