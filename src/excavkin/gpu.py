@@ -30,6 +30,19 @@ __all__ = ["THREADS", "DeviceKernel", "device_source", "why_not"]
 #: threads per block
 THREADS = 128
 
+#: ``max(a, b)`` as a device function: numba's CUDA target types the builtin ``max`` through an
+#: overload of ``*args``, which its device compiler refuses ("2 argument types given, but
+#: function takes 1 arguments"), though its simulator runs it. The generated sources call it
+#: with two numbers (a clamp at 0); this is the builtin's rule for two: the first, unless the
+#: second is greater (a NaN first stays)
+_MAX2 = """
+
+@cuda.jit(device=True, inline=True)
+def _max2(a, b):
+    return b if b > a else a
+
+"""
+
 _LOOP = re.compile(r"^(?P<indent>[ ]+)for i in range\((?P<bound>[^\n]+)\):$", re.MULTILINE)
 
 
@@ -71,14 +84,15 @@ def device_source(text: str) -> str:
     -------
     str
         The same statements: the kernel a ``cuda.jit`` kernel, the loop one thread a sample,
-        the helpers device functions.
+        the helpers device functions, ``max(a, b)`` a device function of its own (`_MAX2`).
 
     Raises
     ------
     ValueError
         The text is not such a source.
     """
-    out = text.replace("import numba\n", "import numba\nfrom numba import cuda\n", 1)
+    out = text.replace("import numba\n", "import numba\nfrom numba import cuda\n" + _MAX2, 1)
+    out = re.sub(r"\bmax\(", "_max2(", out)
     out, helpers = re.subn(
         r'@numba\.njit\(inline="always"[^)]*\)', "@cuda.jit(device=True, inline=True)", out
     )

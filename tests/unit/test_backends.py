@@ -297,3 +297,32 @@ def test_a_first_compile_is_announced_with_its_time(
         monkeypatch.setattr(backends, "_kernels", {})
         backends.kernel_of("# another\n", "forces")
     assert quiet.getvalue() == ""
+
+
+def test_the_device_rewrite_changes_the_loop_and_nothing_else() -> None:
+    """Each workload's generated source, rewritten for the CUDA target: its loop one thread a
+    sample, its decorators CUDA's, its two-number max a device function; every other line
+    as it was (the simulator test runs them, tests/crossmethod/test_cuda_simulator.py)."""
+    from excavkin.gpu import device_source
+    from excavkin.kinematics import compiled_tangents
+    from excavkin.kinetostatics import compiled as forces
+    from excavkin.kinetostatics.inertia import MassProperties
+    from excavkin.kinetostatics.loads import evaluate_loads
+
+    mech = excavkin.load(excavkin.example_path("excavator"))
+    kin = mech.solve({})
+    loads = evaluate_loads(mech.model, list(mech.loads), kin)
+    sources = [
+        compiled.source(mech.plan, write_at_rest=False),
+        compiled_tangents.source(mech.plan),
+        forces.source(mech.statics, MassProperties.of(kin), loads, inertia=True)[0],
+    ]
+    for text in sources:
+        gpu = device_source(text)
+        assert gpu.count("i = cuda.grid(1)") == 1 and "numba.njit" not in gpu
+        assert re.search(r"\bmax\(", gpu) is None
+        kept = [line for line in text.splitlines() if "njit" not in line]
+        changed = [line.replace("max(", "_max2(") for line in kept if "for i in range" not in line]
+        assert all(line in gpu.splitlines() for line in changed)
+    with pytest.raises(ValueError, match="not a generated source"):
+        device_source("def kernel(x):\n    return x\n")
