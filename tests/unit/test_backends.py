@@ -326,3 +326,38 @@ def test_the_device_rewrite_changes_the_loop_and_nothing_else() -> None:
         assert all(line in gpu.splitlines() for line in changed)
     with pytest.raises(ValueError, match="not a generated source"):
         device_source("def kernel(x):\n    return x\n")
+
+
+def test_studies_and_tolerance_bands_solve_on_the_backend_asked_for(
+    tmp_path, chosen: list[tuple[str, str]]
+) -> None:  # type: ignore[no-untyped-def]
+    """A study's solves, deep in its metrics, and the tolerance bands' solves take the
+    backend given to them (the study's here, or in each Dask task: an Execution pickles)."""
+    import pickle
+
+    from excavkin.studies.study import run_study
+    from excavkin.studies.study_file import load_study
+    from excavkin.studies.tolerance import tolerance_bands
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    mech.solve({"crank": np.zeros(3)}, sensitivities=["A-B"], backend="numba")  # ready
+    spec = tmp_path / "study.toml"
+    spec.write_text(
+        excavkin.example_path("crank_rocker")
+        .read_text()
+        .replace('model = "fourbar"', f'model = "{excavkin.example_path("fourbar")}"')
+        .replace("samples = 4096", "samples = 4")
+    )
+    study = load_study(spec)  # (its checks solve a sample or two, on "auto")
+    for backend in ("numpy", "numba"):
+        chosen.clear()
+        run_study(study, tmp_path / f"{backend}.parquet", backend=backend)
+        assert chosen and {b for _, b in chosen} == {backend}
+        chosen.clear()
+        tolerance_bands(
+            mech, {"crank": np.linspace(0.0, 1.0, 3)}, tolerances={"A-B": "0.1 mm"}, draws=4,
+            backend=backend,
+        )  # fmt: skip
+        assert ("tangents", backend) in chosen and {b for _, b in chosen} == {backend}
+    run = Execution(backend="numpy", workers=2, chunk=100)
+    assert pickle.loads(pickle.dumps(run)) == run

@@ -297,7 +297,8 @@ def run_study(
         check_scheduler(scheduler)
     run = dataclasses.replace(settings(execution, backend=backend), progress=None)
     target = check_target(out, force=force, suffixes=(".parquet",))
-    kinds, name = study.prepare()
+    with use(run):  # (its probes too)
+        kinds, name = study.prepare()
     parts = target.parent / f".{target.name}.parts"
     fingerprint = study.fingerprint()
     stamp = parts / "study.json"
