@@ -147,7 +147,7 @@ def test_tension_and_sheave_pin_by_hand() -> None:
     kin = mech.solve({"hoist": theta})
     load = [PointForce("w", "boom", "S", (0.0, -1000.0))]
     f = mech.forces(kin, load)
-    compiled = mech.forces(kin, load, compiled=True)
+    compiled = mech.forces(kin, load, backend="numba")
     np.testing.assert_allclose(compiled.tension("hoist"), f.tension("hoist"), rtol=1e-14)
     t = f.tension("hoist")
     for i in range(len(theta)):
