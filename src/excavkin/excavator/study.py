@@ -175,24 +175,24 @@ FAMILY = Family(
 
 
 def load_machine_study(path: str | Path) -> MachineStudy:
-    """Read a study file whose ``[study]`` names an excavator ``machine`` (module docstring;
-    [`excavkin.studies.machine_study.load_machine_study`][] with the excavator's family).
+    """Read a study file whose ``[study]`` names an excavator ``machine`` (module docstring):
+    [`excavkin.studies.machine_study.load_machine_study`][] with the excavator's family.
 
     Parameters
     ----------
     path : str or pathlib.Path
-        The study file (TOML); its ``machine`` is a file beside it (a path from its folder)
-        or a built-in machine example's name.
+        The study file (TOML); its ``machine`` names an excavator's machine file beside it
+        or a built-in excavator example.
 
     Returns
     -------
     MachineStudy
-        The machine, the design bounds, poses, metrics, constraints and sampling, SI.
+        The excavator, its design bounds, poses, metrics, constraints and sampling, SI.
 
     Raises
     ------
     ModelError, UnitError
-        Naming the file, the table and the entry.
+        A wrong entry, named with its file and table.
     """
     return ms.load_machine_study(path, FAMILY)
 
