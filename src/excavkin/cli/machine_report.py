@@ -16,7 +16,13 @@ import click
 if TYPE_CHECKING:
     from excavkin.outputs.machine_report import MachineReport, Progress
 
-__all__ = ["report_options", "report_target", "write_report"]
+__all__ = [
+    "machine_report_options",
+    "report_options",
+    "report_target",
+    "run_report",
+    "write_report",
+]
 
 _Command = TypeVar("_Command", bound=Callable[..., Any])
 
@@ -49,6 +55,39 @@ def report_options(command: _Command) -> _Command:
     ):
         command = option(command)
     return command
+
+
+def machine_report_options(samples: int, most: int, what: str) -> Callable[[_Command], _Command]:
+    """The MACHINE argument and the options of a family's ``report`` command: ``--samples``
+    (``samples`` by default, 2 to ``most``: ``what`` they are) and `report_options`.
+
+    Parameters
+    ----------
+    samples : int
+        ``--samples``' default.
+    most : int
+        Its largest value.
+    what : str
+        Its help.
+
+    Returns
+    -------
+    callable
+        The decorator.
+    """
+
+    def decorate(command: _Command) -> _Command:
+        command = report_options(command)
+        command = click.option(
+            "--samples",
+            default=samples,
+            show_default=True,
+            type=click.IntRange(min=2, max=most),
+            help=what,
+        )(command)
+        return click.argument("machine", type=click.Path(dir_okay=False))(command)
+
+    return decorate
 
 
 def report_target(machine: str, out: str | None, force: bool) -> Path:
@@ -111,3 +150,51 @@ def write_report(
     if not quiet:
         click.echo(f"wrote {path} ({len(report.sections)} sections)", err=True)
     return path
+
+
+def run_report(
+    family: str,
+    machine: str,
+    loaded: Any,
+    samples: int,
+    build: Callable[..., MachineReport],
+    *,
+    out: str | None,
+    force: bool,
+    quiet: bool,
+) -> Path:
+    """A family's ``excavkin FAMILY report MACHINE``: the target checked, then the report
+    built with a bar over its sections and written.
+
+    Parameters
+    ----------
+    family : str
+        The family's command (``"excavator"``, ``"loader"``): the report names the command
+        line that made it.
+    machine : str
+        The MACHINE argument.
+    loaded : object
+        The machine it names, loaded.
+    samples : int
+        ``--samples``.
+    build : callable
+        The wing's ``machine_report(loaded, *, samples, command, progress) -> MachineReport``.
+    out : str or None
+        ``--out``.
+    force : bool
+    quiet : bool
+
+    Returns
+    -------
+    Path
+    """
+    import shlex
+
+    target = report_target(machine, out, force)
+    line = f"excavkin {family} report {shlex.quote(machine)} --samples {samples}"
+    return write_report(
+        lambda progress: build(loaded, samples=samples, command=line, progress=progress),
+        target,
+        force=force,
+        quiet=quiet,
+    )

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 
 import click
@@ -50,3 +51,45 @@ write_machine_option = click.option(
     help="Write the optimum as a machine file: the study's machine file with the design "
     "parameters' values replaced, each in the file's own unit, and its model inline.",
 )
+
+
+def machine_optimize_options(f: Callable[..., None]) -> Callable[..., None]:
+    """The options of a family's ``optimize`` command (``excavkin FAMILY optimize STUDY``):
+    ``--method``, ``-o/--output``, ``--plot``, ``--write-machine``, ``--force``, ``-q/--quiet``.
+
+    Parameters
+    ----------
+    f : callable
+        The command's function.
+
+    Returns
+    -------
+    callable
+        The function with the options.
+    """
+    return functools.reduce(lambda g, option: option(g), reversed(_OPTIMIZE_OPTIONS), f)
+
+
+_OPTIMIZE_OPTIONS = [
+    click.option(
+        "--method",
+        type=click.Choice(["slsqp", "differential-evolution"]),
+        default=None,
+        help="Override the study's [optimize] method.",
+    ),
+    click.option(
+        "-o",
+        "--output",
+        type=click.Path(dir_okay=False),
+        help="The optimum (parameters, metrics, feasibility) as a one-row table (.csv or "
+        ".parquet).",
+    ),
+    click.option(
+        "--plot",
+        type=click.Path(dir_okay=False),
+        help="Draw the convergence: the objective after each iteration (.png, .svg or .pdf).",
+    ),
+    write_machine_option,
+    click.option("--force", is_flag=True, help="Replace the output files if they exist."),
+    click.option("-q", "--quiet", is_flag=True, help="No progress."),
+]

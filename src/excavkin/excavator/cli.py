@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import sys
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -22,8 +22,8 @@ from excavkin.cli.common import (
     model_path,
     si_value,
 )
-from excavkin.cli.machine_report import report_options
-from excavkin.cli.study_options import study_options, write_machine_option
+from excavkin.cli.machine_report import machine_report_options
+from excavkin.cli.study_options import machine_optimize_options, study_options
 
 if TYPE_CHECKING:
     from excavkin.excavator.machine import Machine
@@ -645,91 +645,37 @@ def dig(
 @click.argument("spec", metavar="STUDY")
 @study_options
 @handle_errors
-def study(
-    spec: str, out: str | None, force: bool, restart: bool, scheduler: str | None, quiet: bool
-) -> None:
+def study(spec: str, **options: Any) -> None:
     """A design study of a machine: designs sampled in the box of STUDY.toml's parameter
     bounds (its [study] names a machine), each at every pose (cylinder lengths) in one batch;
     one row per design to a Parquet table, streamed and resumable."""
-    from pathlib import Path
-
-    from excavkin.cli.commands.study import run_with_progress
+    from excavkin.cli.commands.study import run_machine_study
     from excavkin.excavator.study import load_machine_study
 
-    path = model_path(spec, "study")
-    subject = load_machine_study(path)
-    target = Path(out) if out else Path(path.stem + ".parquet")
-    title = f"{subject.machine.name} ({subject.method}, seed {subject.seed})"
-    run_with_progress(subject, title, target, force, restart, scheduler, quiet)
+    run_machine_study(load_machine_study, spec, **options)
+
+
+@command.command("report")
+@machine_report_options(21, 51, "Grid points per stroke of the force-map and pin-load sweeps.")
+@handle_errors
+def report(machine: str, samples: int, **options: Any) -> None:
+    """Write a self-contained HTML spec sheet of MACHINE: working ranges, tool forces,
+    stability and lift capacity, pin loads, cycle, their charts and the moving front."""
+    from excavkin.cli.machine_report import run_report
+    from excavkin.excavator.report import machine_report
+
+    run_report("excavator", machine, _machine(machine), samples, machine_report, **options)
 
 
 @command.command("optimize")
 @click.argument("study", type=click.Path(dir_okay=False))
-@click.option(
-    "--method",
-    type=click.Choice(["slsqp", "differential-evolution"]),
-    default=None,
-    help="Override the study's [optimize] method.",
-)
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False),
-    help="The optimum (parameters, metrics, feasibility) as a one-row table (.csv or .parquet).",
-)
-@click.option(
-    "--plot",
-    type=click.Path(dir_okay=False),
-    help="Draw the convergence: the objective after each iteration (.png, .svg or .pdf).",
-)
-@write_machine_option
-@click.option("--force", is_flag=True, help="Replace the output files if they exist.")
-@click.option("-q", "--quiet", is_flag=True, help="No progress.")
+@machine_optimize_options
 @handle_errors
-def optimize(
-    study: str,
-    method: str | None,
-    output: str | None,
-    plot: str | None,
-    machine_out: str | None,
-    force: bool,
-    quiet: bool,
-) -> None:
+def optimize(study: str, **options: Any) -> None:
     """The best design of a STUDY file that names a machine (``machine = ...`` in [study]):
     its [optimize] objective over its parameter box under its constraints, every population or
     gradient solved as one batch of designs."""
     from excavkin.cli.commands.optimize import optimize_machine_study
     from excavkin.excavator.study import load_machine_study
 
-    spec = load_machine_study(model_path(study, "study"))
-    optimize_machine_study(spec, method, output, plot, machine_out, force, quiet)
-
-
-@command.command("report")
-@click.argument("machine", type=click.Path(dir_okay=False))
-@click.option(
-    "--samples",
-    default=21,
-    show_default=True,
-    type=click.IntRange(min=2, max=51),
-    help="Grid points per stroke of the force-map and pin-load sweeps.",
-)
-@report_options
-@handle_errors
-def report(machine: str, samples: int, out: str | None, force: bool, quiet: bool) -> None:
-    """Write a self-contained HTML spec sheet of MACHINE: working ranges, tool forces,
-    stability and lift capacity, pin loads, cycle, their charts and the moving front."""
-    import shlex
-
-    from excavkin.cli.machine_report import report_target, write_report
-    from excavkin.excavator.report import machine_report
-
-    m = _machine(machine)
-    target = report_target(machine, out, force)
-    line = f"excavkin excavator report {shlex.quote(machine)} --samples {samples}"
-    write_report(
-        lambda progress: machine_report(m, samples=samples, command=line, progress=progress),
-        target,
-        force=force,
-        quiet=quiet,
-    )
+    optimize_machine_study(load_machine_study(model_path(study, "study")), **options)

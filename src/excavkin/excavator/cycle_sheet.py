@@ -93,9 +93,8 @@ class CycleSheet:
             ``section`` (``stroke``, ``cycle``, ``power``, ``buckling``) and each section's
             columns; its ``attrs`` name the machine and each column's kind.
         """
-        import pandas as pd
 
-        from excavkin.kinematics.columns import kinds_attrs
+        from excavkin.kinematics.columns import kinds_frame
 
         rows: list[dict[str, Any]] = [
             {
@@ -139,10 +138,7 @@ class CycleSheet:
             for case, checks in self.buckling
             for b in checks
         ]
-        frame = pd.DataFrame(rows)
-        kinds = {c: k for c, k in FRAME_KINDS.items() if c in frame}
-        frame.attrs.update(kinds_attrs(self.machine.name, kinds))
-        return frame
+        return kinds_frame(rows, FRAME_KINDS, self.machine.name)
 
     def sections(self) -> dict[str, str]:
         """The printout of ``excavkin excavator cycle``, section by section.

@@ -42,11 +42,12 @@ from excavkin.excavator.forces import At, Working
 from excavkin.excavator.machine import ROLES, Machine, as_lengths, direction_angle, wrap_angle
 from excavkin.kinematics import KinematicResult
 from excavkin.machinery.capped_force import capped_force
-
-#: the cylinder entries that are parameters
-CYLINDER_KEYS: tuple[str, ...] = ("bore", "rod", "retracted", "stroke")
-#: the circuit entries that are parameters
-CIRCUIT_KEYS: tuple[str, ...] = ("working", "relief")
+from excavkin.machinery.designs import (
+    CIRCUIT_KEYS,
+    CYLINDER_KEYS,
+    cylinder_parameters,
+    design_cylinders,
+)
 
 
 def machine_parameters(machine: Machine) -> dict[str, float]:
@@ -66,12 +67,7 @@ def machine_parameters(machine: Machine) -> dict[str, float]:
         ``relief`` pressure (Pa).
     """
     out = dict(machine.mechanism.parameters)
-    for c in machine.cylinders:
-        for key in CYLINDER_KEYS:
-            out[f"cylinders.{c.role}.{key}"] = float(getattr(c, key))
-    for name, circ in machine.circuits.items():
-        for key in CIRCUIT_KEYS:
-            out[f"circuits.{name}.{key}"] = float(getattr(circ, key))
+    out.update(cylinder_parameters(machine.cylinders, machine.circuits))
     return out
 
 
@@ -373,27 +369,7 @@ def design_machine(machine: Machine, params: Mapping[str, float]) -> Machine:
         model, points=points, bodies=tuple(bodies[b.name] for b in model.bodies)
     )
 
-    def get(name: str, nominal: float) -> float:
-        return float(params.get(name, nominal))
-
-    cylinders = {
-        c.role: dataclasses.replace(
-            c,
-            bore=get(f"cylinders.{c.role}.bore", c.bore),
-            rod=get(f"cylinders.{c.role}.rod", c.rod),
-            retracted=get(f"cylinders.{c.role}.retracted", c.retracted),
-            stroke=get(f"cylinders.{c.role}.stroke", c.stroke),
-        )
-        for c in machine.cylinders
-    }
-    circuits = {
-        n: dataclasses.replace(
-            c,
-            working=get(f"circuits.{n}.working", c.working),
-            relief=get(f"circuits.{n}.relief", c.relief),
-        )
-        for n, c in machine.circuits.items()
-    }
+    cylinders, circuits = design_cylinders(machine.cylinders, machine.circuits, params)
     return Machine(
         Mechanism(rebuilt), machine.front, cylinders, circuits,
         ground_line=machine.ground_line, swing_axis=machine.swing_axis,

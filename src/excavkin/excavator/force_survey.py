@@ -27,7 +27,7 @@ from excavkin.excavator.forces import (
     rated_force,
     tool_forces,
 )
-from excavkin.excavator.machine import Machine
+from excavkin.excavator.machine import Machine, length_columns
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -91,9 +91,8 @@ class ToolForceSurvey:
             ``boom``, ``arm``, ``bucket`` (m), ``limited_by``; its ``attrs`` name the machine
             and each column's kind.
         """
-        import pandas as pd
 
-        from excavkin.kinematics.columns import kinds_attrs
+        from excavkin.kinematics.columns import kinds_frame
 
         rows = []
         for kind, std, gravity, r in self._rows():
@@ -112,16 +111,11 @@ class ToolForceSurvey:
                     "radius": radius,
                     "x": r.point[0],
                     "y": r.point[1],
-                    "boom": r.lengths[0],
-                    "arm": r.lengths[1],
-                    "bucket": r.lengths[2],
+                    **length_columns(r.lengths),
                     "limited_by": r.limiting,
                 }
             )
-        frame = pd.DataFrame(rows)
-        kinds = {c: k for c, k in FRAME_KINDS.items() if c in frame}
-        frame.attrs.update(kinds_attrs(self.machine.name, kinds))
-        return frame
+        return kinds_frame(rows, FRAME_KINDS, self.machine.name)
 
     def summary(self) -> str:
         """The forces as ``excavkin excavator forces`` prints them (kN; positions mm).

@@ -38,9 +38,9 @@ True
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -83,6 +83,7 @@ __all__ = [
     "forward",
     "inverse",
     "jacobian",
+    "length_columns",
     "pose_of",
     "transfer",
     "transmission_angles",
@@ -420,6 +421,21 @@ def _mass_points(machine: Machine) -> MassPoints:
 def as_lengths(lengths: ArrayLike) -> F:
     """Cylinder lengths as an array of shape (n, 3), boom, arm, bucket; refuses other shapes."""
     return cylinder_lengths(lengths, ROLES)
+
+
+def length_columns(lengths: Sequence[float] | F) -> dict[str, Any]:
+    """A table row's cylinder lengths: ``boom``, ``arm``, ``bucket`` (m).
+
+    Parameters
+    ----------
+    lengths : sequence of float, shape (3,)
+        Boom, arm and bucket lengths.
+
+    Returns
+    -------
+    dict of str to float
+    """
+    return dict(zip(ROLES, (lengths[0], lengths[1], lengths[2]), strict=True))
 
 
 def direction_angle(v: F) -> F:

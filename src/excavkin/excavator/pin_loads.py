@@ -41,7 +41,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.excavator.forces import At, tool_forces
 from excavkin.excavator.lift import hydraulic_lift
-from excavkin.excavator.machine import ROLES, Machine, as_lengths
+from excavkin.excavator.machine import ROLES, Machine, as_lengths, length_columns
 from excavkin.kinematics.summary import batch_repr
 from excavkin.kinetostatics import ForceResult, PointForce
 from excavkin.machinery.pin_loads import first_largest, pin_forces
@@ -457,9 +457,8 @@ class WorkingRangePinLoads:
             ``pin_y`` (m), and the cylinder lengths ``boom``, ``arm``, ``bucket`` (m); its
             ``attrs`` name the machine and each column's kind.
         """
-        import pandas as pd
 
-        from excavkin.kinematics.columns import kinds_attrs
+        from excavkin.kinematics.columns import kinds_frame
 
         rows = [
             {
@@ -474,16 +473,11 @@ class WorkingRangePinLoads:
                 "y": mx.tool_point[1],
                 "pin_x": mx.bucket_pin[0],
                 "pin_y": mx.bucket_pin[1],
-                "boom": mx.lengths[0],
-                "arm": mx.lengths[1],
-                "bucket": mx.lengths[2],
+                **length_columns(mx.lengths),
             }
             for mx in self.maxima
         ]
-        frame = pd.DataFrame(rows)
-        kinds = {c: k for c, k in FRAME_KINDS.items() if c in frame}
-        frame.attrs.update(kinds_attrs(self.machine.name, kinds))
-        return frame
+        return kinds_frame(rows, FRAME_KINDS, self.machine.name)
 
     def summary(self) -> str:
         """The table of largest loads as ``excavkin excavator pins`` prints it (kN; mm).

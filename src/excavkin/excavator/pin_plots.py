@@ -13,8 +13,9 @@ import numpy as np
 
 from excavkin.excavator.machine import Machine
 from excavkin.excavator.pin_loads import CASES, LoadMaximum, PinLoads
-from excavkin.excavator.plots import ExcavatorPlot, figure_axes
+from excavkin.excavator.plots import ExcavatorPlot
 from excavkin.excavator.stability_plots import map_cells
+from excavkin.outputs.machine_plot import figure_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

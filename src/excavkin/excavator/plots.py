@@ -6,7 +6,6 @@ omitted), rejects unknown keyword arguments by signature, and returns a handle.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -14,79 +13,22 @@ import numpy as np
 from excavkin.excavator.forces import ToolForces
 from excavkin.excavator.machine import Machine, forward
 from excavkin.excavator.ranges import WorkingRanges
+from excavkin.outputs.machine_plot import MachinePlot, draw_pose, figure_axes, legend_box
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
 
 
-@dataclass(frozen=True, slots=True)
-class ExcavatorPlot:
-    """What a plot function drew.
-
-    Attributes
-    ----------
-    figure : matplotlib.figure.Figure
-    ax : matplotlib.axes.Axes
-    artists : dict of str to object
-    """
-
-    figure: Figure
-    ax: Axes
-    artists: dict[str, Any]
-
-
-def figure_axes(ax: Axes | None, size: tuple[float, float]) -> tuple[Figure, Axes]:
-    """The figure and axes to draw on: ``ax`` and its figure, or a new figure of ``size``
-    (inches) when ``ax`` is None.
-
-    Parameters
-    ----------
-    ax : Axes or None
-        The caller's axes.
-    size : (float, float)
-        Width and height of a new figure, in inches.
-
-    Returns
-    -------
-    (Figure, Axes)
-    """
-    import matplotlib.pyplot as plt
-
-    if ax is None:
-        fig, ax = plt.subplots(figsize=size, layout="constrained")
-        return fig, ax
-    return ax.figure, ax  # type: ignore[return-value]
+#: what an excavator plot function drew
+ExcavatorPlot = MachinePlot
 
 
 def draw_front(machine: Machine, lengths: np.ndarray, ax: Axes, **style: Any) -> list[Any]:
     """Draw the bodies and cylinders at one set of lengths (shape (3,)) as lines."""
     pose = forward(machine, np.asarray(lengths, dtype=np.float64).reshape(1, 3))
-    res = pose.result
-    plan = machine.mechanism.plan
-    xy = res.positions[0]
-    out = []
-    kw: dict[str, Any] = {"color": "0.25", "lw": 1.6, "zorder": 3} | style
-    for b in machine.mechanism.model.bodies:
-        if b.ground:
-            continue
-        idx = np.array([plan.points.index(p) for p in b.points])
-        if len(idx) > 2:  # outline: the points in order of angle about their centroid
-            c = xy[idx].mean(axis=0)
-            idx = idx[np.argsort(np.arctan2(xy[idx, 1] - c[1], xy[idx, 0] - c[0]))]
-            idx = np.r_[idx, idx[0]]
-        out += ax.plot(xy[idx, 0], xy[idx, 1], **kw)
-    for base, rod in machine.pins.cyl_ends:
-        i, j = plan.points.index(base), plan.points.index(rod)
-        out += ax.plot(
-            xy[[i, j], 0],
-            xy[[i, j], 1],
-            color="tab:orange",
-            lw=3.0,
-            zorder=2,
-            solid_capstyle="round",
-        )
-    return out
+    ends = machine.pins.cyl_ends
+    colors = ["tab:orange"] * len(ends)
+    return draw_pose(machine.mechanism, pose.result.positions[0], ax, ends, colors, **style)
 
 
 def plot_working_range(
@@ -160,17 +102,7 @@ def plot_working_range(
         legend.append(f"{tag}  {f.label}{code}: {f.value:.2f} m")
     lb = ranges.extra["level_bottom"]
     ax.plot(lb[:, 0], lb[:, 1], color="tab:green", lw=2.5, zorder=4)
-    ax.text(
-        0.01,
-        0.99,
-        "\n".join(legend),
-        transform=ax.transAxes,
-        fontsize=7.5,
-        va="top",
-        ha="left",
-        family="monospace",
-        bbox={"boxstyle": "round", "fc": "white", "ec": "0.7", "alpha": 0.9},
-    )
+    legend_box(ax, "\n".join(legend), fontsize=7.5, box={"ec": "0.7", "alpha": 0.9}, ha="left")
     ax.set_xlim(min(xmin, x0) - 0.8, right + 0.35 * len(marks) + 0.3)
     ymax = float(env[:, 1].max())
     ax.set_ylim(float(env[:, 1].min()) - 0.5, ymax + 0.35 * (ymax - g0))

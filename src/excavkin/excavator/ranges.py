@@ -47,6 +47,7 @@ from excavkin.excavator.machine import (
     direction_angle,
     forward,
     inverse,
+    length_columns,
     wrap_angle,
 )
 from excavkin.machinery.search import Evaluate, Progress, maximize_strokes, part
@@ -137,9 +138,7 @@ class WorkingRanges:
                 "value": f.value,
                 "x": f.tip[0],
                 "y": f.tip[1],
-                "boom": f.lengths[0],
-                "arm": f.lengths[1],
-                "bucket": f.lengths[2],
+                **length_columns(f.lengths),
                 "bucket_angle": f.bucket_angle,
                 "orientation": f.orientation,
             }

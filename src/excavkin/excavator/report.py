@@ -21,20 +21,16 @@ that bind them, named, and the wing's figures:
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from excavkin.excavator.machine import Machine
-from excavkin.outputs.machine_report import (
-    Cell,
-    Chart,
-    MachineReport,
-    Progress,
-    Section,
-    SectionSource,
-    Table,
-    Value,
-    collect,
-)
+from excavkin.outputs.machine_report import family_report, kg_value, kn_value, limit_name, mm_value
+from excavkin.outputs.machine_report.content import Chart, Section, SectionSource, Table, Value
+
+if TYPE_CHECKING:
+    from excavkin.outputs.machine_report import Cell, MachineReport, Progress
 
 __all__ = ["FAMILY", "machine_report", "report_sections"]
 
@@ -60,38 +56,6 @@ FRONT_POSES = (
 _STANDARDS = (("lip", "ISO 6015"), ("tip", "SAE J1179"))
 
 
-def _mm(v: float, key: str) -> Value:
-    return Value(float(v), "length", "mm", key=key)
-
-
-def _kn(v: float, key: str) -> Value:
-    return Value(float(v), "force", "kN", 1, key=key)
-
-
-def _kg(v: float, key: str) -> Value:
-    return Value(float(v), "mass", "kg", key=key)
-
-
-def limit_name(machine: Machine, limiting: str) -> str:
-    """A binding limit as the report names it: a cylinder's role becomes ``"boom cylinder"``.
-
-    Parameters
-    ----------
-    machine : Machine
-    limiting : str
-        As an analysis names it (a role, ``"tipping (LINE)"``, ``"slipping"``, several joined
-        by ``+``).
-
-    Returns
-    -------
-    str
-    """
-    roles = {c.role for c in machine.cylinders}
-    return " + ".join(
-        f"{p} cylinder" if p in roles else p for p in (x.strip() for x in limiting.split("+"))
-    )
-
-
 def identity(machine: Machine) -> tuple[tuple[str, Cell], ...]:
     """What the machine is: masses, the base, the tool.
 
@@ -104,22 +68,22 @@ def identity(machine: Machine) -> tuple[tuple[str, Cell], ...]:
     tuple of (str, Cell)
     """
     out: list[tuple[str, Cell]] = [
-        ("front (bodies and cylinders)", _kg(machine.front_mass, "mass.front")),
+        ("front (bodies and cylinders)", kg_value(machine.front_mass, "mass.front")),
     ]
     base = machine.base
     if base is not None:
         out += [
-            ("upper structure", _kg(base.upper.mass, "mass.upper")),
-            ("counterweight", _kg(base.counterweight.mass, "mass.counterweight")),
-            ("undercarriage", _kg(base.undercarriage.mass, "mass.undercarriage")),
-            ("operating mass", _kg(machine.front_mass + base.mass, "mass.operating")),
-            ("track length", _mm(base.track_length, "base.track_length")),
-            ("track gauge", _mm(base.gauge, "base.gauge")),
+            ("upper structure", kg_value(base.upper.mass, "mass.upper")),
+            ("counterweight", kg_value(base.counterweight.mass, "mass.counterweight")),
+            ("undercarriage", kg_value(base.undercarriage.mass, "mass.undercarriage")),
+            ("operating mass", kg_value(machine.front_mass + base.mass, "mass.operating")),
+            ("track length", mm_value(base.track_length, "base.track_length")),
+            ("track gauge", mm_value(base.gauge, "base.gauge")),
             ("ground friction", Value(base.friction, digits=2, key="base.friction")),
         ]
     out += [
-        ("tooth-tip radius", _mm(machine.tip_radius, "tool.tip_radius")),
-        ("lip radius", _mm(machine.lip_radius, "tool.lip_radius")),
+        ("tooth-tip radius", mm_value(machine.tip_radius, "tool.tip_radius")),
+        ("lip radius", mm_value(machine.lip_radius, "tool.lip_radius")),
         ("lift point", machine.lift_point),
     ]
     return tuple(out)
@@ -134,12 +98,12 @@ def _ranges(machine: Machine) -> tuple[Section, object]:
         (
             f.code,
             f.label,
-            _mm(f.value, f"ranges.{f.key}"),
-            _mm(f.tip[0], f"ranges.{f.key}.x"),
-            _mm(f.tip[1], f"ranges.{f.key}.y"),
-            _mm(f.lengths[0], f"ranges.{f.key}.boom"),
-            _mm(f.lengths[1], f"ranges.{f.key}.arm"),
-            _mm(f.lengths[2], f"ranges.{f.key}.bucket"),
+            mm_value(f.value, f"ranges.{f.key}"),
+            mm_value(f.tip[0], f"ranges.{f.key}.x"),
+            mm_value(f.tip[1], f"ranges.{f.key}.y"),
+            mm_value(f.lengths[0], f"ranges.{f.key}.boom"),
+            mm_value(f.lengths[1], f"ranges.{f.key}.arm"),
+            mm_value(f.lengths[2], f"ranges.{f.key}.bucket"),
         )
         for f in wr.figures
     )
@@ -194,17 +158,17 @@ def _forces(machine: Machine, samples: int) -> Section:
                 (
                     std,
                     working,
-                    _kn(r.force, f"{k}.force"),
-                    _kn(r.uncapped, f"{k}.own_limit"),
+                    kn_value(r.force, f"{k}.force"),
+                    kn_value(r.uncapped, f"{k}.own_limit"),
                     Value(r.moment, "torque", "kN*m", 1, f"{k}.moment"),
-                    _mm(r.radius, f"{k}.radius"),
+                    mm_value(r.radius, f"{k}.radius"),
                     r.limiting,
                 )
             )
             if r.limiting != r.working:
                 limits.append(
                     f"{std} {working} force: limited by the relief of the "
-                    f"{limit_name(machine, r.limiting)}"
+                    f"{limit_name(machine.cylinders, r.limiting)}"
                 )
     pose = sweep(machine, samples)
     charts = tuple(
@@ -265,17 +229,17 @@ def _stability(machine: Machine, samples: int) -> Section:
                 (
                     std,
                     working,
-                    _kn(r.rated.force, f"{k}.force"),
-                    _kn(r.hydraulic, f"{k}.hydraulic"),
-                    _kn(r.tipping, f"{k}.tipping"),
+                    kn_value(r.rated.force, f"{k}.force"),
+                    kn_value(r.hydraulic, f"{k}.hydraulic"),
+                    kn_value(r.tipping, f"{k}.tipping"),
                     r.tipping_line,
-                    _kn(r.slipping, f"{k}.slipping"),
+                    kn_value(r.slipping, f"{k}.slipping"),
                     r.rated.limiting,
                 )
             )
             limits.append(
                 f"{std} {working} force over the front: limited by "
-                f"{limit_name(machine, r.rated.limiting)}"
+                f"{limit_name(machine.cylinders, r.rated.limiting)}"
             )
     t = lift_table(machine)
     g = machine.gravity
@@ -287,11 +251,11 @@ def _stability(machine: Machine, samples: int) -> Section:
         k = f"lift.{h:.2f}"
         lift_rows.append(
             (
-                _mm(float(h), f"{k}.height"),
-                _mm(t.max_reach[i], f"{k}.radius"),
-                _kg(a.rated["front"][i] / g, f"{k}.front"),
+                mm_value(float(h), f"{k}.height"),
+                mm_value(t.max_reach[i], f"{k}.radius"),
+                kg_value(a.rated["front"][i] / g, f"{k}.front"),
                 "hydraulic" if a.hydraulic_limited["front"][i] else "tipping",
-                _kg(a.rated["side"][i] / g, f"{k}.side"),
+                kg_value(a.rated["side"][i] / g, f"{k}.side"),
                 "hydraulic" if a.hydraulic_limited["side"][i] else "tipping",
             )
         )
@@ -355,9 +319,9 @@ def _pins(machine: Machine, samples: int) -> Section:
         (
             mx.label,
             mx.kind,
-            _kn(mx.value, f"pins.{mx.name}.load"),
+            kn_value(mx.value, f"pins.{mx.name}.load"),
             mx.case,
-            _kn(mx.tool_force, f"pins.{mx.name}.tool_force"),
+            kn_value(mx.tool_force, f"pins.{mx.name}.tool_force"),
         )
         for mx in maxima
     )
@@ -491,23 +455,14 @@ def front_lengths(machine: Machine, ranges: object, steps: int = FRONT_STEPS) ->
 
 def _front(machine: Machine, ranges: object) -> Section:
     from excavkin.excavator.machine import forward
-    from excavkin.outputs.machine_report.parts import moving_front_chart
+    from excavkin.outputs.machine_report.parts import moving_front_section
 
-    pose = forward(machine, front_lengths(machine, ranges))
-    return Section(
-        "front",
-        "Moving front",
-        "",
+    return moving_front_section(
+        forward(machine, front_lengths(machine, ranges)).result,
         "The front over its range, through the poses of the working-range figures: reach at "
-        "ground, digging depth, digging reach, cutting height, dumping height. Drag the slider "
-        "or press Play; the box shows the cylinder lengths.",
-        charts=(
-            moving_front_chart(
-                pose.result,
-                caption="Through the working-range poses",
-                standard="ISO 7135 poses, engine kinematics",
-            ),
-        ),
+        "ground, digging depth, digging reach, cutting height, dumping height.",
+        caption="Through the working-range poses",
+        standard="ISO 7135 poses, engine kinematics",
     )
 
 
@@ -554,37 +509,30 @@ def machine_report(
     command: str = "",
     progress: Progress | None = None,
 ) -> MachineReport:
-    """The excavator's spec sheet, computed (module docstring).
+    """The excavator's spec sheet, computed (module docstring): its `report_sections` laid
+    out by [`family_report`][excavkin.outputs.machine_report.parts.family_report], with a note
+    for each section the machine file leaves out.
 
     Parameters
     ----------
     machine : Machine
     samples : int
         Grid points per stroke of the force-map and pin-load sweeps (2 to 101).
-    command : str
-        The command line that made it, for the record.
-    progress : callable, optional
+    command, progress
+        As `family_report`'s: the record of the command line that made it; the callback
         ``progress(done, total)`` after each section.
 
     Returns
     -------
     MachineReport
     """
-    from excavkin.outputs.machine_report.parts import cylinder_table
-
-    sections = collect(report_sections(machine, samples=samples), progress)
     notes = []
     if machine.base is None:
         notes.append("No base machine in the machine file: no stability section.")
     if machine.hydraulics is None:
         notes.append("No [hydraulics]: no cycle section.")
-    return MachineReport(
-        machine.name,
-        FAMILY,
-        str(machine.source or ""),
-        identity(machine),
-        sections,
-        command,
-        tuple(notes),
-        (cylinder_table(machine.cylinders, machine.circuits),),
-    )
+    sources = report_sections(machine, samples=samples)
+    return family_report(
+        machine, machine.name, FAMILY, identity(machine), sources, notes,
+        command=command, progress=progress,
+    )  # fmt: skip

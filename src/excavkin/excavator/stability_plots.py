@@ -13,7 +13,8 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.excavator.lift import LiftTable, lift_poses
 from excavkin.excavator.machine import Machine
-from excavkin.excavator.plots import ExcavatorPlot, draw_front, figure_axes
+from excavkin.excavator.plots import ExcavatorPlot, draw_front
+from excavkin.outputs.machine_plot import figure_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

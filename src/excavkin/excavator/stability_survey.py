@@ -24,7 +24,7 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.excavator.forces import At, Working
-from excavkin.excavator.machine import Machine
+from excavkin.excavator.machine import Machine, length_columns
 from excavkin.excavator.stability import BaseRatedForce, CappedToolForces, Over
 from excavkin.machinery.equilibrium import Stability
 
@@ -106,9 +106,8 @@ class StabilitySurvey:
             ``y`` and the cylinder lengths ``boom``, ``arm``, ``bucket`` (m), ``limited_by``;
             its ``attrs`` name the machine and each column's kind.
         """
-        import pandas as pd
 
-        from excavkin.kinematics.columns import kinds_attrs
+        from excavkin.kinematics.columns import kinds_frame
 
         rows = []
         for at, std in STANDARDS:
@@ -127,16 +126,11 @@ class StabilitySurvey:
                         "cylinders_only": r.cylinders_only.force,
                         "x": rf.point[0],
                         "y": rf.point[1],
-                        "boom": rf.lengths[0],
-                        "arm": rf.lengths[1],
-                        "bucket": rf.lengths[2],
+                        **length_columns(rf.lengths),
                         "limited_by": rf.limiting,
                     }
                 )
-        frame = pd.DataFrame(rows)
-        kinds = {c: k for c, k in FRAME_KINDS.items() if c in frame}
-        frame.attrs.update(kinds_attrs(self.machine.name, kinds))
-        return frame
+        return kinds_frame(rows, FRAME_KINDS, self.machine.name)
 
     def summary(self) -> str:
         """The stability as ``excavkin excavator stability`` prints it (forces kN, lengths

@@ -51,6 +51,7 @@ from excavkin.excavator.designs import (
 )
 from excavkin.excavator.forces import Working
 from excavkin.excavator.machine import Machine, as_lengths
+from excavkin.machinery.designs import Family
 from excavkin.studies import machine_study as ms
 from excavkin.studies.machine_study import MachineStudy, optimize_machine
 from excavkin.studies.metrics import Constraint, Metric, Poses
@@ -151,102 +152,47 @@ def evaluate_machine(
     return ms.evaluate_designs(FAMILY, machine, designs, as_lengths(lengths), metrics, constraints)
 
 
-class ExcavatorFamily:
-    """The excavator's side of a study of its machine's parameters
-    ([`DesignFamily`][excavkin.machinery.designs.DesignFamily]): the parameters of
-    [`machine_parameters`][excavkin.excavator.designs.machine_parameters], the columns
-    `COLUMNS` at cylinder lengths (``[poses]``)."""
+def _load(path: Path) -> Machine:
+    """The machine file's excavator."""
+    from excavkin.excavator.machine_file import load_machine
 
-    name: str = "excavator"
-    columns: Mapping[str, str] = COLUMNS
-    angles: frozenset[str] = ANGLES
-    posed: bool = True
-
-    def load(self, path: Path) -> Machine:
-        """The machine file's excavator.
-
-        Parameters
-        ----------
-        path : Path
-
-        Returns
-        -------
-        Machine
-        """
-        from excavkin.excavator.machine_file import load_machine
-
-        return load_machine(path)
-
-    def parameters(self, machine: Machine) -> dict[str, float]:
-        """[`machine_parameters`][excavkin.excavator.designs.machine_parameters].
-
-        Parameters
-        ----------
-        machine : Machine
-
-        Returns
-        -------
-        dict of str to float
-        """
-        return machine_parameters(machine)
-
-    def parameter_kind(self, name: str, machine: Machine) -> str:
-        """A parameter's physical kind.
-
-        Parameters
-        ----------
-        name : str
-        machine : Machine
-
-        Returns
-        -------
-        str
-        """
-        return machine_parameter_kind(name, machine)
-
-    def evaluate(
-        self, machine: Machine, lengths: F, params: Mapping[str, F], names: Sequence[str]
-    ) -> tuple[dict[str, F], NDArray[np.bool_]]:
-        """[`machine_columns`][excavkin.excavator.study.machine_columns].
-
-        Parameters
-        ----------
-        machine : Machine
-        lengths : ndarray, shape (n, 3)
-        params : mapping of str to ndarray, shape (n,)
-        names : sequence of str
-
-        Returns
-        -------
-        columns : dict of str to ndarray, shape (n,)
-        ok : ndarray of bool, shape (n,)
-        """
-        return machine_columns(machine, lengths, params, names)
+    return load_machine(path)
 
 
-#: the excavator as a family of designs
-FAMILY = ExcavatorFamily()
+#: The excavator as a family of designs ([`DesignFamily`][excavkin.machinery.designs.DesignFamily]):
+#: the parameters of [`machine_parameters`][excavkin.excavator.designs.machine_parameters],
+#: the columns `COLUMNS` at cylinder lengths (``[poses]``).
+FAMILY = Family(
+    "excavator",
+    COLUMNS,
+    ANGLES,
+    posed=True,
+    load=_load,
+    parameters=machine_parameters,
+    parameter_kind=machine_parameter_kind,
+    evaluate=machine_columns,
+)
 
 
 def load_machine_study(path: str | Path) -> MachineStudy:
-    """Read a study file whose ``[study]`` names an excavator ``machine`` (module docstring;
-    [`excavkin.studies.machine_study.load_machine_study`][] with the excavator's family).
+    """Read a study file whose ``[study]`` names an excavator ``machine`` (module docstring):
+    [`excavkin.studies.machine_study.load_machine_study`][] with the excavator's family.
 
     Parameters
     ----------
     path : str or pathlib.Path
-        The study file (TOML); its ``machine`` is a file beside it (a path from its folder)
-        or a built-in machine example's name.
+        The study file (TOML); its ``machine`` names an excavator's machine file beside it
+        or a built-in excavator example.
 
     Returns
     -------
     MachineStudy
-        The machine, the design bounds, poses, metrics, constraints and sampling, SI.
+        The excavator, its design bounds, poses, metrics, constraints and sampling, SI.
 
     Raises
     ------
     ModelError, UnitError
-        Naming the file, the table and the entry.
+        A wrong entry, named with its file and table.
     """
     return ms.load_machine_study(path, FAMILY)
 

@@ -18,6 +18,7 @@ import signal
 import stat
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from os import PathLike
 from pathlib import Path
 
 from excavkin.errors import ExcavkinError
@@ -171,6 +172,51 @@ def write_atomic(path: str | Path, writer: Callable[[Path], None]) -> Path:
             tmp.unlink(missing_ok=True)
             raise
     return p
+
+
+def write_toml_from(
+    source: str | PathLike[str],
+    out: str | PathLike[str],
+    text: Callable[[], str],
+    *,
+    force: bool,
+    itself: str,
+) -> Path:
+    """Write a ``.toml`` file made from ``source`` to ``out``, whole or not at all; never
+    over ``source`` itself.
+
+    Parameters
+    ----------
+    source : str or path-like
+        The file the text is made from.
+    out : str or path-like
+        The new file.
+    text : callable
+        ``text() -> str``: the file's text, made once the target is checked.
+    force : bool
+        Whether an existing ``out`` may be replaced.
+    itself : str
+        What the error says after ``out`` when it is ``source``.
+
+    Returns
+    -------
+    Path
+        The file written, ``out``.
+
+    Raises
+    ------
+    OutputError
+        ``out`` exists (without ``force``), is ``source``, or is not a ``.toml`` file.
+    """
+    target = check_target(Path(out), force=force, suffixes=(".toml",))
+    if target.exists() and target.resolve() == Path(source).resolve():
+        raise OutputError(f"{target} {itself}")
+    content = text()
+
+    def write(tmp: Path) -> None:
+        tmp.write_text(content, encoding="utf-8")
+
+    return write_atomic(target, write)
 
 
 def remove_leftovers(target: Path) -> list[Path]:

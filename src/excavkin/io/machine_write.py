@@ -131,28 +131,23 @@ def write_machine_file(
     out : str or Path
         The new file (``.toml``); never the machine file itself.
     force : bool
-        Replace ``out`` if it exists.
+        Replace an existing ``out``.
     note : str
-        A comment line saying where the values come from.
+        A comment saying where the values come from, written at the top.
 
     Returns
     -------
     Path
-        The file written.
+        The machine file written.
 
     Raises
     ------
     OutputError
         ``out`` exists (without ``force``), is the machine file, or is not a ``.toml`` file.
     """
-    from excavkin.io.files import OutputError, check_target, write_atomic
+    from excavkin.io.files import write_toml_from
 
-    target = check_target(Path(out), force=force, suffixes=(".toml",))
-    if target.exists() and target.resolve() == Path(path).resolve():
-        raise OutputError(f"{target} is the machine file itself; write the design elsewhere")
-    text = machine_text_with(path, values, kinds, mechanism, note)
-
-    def write(tmp: Path) -> None:
-        tmp.write_text(text, encoding="utf-8")
-
-    return write_atomic(target, write)
+    return write_toml_from(
+        path, out, lambda: machine_text_with(path, values, kinds, mechanism, note), force=force,
+        itself="is the machine file itself; write the design elsewhere",
+    )  # fmt: skip

@@ -127,31 +127,29 @@ def write_model(
     out : str or Path
         The new file (``.toml``); never the model file itself.
     force : bool
-        Replace ``out`` if it exists.
+        Whether ``out`` may be replaced.
     note : str
-        A comment line saying where the values come from.
+        The comment line at the top: where the values come from.
 
     Returns
     -------
     Path
-        The file written.
+        ``out``, written.
 
     Raises
     ------
     OutputError
         ``out`` exists (without ``force``), is the model file, or is not a ``.toml`` file.
     """
-    from excavkin.io.files import OutputError, check_target, write_atomic
+    from excavkin.io.files import write_toml_from
 
-    target = check_target(Path(out), force=force, suffixes=(".toml",))
-    if target.exists() and target.resolve() == Path(path).resolve():
-        raise OutputError(f"{target} is the model file itself; write the design to another file")
-    text = model_text_with(path, values, note)
-
-    def write(tmp: Path) -> None:
-        tmp.write_text(text, encoding="utf-8")
-
-    return write_atomic(target, write)
+    return write_toml_from(
+        path,
+        out,
+        lambda: model_text_with(path, values, note),
+        force=force,
+        itself="is the model file itself; write the design to another file",
+    )
 
 
 def _entry(data: dict[str, Any], name: str, source: str) -> tuple[Any, Any, str]:

@@ -12,7 +12,10 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 OwnerKind = Literal["time", "point", "body", "driver", "pin", "slider", "other"]
 
@@ -187,3 +190,29 @@ def table_attrs(model: str, columns: Iterable[Column]) -> dict[str, object]:
 def kinds_attrs(model: str, kinds: Mapping[str, str]) -> dict[str, object]:
     """``frame.attrs`` for a table whose columns' kinds are given by name."""
     return {"excavkin.model": model, "excavkin.kinds": dict(kinds)}
+
+
+def kinds_frame(
+    rows: Iterable[Mapping[str, object]], kinds: Mapping[str, str], model: str
+) -> pd.DataFrame:
+    """A table of ``rows`` whose ``frame.attrs`` keep the model's name and the kinds of the
+    columns of ``kinds`` it has (`kinds_attrs`).
+
+    Parameters
+    ----------
+    rows : iterable of mapping
+        One mapping a row, column → value.
+    kinds : mapping of str to str
+        Column → its kind; columns the table lacks are left out.
+    model : str
+        The model's (machine's) name.
+
+    Returns
+    -------
+    pandas.DataFrame
+    """
+    import pandas as pd
+
+    frame = pd.DataFrame(list(rows))
+    frame.attrs.update(kinds_attrs(model, {c: k for c, k in kinds.items() if c in frame}))
+    return frame

@@ -8,16 +8,15 @@ title names the standard the figure follows; every limit drawn is named.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from excavkin.loader.machine import Loader
+from excavkin.outputs.machine_plot import MachinePlot, draw_pose, figure_axes, legend_box
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
 
     from excavkin.loader.breakout import Breakout
     from excavkin.loader.capacity import Capacity
@@ -33,29 +32,8 @@ LIFT_COLOR, TILT_COLOR = "tab:blue", "tab:green"
 GROUND_COLOR = "saddlebrown"
 
 
-@dataclass(frozen=True, slots=True)
-class LoaderPlot:
-    """What a plot function drew.
-
-    Attributes
-    ----------
-    figure : matplotlib.figure.Figure
-    ax : matplotlib.axes.Axes
-    artists : dict of str to object
-    """
-
-    figure: Figure
-    ax: Axes
-    artists: dict[str, Any]
-
-
-def _figure_axes(ax: Axes | None, size: tuple[float, float]) -> tuple[Figure, Axes]:
-    import matplotlib.pyplot as plt
-
-    if ax is None:
-        fig, ax = plt.subplots(figsize=size, layout="constrained")
-        return fig, ax
-    return ax.figure, ax  # type: ignore[return-value]
+#: what a loader plot function drew (`figure`, `ax`, `artists`)
+LoaderPlot = MachinePlot
 
 
 def draw_linkage(machine: Loader, lengths: Any, ax: Axes, **style: Any) -> list[Any]:
@@ -79,32 +57,11 @@ def draw_linkage(machine: Loader, lengths: Any, ax: Axes, **style: Any) -> list[
     res = machine.solve(np.asarray(lengths, dtype=np.float64).reshape(1, 2))
     if not bool(res.status.ok[0]):
         return []
-    xy = res.positions[0]
-    plan = machine.mechanism.plan
-    out: list[Any] = []
-    kw: dict[str, Any] = {"color": "0.25", "lw": 1.6, "zorder": 3} | style
-    for b in machine.mechanism.model.bodies:
-        if b.ground:
-            continue
-        idx = np.array([plan.points.index(p) for p in b.points])
-        if len(idx) > 2:  # outline: the points in order of angle about their centroid
-            c = xy[idx].mean(axis=0)
-            idx = idx[np.argsort(np.arctan2(xy[idx, 1] - c[1], xy[idx, 0] - c[0]))]
-            idx = np.r_[idx, idx[0]]
-        out += ax.plot(xy[idx, 0], xy[idx, 1], **kw)
-    alpha = style.get("alpha", 1.0)
-    for (base, rod), color in zip(machine.pins.cyl_ends, (LIFT_COLOR, TILT_COLOR), strict=True):
-        i, j = plan.points.index(base), plan.points.index(rod)
-        out += ax.plot(
-            xy[[i, j], 0],
-            xy[[i, j], 1],
-            color=color,
-            lw=3.0,
-            alpha=alpha,
-            zorder=2,
-            solid_capstyle="round",
-        )
-    return out
+    ends = machine.pins.cyl_ends
+    return draw_pose(
+        machine.mechanism, res.positions[0], ax, ends, (LIFT_COLOR, TILT_COLOR),
+        cylinder_alpha=style.get("alpha", 1.0), **style,
+    )  # fmt: skip
 
 
 def draw_chassis(machine: Loader, ax: Axes) -> list[Any]:
@@ -144,12 +101,13 @@ def plot_dimensions(machine: Loader, dims: Dimensions, *, ax: Axes | None = None
     dims : Dimensions
         From [`dimensions`][excavkin.loader.dimensions.dimensions].
     ax : matplotlib Axes, optional
+        Where to draw; a new figure when omitted.
 
     Returns
     -------
     LoaderPlot
     """
-    fig, ax = _figure_axes(ax, (10.0, 5.6))
+    fig, ax = figure_axes(ax, (10.0, 5.6))
     art: dict[str, Any] = {"chassis": draw_chassis(machine, ax)}
     by = {f.name: f for f in dims.figures}
     yg = machine.ground_line
@@ -222,16 +180,7 @@ def plot_dimensions(machine: Loader, dims: Dimensions, *, ax: Axes | None = None
         for f in dims.figures
         if f.unit == "rad" or f.name == "digging depth"
     ]
-    ax.text(
-        0.01,
-        0.99,
-        "\n".join(lines),
-        transform=ax.transAxes,
-        fontsize=8,
-        va="top",
-        family="monospace",
-        bbox={"boxstyle": "round", "fc": "white", "ec": "0.8"},
-    )
+    legend_box(ax, "\n".join(lines), fontsize=8, box={"ec": "0.8"})
     if math.isfinite(digging.value):
         art["depth"] = ax.axhline(yg - digging.value, color="0.5", lw=0.8, ls="--")
     ax.set_aspect("equal")
@@ -270,7 +219,7 @@ def plot_breakout(bo: Breakout, *, ax: Axes | None = None) -> LoaderPlot:
     LoaderPlot
         ``artists["bars"]`` maps ``(circuit, limit)`` to its bar.
     """
-    fig, ax = _figure_axes(ax, (8.0, 4.2))
+    fig, ax = figure_axes(ax, (8.0, 4.2))
     art: dict[str, Any] = {"bars": {}}
     limits = (
         ("working", "working cylinder at working pressure", "0.75"),
@@ -324,7 +273,7 @@ def plot_tipping(tl: TippingLoad, *, ax: Axes | None = None) -> LoaderPlot:
     LoaderPlot
         ``artists["bars"]`` the two cases' bars, ``artists["roc"]`` the ROC line.
     """
-    fig, ax = _figure_axes(ax, (7.0, 4.2))
+    fig, ax = figure_axes(ax, (7.0, 4.2))
     cases = (tl.straight, tl.full_turn)
     names = [
         "straight",
@@ -375,7 +324,7 @@ def plot_capacity(cap: Capacity, *, ax: Axes | None = None) -> LoaderPlot:
     LoaderPlot
         ``artists`` the ``"lift"``, ``"rollback"`` and ``"tipping"`` curves.
     """
-    fig, ax = _figure_axes(ax, (8.0, 5.0))
+    fig, ax = figure_axes(ax, (8.0, 5.0))
     h = cap.hinge_height * 1e3
     art: dict[str, Any] = {}
     (art["tipping"],) = ax.plot(
@@ -438,7 +387,7 @@ def plot_parallel_lift(pl: ParallelLift, *, ax: Axes | None = None) -> LoaderPlo
     LoaderPlot
         ``artists["angle"]`` the curve.
     """
-    fig, ax = _figure_axes(ax, (7.0, 4.5))
+    fig, ax = figure_axes(ax, (7.0, 4.5))
     deg = np.degrees(pl.angle)
     h = pl.hinge_height * 1e3
     (curve,) = ax.plot(h, deg, color=TILT_COLOR, lw=2.0, label="bucket floor angle")
@@ -480,7 +429,7 @@ def plot_cycle(cy: Cycle, *, ax: Axes | None = None) -> LoaderPlot:
     LoaderPlot
         ``artists["bars"]`` the phases' bars.
     """
-    fig, ax = _figure_axes(ax, (8.0, 3.6))
+    fig, ax = figure_axes(ax, (8.0, 3.6))
     names = [p.name for p in cy.phases]
     times = [p.time for p in cy.phases]
     colors = [LIFT_COLOR if p.role == "lift" else TILT_COLOR for p in cy.phases]
@@ -522,7 +471,7 @@ def plot_pins(pins: LoaderPins, *, ax: Axes | None = None) -> LoaderPlot:
         ``artists["bars"]`` maps each case to its bars.
     """
     names = pins.cases[0].pins
-    fig, ax = _figure_axes(ax, (8.5, 1.2 + 0.55 * len(names)))
+    fig, ax = figure_axes(ax, (8.5, 1.2 + 0.55 * len(names)))
     y = np.arange(len(names), dtype=np.float64)
     width = 0.8 / len(pins.cases)
     art: dict[str, Any] = {"bars": {}}

@@ -19,21 +19,16 @@ that bind it, named, and its ``plot()``:
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from excavkin.loader.machine import Loader
-from excavkin.outputs.machine_report import (
-    Cell,
-    Chart,
-    MachineReport,
-    Progress,
-    Section,
-    SectionSource,
-    Table,
-    Value,
-    collect,
-)
+from excavkin.outputs.machine_report import family_report, kg_value, kn_value, limit_name, mm_value
+from excavkin.outputs.machine_report.content import Chart, Section, SectionSource, Table, Value
+
+if TYPE_CHECKING:
+    from excavkin.outputs.machine_report import Cell, MachineReport, Progress
 
 __all__ = ["FAMILY", "machine_report", "report_sections"]
 
@@ -47,66 +42,37 @@ SAMPLES = 41
 FRONT_STEPS = 20
 
 
-def _mm(v: float, key: str) -> Value:
-    return Value(float(v), "length", "mm", key=key)
-
-
-def _kn(v: float, key: str) -> Value:
-    return Value(float(v), "force", "kN", 1, key=key)
-
-
-def _kg(v: float, key: str) -> Value:
-    return Value(float(v), "mass", "kg", key=key)
-
-
-def limit_name(machine: Loader, limiting: str) -> str:
-    """A binding limit as the report names it: a cylinder's role becomes ``"tilt cylinder"``.
-
-    Parameters
-    ----------
-    machine : Loader
-    limiting : str
-        As an analysis names it (a role, ``"tipping (LINE)"``, roles joined by ``+``).
-
-    Returns
-    -------
-    str
-    """
-    roles = {c.role for c in machine.cylinders}
-    return " + ".join(
-        f"{p} cylinder" if p in roles else p for p in (x.strip() for x in limiting.split("+"))
-    )
-
-
 def identity(machine: Loader) -> tuple[tuple[str, Cell], ...]:
     """What the machine is: masses, bucket, chassis.
 
     Parameters
     ----------
     machine : Loader
+        The loader whose masses, bucket and chassis are listed.
 
     Returns
     -------
     tuple of (str, Cell)
+        Each figure's name and value, in the order the report lists them.
     """
     ch, b = machine.chassis, machine.bucket
     return (
-        ("operating mass", _kg(machine.mass, "mass.operating")),
-        ("linkage (bodies and cylinders)", _kg(machine.linkage_mass, "mass.linkage")),
-        ("front frame", _kg(ch.front_frame.mass, "mass.front_frame")),
-        ("rear frame", _kg(ch.rear_frame.mass, "mass.rear_frame")),
-        ("counterweight", _kg(ch.counterweight.mass, "mass.counterweight")),
+        ("operating mass", kg_value(machine.mass, "mass.operating")),
+        ("linkage (bodies and cylinders)", kg_value(machine.linkage_mass, "mass.linkage")),
+        ("front frame", kg_value(ch.front_frame.mass, "mass.front_frame")),
+        ("rear frame", kg_value(ch.rear_frame.mass, "mass.rear_frame")),
+        ("counterweight", kg_value(ch.counterweight.mass, "mass.counterweight")),
         ("bucket rated capacity (ISO 7546)", Value(b.capacity, "", "m^3", 2, "bucket.capacity")),
-        ("bucket width", _mm(b.width, "bucket.width")),
-        ("wheelbase", _mm(ch.wheelbase, "chassis.wheelbase")),
-        ("tread", _mm(ch.tread, "chassis.tread")),
-        ("tyre static loaded radius", _mm(ch.tyre_radius, "chassis.tyre_radius")),
+        ("bucket width", mm_value(b.width, "bucket.width")),
+        ("wheelbase", mm_value(ch.wheelbase, "chassis.wheelbase")),
+        ("tread", mm_value(ch.tread, "chassis.tread")),
+        ("tyre static loaded radius", mm_value(ch.tyre_radius, "chassis.tyre_radius")),
         (
             "largest articulation",
             Value(ch.max_articulation, "angle", "deg", 1, "chassis.max_articulation"),
         ),
         ("rear axle", "oscillating" if ch.oscillating else "rigid"),
-        ("carry height (hinge pin)", _mm(machine.carry_height, "carry_height")),
+        ("carry height (hinge pin)", mm_value(machine.carry_height, "carry_height")),
     )
 
 
@@ -119,15 +85,15 @@ def _dimensions(machine: Loader) -> Section:
         v = (
             Value(f.value, "angle", "deg", 1, key=f"dimensions.{f.name}")
             if f.unit == "rad"
-            else _mm(f.value, f"dimensions.{f.name}")
+            else mm_value(f.value, f"dimensions.{f.name}")
         )
         rows.append(
             (
                 f.name,
                 v,
                 "deg" if f.unit == "rad" else "mm",
-                _mm(f.lengths[0], f"dimensions.{f.name}.lift_cyl"),
-                _mm(f.lengths[1], f"dimensions.{f.name}.tilt_cyl"),
+                mm_value(f.lengths[0], f"dimensions.{f.name}.lift_cyl"),
+                mm_value(f.lengths[1], f"dimensions.{f.name}.tilt_cyl"),
                 f.definition,
             )
         )
@@ -167,7 +133,7 @@ def _parallel_lift(machine: Loader, samples: int) -> Section:
         "Bucket angle over the lift, tilt cylinder held",
         ("figure", "value", "unit"),
         (
-            ("tilt cylinder held at", _mm(p.tilt, "parallel_lift.tilt"), "mm"),
+            ("tilt cylinder held at", mm_value(p.tilt, "parallel_lift.tilt"), "mm"),
             (
                 "change, ground to full lift (> 0 rolls back)",
                 Value(p.change, "angle", "deg", 2, "parallel_lift.change"),
@@ -180,7 +146,7 @@ def _parallel_lift(machine: Loader, samples: int) -> Section:
             ),
             (
                 "hinge-pin height at the largest deviation",
-                _mm(p.hinge_height[k], "parallel_lift.deviation_height"),
+                mm_value(p.hinge_height[k], "parallel_lift.deviation_height"),
                 "mm",
             ),
         ),
@@ -216,16 +182,16 @@ def _breakout(machine: Loader) -> Section:
             (
                 r.circuit,
                 r.pivot,
-                _kn(r.force, f"{k}.force"),
-                _kn(r.working, f"{k}.working"),
-                _kn(r.hydraulic, f"{k}.hydraulic"),
-                _kn(r.tipping, f"{k}.tipping"),
+                kn_value(r.force, f"{k}.force"),
+                kn_value(r.working, f"{k}.working"),
+                kn_value(r.hydraulic, f"{k}.hydraulic"),
+                kn_value(r.tipping, f"{k}.tipping"),
                 r.limiting,
             )
         )
         limits.append(
             f"breakout through the {r.circuit} circuit: limited by "
-            f"{limit_name(machine, r.limiting)}"
+            f"{limit_name(machine.cylinders, r.limiting)}"
         )
     return Section(
         "forces",
@@ -275,16 +241,16 @@ def _stability(machine: Loader, samples: int) -> Section:
             (
                 c.name,
                 Value(c.articulation, "angle", "deg", 1, f"{name}.articulation"),
-                _kg(c.load, f"{name}.load"),
+                kg_value(c.load, f"{name}.load"),
                 c.line,
-                _mm(c.lengths[0], f"{name}.lift_cyl"),
+                mm_value(c.lengths[0], f"{name}.lift_cyl"),
             )
         )
     rows.append(
         (
             "rated operating capacity (50 % of full turn, SAE J818)",
             "",
-            _kg(tl.rated_operating_capacity, "tipping.rated_operating_capacity"),
+            kg_value(tl.rated_operating_capacity, "tipping.rated_operating_capacity"),
             "",
             "",
         )
@@ -294,14 +260,14 @@ def _stability(machine: Loader, samples: int) -> Section:
     cap_rows = (
         (
             "lift capacity to full height",
-            _kg(cap.to_full_height, "capacity.to_full_height"),
-            _mm(cap.hinge_height[k], "capacity.to_full_height.hinge_height"),
+            kg_value(cap.to_full_height, "capacity.to_full_height"),
+            mm_value(cap.hinge_height[k], "capacity.to_full_height.hinge_height"),
             str(cap.lift_limit[k]),
         ),
         (
             "least rollback capacity",
-            _kg(cap.rollback[j], "capacity.least_rollback"),
-            _mm(cap.hinge_height[j], "capacity.least_rollback.hinge_height"),
+            kg_value(cap.rollback[j], "capacity.least_rollback"),
+            mm_value(cap.hinge_height[j], "capacity.least_rollback.hinge_height"),
             str(cap.rollback_limit[j]),
         ),
     )
@@ -345,8 +311,10 @@ def _stability(machine: Loader, samples: int) -> Section:
         (
             f"rated operating capacity: 50 % of the full-turn tipping load, about the "
             f"{tl.full_turn.line}",
-            f"lift capacity to full height: limited by {limit_name(machine, cap.lift_limit[k])}",
-            f"least rollback capacity: limited by {limit_name(machine, cap.rollback_limit[j])}",
+            "lift capacity to full height: limited by "
+            + limit_name(machine.cylinders, cap.lift_limit[k]),
+            "least rollback capacity: limited by "
+            + limit_name(machine.cylinders, cap.rollback_limit[j]),
         ),
     )
 
@@ -365,7 +333,7 @@ def _cycle(machine: Loader) -> Section:
                 f"{p.role} {p.direction}",
                 Value(p.flow, "volume_flow", "L/min", key=f"{k}.flow"),
                 Value(p.time, "time", "s", 2, f"{k}.time"),
-                _kg(p.load, f"{k}.load"),
+                kg_value(p.load, f"{k}.load"),
                 Value(p.pressure, "pressure", "MPa", 1, f"{k}.pressure"),
                 Value(p.power, "power", "kW", 1, f"{k}.power"),
             )
@@ -418,9 +386,9 @@ def _pins(machine: Loader, samples: int) -> Section:
     rows = tuple(
         (
             pl.labels.get(pin, pin),
-            _kn(load, f"pins.{pin}.load"),
+            kn_value(load, f"pins.{pin}.load"),
             case,
-            _mm(h, f"pins.{pin}.hinge_height"),
+            mm_value(h, f"pins.{pin}.hinge_height"),
         )
         for pin, load, case, h in pl.largest()
     )
@@ -476,24 +444,42 @@ def front_lengths(machine: Loader, steps: int = FRONT_STEPS) -> np.ndarray:
 
 
 def _front(machine: Loader) -> Section:
-    from excavkin.outputs.machine_report.parts import moving_front_chart
+    from excavkin.outputs.machine_report.parts import moving_front_section
 
-    res = machine.solve(front_lengths(machine))
-    return Section(
-        "front",
-        "Moving front",
-        "",
+    text = (
         "The linkage over its range: the rolled-back bucket raised from the ground pose to "
-        "full lift, dumped, rolled back and lowered. Drag the slider or press Play; the box "
-        "shows the cylinder lengths.",
-        charts=(
-            moving_front_chart(
-                res,
-                caption="Raise, dump, roll back, lower",
-                standard="engine kinematics",
-            ),
-        ),
+        "full lift, dumped, rolled back and lowered."
     )
+    res = machine.solve(front_lengths(machine))
+    return moving_front_section(
+        res, text, caption="Raise, dump, roll back, lower", standard="engine kinematics"
+    )
+
+
+def machine_report(
+    machine: Loader, *, samples: int = SAMPLES, command: str = "", progress: Progress | None = None
+) -> MachineReport:
+    """The loader's spec sheet, computed (module docstring): `report_sections` through
+    [`family_report`][excavkin.outputs.machine_report.parts.family_report].
+
+    Parameters
+    ----------
+    machine : Loader
+    samples : int
+        Lift lengths of the capacity, parallel-lift and pin-load sweeps (at least 2).
+    command, progress
+        As [`family_report`][excavkin.outputs.machine_report.parts.family_report]'s: the
+        command line that made it; ``progress(done, total)`` after each section.
+
+    Returns
+    -------
+    MachineReport
+    """
+    notes = () if machine.hydraulics is not None else ("No [hydraulics]: no cycle section.",)
+    return family_report(
+        machine, machine.name, FAMILY, identity(machine),
+        report_sections(machine, samples=samples), notes, command=command, progress=progress,
+    )  # fmt: skip
 
 
 def report_sections(machine: Loader, *, samples: int = SAMPLES) -> tuple[SectionSource, ...]:
@@ -526,42 +512,3 @@ def report_sections(machine: Loader, *, samples: int = SAMPLES) -> tuple[Section
         SectionSource("front", "moving front", lambda: _front(machine)),
     ]
     return tuple(out)
-
-
-def machine_report(
-    machine: Loader,
-    *,
-    samples: int = SAMPLES,
-    command: str = "",
-    progress: Progress | None = None,
-) -> MachineReport:
-    """The loader's spec sheet, computed (module docstring).
-
-    Parameters
-    ----------
-    machine : Loader
-    samples : int
-        Lift lengths of the capacity, parallel-lift and pin-load sweeps (at least 2).
-    command : str
-        The command line that made it, for the record.
-    progress : callable, optional
-        ``progress(done, total)`` after each section.
-
-    Returns
-    -------
-    MachineReport
-    """
-    from excavkin.outputs.machine_report.parts import cylinder_table
-
-    sections = collect(report_sections(machine, samples=samples), progress)
-    notes = () if machine.hydraulics is not None else ("No [hydraulics]: no cycle section.",)
-    return MachineReport(
-        machine.name,
-        FAMILY,
-        str(machine.source or ""),
-        identity(machine),
-        sections,
-        command,
-        notes,
-        (cylinder_table(machine.cylinders, machine.circuits),),
-    )

@@ -53,7 +53,13 @@ from numpy.typing import NDArray
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import ExcavkinError
 from excavkin.loader.machine import Loader
-from excavkin.machinery.designs import model_parameter, model_with
+from excavkin.machinery.designs import (
+    Family,
+    cylinder_parameters,
+    design_cylinders,
+    model_parameter,
+    model_with,
+)
 from excavkin.studies import machine_study as ms
 from excavkin.studies.machine_study import MachineStudy, optimize_machine
 
@@ -63,10 +69,6 @@ if TYPE_CHECKING:
     from excavkin.studies.metrics import Constraint, Metric
     from excavkin.studies.optimize import Optimum
 
-#: the cylinder entries that are parameters
-CYLINDER_KEYS: tuple[str, ...] = ("bore", "rod", "retracted", "stroke")
-#: the circuit entries that are parameters
-CIRCUIT_KEYS: tuple[str, ...] = ("working", "relief")
 #: the chassis entries that are parameters, and their kinds
 CHASSIS_KEYS: dict[str, str] = {"chassis.counterweight.mass": "mass"}
 
@@ -130,12 +132,7 @@ def loader_parameters(machine: Loader) -> dict[str, float]:
     """
     model = machine.mechanism.model
     out = {k: v for k, v in machine.mechanism.parameters.items() if model_parameter(model, k)}
-    for c in machine.cylinders:
-        for key in CYLINDER_KEYS:
-            out[f"cylinders.{c.role}.{key}"] = float(getattr(c, key))
-    for name, circ in machine.circuits.items():
-        for key in CIRCUIT_KEYS:
-            out[f"circuits.{name}.{key}"] = float(getattr(circ, key))
+    out.update(cylinder_parameters(machine.cylinders, machine.circuits))
     out["chassis.counterweight.mass"] = float(machine.chassis.counterweight.mass)
     return out
 
@@ -197,31 +194,13 @@ def design_loader(machine: Loader, params: Mapping[str, float]) -> Loader:
         if name not in known:
             raise unknown_name("parameter", name, list(known))
 
-    def get(name: str, nominal: float) -> float:
-        return float(params.get(name, nominal))
-
-    cylinders = {
-        c.role: dataclasses.replace(
-            c,
-            bore=get(f"cylinders.{c.role}.bore", c.bore),
-            rod=get(f"cylinders.{c.role}.rod", c.rod),
-            retracted=get(f"cylinders.{c.role}.retracted", c.retracted),
-            stroke=get(f"cylinders.{c.role}.stroke", c.stroke),
-        )
-        for c in machine.cylinders
-    }
-    circuits = {
-        n: dataclasses.replace(
-            c,
-            working=get(f"circuits.{n}.working", c.working),
-            relief=get(f"circuits.{n}.relief", c.relief),
-        )
-        for n, c in machine.circuits.items()
-    }
+    cylinders, circuits = design_cylinders(machine.cylinders, machine.circuits, params)
     cw = machine.chassis.counterweight
     chassis = dataclasses.replace(
         machine.chassis,
-        counterweight=dataclasses.replace(cw, mass=get("chassis.counterweight.mass", cw.mass)),
+        counterweight=dataclasses.replace(
+            cw, mass=float(params.get("chassis.counterweight.mass", cw.mass))
+        ),
     )
     return Loader(
         Mechanism(model_with(machine.mechanism.model, params)), machine.linkage, cylinders,
@@ -342,91 +321,37 @@ def loader_columns(
     return {k: np.asarray(at[:, j]) for j, k in enumerate(names)}, ok
 
 
-class LoaderFamily:
-    """The loader's side of a study of its machine's parameters
-    ([`DesignFamily`][excavkin.machinery.designs.DesignFamily]): the parameters of
-    `loader_parameters`, the columns `COLUMNS`, no poses."""
+def _load(path: Path) -> Loader:
+    """The machine file's loader."""
+    from excavkin.loader.machine_file import load_machine
 
-    name: str = "loader"
-    columns: Mapping[str, str] = COLUMNS
-    angles: frozenset[str] = ANGLES
-    posed: bool = False
-
-    def load(self, path: Path) -> Loader:
-        """The machine file's loader.
-
-        Parameters
-        ----------
-        path : Path
-
-        Returns
-        -------
-        Loader
-        """
-        from excavkin.loader.machine_file import load_machine
-
-        return load_machine(path)
-
-    def parameters(self, machine: Loader) -> dict[str, float]:
-        """`loader_parameters`.
-
-        Parameters
-        ----------
-        machine : Loader
-
-        Returns
-        -------
-        dict of str to float
-        """
-        return loader_parameters(machine)
-
-    def parameter_kind(self, name: str, machine: Loader) -> str:
-        """`loader_parameter_kind`.
-
-        Parameters
-        ----------
-        name : str
-        machine : Loader
-
-        Returns
-        -------
-        str
-        """
-        return loader_parameter_kind(name, machine)
-
-    def evaluate(
-        self, machine: Loader, lengths: F, params: Mapping[str, F], names: Sequence[str]
-    ) -> tuple[dict[str, F], NDArray[np.bool_]]:
-        """`loader_columns` of ``len(lengths)`` designs (the lengths have no columns).
-
-        Parameters
-        ----------
-        machine : Loader
-        lengths : ndarray, shape (n, 0)
-        params : mapping of str to ndarray, shape (n,)
-        names : sequence of str
-
-        Returns
-        -------
-        columns : dict of str to ndarray, shape (n,)
-        ok : ndarray of bool, shape (n,)
-        """
-        return loader_columns(machine, params, names, len(lengths))
+    return load_machine(path)
 
 
-#: the wheel loader as a family of designs
-FAMILY = LoaderFamily()
+def _evaluate(
+    machine: Loader, lengths: F, params: Mapping[str, F], names: Sequence[str]
+) -> tuple[dict[str, F], NDArray[np.bool_]]:
+    """`loader_columns` of ``len(lengths)`` designs (the lengths have no columns)."""
+    return loader_columns(machine, params, names, len(lengths))
+
+
+#: The wheel loader as a family of designs
+#: ([`DesignFamily`][excavkin.machinery.designs.DesignFamily]): the parameters of
+#: `loader_parameters`, the columns `COLUMNS`, no poses.
+FAMILY = Family(
+    "loader", COLUMNS, ANGLES, False, _load, loader_parameters, loader_parameter_kind, _evaluate
+)
 
 
 def load_loader_study(path: str | Path) -> MachineStudy:
-    """Read a study file whose ``[study]`` names a loader ``machine`` (module docstring;
-    [`excavkin.studies.machine_study.load_machine_study`][] with the loader's family).
+    """A study file whose ``[study]`` names a loader ``machine`` (module docstring), read by
+    [`excavkin.studies.machine_study.load_machine_study`][] with the loader's family.
 
     Parameters
     ----------
     path : str or pathlib.Path
-        The study file (TOML); its ``machine`` is a file beside it (a path from its folder)
-        or a built-in machine example's name.
+        The study file (TOML), naming a loader's machine file beside it (a path from its
+        folder) or a built-in loader example.
 
     Returns
     -------
@@ -436,7 +361,7 @@ def load_loader_study(path: str | Path) -> MachineStudy:
     Raises
     ------
     ModelError, UnitError
-        Naming the file, the table and the entry.
+        An entry of the file that is wrong, named with its file and table.
     """
     return ms.load_machine_study(path, FAMILY)
 

@@ -19,7 +19,8 @@ live in the studies layer, which may import this one (not the other way round).
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -29,9 +30,25 @@ from numpy.typing import NDArray
 from excavkin.arrays import FloatArray as F
 
 if TYPE_CHECKING:
+    from excavkin.machinery.cylinders import Circuit, Cylinder
     from excavkin.model.entities import Model
 
-__all__ = ["DesignFamily", "model_parameter", "model_with"]
+__all__ = [
+    "CIRCUIT_KEYS",
+    "CYLINDER_KEYS",
+    "DesignFamily",
+    "Family",
+    "cylinder_parameters",
+    "design_cylinders",
+    "model_parameter",
+    "model_with",
+]
+
+
+#: the cylinder entries that are parameters (``cylinders.ROLE.KEY``)
+CYLINDER_KEYS: tuple[str, ...] = ("bore", "rod", "retracted", "stroke")
+#: the circuit entries that are parameters (``circuits.NAME.KEY``)
+CIRCUIT_KEYS: tuple[str, ...] = ("working", "relief")
 
 
 class DesignFamily(Protocol):
@@ -132,6 +149,119 @@ class DesignFamily(Protocol):
             Which samples are valid (the design assembles and its figures exist there).
         """
         ...
+
+
+@dataclass(slots=True)
+class Family:
+    """A `DesignFamily` made of a wing's functions: what every family's side of a study is,
+    without a class of its own in each wing.
+
+    Attributes
+    ----------
+    name : str
+        As `DesignFamily.name`.
+    columns : mapping of str to str
+        As `DesignFamily.columns`.
+    angles : frozenset of str
+        As `DesignFamily.angles`.
+    posed : bool
+        As `DesignFamily.posed`.
+    load : callable
+        ``load(path) -> machine``: `DesignFamily.load`.
+    parameters : callable
+        ``parameters(machine) -> dict``: `DesignFamily.parameters`.
+    parameter_kind : callable
+        ``parameter_kind(name, machine) -> str``: `DesignFamily.parameter_kind`.
+    evaluate : callable
+        ``evaluate(machine, lengths, params, names) -> (columns, ok)``:
+        `DesignFamily.evaluate`.
+    """
+
+    name: str
+    columns: Mapping[str, str]
+    angles: frozenset[str]
+    posed: bool
+    load: Callable[[Path], Any]
+    parameters: Callable[[Any], dict[str, float]]
+    parameter_kind: Callable[[str, Any], str]
+    evaluate: Callable[
+        [Any, F, Mapping[str, F], Sequence[str]], tuple[dict[str, F], NDArray[np.bool_]]
+    ]
+
+
+def cylinder_parameters(
+    cylinders: Sequence[Cylinder], circuits: Mapping[str, Circuit]
+) -> dict[str, float]:
+    """The cylinders' and circuits' parameters and their nominal values, SI, named after the
+    machine file's tables: ``cylinders.ROLE.KEY`` (`CYLINDER_KEYS`), then
+    ``circuits.NAME.KEY`` (`CIRCUIT_KEYS`).
+
+    Parameters
+    ----------
+    cylinders : sequence of Cylinder
+    circuits : mapping of str to Circuit
+        By name.
+
+    Returns
+    -------
+    dict of str to float
+    """
+    out: dict[str, float] = {}
+    for c in cylinders:
+        for key in CYLINDER_KEYS:
+            out[f"cylinders.{c.role}.{key}"] = float(getattr(c, key))
+    for name, circ in circuits.items():
+        for key in CIRCUIT_KEYS:
+            out[f"circuits.{name}.{key}"] = float(getattr(circ, key))
+    return out
+
+
+def design_cylinders(
+    cylinders: Sequence[Cylinder], circuits: Mapping[str, Circuit], params: Mapping[str, float]
+) -> tuple[dict[str, Cylinder], dict[str, Circuit]]:
+    """One design's cylinders and circuits: each with the values of ``params`` named after
+    the machine file's tables (``cylinders.ROLE.bore``, ``.rod``, ``.retracted``,
+    ``.stroke``; ``circuits.NAME.working``, ``.relief``), the others as they are.
+
+    Parameters
+    ----------
+    cylinders : sequence of Cylinder
+        The nominal machine's.
+    circuits : mapping of str to Circuit
+        The nominal machine's, by name.
+    params : mapping of str to float
+        Parameter name → its SI value; other names are left to the caller.
+
+    Returns
+    -------
+    cylinders : dict of str to Cylinder
+        By role.
+    circuits : dict of str to Circuit
+        By name.
+    """
+    import dataclasses
+
+    def get(name: str, nominal: float) -> float:
+        return float(params.get(name, nominal))
+
+    designed = {
+        c.role: dataclasses.replace(
+            c,
+            bore=get(f"cylinders.{c.role}.bore", c.bore),
+            rod=get(f"cylinders.{c.role}.rod", c.rod),
+            retracted=get(f"cylinders.{c.role}.retracted", c.retracted),
+            stroke=get(f"cylinders.{c.role}.stroke", c.stroke),
+        )
+        for c in cylinders
+    }
+    return designed, {
+        n: dataclasses.replace(
+            c,
+            working=get(f"circuits.{n}.working", c.working),
+            relief=get(f"circuits.{n}.relief", c.relief),
+        )
+        for n, c in circuits.items()
+    }
 
 
 def model_parameter(model: Model, name: str) -> bool:

@@ -674,12 +674,12 @@ def write_machine(
     force : bool
         Replace ``out`` if it exists.
     note : str
-        A comment line saying where the values come from.
+        Where the values come from, written as a comment line.
 
     Returns
     -------
     Path
-        The file written.
+        The design's machine file, ``out``.
 
     Raises
     ------

@@ -3,6 +3,7 @@ design (parameters, metrics over a pose set, feasibility), streamed and resumabl
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import click
@@ -13,6 +14,7 @@ from excavkin.cli.study_options import study_options
 if TYPE_CHECKING:
     from pathlib import Path
 
+    from excavkin.studies.machine_study import MachineStudy
     from excavkin.studies.study import Subject
 
 
@@ -95,3 +97,37 @@ def run_with_progress(
     click.echo(f"wrote {total:,} designs ({int(feasible.sum()):,} feasible) to {result.path}")
     if study.motion_note and not quiet:
         click.echo(f"excavkin: note: force metrics: {study.motion_note}", err=True)
+
+
+def run_machine_study(
+    load: Callable[[Path], MachineStudy],
+    spec: str,
+    *,
+    out: str | None,
+    force: bool,
+    restart: bool,
+    scheduler: str | None,
+    quiet: bool,
+) -> None:
+    """A family's ``excavkin FAMILY study STUDY``: read the study file with the family's
+    reader, then run it into ``--out`` (default STUDY.parquet in the current folder) with a
+    progress bar.
+
+    Parameters
+    ----------
+    load : callable
+        The family's study-file reader, ``load(path) -> MachineStudy``.
+    spec : str
+        The STUDY argument (a path or a built-in example's name).
+    out, force, restart, scheduler, quiet
+        The options of `study_options`.
+    """
+    from pathlib import Path
+
+    from excavkin.cli.common import model_path
+
+    path = model_path(spec, "study")
+    subject = load(path)
+    target = Path(out) if out else Path(path.stem + ".parquet")
+    title = f"{subject.machine.name} ({subject.method}, seed {subject.seed})"
+    run_with_progress(subject, title, target, force, restart, scheduler, quiet)

@@ -8,7 +8,9 @@ given and never solves; it imports no wing.
 
 * `content` — what a report holds (values with units, tables, charts, sections);
 * `document` — the template filled, the file written (atomically, never over a file unless
-  asked).
+  asked);
+* `parts` — what every family's report shares: values in the sheet's units, binding limits
+  named, the cylinders' table, the moving front, the report itself (`family_report`).
 
 >>> from excavkin.outputs.machine_report import MachineReport, Section, Table, Value
 >>> report = MachineReport(
@@ -40,6 +42,13 @@ from excavkin.outputs.machine_report.document import (
     build_machine_report,
     write_machine_report,
 )
+from excavkin.outputs.machine_report.parts import (
+    family_report,
+    kg_value,
+    kn_value,
+    limit_name,
+    mm_value,
+)
 
 __all__ = [
     "HTML_SUFFIXES",
@@ -53,5 +62,10 @@ __all__ = [
     "Value",
     "build_machine_report",
     "collect",
+    "family_report",
+    "kg_value",
+    "kn_value",
+    "limit_name",
+    "mm_value",
     "write_machine_report",
 ]
