@@ -306,9 +306,9 @@ def test_the_device_rewrite_changes_the_loop_and_nothing_else() -> None:
     from excavkin.gpu import device_source
     from excavkin.kinematics import compiled_tangents
     from excavkin.kinetostatics import compiled as forces
-    from excavkin.kinetostatics.structured import compile_structured
     from excavkin.kinetostatics.inertia import MassProperties
     from excavkin.kinetostatics.loads import evaluate_loads
+    from excavkin.kinetostatics.structured import compile_structured
 
     mech = excavkin.load(excavkin.example_path("excavator"))
     kin = mech.solve({})
