@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import inspect
 import re
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -23,6 +24,7 @@ from excavkin.step_kinds import (
     Attach,
     Dyad,
     Fixed,
+    GearStep,
     NewtonGroup,
     Rotate,
     SliderStep,
@@ -40,14 +42,19 @@ def _plans() -> dict[str, SolvePlan]:
     out = {name: excavkin.load(name).plan for name in excavkin.examples("model")}
     for name in excavkin.examples("machine"):
         out[name] = load_machine(name).mechanism.plan
+    # a gear train (no built-in example has gears): the reference planetary transmission
+    out["planetary"] = excavkin.load(GEARS).plan
     return out
+
+
+GEARS = Path(__file__).parents[1] / "reference" / "data" / "planetary_21_43_108.toml"
 
 
 PLANS = _plans()
 
 
-def test_the_six_kinds_are_registered() -> None:
-    assert set(registered()) == {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup}
+def test_the_seven_kinds_are_registered() -> None:
+    assert set(registered()) == {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup, GearStep}
     names = [kind.name for kind in registered().values()]
     assert len(set(names)) == len(names)
 

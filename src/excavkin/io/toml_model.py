@@ -17,6 +17,7 @@ from excavkin.model.entities import (
     STANDARD_GRAVITY,
     Body,
     DesignVariable,
+    GearPair,
     Gravity,
     LinearDriver,
     Model,
@@ -43,6 +44,7 @@ _TOP = {
     "loads",
     "gravity",
     "design",
+    "gears",
 }
 
 
@@ -299,6 +301,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     lengths = _lengths(r)
     loads = _loads(r, {b.name for b in bodies}, {b.name: b.points for b in bodies})
     gravity = _gravity(r)
+    gears = _gears(r, bodies)
 
     model = Model(
         str(name),
@@ -312,6 +315,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         loads,
         gravity,
         _design(r),
+        gears,
     )
     validate(model)
     return model
@@ -465,6 +469,73 @@ def _sliders(r: TomlReader) -> list[Slider]:
             raise r.err('needs point = "P" and along = ["L1", "L2"]', f"sliders.{sname}")
         sliders.append(Slider(sname, str(spec["point"]), (str(along[0]), str(along[1]))))
     return sliders
+
+
+def _gears(r: TomlReader, bodies: list[Body]) -> tuple[GearPair, ...]:
+    """The ``[gears.NAME]`` tables: ``gears = ["B1", "B2"]``, ``carrier`` (default the
+    ground), exactly one of ``ratio`` (r2/r1), ``teeth = [z1, z2]`` or ``radii = [r1, r2]``,
+    ``internal`` (default false) and ``pressure_angle`` (default 20 deg)."""
+    out = []
+    for gname, spec in r.table("gears").items():
+        r.name(gname, "gears")
+        table = f"gears.{gname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", table)
+        r.keys(
+            spec,
+            {"gears", "carrier", "ratio", "teeth", "radii", "internal", "pressure_angle"},
+            "gears",
+            gname,
+        )
+        pair = spec.get("gears")
+        if not (
+            isinstance(pair, list) and len(pair) == 2 and all(isinstance(b, str) for b in pair)
+        ):
+            raise r.err('gears must name two bodies, gears = ["B1", "B2"]', table, "gears")
+        given = [k for k in ("ratio", "teeth", "radii") if k in spec]
+        if len(given) != 1:
+            raise r.err(
+                "give exactly one of ratio (r2/r1), teeth = [z1, z2] or radii = [r1, r2]"
+                + (f" (found {', '.join(given)})" if given else ""),
+                table,
+            )
+        radii = None
+        if "ratio" in spec:
+            ratio = spec["ratio"]
+            if isinstance(ratio, bool) or not isinstance(ratio, int | float):
+                raise r.err("ratio must be a number (r2/r1)", table, "ratio")
+            ratio = float(ratio)
+        elif "teeth" in spec:
+            teeth = spec["teeth"]
+            if not (
+                isinstance(teeth, list)
+                and len(teeth) == 2
+                and all(type(z) is int and z > 0 for z in teeth)
+            ):
+                raise r.err("teeth must be two positive whole numbers [z1, z2]", table, "teeth")
+            ratio = teeth[1] / teeth[0]
+        else:
+            given_radii = spec["radii"]
+            if not isinstance(given_radii, list) or len(given_radii) != 2:
+                raise r.err("radii must be the two pitch radii [r1, r2]", table, "radii")
+            r1 = r.qty(given_radii[0], "length", table, "radii")
+            r2 = r.qty(given_radii[1], "length", table, "radii")
+            if not (r1 > 0 and r2 > 0):
+                raise r.err("pitch radii must be positive", table, "radii")
+            radii, ratio = (r1, r2), r2 / r1
+        internal = spec.get("internal", False)
+        if not isinstance(internal, bool):
+            raise r.err("internal must be true or false", table, "internal")
+        phi = (
+            r.qty(spec["pressure_angle"], "angle", table, "pressure_angle")
+            if "pressure_angle" in spec
+            else math.radians(20.0)
+        )
+        carrier = spec.get("carrier", _ground_name(bodies))
+        if not isinstance(carrier, str):
+            raise r.err("carrier must name a body", table, "carrier")
+        out.append(GearPair(gname, (pair[0], pair[1]), carrier, ratio, internal, phi, radii))
+    return tuple(out)
 
 
 def _lengths(r: TomlReader) -> dict[tuple[str, str], float]:

@@ -42,6 +42,7 @@ QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
     "force": ("driver", "force"),
     "torque": ("driver", "torque"),
     "normal": ("slider", "force"),
+    "tooth": ("other", "force"),
     "power": ("driver", "power"),
     "pressure": ("driver", "pressure"),
 }

@@ -8,6 +8,10 @@ Unknowns (DESIGN.md §5)::
     N[s]                the normal force of each slider, along perp(l2 − l1), on the slider's
                         point (its reaction −N acts on the body that carries the line)
     τ[d]                the torque of each rotary driver on its body (−τ on its reference body)
+    W[g]                the tangential tooth force of each gear pair: +W·t on gear 2 and −W·t
+                        on gear 1 at the pitch point, t = perp(O2 − O1)/|O2 − O1| (its
+                        radial part, |W|·tan φ along the line of centres, is added to the
+                        pivots' pin forces afterwards: `excavkin.kinetostatics.gears`)
 
 Equations, with the known loads ``R_b`` (applied loads + d'Alembert inertia, force and moment
 about the body's first point p0)::
@@ -40,6 +44,7 @@ chunk of samples; there is no loop over samples.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Literal, TypeAlias, cast
@@ -49,6 +54,7 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import MobilityError
 from excavkin.model.entities import Model
+from excavkin.model.gears import gear_pivots
 
 __all__ = [
     "StaticallyIndeterminateError",
@@ -133,7 +139,7 @@ class Unknown:
 
     Attributes
     ----------
-    kind : {"pin", "element", "slider", "torque"}
+    kind : {"pin", "element", "slider", "torque", "gear"}
     index : int
         Pin slot, element, slider or rotary-driver index in the system's lists.
     comp : int
@@ -142,7 +148,7 @@ class Unknown:
         For messages: ``"pin B on body 'rocker'"``.
     """
 
-    kind: Literal["pin", "element", "slider", "torque"]
+    kind: Literal["pin", "element", "slider", "torque", "gear"]
     index: int
     comp: int
     label: str
@@ -182,6 +188,12 @@ class StaticsSystem:
     unknowns : tuple of Unknown
     rows : tuple of str
         Equation labels.
+    gears : tuple of (str, int, int, int, int, float, float, float)
+        Name, gear 1 and gear 2 (body indices), their pivots (point indices), the pitch
+        point's fraction λ (at ``O1 + λ·(O2 − O1)``), tan φ and the radial part's sense σ (+1
+        external, −1 internal) of each gear pair.
+    carriers : tuple of int
+        The carrier body of each gear pair.
     """
 
     points: tuple[str, ...]
@@ -199,6 +211,8 @@ class StaticsSystem:
     pivots: tuple[_Pivot, ...] = field(default=(), repr=False)
     residual_rows: tuple[int, ...] = field(default=(), repr=False)
     residual_cols: tuple[int, ...] = field(default=(), repr=False)
+    gears: tuple[tuple[str, int, int, int, int, float, float, float], ...] = ()
+    carriers: tuple[int, ...] = ()
 
     @property
     def size(self) -> int:
@@ -228,6 +242,11 @@ class StaticsSystem:
     def torque_col0(self) -> int:
         """Column of the first rotary-driver torque."""
         return self.slider_col0 + len(self.sliders)
+
+    @property
+    def gear_col0(self) -> int:
+        """Column of the first gear pair's tooth force."""
+        return self.torque_col0 + len(self.rotary)
 
 
 def _structure(model: Model) -> StaticsSystem:
@@ -273,6 +292,8 @@ def _structure(model: Model) -> StaticsSystem:
     ]
     unknowns += [Unknown("slider", k, 0, f"slider {s[0]!r}") for k, s in enumerate(sliders)]
     unknowns += [Unknown("torque", k, 0, f"rotary driver {d[0]!r}") for k, d in enumerate(rotary)]
+    gears, gear_carriers = _gear_pairs(model, pidx, bidx)
+    unknowns += [Unknown("gear", k, 0, f"gear pair {g[0]!r}") for k, g in enumerate(gears)]
     rows = [f"pin {points[i]} ({'xy'[c]})" for i in nodes for c in (0, 1)]
     for j in moving:
         rows += [
@@ -293,7 +314,31 @@ def _structure(model: Model) -> StaticsSystem:
         rotary,
         tuple(unknowns),
         tuple(rows),
+        gears=gears,
+        carriers=gear_carriers,
     )
+
+
+def _gear_pairs(
+    model: Model, pidx: dict[str, int], bidx: dict[str, int]
+) -> tuple[tuple[tuple[str, int, int, int, int, float, float, float], ...], tuple[int, ...]]:
+    """Each gear pair's bodies, pivots, pitch fraction, tan φ and radial sense; its carrier."""
+    out = []
+    for g in model.gears:
+        p1, p2 = gear_pivots(model, g)
+        out.append(
+            (
+                g.name,
+                bidx[g.gears[0]],
+                bidx[g.gears[1]],
+                pidx[p1],
+                pidx[p2],
+                g.pitch_fraction,
+                math.tan(g.pressure_angle),
+                -1.0 if g.internal else 1.0,
+            )
+        )
+    return tuple(out), tuple(bidx[g.carrier] for g in model.gears)
 
 
 def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
@@ -376,7 +421,34 @@ def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
             rows[body_row[body] + 2][col + k] = 1.0
         if ref in body_row:
             rows[body_row[ref] + 2][col + k] = -1.0
+    _gear_rows(sy, x, rows, body_row)
     return rows
+
+
+def _gear_rows(
+    sy: StaticsSystem, x: F | None, rows: list[dict[int, Entry]], body_row: dict[int, int]
+) -> None:
+    """Each gear pair's tooth force in the force and moment rows of its two gears: +W·t on
+    gear 2, −W·t on gear 1, at the pitch point P = O1 + λ·(O2 − O1)."""
+    col = sy.gear_col0
+    for k, (_, b1, b2, o1, o2, lam, _, _) in enumerate(sy.gears):
+        for body, sign in ((b1, -1.0), (b2, 1.0)):
+            if body not in body_row:
+                continue
+            rb = body_row[body]
+            if x is None:
+                for r in (rb, rb + 1, rb + 2):
+                    rows[r][col + k] = VAR
+                continue
+            ex, ey = x[o2, 0] - x[o1, 0], x[o2, 1] - x[o1, 1]
+            inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+            tx, ty = sign * (-ey * inv), sign * (ex * inv)
+            i0 = sy.base[body][0]
+            dx = x[o1, 0] + lam * ex - x[i0, 0]
+            dy = x[o1, 1] + lam * ey - x[i0, 1]
+            rows[rb][col + k] = tx
+            rows[rb + 1][col + k] = ty
+            rows[rb + 2][col + k] = dx * ty - dy * tx
 
 
 def _plan_pivots(sy: StaticsSystem) -> tuple[tuple[_Pivot, ...], tuple[int, ...], tuple[int, ...]]:
@@ -495,6 +567,8 @@ def compile_statics(model: Model, *, seed: int = 20240601) -> StaticsSystem:
         pivots,
         res_rows,
         res_cols,
+        sy.gears,
+        sy.carriers,
     )
 
 
@@ -672,7 +746,9 @@ def structure_summary(sy: StaticsSystem) -> str:
     n_ops = sum(len(p.targets) for p in sy.pivots)
     return (
         f"{sy.size} unknowns ({len(sy.slots)} pin forces, {len(sy.elements)} element "
-        f"forces, {len(sy.sliders)} slider forces, {len(sy.rotary)} torques); "
+        f"forces, {len(sy.sliders)} slider forces, {len(sy.rotary)} torques"
+        + (f", {len(sy.gears)} tooth forces" if sy.gears else "")
+        + "); "
         f"{len(sy.pivots)} constant pivots ({n_ops} row updates), dense block "
         f"{sy.residual_size}×{sy.residual_size}"
     )

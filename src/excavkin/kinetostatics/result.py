@@ -130,6 +130,10 @@ class ForceResult:
         Normal force of each slider on its point, N, along perp(l2 − l1).
     driver_torque : ndarray, shape (n, n_rotary)
         Torque of each rotary driver on its body, N·m.
+    gear_force : ndarray, shape (n, n_gears)
+        The tangential tooth force of each gear pair on its gear 2, N, along
+        perp(O2 − O1) at the pitch point (gear 1 gets the opposite; the radial part,
+        ``|W|·tan φ``, is in the pivots' pin forces).
     singular : ndarray of bool, shape (n,)
         Samples whose equilibrium equations are singular although the kinematics solved
         (their forces are NaN).
@@ -153,6 +157,7 @@ class ForceResult:
     element_force: F
     slider_force: F
     driver_torque: F
+    gear_force: F
     singular: np.ndarray
     loads: tuple[Load, ...]
     evaluated: EvaluatedLoads
@@ -395,6 +400,8 @@ class ForceResult:
             cols.append((column(d[0], "driver", "torque", "torque"), self.driver_torque[:, k]))
         for k, s in enumerate(sy.sliders):
             cols.append((column(s[0], "slider", "normal", "force"), self.slider_force[:, k]))
+        for k, g in enumerate(sy.gears):
+            cols.append((column(g[0], "other", "tooth", "force"), self.gear_force[:, k]))
         for b in resultants:
             r = self.resultant(b)
             cols += [(column(b, "body", q, "force"), r[:, c]) for c, q in enumerate(("Rx", "Ry"))]
@@ -493,7 +500,8 @@ class ForceResult:
         -------
         pandas.DataFrame
             Columns ``<point>.<body>.Fx .Fy``, ``<driver>.force`` (linear), ``<driver>.torque``
-            (rotary), ``<slider>.normal``, ``<body>.Rx .Ry`` — after the kinematic ones.
+            (rotary), ``<slider>.normal``, ``<gear pair>.tooth`` (the tangential tooth force),
+            ``<body>.Rx .Ry`` — after the kinematic ones.
         """
         import pandas as pd
 

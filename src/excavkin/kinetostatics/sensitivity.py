@@ -23,6 +23,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import solve_system
+from excavkin.kinetostatics.gears import pin_updates
 from excavkin.structure.design import mass_items
 
 if TYPE_CHECKING:
@@ -93,6 +94,10 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
         for col, val in enumerate(sol):
             if isinstance(val, Dual) and val.tan.ndim:
                 out[:, col, part] = val.tan
+        g0 = sy.gear_col0
+        for col, val in pin_updates(sy, xd, sol[g0 : g0 + len(sy.gears)]):
+            if isinstance(val, Dual) and val.tan.ndim:
+                out[:, col, part] += val.tan
     bad = ~(kin.status.solved & ~forces.singular)
     out[:, :, bad] = np.nan
     return {name: _columns(forces, out[j], x, x_t[j]) for j, name in enumerate(names)}
@@ -228,6 +233,8 @@ def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
         out[f"{e[0]}.force"] = tan[e0 + k]
     for k, d in enumerate(sy.rotary):
         out[f"{d[0]}.torque"] = tan[t0 + k]
+    for k, g in enumerate(sy.gears):
+        out[f"{g[0]}.tooth"] = tan[sy.gear_col0 + k]
     for k, s in enumerate(sy.sliders):
         out[f"{s[0]}.normal"] = tan[s0 + k]
     ground = sy.ground

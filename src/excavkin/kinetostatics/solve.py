@@ -23,6 +23,7 @@ from excavkin.kinetostatics.equilibrium import (
     dense_matrix,
     solve_system,
 )
+from excavkin.kinetostatics.gears import add_radial
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, evaluate_loads
 from excavkin.kinetostatics.result import ForceResult
@@ -101,6 +102,7 @@ def solve_forces(
             _solve_dense(sy, mp, ev, x, a, eps, out, singular)
         elif not _solve_compiled((sy, mp, ev), (x, a, eps), out, singular, compiled):
             _solve_sparse((sy, mp, ev), (x, a, eps), out, singular, chunk)
+    add_radial(sy, x, out)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
     bad = singular | ~result.status.solved
@@ -108,14 +110,15 @@ def solve_forces(
         out[:, bad] = np.nan
     singular &= result.status.solved
     ns = len(sy.slots)
-    e0, s0, t0 = sy.element_col0, sy.slider_col0, sy.torque_col0
+    e0, s0, t0, g0 = sy.element_col0, sy.slider_col0, sy.torque_col0, sy.gear_col0
     return ForceResult(
         kinematics=result,
         system=sy,
         pin_force=np.moveaxis(out[: 2 * ns].reshape(ns, 2, n), -1, 0),
         element_force=out[e0:s0].T,
         slider_force=out[s0:t0].T,
-        driver_torque=out[t0:].T,
+        driver_torque=out[t0:g0].T,
+        gear_force=out[g0:].T,
         singular=singular,
         loads=checked,
         evaluated=ev,

@@ -207,6 +207,58 @@ Load: TypeAlias = PointForce | Torque | Gravity
 
 
 @dataclass(frozen=True, slots=True)
+class GearPair:
+    """Two bodies whose rotations are coupled by meshing gears, about pivots on a carrier.
+
+    With each body's angle measured from the carrier's orientation, their changes from the
+    sketch keep ``Δ(θ2 − θc) = e·Δ(θ1 − θc)``: the train value ``e = −1/ratio`` for an external
+    pair (they turn opposite ways), ``+1/ratio`` for an internal one (a pinion in a ring gear).
+    A rack is not a gear pair (see the docs).
+
+    Attributes
+    ----------
+    name : str
+        The mesh's name.
+    gears : (str, str)
+        The two gear bodies; each shares exactly one point with ``carrier``, its pivot (the
+        pitch circle's centre).
+    carrier : str
+        The body that carries both pivots: the ground, or a moving arm (a planet carrier).
+    ratio : float
+        ``r2 / r1`` (= z2 / z1), the speed ratio ``|ω1 − ωc| / |ω2 − ωc|``, > 0.
+    internal : bool
+        ``True``: one gear is a ring with internal teeth (the larger radius) and the other runs
+        inside it.
+    pressure_angle : float
+        rad, in [0, π/2): the line of action's angle to the common tangent of the pitch
+        circles (default 20°).
+    radii : (float, float) or None
+        The pitch radii r1, r2 (m), when given: the sketch's distance of the pivots must be
+        ``r1 + r2`` (external) or ``|r1 − r2|`` (internal).
+    """
+
+    name: str
+    gears: tuple[str, str]
+    carrier: str
+    ratio: float
+    internal: bool = False
+    pressure_angle: float = 0.3490658503988659
+    radii: tuple[float, float] | None = None
+
+    @property
+    def train_value(self) -> float:
+        """``e``: the change of gear 2's angle per change of gear 1's, relative to the
+        carrier (−1/ratio external, +1/ratio internal)."""
+        return (1.0 if self.internal else -1.0) / self.ratio
+
+    @property
+    def pitch_fraction(self) -> float:
+        """``λ``: the pitch point is ``O1 + λ·(O2 − O1)`` (1/(1 + ratio) external,
+        1/(1 − ratio) internal)."""
+        return 1.0 / (1.0 - self.ratio if self.internal else 1.0 + self.ratio)
+
+
+@dataclass(frozen=True, slots=True)
 class DesignVariable:
     """A named design variable of a model file: one value that several entries refer to.
 
@@ -253,6 +305,8 @@ class Model:
         Gravity, when the model enables it (``None``: off).
     design : tuple of DesignVariable
         The file's named design variables and the entries that refer to them.
+    gears : tuple of GearPair
+        Meshing gear pairs: higher pairs, one freedom each.
     """
 
     name: str
@@ -266,6 +320,7 @@ class Model:
     loads: tuple[PointForce | Torque, ...] = ()
     gravity: Gravity | None = None
     design: tuple[DesignVariable, ...] = ()
+    gears: tuple[GearPair, ...] = ()
 
     def __hash__(self) -> int:
         return hash((self.name, tuple(self.points), self.bodies, self.rotary, self.linear))

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from excavkin.errors import MobilityError, ModelError, did_you_mean
 from excavkin.model.entities import Model
+from excavkin.model.gears import gear_pivots, gear_train
 
 
 def validate(model: Model) -> None:
@@ -24,7 +25,9 @@ def validate(model: Model) -> None:
     _check_linear(model)
     _check_sliders(model)
     _check_lengths(model)
+    _check_gears(model)
     mobility_check(model)
+    gear_train(model)
 
 
 def _check_points(model: Model) -> None:
@@ -48,6 +51,7 @@ def _check_names(model: Model) -> None:
     _unique([b.name for b in model.bodies], "bodies", src)
     _unique([d.name for d in model.rotary] + [d.name for d in model.linear], "drivers", src)
     _unique([s.name for s in model.sliders], "sliders", src)
+    _unique([g.name for g in model.gears], "gears", src)
 
 
 def _check_bodies(model: Model) -> None:
@@ -240,6 +244,70 @@ def _check_lengths(model: Model) -> None:
             )
 
 
+def _check_gears(model: Model) -> None:
+    """``[gears]``: two distinct known bodies on a known carrier, each sharing one point (its
+    pivot) with it, pivots apart; a positive ratio (not 1 for an internal pair), a pressure
+    angle in [0, 90°), and pitch radii, where given, that fit the pivots' distance."""
+    src = model.source
+    names = {b.name for b in model.bodies}
+    for g in model.gears:
+        table = f"gears.{g.name}"
+        for body in (*g.gears, g.carrier):
+            if body not in names:
+                raise ModelError(
+                    f"unknown body {body!r}{did_you_mean(body, names)}",
+                    table=table,
+                    entry="carrier" if body == g.carrier else "gears",
+                    source=src,
+                )
+        if len({*g.gears, g.carrier}) != 3:
+            raise ModelError(
+                "the two gears and the carrier must be three different bodies",
+                table=table,
+                entry="gears",
+                source=src,
+            )
+        if not (math.isfinite(g.ratio) and g.ratio > 0):
+            raise ModelError(
+                f"the ratio must be positive, got {g.ratio}", table=table, entry="ratio", source=src
+            )
+        if g.internal and g.ratio == 1.0:
+            raise ModelError(
+                "an internal pair needs a ring larger than its pinion (ratio ≠ 1)",
+                table=table,
+                entry="ratio",
+                source=src,
+            )
+        if not 0.0 <= g.pressure_angle < math.pi / 2:
+            raise ModelError(
+                f"the pressure angle must be in [0, 90) deg, got {math.degrees(g.pressure_angle)}",
+                table=table,
+                entry="pressure_angle",
+                source=src,
+            )
+        p1, p2 = gear_pivots(model, g)
+        d = model.lengths.get((p1, p2), model.lengths.get((p2, p1)))
+        d = math.dist(model.points[p1], model.points[p2]) if d is None else d
+        if not d > 0:
+            raise ModelError(
+                f"the pivots {p1} and {p2} coincide, so the gears have no centre distance",
+                table=table,
+                entry="gears",
+                source=src,
+            )
+        if g.radii is not None:
+            r1, r2 = g.radii
+            want = abs(r1 - r2) if g.internal else r1 + r2
+            if not math.isclose(d, want, rel_tol=1e-6):
+                raise ModelError(
+                    f"the pitch radii {r1:.6g} m and {r2:.6g} m need a centre distance of "
+                    f"{want:.6g} m, but the pivots {p1} and {p2} are {d:.6g} m apart",
+                    table=table,
+                    entry="radii",
+                    source=src,
+                )
+
+
 def _unique(names: list[str], table: str, src: str | None) -> None:
     seen: set[str] = set()
     for n in names:
@@ -266,7 +334,8 @@ class Mobility:
 
     ``M = 3 (n − 1) − 2 p1 − p2`` with n links (each cylinder or rope counted as two links,
     barrel and rod, joined by a prismatic pair), p1 lower pairs (revolute and prismatic) and p2
-    two-freedom pairs (a point sliding in a slot); locked cylinders then take one freedom each.
+    two-freedom pairs (a point sliding in a slot, a gear mesh); locked cylinders then take one
+    freedom each.
     """
 
     links: int
@@ -274,16 +343,25 @@ class Mobility:
     slot_pairs: int
     locked: int
     inputs: int
+    gear_pairs: int = 0
 
     @property
     def mobility(self) -> int:
         """Freedoms of the mechanism with its locked elements locked."""
-        return 3 * (self.links - 1) - 2 * self.lower_pairs - self.slot_pairs - self.locked
+        return (
+            3 * (self.links - 1)
+            - 2 * self.lower_pairs
+            - self.slot_pairs
+            - self.gear_pairs
+            - self.locked
+        )
 
     def describe(self) -> str:
         """The count written out."""
         n, p1, p2 = self.links, self.lower_pairs, self.slot_pairs
         text = f"M = 3·({n} − 1) − 2·{p1} − {p2}"
+        if self.gear_pairs:
+            text += f" − {self.gear_pairs} gear{'s' if self.gear_pairs > 1 else ''}"
         if self.locked:
             text += f" − {self.locked} locked"
         return f"{text} = {self.mobility}"
@@ -300,7 +378,7 @@ def mobility(model: Model) -> Mobility:
     links += 2 * len(model.linear)
     lower += 3 * len(model.linear)
     locked = sum(1 for d in model.linear if d.mode == "locked")
-    return Mobility(links, lower, len(model.sliders), locked, len(model.inputs))
+    return Mobility(links, lower, len(model.sliders), locked, len(model.inputs), len(model.gears))
 
 
 def mobility_check(model: Model) -> None:

@@ -1,10 +1,10 @@
 """Step kinds: one module each, a registry.
 
 A solve plan (`excavkin.structure.plan`) is a sequence of steps of a few kinds: `Fixed`,
-`Rotate`, `Attach`, `Dyad`, `SliderStep` and `NewtonGroup`. Each kind's module holds its record
-and every operation on it (`excavkin.step_kinds.base.StepKind` lists them): building it, its
-constants for a family of designs, its NumPy kernel, its compiled source, the precision check's
-part, its description, its part in the statics and its drawing. Importing this package
+`Rotate`, `Attach`, `Dyad`, `SliderStep`, `NewtonGroup` and `GearStep`. Each kind's module holds
+its record and every operation on it (`excavkin.step_kinds.base.StepKind` lists them): building
+it, its constants for a family of designs, its NumPy kernel, its compiled source, the precision
+check's part, its description, its part in the statics and its drawing. Importing this package
 registers every kind; `kind_of` finds a step's kind by its record's type.
 
 To add a kind: write a module here with its record (a frozen dataclass) and a `StepKind`
@@ -14,7 +14,7 @@ its record to `Step`.
 
 from __future__ import annotations
 
-from excavkin.step_kinds import attach, dyad, fixed, newton_group, rotate, slider
+from excavkin.step_kinds import attach, dyad, fixed, gear, newton_group, rotate, slider
 from excavkin.step_kinds.attach import Attach
 from excavkin.step_kinds.base import (
     OPERATIONS,
@@ -30,12 +30,13 @@ from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, Constr
 from excavkin.step_kinds.dist import Dist
 from excavkin.step_kinds.dyad import Dyad
 from excavkin.step_kinds.fixed import Fixed
+from excavkin.step_kinds.gear import GearStep
 from excavkin.step_kinds.newton_group import NewtonGroup
 from excavkin.step_kinds.rotate import Rotate
 from excavkin.step_kinds.slider import SliderStep
 
 #: a step of a solve plan: a record of one of the registered kinds
-Step = Fixed | Rotate | Attach | Dyad | SliderStep | NewtonGroup
+Step = Fixed | Rotate | Attach | Dyad | SliderStep | NewtonGroup | GearStep
 
 __all__ = [
     "OPERATIONS",
@@ -48,6 +49,7 @@ __all__ = [
     "Dist",
     "Dyad",
     "Fixed",
+    "GearStep",
     "GroupDyad",
     "NewtonGroup",
     "Primitive",
@@ -59,6 +61,7 @@ __all__ = [
     "attach",
     "dyad",
     "fixed",
+    "gear",
     "kind_of",
     "newton_group",
     "of_kind",

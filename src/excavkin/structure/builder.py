@@ -27,11 +27,13 @@ from typing import ClassVar, Literal
 
 from excavkin.errors import AssemblyError, MobilityError
 from excavkin.model.entities import Body, Model
+from excavkin.model.gears import gear_train
 from excavkin.model.validate import mobility
 from excavkin.step_kinds import (
     Attach,
     Dyad,
     Fixed,
+    GearStep,
     NewtonGroup,
     Rotate,
     SliderStep,
@@ -102,7 +104,7 @@ class PlanBuilder:
     """
 
     #: The closed-form step kinds, in the order they are tried after each step added.
-    ORDER: ClassVar[tuple[str, ...]] = ("attach", "rotate", "dyad", "slider")
+    ORDER: ClassVar[tuple[str, ...]] = ("attach", "rotate", "gear", "dyad", "slider")
 
     def __init__(self, model: Model, method: Literal["closed-form", "newton"]) -> None:
         self.model = model
@@ -158,6 +160,7 @@ class PlanBuilder:
         self.kinds: list[str] = []
         self.input_sketch: list[float] = []
         self.elements: list[Element] = []
+        self.add_gear_train()
 
     # ---- geometry read from the model (one place each, so that it can be re-evaluated)
     def length_override(self, p: str, q: str) -> float | None:
@@ -412,6 +415,53 @@ class PlanBuilder:
         dyads = group_dyads(pts, cons, sketch, self.scale)
         self.steps.append(_kind(NewtonGroup).build(pts, tuple(cons), dyads))
 
+    def add_gear_train(self) -> None:
+        """The bodies the gear trains turn (`excavkin.model.gears`), each waiting for a known
+        point (see `learn`)."""
+        self.train = gear_train(self.model)
+        self.gear_body = {self.body_index[b] for b in self.train.placed}
+        self.gear_next: list[int] = []
+        self.used_gear: set[int] = set()
+
+    def gear(self) -> bool:
+        """The first body a gear train turns with a known point and an unknown one: its first
+        unknown point about its first known one, at the angle the train gives."""
+        sk = self.sketch
+        while self.gear_next:
+            bi = heapq.heappop(self.gear_next)
+            b = self.bodies[bi]
+            if bi in self.used_gear:
+                continue
+            anchor = next((n for n in b.points if n in self.known), None)
+            point = next((n for n in b.points if n not in self.known), None)
+            if anchor is None or point is None:
+                continue
+            terms = self.train.placed[b.name]
+            offset = math.atan2(sk[point][1] - sk[anchor][1], sk[point][0] - sk[anchor][0])
+            inputs, coef = [], []
+            for ri, c in terms:
+                i = self.in_idx[self.model.rotary[ri].name]
+                offset -= c * self.input_sketch[i]
+                inputs.append(i)
+                coef.append(c)
+            self.steps.append(
+                _kind(GearStep).build(
+                    self.idx[point],
+                    self.idx[anchor],
+                    self.shapes[b.name].distance(point, anchor),
+                    offset,
+                    tuple(inputs),
+                    tuple(coef),
+                    b.name,
+                    self.train.meshes[b.name],
+                )
+            )
+            self.used_gear.add(bi)
+            self.body_used[bi] += 1
+            self.learn(point)
+            return True
+        return False
+
     # ---- helpers of the step kinds
     def distance_options(self, p: str) -> list[Option]:
         """Known partners of ``p`` at a known distance: its bodies' points and its elements."""
@@ -474,6 +524,9 @@ class PlanBuilder:
                 heapq.heappush(self.slider_next, si)
         for ri in self.rotary_at[n]:
             heapq.heappush(self.rotate_next, ri)
+        for bi in self.point_bodies[n]:
+            if bi in self.gear_body:
+                heapq.heappush(self.gear_next, bi)
         for si in self.slider_along[n]:
             heapq.heappush(self.slider_next, si)
 
@@ -564,6 +617,15 @@ class PlanBuilder:
                     table=f"drivers.{d.name}",
                     source=src,
                 )
+        for bi in sorted(self.gear_body - self.used_gear):
+            name = self.bodies[bi].name
+            raise MobilityError(
+                f"body {name!r} is turned by its gears ({', '.join(self.train.meshes[name])}) "
+                "but also fixed by the rest of the mechanism (over-constrained), or none of its "
+                "points is placed before it",
+                table="gears",
+                source=src,
+            )
         for bi, b in enumerate(self.bodies):
             need = 0 if b.ground else 2 * len(b.points) - 3
             if self.body_used[bi] < need:

@@ -1,0 +1,164 @@
+"""Gear pairs and trains: each gear's pivot, and the angles a train's drivers set.
+
+A gear pair keeps ``Δ(θ2 − θc) = e·Δ(θ1 − θc)`` (`GearPair.train_value`), a rotary driver
+``Δθ_body − Δθ_reference = Δq``, and the ground does not turn. Together, over the bodies the
+meshes and the drivers between them join (a *train*, the ground with them), these are linear
+equations in the bodies' angle changes with constant coefficients, one per body: solved once,
+each body's angle is ``θ = θ_sketch + Σ_i c_i (q_i − q_i,sketch)`` — the tabular method of
+planetary trains, done by a linear solve. The angles follow the inputs themselves, not the
+points' positions, so a gear that turns many times is followed exactly at every turn.
+
+A train whose angles its drivers and meshes do not fix (a gear on an arm that a cylinder moves)
+or fix twice is refused, naming its bodies.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from excavkin.errors import MobilityError, ModelError
+from excavkin.model.entities import GearPair, Model
+
+__all__ = ["GearTrain", "gear_pivots", "gear_train"]
+
+
+def gear_pivots(model: Model, pair: GearPair) -> tuple[str, str]:
+    """The pivot of each gear of a pair: the one point it shares with the carrier.
+
+    Parameters
+    ----------
+    model : Model
+        The model the pair belongs to (its bodies are known: see `validate`).
+    pair : GearPair
+        The gear pair.
+
+    Returns
+    -------
+    (str, str)
+        The pivots of ``pair.gears[0]`` and ``pair.gears[1]``.
+
+    Raises
+    ------
+    ModelError
+        A gear shares no point, or more than one, with the carrier.
+    """
+    carrier = model.body(pair.carrier)
+    out = []
+    for g in pair.gears:
+        shared = [p for p in model.body(g).points if p in carrier.points]
+        if len(shared) != 1:
+            raise ModelError(
+                f"gear {g!r} shares {len(shared)} points with its carrier {pair.carrier!r} "
+                f"({', '.join(shared) or 'none'}); it needs exactly one, its pivot",
+                table=f"gears.{pair.name}",
+                entry="gears",
+                source=model.source,
+            )
+        out.append(shared[0])
+    return out[0], out[1]
+
+
+@dataclass(frozen=True, slots=True)
+class GearTrain:
+    """The angles a model's gear trains set.
+
+    Attributes
+    ----------
+    placed : dict
+        Body name → ``((rotary driver index, coefficient), ...)``: each body whose angle its
+        train sets and no rotary driver of its own does, with ``Δθ = Σ c·Δq``.
+    meshes : dict
+        Body name → the names of the gear pairs of its train (for messages).
+    """
+
+    placed: dict[str, tuple[tuple[int, float], ...]]
+    meshes: dict[str, tuple[str, ...]]
+
+
+def gear_train(model: Model) -> GearTrain:
+    """Solve the angle relations of every gear train of ``model`` (see the module's text).
+
+    Parameters
+    ----------
+    model : Model
+        A model whose gear pairs name known bodies.
+
+    Returns
+    -------
+    GearTrain
+        Empty when the model has no gears.
+
+    Raises
+    ------
+    MobilityError
+        The drivers and meshes of a train do not fix its bodies' angles, or fix them twice.
+    """
+    if not model.gears:
+        return GearTrain({}, {})
+    ground = model.ground.name
+    members = {ground}
+    for g in model.gears:
+        members.update((*g.gears, g.carrier))
+    drivers: list[int] = []
+    grown = True
+    while grown:
+        grown = False
+        for ri, d in enumerate(model.rotary):
+            if ri not in drivers and (d.body in members or d.reference in members):
+                drivers.append(ri)
+                members.update((d.body, d.reference))
+                grown = True
+    order = [b.name for b in model.bodies if b.name in members and b.name != ground]
+    col = {b: k for k, b in enumerate(order)}
+    names = tuple(g.name for g in model.gears)
+    n_eq = len(drivers) + len(model.gears)
+    if n_eq != len(order):
+        what = "fewer" if n_eq < len(order) else "more"
+        raise MobilityError(
+            f"the gear train of {', '.join(names)} has {n_eq} driver and mesh relations for "
+            f"the angles of {len(order)} bodies ({', '.join(order)}): {what} than its bodies "
+            "(each body of a train turns by its rotary driver or by its gears; a gear on a "
+            "body that something else moves is not supported)",
+            table="gears",
+            source=model.source,
+        )
+    a = np.zeros((n_eq, len(order)))
+    b = np.zeros((n_eq, len(model.rotary)))
+
+    def put(row: int, body: str, value: float) -> None:
+        if body != ground:
+            a[row, col[body]] += value
+
+    for row, ri in enumerate(drivers):
+        d = model.rotary[ri]
+        put(row, d.body, 1.0)
+        put(row, d.reference, -1.0)
+        b[row, ri] = 1.0
+    for k, g in enumerate(model.gears):
+        row = len(drivers) + k
+        e = g.train_value
+        put(row, g.gears[1], 1.0)
+        put(row, g.gears[0], -e)
+        put(row, g.carrier, e - 1.0)
+    sv = np.linalg.svd(a, compute_uv=False) if n_eq else np.ones(1)
+    if sv.size and sv[-1] <= 1e-12 * max(sv[0], 1.0):
+        raise MobilityError(
+            f"the gear train of {', '.join(names)} does not fix the angles of its bodies "
+            f"({', '.join(order)}): its driver and mesh relations are dependent (a redundant "
+            "mesh, or a freedom without a driver)",
+            table="gears",
+            source=model.source,
+        )
+    c = np.linalg.solve(a, b) if n_eq else np.zeros((0, len(model.rotary)))
+    driven = {model.rotary[ri].body for ri in drivers}
+    placed = {
+        body: tuple((ri, float(c[col[body], ri])) for ri in drivers)
+        for body in order
+        if body not in driven
+    }
+    meshes = {
+        body: tuple(g.name for g in model.gears if body in (*g.gears, g.carrier)) for body in order
+    }
+    return GearTrain(placed, meshes)
