@@ -70,3 +70,59 @@ def test_planetary_torques_follow_the_ratio_and_the_pitch_radii() -> None:
     assert np.all(np.isfinite(ring))
     w = f.column("sun_planet.tooth")
     assert_allclose(np.hypot(fx, fy), w / np.cos(np.radians(20.0)), rtol=1e-12)
+
+
+RACK_TRAIN = """
+schema_version = 1
+name = "motor, compound gear and rack"
+[units]
+length = "mm"
+[points]
+OZ = [0, 0]
+OX = [40, 0]
+Z1 = [0, 10]
+X1 = [40, 30]
+G1 = [-100, -50]
+G2 = [300, -50]
+R1 = [0, -20]
+R2 = [100, -20]
+[bodies]
+frame = { points = ["OZ", "OX", "G1", "G2"], ground = true }
+z = { points = ["OZ", "Z1"] }
+xy = { points = ["OX", "X1"] }
+platform = { points = ["R1", "R2"] }
+[drivers.motor]
+type = "rotary"
+body = "z"
+pivot = "OZ"
+[gears.zy]
+gears = ["z", "xy"]
+ratio = 3
+[racks.lift]
+rack = "platform"
+pinion = "xy"
+along = ["G1", "G2"]
+radius = "PITCH_RADIUS mm"
+"""
+
+
+def test_rack_and_pinion_platform_reproduces_the_printed_digits() -> None:
+    """Ryan, V., "Rack and pinion examination answer" (technologystudent.com, gears1/rkpin2,
+    2003): a motor at 240 rev/min turns gear Z, which turns gear Y at one third of its speed,
+    "Gear Y = 80 rpm"; gear X, compound with Y, has 13 teeth at a rack pitch of 4 mm, so the
+    platform travels 13 × 80 = 1040 teeth, "1040 (teeth) x 4mm … = 4160mm" in one minute."""
+    radius = 13 * 4 / (2 * np.pi)  # mm: a pitch circle of 13 teeth of 4 mm
+    mech = excavkin.loads(RACK_TRAIN.replace("PITCH_RADIUS", repr(radius)), "rack.toml")
+    q0 = mech.sketch_values()["motor"]
+    rate = 240 * 2 * np.pi / 60  # rad/s
+    minute = np.array([q0, q0 + rate * 60.0])
+    res = mech.solve({"motor": minute}, rates={"motor": rate})
+    assert res.status.all_ok
+    rpm_y = np.abs(res.body("xy")[1]) * 60 / (2 * np.pi)
+    assert_allclose(rpm_y, 80.0, rtol=1e-14)
+    assert f"{rpm_y[0]:.0f}" == "80"
+    travel = (res.point("R1")[0][1, 0] - res.point("R1")[0][0, 0]) * 1000  # mm
+    assert f"{abs(travel):.0f}" == "4160"
+    assert_allclose(abs(travel), 4160.0, rtol=1e-12)
+    speed = np.abs(res.point("R1")[1][:, 0]) * 60e3  # mm/min
+    assert_allclose(speed, 4160.0, rtol=1e-14)

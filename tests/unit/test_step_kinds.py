@@ -26,6 +26,7 @@ from excavkin.step_kinds import (
     Fixed,
     GearStep,
     NewtonGroup,
+    RackStep,
     Rotate,
     SliderStep,
     StepKind,
@@ -43,18 +44,20 @@ def _plans() -> dict[str, SolvePlan]:
     for name in excavkin.examples("machine"):
         out[name] = load_machine(name).mechanism.plan
     # a gear train (no built-in example has gears): the reference planetary transmission
-    out["planetary"] = excavkin.load(GEARS).plan
+    out["planetary"] = excavkin.load(DATA / "planetary_21_43_108.toml").plan
+    out["rack on an arm"] = excavkin.load(DATA / "rack_on_arm.toml").plan
     return out
 
 
-GEARS = Path(__file__).parents[1] / "reference" / "data" / "planetary_21_43_108.toml"
+DATA = Path(__file__).parents[1] / "reference" / "data"
 
 
 PLANS = _plans()
 
 
-def test_the_seven_kinds_are_registered() -> None:
-    assert set(registered()) == {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup, GearStep}
+def test_the_eight_kinds_are_registered() -> None:
+    kinds = {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup, GearStep, RackStep}
+    assert set(registered()) == kinds
     names = [kind.name for kind in registered().values()]
     assert len(set(names)) == len(names)
 

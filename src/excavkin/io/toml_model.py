@@ -22,6 +22,7 @@ from excavkin.model.entities import (
     LinearDriver,
     Model,
     PointForce,
+    RackPinion,
     RotaryDriver,
     Slider,
     Torque,
@@ -45,6 +46,7 @@ _TOP = {
     "gravity",
     "design",
     "gears",
+    "racks",
 }
 
 
@@ -302,6 +304,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     loads = _loads(r, {b.name for b in bodies}, {b.name: b.points for b in bodies})
     gravity = _gravity(r)
     gears = _gears(r, bodies)
+    racks = _racks(r, bodies)
 
     model = Model(
         str(name),
@@ -316,6 +319,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         gravity,
         _design(r),
         gears,
+        racks,
     )
     validate(model)
     return model
@@ -535,6 +539,57 @@ def _gears(r: TomlReader, bodies: list[Body]) -> tuple[GearPair, ...]:
         if not isinstance(carrier, str):
             raise r.err("carrier must name a body", table, "carrier")
         out.append(GearPair(gname, (pair[0], pair[1]), carrier, ratio, internal, phi, radii))
+    return tuple(out)
+
+
+def _racks(r: TomlReader, bodies: list[Body]) -> tuple[RackPinion, ...]:
+    """The ``[racks.NAME]`` tables: ``rack``, ``pinion``, ``carrier`` (default the ground),
+    ``along = ["L1", "L2"]``, the pinion's pitch ``radius`` and ``pressure_angle`` (default
+    20 deg)."""
+    out = []
+    for rname, spec in r.table("racks").items():
+        r.name(rname, "racks")
+        table = f"racks.{rname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", table)
+        r.keys(
+            spec,
+            {"rack", "pinion", "carrier", "along", "radius", "pressure_angle"},
+            "racks",
+            rname,
+        )
+        for key in ("rack", "pinion", "radius", "along"):
+            if key not in spec:
+                raise r.err(f"a rack and pinion needs {key!r}", table)
+        along = spec["along"]
+        if not (
+            isinstance(along, list) and len(along) == 2 and all(isinstance(p, str) for p in along)
+        ):
+            raise r.err(
+                'along must name two points of the carrier, along = ["L1", "L2"]', table, "along"
+            )
+        names = {}
+        for key in ("rack", "pinion", "carrier"):
+            value = spec.get(key, _ground_name(bodies))
+            if not isinstance(value, str):
+                raise r.err(f"{key} must name a body", table, key)
+            names[key] = value
+        phi = (
+            r.qty(spec["pressure_angle"], "angle", table, "pressure_angle")
+            if "pressure_angle" in spec
+            else math.radians(20.0)
+        )
+        out.append(
+            RackPinion(
+                rname,
+                names["rack"],
+                names["pinion"],
+                names["carrier"],
+                (along[0], along[1]),
+                r.qty(spec["radius"], "length", table, "radius"),
+                phi,
+            )
+        )
     return tuple(out)
 
 

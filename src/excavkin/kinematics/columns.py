@@ -43,6 +43,8 @@ QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
     "torque": ("driver", "torque"),
     "normal": ("slider", "force"),
     "tooth": ("other", "force"),
+    "guide": ("other", "force"),
+    "couple": ("other", "torque"),
     "power": ("driver", "power"),
     "pressure": ("driver", "pressure"),
 }

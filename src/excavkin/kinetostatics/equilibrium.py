@@ -8,6 +8,9 @@ Unknowns (DESIGN.md §5)::
     N[s]                the normal force of each slider, along perp(l2 − l1), on the slider's
                         point (its reaction −N acts on the body that carries the line)
     τ[d]                the torque of each rotary driver on its body (−τ on its reference body)
+    W[k], N[k], M[k]    each rack's tooth force along its guide, its guide's normal force
+                        (both at the pitch point) and couple, on the rack (the carrier takes
+                        −N, −M, the pinion −W)
     W[g]                the tangential tooth force of each gear pair: +W·t on gear 2 and −W·t
                         on gear 1 at the pitch point, t = perp(O2 − O1)/|O2 − O1| (its
                         radial part, |W|·tan φ along the line of centres, is added to the
@@ -54,7 +57,7 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import MobilityError
 from excavkin.model.entities import Model
-from excavkin.model.gears import gear_pivots
+from excavkin.model.gears import gear_pivots, pivot_on, rack_side
 
 __all__ = [
     "StaticallyIndeterminateError",
@@ -139,7 +142,7 @@ class Unknown:
 
     Attributes
     ----------
-    kind : {"pin", "element", "slider", "torque", "gear"}
+    kind : {"pin", "element", "slider", "torque", "gear", "rack"}
     index : int
         Pin slot, element, slider or rotary-driver index in the system's lists.
     comp : int
@@ -148,7 +151,7 @@ class Unknown:
         For messages: ``"pin B on body 'rocker'"``.
     """
 
-    kind: Literal["pin", "element", "slider", "torque", "gear"]
+    kind: Literal["pin", "element", "slider", "torque", "gear", "rack"]
     index: int
     comp: int
     label: str
@@ -194,6 +197,10 @@ class StaticsSystem:
         external, −1 internal) of each gear pair.
     carriers : tuple of int
         The carrier body of each gear pair.
+    racks : tuple of (str, int, int, int, int, int, int, float, float, float)
+        Name, rack, pinion and carrier (body indices), the pinion's pivot and the guide's two
+        points (point indices), the side σ, the pitch radius and tan φ of each rack; its
+        unknowns are W (comp 0), N (1) and M (2).
     """
 
     points: tuple[str, ...]
@@ -213,6 +220,7 @@ class StaticsSystem:
     residual_cols: tuple[int, ...] = field(default=(), repr=False)
     gears: tuple[tuple[str, int, int, int, int, float, float, float], ...] = ()
     carriers: tuple[int, ...] = ()
+    racks: tuple[tuple[str, int, int, int, int, int, int, float, float, float], ...] = ()
 
     @property
     def size(self) -> int:
@@ -247,6 +255,12 @@ class StaticsSystem:
     def gear_col0(self) -> int:
         """Column of the first gear pair's tooth force."""
         return self.torque_col0 + len(self.rotary)
+
+    @property
+    def rack_col0(self) -> int:
+        """Column of the first rack's tooth force (then its guide's normal force and couple,
+        three columns a rack)."""
+        return self.gear_col0 + len(self.gears)
 
 
 def _structure(model: Model) -> StaticsSystem:
@@ -294,6 +308,12 @@ def _structure(model: Model) -> StaticsSystem:
     unknowns += [Unknown("torque", k, 0, f"rotary driver {d[0]!r}") for k, d in enumerate(rotary)]
     gears, gear_carriers = _gear_pairs(model, pidx, bidx)
     unknowns += [Unknown("gear", k, 0, f"gear pair {g[0]!r}") for k, g in enumerate(gears)]
+    racks = _racks(model, pidx, bidx)
+    unknowns += [
+        Unknown("rack", k, c, f"rack {rk[0]!r} ({what})")
+        for k, rk in enumerate(racks)
+        for c, what in enumerate(("tooth", "guide", "guide couple"))
+    ]
     rows = [f"pin {points[i]} ({'xy'[c]})" for i in nodes for c in (0, 1)]
     for j in moving:
         rows += [
@@ -316,6 +336,7 @@ def _structure(model: Model) -> StaticsSystem:
         tuple(rows),
         gears=gears,
         carriers=gear_carriers,
+        racks=racks,
     )
 
 
@@ -339,6 +360,30 @@ def _gear_pairs(
             )
         )
     return tuple(out), tuple(bidx[g.carrier] for g in model.gears)
+
+
+def _racks(
+    model: Model, pidx: dict[str, int], bidx: dict[str, int]
+) -> tuple[tuple[str, int, int, int, int, int, int, float, float, float], ...]:
+    """Each rack's bodies, pivot, guide, side, pitch radius and tan φ."""
+    out = []
+    for rk in model.racks:
+        pivot = pivot_on(model, rk.pinion, rk.carrier, f"racks.{rk.name}", "pinion")
+        out.append(
+            (
+                rk.name,
+                bidx[rk.rack],
+                bidx[rk.pinion],
+                bidx[rk.carrier],
+                pidx[pivot],
+                pidx[rk.along[0]],
+                pidx[rk.along[1]],
+                rack_side(model, rk),
+                rk.radius,
+                math.tan(rk.pressure_angle),
+            )
+        )
+    return tuple(out)
 
 
 def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
@@ -422,7 +467,45 @@ def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
         if ref in body_row:
             rows[body_row[ref] + 2][col + k] = -1.0
     _gear_rows(sy, x, rows, body_row)
+    _rack_rows(sy, x, rows, body_row)
     return rows
+
+
+def _rack_rows(
+    sy: StaticsSystem, x: F | None, rows: list[dict[int, Entry]], body_row: dict[int, int]
+) -> None:
+    """Each rack's tooth force W·ê (on the rack; −W·ê on the pinion) and guide force N·n̂
+    (on the rack; −N·n̂ on the carrier), both at the pitch point P = O + σ·r·n̂, and its
+    guide's couple M (on the rack; −M on the carrier): ê along the guide, n̂ = perp(ê)."""
+    col = sy.rack_col0
+    for k, (_, rack, pinion, carrier, o, l1, l2, side, r, _) in enumerate(sy.racks):
+        w, n, m = col + 3 * k, col + 3 * k + 1, col + 3 * k + 2
+        # (body, column, sign, along the guide?) of each force; then the couples
+        forces = ((rack, w, 1.0, True), (pinion, w, -1.0, True), (rack, n, 1.0, False),
+                  (carrier, n, -1.0, False))  # fmt: skip
+        for body, c, sign, along in forces:
+            if body not in body_row:
+                continue
+            rb = body_row[body]
+            if x is None:
+                for row in (rb, rb + 1, rb + 2):
+                    rows[row][c] = VAR
+                continue
+            ex, ey = x[l2, 0] - x[l1, 0], x[l2, 1] - x[l1, 1]
+            inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+            ex, ey = ex * inv, ey * inv
+            ux, uy = (ex, ey) if along else (-ey, ex)
+            ux, uy = sign * ux, sign * uy
+            i0 = sy.base[body][0]
+            dx = x[o, 0] - (side * r) * ey - x[i0, 0]
+            dy = x[o, 1] + (side * r) * ex - x[i0, 1]
+            rows[rb][c] = ux
+            rows[rb + 1][c] = uy
+            rows[rb + 2][c] = dx * uy - dy * ux
+        if rack in body_row:
+            rows[body_row[rack] + 2][m] = 1.0
+        if carrier in body_row:
+            rows[body_row[carrier] + 2][m] = -1.0
 
 
 def _gear_rows(
@@ -569,6 +652,7 @@ def compile_statics(model: Model, *, seed: int = 20240601) -> StaticsSystem:
         res_cols,
         sy.gears,
         sy.carriers,
+        sy.racks,
     )
 
 
@@ -748,6 +832,7 @@ def structure_summary(sy: StaticsSystem) -> str:
         f"{sy.size} unknowns ({len(sy.slots)} pin forces, {len(sy.elements)} element "
         f"forces, {len(sy.sliders)} slider forces, {len(sy.rotary)} torques"
         + (f", {len(sy.gears)} tooth forces" if sy.gears else "")
+        + (f", {len(sy.racks)} racks (tooth, guide, couple)" if sy.racks else "")
         + "); "
         f"{len(sy.pivots)} constant pivots ({n_ops} row updates), dense block "
         f"{sy.residual_size}×{sy.residual_size}"

@@ -29,7 +29,13 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.kinetostatics.equilibrium import StaticsSystem
 
-__all__ = ["add_radial", "pin_updates"]
+__all__ = ["RACK_COLUMNS", "RACK_KINDS", "add_radial", "pin_updates", "tooth_forces"]
+
+#: a rack's force columns: its tooth force (N, along the guide, on the rack), its guide's
+#: normal force (N, along perp of the guide, on the rack, at the pitch point) and couple (N·m)
+RACK_COLUMNS = ("tooth", "guide", "couple")
+#: their kinds
+RACK_KINDS = ("force", "force", "torque")
 
 
 def pin_updates(sy: StaticsSystem, x: Any, tooth: Sequence[Any]) -> list[tuple[int, Any]]:
@@ -45,12 +51,13 @@ def pin_updates(sy: StaticsSystem, x: Any, tooth: Sequence[Any]) -> list[tuple[i
     x : ndarray or Dual, shape (n_points, 2, n)
         Point positions.
     tooth : sequence of ndarray or Dual, shape (n,)
-        Each gear pair's tangential tooth force ``W``.
+        Each gear pair's tangential tooth force ``W``, then each rack's.
 
     Returns
     -------
     list of (int, ndarray or Dual)
-        (column of a pin-force unknown, the amount added to it), four per pivot.
+        (column of an unknown, the amount added to it): four per gear pivot; a rack's guide
+        force and four at its pinion's pivot.
     """
     slot = {s: k for k, s in enumerate(sy.slots)}
     out: list[tuple[int, Any]] = []
@@ -63,6 +70,17 @@ def pin_updates(sy: StaticsSystem, x: Any, tooth: Sequence[Any]) -> list[tuple[i
             gs, cs = slot[(pivot, body)], slot[(pivot, carrier)]
             fx, fy = sign * rx, sign * ry  # on the gear: its pin pushes back, the carrier's on
             out += [(2 * gs, -fx), (2 * gs + 1, -fy), (2 * cs, fx), (2 * cs + 1, fy)]
+    col = sy.rack_col0
+    for k, (_, _, pinion, carrier, o, l1, l2, side, _, tan_phi) in enumerate(sy.racks):
+        # on the rack σ·|W|·tan φ·n̂ (away from the pinion), which its guide takes (N changes
+        # by −σ|W| tan φ at the same point); on the pinion the opposite, which its pin takes
+        radial = side * tan_phi * abs(tooth[len(sy.gears) + k])
+        ex, ey = x[l2, 0] - x[l1, 0], x[l2, 1] - x[l1, 1]
+        inv = 1.0 / np.hypot(ex, ey)
+        rx, ry = -ey * inv * radial, ex * inv * radial  # on the rack
+        gs, cs = slot[(o, pinion)], slot[(o, carrier)]
+        out += [(col + 3 * k + 1, -radial)]
+        out += [(2 * gs, rx), (2 * gs + 1, ry), (2 * cs, -rx), (2 * cs + 1, -ry)]
     return out
 
 
@@ -78,6 +96,27 @@ def add_radial(sy: StaticsSystem, x: F, out: F) -> None:
     out : ndarray, shape (n_unknowns, n)
         The solved unknowns: the pin-force rows at the gears' pivots are updated.
     """
-    g0 = sy.gear_col0
-    for col, value in pin_updates(sy, x, list(out[g0 : g0 + len(sy.gears)])):
+    for col, value in pin_updates(sy, x, tooth_forces(sy, list(out))):
         out[col] += value
+
+
+def tooth_forces(sy: StaticsSystem, solution: Sequence[Any]) -> list[Any]:
+    """Each gear pair's tangential tooth force, then each rack's, from the solved unknowns.
+
+    Parameters
+    ----------
+    sy : StaticsSystem
+        The equilibrium system.
+    solution : sequence
+        One entry per unknown.
+
+    Returns
+    -------
+    list
+        ``W`` of each gear pair, then of each rack.
+    """
+    g0, r0 = sy.gear_col0, sy.rack_col0
+    return [
+        *solution[g0 : g0 + len(sy.gears)],
+        *(solution[r0 + 3 * k] for k in range(len(sy.racks))),
+    ]

@@ -30,6 +30,7 @@ from excavkin.kinematics import summary
 from excavkin.kinematics.columns import Column, column, derivative_column, table_attrs
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import StaticsSystem
+from excavkin.kinetostatics.gears import RACK_COLUMNS, RACK_KINDS
 from excavkin.kinetostatics.inertia import MassProperties, centre_of_mass, kinetic_energy_rate
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load
 from excavkin.structure.design import parameter_kind
@@ -134,6 +135,10 @@ class ForceResult:
         The tangential tooth force of each gear pair on its gear 2, N, along
         perp(O2 − O1) at the pitch point (gear 1 gets the opposite; the radial part,
         ``|W|·tan φ``, is in the pivots' pin forces).
+    rack_force : ndarray, shape (n, n_racks, 3)
+        Each rack's tooth force along its guide (N, on the rack; the radial part is in its
+        guide's force), its guide's normal force along perp(guide) at the pitch point (N) and
+        its guide's couple (N·m), on the rack.
     singular : ndarray of bool, shape (n,)
         Samples whose equilibrium equations are singular although the kinematics solved
         (their forces are NaN).
@@ -158,6 +163,7 @@ class ForceResult:
     slider_force: F
     driver_torque: F
     gear_force: F
+    rack_force: F
     singular: np.ndarray
     loads: tuple[Load, ...]
     evaluated: EvaluatedLoads
@@ -402,6 +408,9 @@ class ForceResult:
             cols.append((column(s[0], "slider", "normal", "force"), self.slider_force[:, k]))
         for k, g in enumerate(sy.gears):
             cols.append((column(g[0], "other", "tooth", "force"), self.gear_force[:, k]))
+        for k, rk in enumerate(sy.racks):
+            for c, (qty, kind) in enumerate(zip(RACK_COLUMNS, RACK_KINDS, strict=True)):
+                cols.append((column(rk[0], "other", qty, kind), self.rack_force[:, k, c]))
         for b in resultants:
             r = self.resultant(b)
             cols += [(column(b, "body", q, "force"), r[:, c]) for c, q in enumerate(("Rx", "Ry"))]
@@ -501,6 +510,7 @@ class ForceResult:
         pandas.DataFrame
             Columns ``<point>.<body>.Fx .Fy``, ``<driver>.force`` (linear), ``<driver>.torque``
             (rotary), ``<slider>.normal``, ``<gear pair>.tooth`` (the tangential tooth force),
+            ``<rack>.tooth .guide .couple``,
             ``<body>.Rx .Ry`` — after the kinematic ones.
         """
         import pandas as pd

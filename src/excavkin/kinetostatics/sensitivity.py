@@ -23,7 +23,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import solve_system
-from excavkin.kinetostatics.gears import pin_updates
+from excavkin.kinetostatics.gears import RACK_COLUMNS, pin_updates, tooth_forces
 from excavkin.structure.design import mass_items
 
 if TYPE_CHECKING:
@@ -94,8 +94,7 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
         for col, val in enumerate(sol):
             if isinstance(val, Dual) and val.tan.ndim:
                 out[:, col, part] = val.tan
-        g0 = sy.gear_col0
-        for col, val in pin_updates(sy, xd, sol[g0 : g0 + len(sy.gears)]):
+        for col, val in pin_updates(sy, xd, tooth_forces(sy, sol)):
             if isinstance(val, Dual) and val.tan.ndim:
                 out[:, col, part] += val.tan
     bad = ~(kin.status.solved & ~forces.singular)
@@ -235,6 +234,9 @@ def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
         out[f"{d[0]}.torque"] = tan[t0 + k]
     for k, g in enumerate(sy.gears):
         out[f"{g[0]}.tooth"] = tan[sy.gear_col0 + k]
+    for k, rk in enumerate(sy.racks):
+        for c, qty in enumerate(RACK_COLUMNS):
+            out[f"{rk[0]}.{qty}"] = tan[sy.rack_col0 + 3 * k + c]
     for k, s in enumerate(sy.sliders):
         out[f"{s[0]}.normal"] = tan[s0 + k]
     ground = sy.ground

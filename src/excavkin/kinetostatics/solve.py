@@ -110,7 +110,13 @@ def solve_forces(
         out[:, bad] = np.nan
     singular &= result.status.solved
     ns = len(sy.slots)
-    e0, s0, t0, g0 = sy.element_col0, sy.slider_col0, sy.torque_col0, sy.gear_col0
+    e0, s0, t0, g0, r0 = (
+        sy.element_col0,
+        sy.slider_col0,
+        sy.torque_col0,
+        sy.gear_col0,
+        sy.rack_col0,
+    )
     return ForceResult(
         kinematics=result,
         system=sy,
@@ -118,7 +124,8 @@ def solve_forces(
         element_force=out[e0:s0].T,
         slider_force=out[s0:t0].T,
         driver_torque=out[t0:g0].T,
-        gear_force=out[g0:].T,
+        gear_force=out[g0:r0].T,
+        rack_force=np.moveaxis(out[r0:].reshape(len(sy.racks), 3, n), -1, 0),
         singular=singular,
         loads=checked,
         evaluated=ev,

@@ -259,6 +259,43 @@ class GearPair:
 
 
 @dataclass(frozen=True, slots=True)
+class RackPinion:
+    """A rack that translates along a guide on ``carrier``, driven by a pinion pivoted on it.
+
+    The rack is a prismatic pair with the carrier (its guide runs along ``along``) and meshes
+    with the pinion: its travel along the guide is ``Δs = −σ·r·Δ(θp − θc)``, σ = +1 when the
+    rack lies to the left of the guide's direction from the pinion's pivot, −1 to the right
+    (the pinion turning counter-clockwise moves a rack below it forwards).
+
+    Attributes
+    ----------
+    name : str
+        The mesh's name.
+    rack : str
+        The rack body (it shares no point with the carrier).
+    pinion : str
+        The pinion body; it shares exactly one point with the carrier, its pivot.
+    carrier : str
+        The body that carries the pinion's pivot and the rack's guide (the ground, or a
+        moving body).
+    along : (str, str)
+        Two points of the carrier: the guide's direction.
+    radius : float
+        The pinion's pitch radius, m (> 0).
+    pressure_angle : float
+        rad, in [0, π/2) (default 20°).
+    """
+
+    name: str
+    rack: str
+    pinion: str
+    carrier: str
+    along: tuple[str, str]
+    radius: float
+    pressure_angle: float = 0.3490658503988659
+
+
+@dataclass(frozen=True, slots=True)
 class DesignVariable:
     """A named design variable of a model file: one value that several entries refer to.
 
@@ -307,6 +344,8 @@ class Model:
         The file's named design variables and the entries that refer to them.
     gears : tuple of GearPair
         Meshing gear pairs: higher pairs, one freedom each.
+    racks : tuple of RackPinion
+        Racks and pinions: a prismatic pair and a mesh each.
     """
 
     name: str
@@ -321,6 +360,7 @@ class Model:
     gravity: Gravity | None = None
     design: tuple[DesignVariable, ...] = ()
     gears: tuple[GearPair, ...] = ()
+    racks: tuple[RackPinion, ...] = ()
 
     def __hash__(self) -> int:
         return hash((self.name, tuple(self.points), self.bodies, self.rotary, self.linear))

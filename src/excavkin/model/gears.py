@@ -19,9 +19,81 @@ from dataclasses import dataclass
 import numpy as np
 
 from excavkin.errors import MobilityError, ModelError
-from excavkin.model.entities import GearPair, Model
+from excavkin.model.entities import GearPair, Model, RackPinion
 
-__all__ = ["GearTrain", "gear_pivots", "gear_train"]
+__all__ = ["GearTrain", "gear_pivots", "gear_train", "pivot_on", "rack_side"]
+
+
+def pivot_on(model: Model, body: str, carrier: str, table: str, entry: str) -> str:
+    """The one point ``body`` shares with ``carrier``: its pivot.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    body, carrier : str
+        Two bodies of it.
+    table, entry : str
+        Where a problem is reported.
+
+    Returns
+    -------
+    str
+        The shared point.
+
+    Raises
+    ------
+    ModelError
+        They share no point, or more than one.
+    """
+    shared = [p for p in model.body(body).points if p in model.body(carrier).points]
+    if len(shared) != 1:
+        raise ModelError(
+            f"gear {body!r} shares {len(shared)} points with its carrier {carrier!r} "
+            f"({', '.join(shared) or 'none'}); it needs exactly one, its pivot",
+            table=table,
+            entry=entry,
+            source=model.source,
+        )
+    return shared[0]
+
+
+def rack_side(model: Model, rack: RackPinion) -> float:
+    """σ: +1 where the rack's first point lies to the left of the guide's direction through
+    the pinion's pivot in the sketch, −1 to the right.
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    rack : RackPinion
+        The rack and pinion.
+
+    Returns
+    -------
+    float
+        ±1.
+
+    Raises
+    ------
+    ModelError
+        The rack's first point lies on that line (no side).
+    """
+    pts = model.points
+    o = pts[pivot_on(model, rack.pinion, rack.carrier, f"racks.{rack.name}", "pinion")]
+    (ax, ay), (bx, by) = pts[rack.along[0]], pts[rack.along[1]]
+    first = model.body(rack.rack).points[0]
+    px, py = pts[first]
+    cross = (bx - ax) * (py - o[1]) - (by - ay) * (px - o[0])
+    if cross == 0.0:
+        raise ModelError(
+            f"the rack's point {first} lies on the line through the pinion's pivot along the "
+            "guide, so the sketch does not show on which side of the pinion the rack runs",
+            table=f"racks.{rack.name}",
+            entry="rack",
+            source=model.source,
+        )
+    return 1.0 if cross > 0 else -1.0
 
 
 def gear_pivots(model: Model, pair: GearPair) -> tuple[str, str]:
@@ -44,20 +116,11 @@ def gear_pivots(model: Model, pair: GearPair) -> tuple[str, str]:
     ModelError
         A gear shares no point, or more than one, with the carrier.
     """
-    carrier = model.body(pair.carrier)
-    out = []
-    for g in pair.gears:
-        shared = [p for p in model.body(g).points if p in carrier.points]
-        if len(shared) != 1:
-            raise ModelError(
-                f"gear {g!r} shares {len(shared)} points with its carrier {pair.carrier!r} "
-                f"({', '.join(shared) or 'none'}); it needs exactly one, its pivot",
-                table=f"gears.{pair.name}",
-                entry="gears",
-                source=model.source,
-            )
-        out.append(shared[0])
-    return out[0], out[1]
+    table = f"gears.{pair.name}"
+    return (
+        pivot_on(model, pair.gears[0], pair.carrier, table, "gears"),
+        pivot_on(model, pair.gears[1], pair.carrier, table, "gears"),
+    )
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,10 +134,35 @@ class GearTrain:
         train sets and no rotary driver of its own does, with ``Δθ = Σ c·Δq``.
     meshes : dict
         Body name → the names of the gear pairs of its train (for messages).
+    angles : dict
+        Body name → ``((rotary driver index, coefficient), ...)`` of every body of a train,
+        the ground (no terms) and the driven ones included.
     """
 
     placed: dict[str, tuple[tuple[int, float], ...]]
     meshes: dict[str, tuple[str, ...]]
+    angles: dict[str, tuple[tuple[int, float], ...]]
+
+    def travel(self, model: Model, rack: RackPinion) -> tuple[tuple[int, float], ...]:
+        """A rack's travel along its guide: ``Δs = Σ c·Δq`` over the rotary drivers, with
+        ``Δs = −σ·r·Δ(θp − θc)``.
+
+        Parameters
+        ----------
+        model : Model
+            The model.
+        rack : RackPinion
+            One of its racks.
+
+        Returns
+        -------
+        tuple of (int, float)
+            (rotary driver index, coefficient) pairs.
+        """
+        k = -rack_side(model, rack) * rack.radius
+        pin = dict(self.angles[rack.pinion])
+        car = dict(self.angles[rack.carrier])
+        return tuple((ri, k * (pin.get(ri, 0.0) - car.get(ri, 0.0))) for ri in sorted(pin | car))
 
 
 def gear_train(model: Model) -> GearTrain:
@@ -95,12 +183,14 @@ def gear_train(model: Model) -> GearTrain:
     MobilityError
         The drivers and meshes of a train do not fix its bodies' angles, or fix them twice.
     """
-    if not model.gears:
-        return GearTrain({}, {})
+    if not (model.gears or model.racks):
+        return GearTrain({}, {}, {})
     ground = model.ground.name
     members = {ground}
     for g in model.gears:
         members.update((*g.gears, g.carrier))
+    for rk in model.racks:
+        members.update((rk.pinion, rk.carrier))
     drivers: list[int] = []
     grown = True
     while grown:
@@ -112,7 +202,7 @@ def gear_train(model: Model) -> GearTrain:
                 grown = True
     order = [b.name for b in model.bodies if b.name in members and b.name != ground]
     col = {b: k for k, b in enumerate(order)}
-    names = tuple(g.name for g in model.gears)
+    names = tuple(g.name for g in model.gears) + tuple(rk.name for rk in model.racks)
     n_eq = len(drivers) + len(model.gears)
     if n_eq != len(order):
         what = "fewer" if n_eq < len(order) else "more"
@@ -161,4 +251,6 @@ def gear_train(model: Model) -> GearTrain:
     meshes = {
         body: tuple(g.name for g in model.gears if body in (*g.gears, g.carrier)) for body in order
     }
-    return GearTrain(placed, meshes)
+    angles = {body: tuple((ri, float(c[col[body], ri])) for ri in drivers) for body in order}
+    angles[ground] = ()
+    return GearTrain(placed, meshes, angles)

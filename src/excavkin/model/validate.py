@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 from excavkin.errors import MobilityError, ModelError, did_you_mean
 from excavkin.model.entities import Model
-from excavkin.model.gears import gear_pivots, gear_train
+from excavkin.model.gears import gear_pivots, gear_train, pivot_on, rack_side
 
 
 def validate(model: Model) -> None:
@@ -26,6 +26,7 @@ def validate(model: Model) -> None:
     _check_sliders(model)
     _check_lengths(model)
     _check_gears(model)
+    _check_racks(model)
     mobility_check(model)
     gear_train(model)
 
@@ -52,6 +53,7 @@ def _check_names(model: Model) -> None:
     _unique([d.name for d in model.rotary] + [d.name for d in model.linear], "drivers", src)
     _unique([s.name for s in model.sliders], "sliders", src)
     _unique([g.name for g in model.gears], "gears", src)
+    _unique([r.name for r in model.racks], "racks", src)
 
 
 def _check_bodies(model: Model) -> None:
@@ -308,6 +310,80 @@ def _check_gears(model: Model) -> None:
                 )
 
 
+def _check_racks(model: Model) -> None:
+    """``[racks]``: a rack, a pinion and a carrier, three different known bodies, the rack and
+    the pinion not the ground; the guide two carrier points apart; the pinion pivoted on the
+    carrier, the rack sharing no point with it and drawn to one side of the pinion; a positive
+    pitch radius and a pressure angle in [0, 90°)."""
+    src = model.source
+    names = {b.name for b in model.bodies}
+    for rk in model.racks:
+        table = f"racks.{rk.name}"
+        for key, body in (("rack", rk.rack), ("pinion", rk.pinion), ("carrier", rk.carrier)):
+            if body not in names:
+                raise ModelError(
+                    f"unknown body {body!r}{did_you_mean(body, names)}",
+                    table=table,
+                    entry=key,
+                    source=src,
+                )
+        if len({rk.rack, rk.pinion, rk.carrier}) != 3:
+            raise ModelError(
+                "the rack, the pinion and the carrier must be three different bodies",
+                table=table,
+                entry="rack",
+                source=src,
+            )
+        if model.body(rk.rack).ground or model.body(rk.pinion).ground:
+            raise ModelError(
+                "the rack and the pinion move: neither can be the ground (make the frame the "
+                "carrier)",
+                table=table,
+                entry="rack",
+                source=src,
+            )
+        carrier = model.body(rk.carrier)
+        if not all(p in carrier.points for p in rk.along) or rk.along[0] == rk.along[1]:
+            raise ModelError(
+                f"along must name two different points of the carrier {rk.carrier!r}",
+                table=table,
+                entry="along",
+                source=src,
+            )
+        if math.dist(model.points[rk.along[0]], model.points[rk.along[1]]) == 0.0:
+            raise ModelError(
+                "the guide's two points coincide in the sketch, so they set no direction",
+                table=table,
+                entry="along",
+                source=src,
+            )
+        shared = [p for p in model.body(rk.rack).points if p in carrier.points]
+        if shared:
+            raise ModelError(
+                f"the rack shares {', '.join(shared)} with its carrier; it slides in its guide "
+                "and is joined to the carrier by nothing else",
+                table=table,
+                entry="rack",
+                source=src,
+            )
+        if not (math.isfinite(rk.radius) and rk.radius > 0):
+            raise ModelError(
+                f"the pitch radius must be positive, got {rk.radius} m",
+                table=table,
+                entry="radius",
+                source=src,
+            )
+        if not 0.0 <= rk.pressure_angle < math.pi / 2:
+            raise ModelError(
+                f"the pressure angle must be in [0, 90) deg, got {math.degrees(rk.pressure_angle)}",
+                table=table,
+                entry="pressure_angle",
+                source=src,
+            )
+        pivot_on(model, rk.pinion, rk.carrier, table, "pinion")
+        rack_side(model, rk)
+
+
 def _unique(names: list[str], table: str, src: str | None) -> None:
     seen: set[str] = set()
     for n in names:
@@ -334,8 +410,8 @@ class Mobility:
 
     ``M = 3 (n − 1) − 2 p1 − p2`` with n links (each cylinder or rope counted as two links,
     barrel and rod, joined by a prismatic pair), p1 lower pairs (revolute and prismatic) and p2
-    two-freedom pairs (a point sliding in a slot, a gear mesh); locked cylinders then take one
-    freedom each.
+    two-freedom pairs (a point sliding in a slot, a gear or rack mesh: ``gear_pairs``); a rack's
+    guide is a prismatic pair; locked cylinders then take one freedom each.
     """
 
     links: int
@@ -361,7 +437,7 @@ class Mobility:
         n, p1, p2 = self.links, self.lower_pairs, self.slot_pairs
         text = f"M = 3·({n} − 1) − 2·{p1} − {p2}"
         if self.gear_pairs:
-            text += f" − {self.gear_pairs} gear{'s' if self.gear_pairs > 1 else ''}"
+            text += f" − {self.gear_pairs} mesh{'es' if self.gear_pairs > 1 else ''}"
         if self.locked:
             text += f" − {self.locked} locked"
         return f"{text} = {self.mobility}"
@@ -378,7 +454,10 @@ def mobility(model: Model) -> Mobility:
     links += 2 * len(model.linear)
     lower += 3 * len(model.linear)
     locked = sum(1 for d in model.linear if d.mode == "locked")
-    return Mobility(links, lower, len(model.sliders), locked, len(model.inputs), len(model.gears))
+    # a rack: a prismatic pair with its carrier and a mesh with its pinion
+    lower += len(model.racks)
+    higher = len(model.gears) + len(model.racks)
+    return Mobility(links, lower, len(model.sliders), locked, len(model.inputs), higher)
 
 
 def mobility_check(model: Model) -> None:

@@ -27,7 +27,7 @@ from typing import ClassVar, Literal
 
 from excavkin.errors import AssemblyError, MobilityError
 from excavkin.model.entities import Body, Model
-from excavkin.model.gears import gear_train
+from excavkin.model.gears import gear_train, pivot_on
 from excavkin.model.validate import mobility
 from excavkin.step_kinds import (
     Attach,
@@ -35,6 +35,7 @@ from excavkin.step_kinds import (
     Fixed,
     GearStep,
     NewtonGroup,
+    RackStep,
     Rotate,
     SliderStep,
     StepKind,
@@ -104,7 +105,7 @@ class PlanBuilder:
     """
 
     #: The closed-form step kinds, in the order they are tried after each step added.
-    ORDER: ClassVar[tuple[str, ...]] = ("attach", "rotate", "gear", "dyad", "slider")
+    ORDER: ClassVar[tuple[str, ...]] = ("attach", "rotate", "gear", "rack", "dyad", "slider")
 
     def __init__(self, model: Model, method: Literal["closed-form", "newton"]) -> None:
         self.model = model
@@ -422,6 +423,14 @@ class PlanBuilder:
         self.gear_body = {self.body_index[b] for b in self.train.placed}
         self.gear_next: list[int] = []
         self.used_gear: set[int] = set()
+        # each rack waits for its pinion's pivot and its guide's points
+        self.rack_next: list[int] = []
+        self.rack_at: dict[str, list[int]] = {}
+        self.rack_placed = [0] * len(self.model.racks)
+        for k, rk in enumerate(self.model.racks):
+            pivot = pivot_on(self.model, rk.pinion, rk.carrier, f"racks.{rk.name}", "pinion")
+            for n in {pivot, *rk.along}:
+                self.rack_at.setdefault(n, []).append(k)
 
     def gear(self) -> bool:
         """The first body a gear train turns with a known point and an unknown one: its first
@@ -459,6 +468,54 @@ class PlanBuilder:
             self.used_gear.add(bi)
             self.body_used[bi] += 1
             self.learn(point)
+            return True
+        return False
+
+    def rack(self) -> bool:
+        """The first rack whose pinion's pivot and guide are known: its first two points, at
+        the travel the gear train gives (`excavkin.model.gears.GearTrain.travel`)."""
+        model = self.model
+        while self.rack_next:
+            k = heapq.heappop(self.rack_next)
+            rk = model.racks[k]
+            pivot = pivot_on(model, rk.pinion, rk.carrier, f"racks.{rk.name}", "pinion")
+            if self.rack_placed[k] or not all(n in self.known for n in (pivot, *rk.along)):
+                continue
+            body = self.body_named[rk.rack]
+            if any(n in self.known for n in body.points[:2]):
+                continue  # fixed otherwise: refused as over-constrained after the steps
+            sk = self.sketch
+            (ax, ay), (bx, by) = sk[rk.along[0]], sk[rk.along[1]]
+            dx, dy = bx - ax, by - ay
+            d = math.hypot(dx, dy)
+            terms = self.train.travel(model, rk)
+            for n in body.points[:2]:
+                px, py = sk[n][0] - sk[pivot][0], sk[n][1] - sk[pivot][1]
+                offset = (px * dx + py * dy) / d
+                inputs, coef = [], []
+                for ri, c in terms:
+                    i = self.in_idx[model.rotary[ri].name]
+                    offset -= c * self.input_sketch[i]
+                    inputs.append(i)
+                    coef.append(c)
+                self.steps.append(
+                    _kind(RackStep).build(
+                        self.idx[n],
+                        self.idx[pivot],
+                        self.idx[rk.along[0]],
+                        self.idx[rk.along[1]],
+                        offset,
+                        (dx * py - dy * px) / d,
+                        tuple(inputs),
+                        tuple(coef),
+                        rk.name,
+                        rk.rack,
+                    )
+                )
+                self.learn(n)
+            # the rack's first two points: one distance of its body, the guide and the mesh
+            self.body_used[self.body_index[rk.rack]] += 1
+            self.rack_placed[k] = 1
             return True
         return False
 
@@ -527,6 +584,8 @@ class PlanBuilder:
         for bi in self.point_bodies[n]:
             if bi in self.gear_body:
                 heapq.heappush(self.gear_next, bi)
+        for k in self.rack_at.get(n, ()):
+            heapq.heappush(self.rack_next, k)
         for si in self.slider_along[n]:
             heapq.heappush(self.slider_next, si)
 
@@ -626,6 +685,15 @@ class PlanBuilder:
                 table="gears",
                 source=src,
             )
+        for k, rk in enumerate(self.model.racks):
+            if not self.rack_placed[k]:
+                raise MobilityError(
+                    f"rack {rk.name!r}: body {rk.rack!r} is fixed by the rest of the mechanism "
+                    "as well as by its guide and pinion (over-constrained), or its pinion's "
+                    "pivot or guide is not placed before it",
+                    table=f"racks.{rk.name}",
+                    source=src,
+                )
         for bi, b in enumerate(self.bodies):
             need = 0 if b.ground else 2 * len(b.points) - 3
             if self.body_used[bi] < need:
