@@ -1,5 +1,13 @@
 """The mechanism description: immutable records in SI units, validated."""
 
-from excavkin.model.entities import Body, LinearDriver, Model, RotaryDriver, Slider
+from excavkin.model.entities import (
+    Body,
+    GearPair,
+    LinearDriver,
+    Model,
+    RackPinion,
+    RotaryDriver,
+    Slider,
+)
 
-__all__ = ["Body", "LinearDriver", "Model", "RotaryDriver", "Slider"]
+__all__ = ["Body", "GearPair", "LinearDriver", "Model", "RackPinion", "RotaryDriver", "Slider"]

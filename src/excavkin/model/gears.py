@@ -21,7 +21,38 @@ import numpy as np
 from excavkin.errors import MobilityError, ModelError
 from excavkin.model.entities import GearPair, Model, RackPinion
 
-__all__ = ["GearTrain", "gear_pivots", "gear_train", "pivot_on", "rack_side"]
+__all__ = ["GearTrain", "describe_meshes", "gear_pivots", "gear_train", "pivot_on", "rack_side"]
+
+
+def describe_meshes(model: Model) -> list[str]:
+    """One line per gear pair and rack, as ``check`` lists a model's parts.
+
+    Parameters
+    ----------
+    model : Model
+        A validated model.
+
+    Returns
+    -------
+    list of str
+        ``"  gears   : NAME external 1:3 — G1 (about O1) with G2 (about O2) on CARRIER, φ = 20°"``
+        and ``"  rack    : NAME — RACK along L1→L2 on CARRIER by PINION (r = … m), φ = 20°"``.
+    """
+    out = []
+    for g in model.gears:
+        p1, p2 = gear_pivots(model, g)
+        kind = "internal" if g.internal else "external"
+        out.append(
+            f"  gears   : {g.name} {kind} 1:{g.ratio:.6g} — {g.gears[0]} (about {p1}) with "
+            f"{g.gears[1]} (about {p2}) on {g.carrier}, φ = {np.degrees(g.pressure_angle):.6g}°"
+        )
+    for rk in model.racks:
+        out.append(
+            f"  rack    : {rk.name} — {rk.rack} along {rk.along[0]}→{rk.along[1]} on "
+            f"{rk.carrier} by {rk.pinion} (r = {rk.radius:.6g} m), "
+            f"φ = {np.degrees(rk.pressure_angle):.6g}°"
+        )
+    return out
 
 
 def pivot_on(model: Model, body: str, carrier: str, table: str, entry: str) -> str:

@@ -449,6 +449,8 @@ class PlanBuilder:
             offset = math.atan2(sk[point][1] - sk[anchor][1], sk[point][0] - sk[anchor][0])
             inputs, coef = [], []
             for ri, c in terms:
+                if c == 0.0:
+                    continue
                 i = self.in_idx[self.model.rotary[ri].name]
                 offset -= c * self.input_sketch[i]
                 inputs.append(i)
@@ -494,6 +496,8 @@ class PlanBuilder:
                 offset = (px * dx + py * dy) / d
                 inputs, coef = [], []
                 for ri, c in terms:
+                    if c == 0.0:
+                        continue
                     i = self.in_idx[model.rotary[ri].name]
                     offset -= c * self.input_sketch[i]
                     inputs.append(i)
