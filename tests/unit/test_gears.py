@@ -215,3 +215,22 @@ def test_a_redundant_mesh_is_refused() -> None:
     )
     with pytest.raises(MobilityError):
         excavkin.loads(text, "pair.toml")
+
+
+def test_the_generic_solver_refuses_geared_bodies_by_name() -> None:
+    from excavkin.structure.builder import compile_plan
+
+    with pytest.raises(MobilityError, match="bodies wheel are moved by gears or racks"):
+        compile_plan(pair().model, method="newton")
+
+
+def test_a_geared_body_fixed_otherwise_too_is_refused() -> None:
+    # a link from the frame to the wheel fixes its angle twice: by the mesh and by the link
+    text = (
+        PAIR.replace("GEAR_KEYS", "ratio = 2")
+        .replace("[bodies]", '[bodies]\nlink = { points = ["C", "D"] }')
+        .replace("C = [250, 60]", "C = [250, 60]\nD = [600, 60]")
+        .replace('frame = { points = ["O1", "O2"]', 'frame = { points = ["O1", "O2", "D"]')
+    )
+    with pytest.raises(MobilityError):
+        excavkin.loads(text, "pair.toml")

@@ -401,6 +401,7 @@ class PlanBuilder:
 
     def newton_group(self, unknown: list[str]) -> None:
         """What no closed-form step reaches, solved together by Newton–Raphson."""
+        self.check_no_meshes(unknown)
         cons = self._body_constraints(unknown) + self._other_constraints(unknown)
         n_eq = sum(2 if isinstance(c, CFrame) else 1 for c in cons)
         if n_eq != 2 * len(unknown):
@@ -431,6 +432,21 @@ class PlanBuilder:
             pivot = pivot_on(self.model, rk.pinion, rk.carrier, f"racks.{rk.name}", "pinion")
             for n in {pivot, *rk.along}:
                 self.rack_at.setdefault(n, []).append(k)
+
+    def check_no_meshes(self, unknown: list[str]) -> None:
+        """Refuse a Newton group that holds a body a gear or a rack moves: its mesh is a
+        relation of the inputs (`excavkin.model.gears`), which only the closed-form steps
+        place."""
+        moved = set(self.train.placed) | {rk.rack for rk in self.model.racks}
+        caught = [b.name for b in self.bodies if b.name in moved and set(b.points) & set(unknown)]
+        if caught:
+            raise MobilityError(
+                f"bodies {', '.join(caught)} are moved by gears or racks, which the generic "
+                "solver does not hold: place them in closed form (method 'closed-form'; each "
+                "needs a point placed before it, its pivot or its guide)",
+                table="gears" if self.model.gears else "racks",
+                source=self.model.source,
+            )
 
     def gear(self) -> bool:
         """The first body a gear train turns with a known point and an unknown one: its first
