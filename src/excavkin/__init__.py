@@ -30,6 +30,7 @@ if TYPE_CHECKING:
     from excavkin.mechanism import Mechanism
     from excavkin.model import (
         Body,
+        CamFollower,
         GearPair,
         LinearDriver,
         Model,
@@ -62,7 +63,16 @@ _LAZY = {
     **dict.fromkeys(("KinematicResult", "Status", "Tolerances"), "excavkin.kinematics"),
     "Mechanism": "excavkin.mechanism",
     **dict.fromkeys(
-        ("Body", "GearPair", "LinearDriver", "Model", "RackPinion", "RotaryDriver", "Slider"),
+        (
+            "Body",
+            "CamFollower",
+            "GearPair",
+            "LinearDriver",
+            "Model",
+            "RackPinion",
+            "RotaryDriver",
+            "Slider",
+        ),
         "excavkin.model",
     ),
     **dict.fromkeys(("Gravity", "PointForce", "Torque"), "excavkin.model.entities"),
@@ -91,6 +101,7 @@ __version__ = "0.1.0"
 __all__ = [
     "AssemblyError",
     "Body",
+    "CamFollower",
     "ExcavkinError",
     "GearPair",
     "Gravity",

@@ -58,7 +58,7 @@ def pair(keys: str = EXTERNAL, points: str = "") -> excavkin.Mechanism:
 
 def test_an_external_pair_turns_the_other_way_by_the_ratio_at_every_turn() -> None:
     mech = pair()
-    assert "− 1 mesh = 1" in mech.plan.mobility.describe()
+    assert "− 1 higher pair = 1" in mech.plan.mobility.describe()
     q = np.linspace(-60.0, 60.0, 241)  # about ten turns each way
     res = mech.solve({"motor": q}, rates={"motor": 2.0}, accels={"motor": 0.5})
     assert res.status.all_ok

@@ -37,7 +37,7 @@ def samples(n: int, seed: int = 5) -> tuple[dict[str, np.ndarray], ...]:
 
 def test_the_rack_travels_r_per_radian_of_the_pinion_on_its_turning_guide() -> None:
     mech = arm()
-    assert "M = 3·(4 − 1) − 2·3 − 0 − 1 mesh = 2" in mech.plan.mobility.describe()
+    assert "M = 3·(4 − 1) − 2·3 − 0 − 1 higher pair = 2" in mech.plan.mobility.describe()
     q, qd, qdd = samples(50)
     res = mech.solve(q, rates=qd, accels=qdd)
     assert res.status.all_ok

@@ -22,6 +22,7 @@ from excavkin.kinematics import compiled as compiled_plan
 from excavkin.step_kinds import (
     OPERATIONS,
     Attach,
+    CamStep,
     Dyad,
     Fixed,
     GearStep,
@@ -43,9 +44,10 @@ def _plans() -> dict[str, SolvePlan]:
     out = {name: excavkin.load(name).plan for name in excavkin.examples("model")}
     for name in excavkin.examples("machine"):
         out[name] = load_machine(name).mechanism.plan
-    # a gear train (no built-in example has gears): the reference planetary transmission
+    # a gear train, a rack and a cam (no built-in example has them), from the tests' data
     out["planetary"] = excavkin.load(DATA / "planetary_21_43_108.toml").plan
     out["rack on an arm"] = excavkin.load(DATA / "rack_on_arm.toml").plan
+    out["disc cam"] = excavkin.load(DATA / "disc_cam.toml").plan
     return out
 
 
@@ -55,8 +57,8 @@ DATA = Path(__file__).parents[1] / "reference" / "data"
 PLANS = _plans()
 
 
-def test_the_eight_kinds_are_registered() -> None:
-    kinds = {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup, GearStep, RackStep}
+def test_the_nine_kinds_are_registered() -> None:
+    kinds = {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup, GearStep, RackStep, CamStep}
     assert set(registered()) == kinds
     names = [kind.name for kind in registered().values()]
     assert len(set(names)) == len(names)

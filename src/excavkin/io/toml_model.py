@@ -16,6 +16,7 @@ from excavkin.errors import ModelError, UnitError, did_you_mean
 from excavkin.model.entities import (
     STANDARD_GRAVITY,
     Body,
+    CamFollower,
     DesignVariable,
     GearPair,
     Gravity,
@@ -47,6 +48,7 @@ _TOP = {
     "design",
     "gears",
     "racks",
+    "cams",
 }
 
 
@@ -305,6 +307,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     gravity = _gravity(r)
     gears = _gears(r, bodies)
     racks = _racks(r, bodies)
+    cams = _cams(r, bodies)
 
     model = Model(
         str(name),
@@ -320,6 +323,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         _design(r),
         gears,
         racks,
+        cams,
     )
     validate(model)
     return model
@@ -588,6 +592,56 @@ def _racks(r: TomlReader, bodies: list[Body]) -> tuple[RackPinion, ...]:
                 (along[0], along[1]),
                 r.qty(spec["radius"], "length", table, "radius"),
                 phi,
+            )
+        )
+    return tuple(out)
+
+
+def _cams(r: TomlReader, bodies: list[Body]) -> tuple[CamFollower, ...]:
+    """The ``[cams.NAME]`` tables: ``cam``, ``follower``, ``carrier`` (default the ground),
+    ``along = ["L1", "L2"]``, ``face`` ("roller", the default, or "flat") and ``lift``, rows
+    of [turn, lift] from 0 to 360 deg."""
+    out = []
+    for cname, spec in r.table("cams").items():
+        r.name(cname, "cams")
+        table = f"cams.{cname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", table)
+        r.keys(spec, {"cam", "follower", "carrier", "along", "face", "lift"}, "cams", cname)
+        for key in ("cam", "follower", "along", "lift"):
+            if key not in spec:
+                raise r.err(f"a cam and follower needs {key!r}", table)
+        along = spec["along"]
+        if not (
+            isinstance(along, list) and len(along) == 2 and all(isinstance(p, str) for p in along)
+        ):
+            raise r.err('along must name two points of the carrier, along = ["L1", "L2"]', table)
+        names = {}
+        for key in ("cam", "follower", "carrier"):
+            value = spec.get(key, _ground_name(bodies))
+            if not isinstance(value, str):
+                raise r.err(f"{key} must name a body", table, key)
+            names[key] = value
+        rows = spec["lift"]
+        if not isinstance(rows, list) or not all(
+            isinstance(row, list) and len(row) == 2 for row in rows
+        ):
+            raise r.err('lift must be rows of [turn, lift], e.g. [["0 deg", "0 mm"], …]', table)
+        lift = tuple(
+            (r.qty(a, "angle", table, "lift"), r.qty(b, "length", table, "lift")) for a, b in rows
+        )
+        face = spec.get("face", "roller")
+        if face not in ("roller", "flat"):
+            raise r.err(f"face must be 'roller' or 'flat', not {face!r}", table, "face")
+        out.append(
+            CamFollower(
+                cname,
+                names["cam"],
+                names["follower"],
+                names["carrier"],
+                (along[0], along[1]),
+                lift,
+                face,
             )
         )
     return tuple(out)

@@ -44,6 +44,7 @@ QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
     "normal": ("slider", "force"),
     "tooth": ("other", "force"),
     "guide": ("other", "force"),
+    "contact": ("other", "force"),
     "couple": ("other", "torque"),
     "power": ("driver", "power"),
     "pressure": ("driver", "pressure"),

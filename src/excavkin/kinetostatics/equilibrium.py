@@ -11,6 +11,10 @@ Unknowns (DESIGN.md §5)::
     W[k], N[k], M[k]    each rack's tooth force along its guide, its guide's normal force
                         (both at the pitch point) and couple, on the rack (the carrier takes
                         −N, −M, the pinion −W)
+    W[c], N[c], M[c]    each cam's contact force on its follower along the common normal
+                        (through the instant centre of the cam and the follower; −W on the
+                        cam), and its follower's guide force at the follower's first point and
+                        couple (as a rack's; the carrier takes −N, −M)
     W[g]                the tangential tooth force of each gear pair: +W·t on gear 2 and −W·t
                         on gear 1 at the pitch point, t = perp(O2 − O1)/|O2 − O1| (its
                         radial part, |W|·tan φ along the line of centres, is added to the
@@ -50,16 +54,18 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Literal, TypeAlias, cast
+from typing import Any, Literal, TypeAlias, cast
 
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import MobilityError
+from excavkin.model.cams import LiftLaw, lift_law
 from excavkin.model.entities import Model
 from excavkin.model.gears import gear_pivots, pivot_on, rack_side
 
 __all__ = [
+    "CamContact",
     "StaticallyIndeterminateError",
     "StaticsSystem",
     "Unknown",
@@ -142,7 +148,7 @@ class Unknown:
 
     Attributes
     ----------
-    kind : {"pin", "element", "slider", "torque", "gear", "rack"}
+    kind : {"pin", "element", "slider", "torque", "gear", "rack", "cam"}
     index : int
         Pin slot, element, slider or rotary-driver index in the system's lists.
     comp : int
@@ -151,10 +157,48 @@ class Unknown:
         For messages: ``"pin B on body 'rocker'"``.
     """
 
-    kind: Literal["pin", "element", "slider", "torque", "gear", "rack"]
+    kind: Literal["pin", "element", "slider", "torque", "gear", "rack", "cam"]
     index: int
     comp: int
     label: str
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class CamContact:
+    """A cam and follower in the equilibrium (point and body indices).
+
+    Attributes
+    ----------
+    name : str
+    cam, follower, carrier : int
+        Bodies.
+    pivot, l1, l2, trace : int
+        The cam's pivot, the guide's points and the follower's first point.
+    cam_base : (int, int)
+        The cam's first two points (its orientation).
+    carrier_base : (int, int) or None
+        The carrier's (None: the ground).
+    sketch_turn : float
+        The cam's angle from the carrier's orientation in the sketch (rad).
+    face : float
+        0 for a roller follower, else ±1: the flat face's normal is ``face·ê``.
+    law : LiftLaw
+        The lift law.
+    """
+
+    name: str
+    cam: int
+    follower: int
+    carrier: int
+    pivot: int
+    l1: int
+    l2: int
+    trace: int
+    cam_base: tuple[int, int]
+    carrier_base: tuple[int, int] | None
+    sketch_turn: float
+    face: float
+    law: LiftLaw
 
 
 @dataclass(frozen=True, slots=True)
@@ -201,6 +245,8 @@ class StaticsSystem:
         Name, rack, pinion and carrier (body indices), the pinion's pivot and the guide's two
         points (point indices), the side σ, the pitch radius and tan φ of each rack; its
         unknowns are W (comp 0), N (1) and M (2).
+    cams : tuple of CamContact
+        Each cam and follower; its unknowns are W (comp 0), N (1) and M (2).
     """
 
     points: tuple[str, ...]
@@ -221,6 +267,7 @@ class StaticsSystem:
     gears: tuple[tuple[str, int, int, int, int, float, float, float], ...] = ()
     carriers: tuple[int, ...] = ()
     racks: tuple[tuple[str, int, int, int, int, int, int, float, float, float], ...] = ()
+    cams: tuple[CamContact, ...] = ()
 
     @property
     def size(self) -> int:
@@ -255,6 +302,12 @@ class StaticsSystem:
     def gear_col0(self) -> int:
         """Column of the first gear pair's tooth force."""
         return self.torque_col0 + len(self.rotary)
+
+    @property
+    def cam_col0(self) -> int:
+        """Column of the first cam's contact force (then its guide's normal force and couple,
+        three columns a cam)."""
+        return self.rack_col0 + 3 * len(self.racks)
 
     @property
     def rack_col0(self) -> int:
@@ -314,6 +367,12 @@ def _structure(model: Model) -> StaticsSystem:
         for k, rk in enumerate(racks)
         for c, what in enumerate(("tooth", "guide", "guide couple"))
     ]
+    cams = _cams(model, pidx, bidx)
+    unknowns += [
+        Unknown("cam", k, c, f"cam {cm.name!r} ({what})")
+        for k, cm in enumerate(cams)
+        for c, what in enumerate(("contact", "guide", "guide couple"))
+    ]
     rows = [f"pin {points[i]} ({'xy'[c]})" for i in nodes for c in (0, 1)]
     for j in moving:
         rows += [
@@ -337,6 +396,7 @@ def _structure(model: Model) -> StaticsSystem:
         gears=gears,
         carriers=gear_carriers,
         racks=racks,
+        cams=cams,
     )
 
 
@@ -384,6 +444,86 @@ def _racks(
             )
         )
     return tuple(out)
+
+
+def _cams(model: Model, pidx: dict[str, int], bidx: dict[str, int]) -> tuple[CamContact, ...]:
+    """Each cam's bodies, points, sketch turn, face and lift law."""
+    out = []
+    sk = model.points
+    for cm in model.cams:
+        pivot = pivot_on(model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
+        cam, carrier = model.body(cm.cam), model.body(cm.carrier)
+        trace = model.body(cm.follower).points[0]
+        (c0x, c0y), (c1x, c1y) = sk[cam.points[0]], sk[cam.points[1]]
+        kx, ky = 1.0, 0.0
+        if not carrier.ground:
+            (k0x, k0y), (k1x, k1y) = sk[carrier.points[0]], sk[carrier.points[1]]
+            kx, ky = k1x - k0x, k1y - k0y
+        cx, cy = c1x - c0x, c1y - c0y
+        (ax, ay), (bx, by) = sk[cm.along[0]], sk[cm.along[1]]
+        along = (sk[trace][0] - sk[pivot][0]) * (bx - ax) + (sk[trace][1] - sk[pivot][1]) * (
+            by - ay
+        )
+        out.append(
+            CamContact(
+                cm.name,
+                bidx[cm.cam],
+                bidx[cm.follower],
+                bidx[cm.carrier],
+                pidx[pivot],
+                pidx[cm.along[0]],
+                pidx[cm.along[1]],
+                pidx[trace],
+                (pidx[cam.points[0]], pidx[cam.points[1]]),
+                None if carrier.ground else (pidx[carrier.points[0]], pidx[carrier.points[1]]),
+                math.atan2(kx * cy - ky * cx, kx * cx + ky * cy),
+                0.0 if cm.face == "roller" else math.copysign(1.0, along),
+                lift_law(cm.lift),
+            )
+        )
+    return tuple(out)
+
+
+def cam_normal(cm: CamContact, x: Any) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any]:
+    """A cam's contact geometry at positions ``x``: the guide's unit vector ê, the contact
+    normal n (on the follower) and the instant centre I of the cam and the follower, through
+    which the contact force acts: ``I = O − s'(θ)·perp(ê)``, with θ the cam's turn from the
+    sketch (from the positions, modulo a turn: the law is periodic) and, for a roller, ``n``
+    from I to the roller's centre, for a flat face ``n = ±ê``.
+
+    Parameters
+    ----------
+    cm : CamContact
+        The cam.
+    x : ndarray or dual number, shape (n_points, 2, c)
+        Positions.
+
+    Returns
+    -------
+    tuple
+        ``ex, ey, nx, ny, ix, iy, bx, by``: ê, n, I and the follower's first point.
+    """
+    c0, c1 = cm.cam_base
+    cx, cy = x[c1, 0] - x[c0, 0], x[c1, 1] - x[c0, 1]
+    if cm.carrier_base is None:
+        turn = np.arctan2(cy, cx)
+    else:
+        k0, k1 = cm.carrier_base
+        kx, ky = x[k1, 0] - x[k0, 0], x[k1, 1] - x[k0, 1]
+        turn = np.arctan2(kx * cy - ky * cx, kx * cx + ky * cy)
+    _, s1, _ = cm.law(turn - cm.sketch_turn)
+    ex, ey = x[cm.l2, 0] - x[cm.l1, 0], x[cm.l2, 1] - x[cm.l1, 1]
+    inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+    ex, ey = ex * inv, ey * inv
+    ix, iy = x[cm.pivot, 0] + s1 * ey, x[cm.pivot, 1] - s1 * ex
+    bx, by = x[cm.trace, 0], x[cm.trace, 1]
+    if cm.face:
+        nx, ny = cm.face * ex, cm.face * ey
+    else:
+        nx, ny = bx - ix, by - iy
+        inv = 1.0 / np.sqrt(nx * nx + ny * ny)
+        nx, ny = nx * inv, ny * inv
+    return ex, ey, nx, ny, ix, iy, bx, by
 
 
 def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
@@ -468,7 +608,45 @@ def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
             rows[body_row[ref] + 2][col + k] = -1.0
     _gear_rows(sy, x, rows, body_row)
     _rack_rows(sy, x, rows, body_row)
+    _cam_rows(sy, x, rows, body_row)
     return rows
+
+
+def _cam_rows(
+    sy: StaticsSystem, x: F | None, rows: list[dict[int, Entry]], body_row: dict[int, int]
+) -> None:
+    """Each cam's contact force W·n through the instant centre I (on the follower; −W·n on
+    the cam), its guide's force N·perp(ê) at the follower's first point (on the follower;
+    the opposite on the carrier) and its guide's couple M."""
+    col = sy.cam_col0
+    for k, cm in enumerate(sy.cams):
+        w, n, m = col + 3 * k, col + 3 * k + 1, col + 3 * k + 2
+        geo = None if x is None else cam_normal(cm, x)
+        forces = ((cm.follower, w, 1.0), (cm.cam, w, -1.0), (cm.follower, n, 1.0),
+                  (cm.carrier, n, -1.0))  # fmt: skip
+        for body, c, sign in forces:
+            if body not in body_row:
+                continue
+            rb = body_row[body]
+            if geo is None:
+                for row in (rb, rb + 1, rb + 2):
+                    rows[row][c] = VAR
+                continue
+            ex, ey, nx, ny, ix, iy, bx, by = geo
+            assert x is not None
+            if c == w:
+                ux, uy, px, py = sign * nx, sign * ny, ix, iy
+            else:
+                ux, uy, px, py = -sign * ey, sign * ex, bx, by
+            i0 = sy.base[body][0]
+            dx, dy = px - x[i0, 0], py - x[i0, 1]
+            rows[rb][c] = ux
+            rows[rb + 1][c] = uy
+            rows[rb + 2][c] = dx * uy - dy * ux
+        if cm.follower in body_row:
+            rows[body_row[cm.follower] + 2][m] = 1.0
+        if cm.carrier in body_row:
+            rows[body_row[cm.carrier] + 2][m] = -1.0
 
 
 def _rack_rows(
@@ -653,6 +831,7 @@ def compile_statics(model: Model, *, seed: int = 20240601) -> StaticsSystem:
         sy.gears,
         sy.carriers,
         sy.racks,
+        sy.cams,
     )
 
 
@@ -833,6 +1012,7 @@ def structure_summary(sy: StaticsSystem) -> str:
         f"forces, {len(sy.sliders)} slider forces, {len(sy.rotary)} torques"
         + (f", {len(sy.gears)} tooth forces" if sy.gears else "")
         + (f", {len(sy.racks)} racks (tooth, guide, couple)" if sy.racks else "")
+        + (f", {len(sy.cams)} cams (contact, guide, couple)" if sy.cams else "")
         + "); "
         f"{len(sy.pivots)} constant pivots ({n_ops} row updates), dense block "
         f"{sy.residual_size}×{sy.residual_size}"

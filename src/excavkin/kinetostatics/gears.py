@@ -29,13 +29,15 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.kinetostatics.equilibrium import StaticsSystem
 
-__all__ = ["RACK_COLUMNS", "RACK_KINDS", "add_radial", "pin_updates", "tooth_forces"]
+__all__ = ["CAM_COLUMNS", "RACK_COLUMNS", "RACK_KINDS", "add_radial", "pin_updates", "tooth_forces"]
 
 #: a rack's force columns: its tooth force (N, along the guide, on the rack), its guide's
 #: normal force (N, along perp of the guide, on the rack, at the pitch point) and couple (N·m)
 RACK_COLUMNS = ("tooth", "guide", "couple")
 #: their kinds
 RACK_KINDS = ("force", "force", "torque")
+#: a cam's force columns: its contact force, its follower's guide force and couple
+CAM_COLUMNS = ("contact", "guide", "couple")
 
 
 def pin_updates(sy: StaticsSystem, x: Any, tooth: Sequence[Any]) -> list[tuple[int, Any]]:

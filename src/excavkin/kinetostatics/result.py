@@ -30,7 +30,7 @@ from excavkin.kinematics import summary
 from excavkin.kinematics.columns import Column, column, derivative_column, table_attrs
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import StaticsSystem
-from excavkin.kinetostatics.gears import RACK_COLUMNS, RACK_KINDS
+from excavkin.kinetostatics.gears import CAM_COLUMNS, RACK_COLUMNS, RACK_KINDS
 from excavkin.kinetostatics.inertia import MassProperties, centre_of_mass, kinetic_energy_rate
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load
 from excavkin.structure.design import parameter_kind
@@ -139,6 +139,10 @@ class ForceResult:
         Each rack's tooth force along its guide (N, on the rack; the radial part is in its
         guide's force), its guide's normal force along perp(guide) at the pitch point (N) and
         its guide's couple (N·m), on the rack.
+    cam_force : ndarray, shape (n, n_cams, 3)
+        Each cam's contact force on its follower along the common normal (N; < 0: the
+        follower would leave the cam), its guide's normal force at the follower's first point
+        (N) and couple (N·m), on the follower.
     singular : ndarray of bool, shape (n,)
         Samples whose equilibrium equations are singular although the kinematics solved
         (their forces are NaN).
@@ -164,6 +168,7 @@ class ForceResult:
     driver_torque: F
     gear_force: F
     rack_force: F
+    cam_force: F
     singular: np.ndarray
     loads: tuple[Load, ...]
     evaluated: EvaluatedLoads
@@ -411,6 +416,9 @@ class ForceResult:
         for k, rk in enumerate(sy.racks):
             for c, (qty, kind) in enumerate(zip(RACK_COLUMNS, RACK_KINDS, strict=True)):
                 cols.append((column(rk[0], "other", qty, kind), self.rack_force[:, k, c]))
+        for k, cm in enumerate(sy.cams):
+            for c, (qty, kind) in enumerate(zip(CAM_COLUMNS, RACK_KINDS, strict=True)):
+                cols.append((column(cm.name, "other", qty, kind), self.cam_force[:, k, c]))
         for b in resultants:
             r = self.resultant(b)
             cols += [(column(b, "body", q, "force"), r[:, c]) for c, q in enumerate(("Rx", "Ry"))]
@@ -510,7 +518,7 @@ class ForceResult:
         pandas.DataFrame
             Columns ``<point>.<body>.Fx .Fy``, ``<driver>.force`` (linear), ``<driver>.torque``
             (rotary), ``<slider>.normal``, ``<gear pair>.tooth`` (the tangential tooth force),
-            ``<rack>.tooth .guide .couple``,
+            ``<rack>.tooth .guide .couple``, ``<cam>.contact .guide .couple``,
             ``<body>.Rx .Ry`` — after the kinematic ones.
         """
         import pandas as pd

@@ -23,7 +23,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import solve_system
-from excavkin.kinetostatics.gears import RACK_COLUMNS, pin_updates, tooth_forces
+from excavkin.kinetostatics.gears import CAM_COLUMNS, RACK_COLUMNS, pin_updates, tooth_forces
 from excavkin.structure.design import mass_items
 
 if TYPE_CHECKING:
@@ -237,6 +237,9 @@ def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
     for k, rk in enumerate(sy.racks):
         for c, qty in enumerate(RACK_COLUMNS):
             out[f"{rk[0]}.{qty}"] = tan[sy.rack_col0 + 3 * k + c]
+    for k, cm in enumerate(sy.cams):
+        for c, qty in enumerate(CAM_COLUMNS):
+            out[f"{cm.name}.{qty}"] = tan[sy.cam_col0 + 3 * k + c]
     for k, s in enumerate(sy.sliders):
         out[f"{s[0]}.normal"] = tan[s0 + k]
     ground = sy.ground

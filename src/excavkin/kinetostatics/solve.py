@@ -110,12 +110,13 @@ def solve_forces(
         out[:, bad] = np.nan
     singular &= result.status.solved
     ns = len(sy.slots)
-    e0, s0, t0, g0, r0 = (
+    e0, s0, t0, g0, r0, c0 = (
         sy.element_col0,
         sy.slider_col0,
         sy.torque_col0,
         sy.gear_col0,
         sy.rack_col0,
+        sy.cam_col0,
     )
     return ForceResult(
         kinematics=result,
@@ -125,7 +126,8 @@ def solve_forces(
         slider_force=out[s0:t0].T,
         driver_torque=out[t0:g0].T,
         gear_force=out[g0:r0].T,
-        rack_force=np.moveaxis(out[r0:].reshape(len(sy.racks), 3, n), -1, 0),
+        rack_force=np.moveaxis(out[r0:c0].reshape(len(sy.racks), 3, n), -1, 0),
+        cam_force=np.moveaxis(out[c0:].reshape(len(sy.cams), 3, n), -1, 0),
         singular=singular,
         loads=checked,
         evaluated=ev,
@@ -173,6 +175,8 @@ def _solve_compiled(
     from excavkin.kinetostatics import compiled as kernel
 
     n = out.shape[1]
+    if known[0].cams:
+        return False  # a cam's lift law is a spline evaluated in NumPy: not traced
     if compiled is False or compiled is None and (n < THRESHOLD or not available()):
         return False  # (before the source is traced: small batches stay cheap)
     x, a, eps = motion

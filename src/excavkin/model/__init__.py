@@ -2,6 +2,7 @@
 
 from excavkin.model.entities import (
     Body,
+    CamFollower,
     GearPair,
     LinearDriver,
     Model,
@@ -10,4 +11,13 @@ from excavkin.model.entities import (
     Slider,
 )
 
-__all__ = ["Body", "GearPair", "LinearDriver", "Model", "RackPinion", "RotaryDriver", "Slider"]
+__all__ = [
+    "Body",
+    "CamFollower",
+    "GearPair",
+    "LinearDriver",
+    "Model",
+    "RackPinion",
+    "RotaryDriver",
+    "Slider",
+]

@@ -296,6 +296,45 @@ class RackPinion:
 
 
 @dataclass(frozen=True, slots=True)
+class CamFollower:
+    """A disc cam turning on ``carrier`` and a follower translating in a guide on it.
+
+    The follower's travel along its guide is the lift law ``s(θ)`` of the cam's turn θ from its
+    sketch, relative to the carrier and counter-clockwise (a table over one turn, interpolated
+    by a periodic cubic spline; see `excavkin.model.cams`). At the sketch the follower is where
+    it is drawn, at the lift ``s(0)``.
+
+    Attributes
+    ----------
+    name : str
+        The pair's name.
+    cam : str
+        The cam body; it shares exactly one point with the carrier, its pivot.
+    follower : str
+        The translating body (it shares no point with the carrier). With ``face = "roller"``
+        its first point is the roller's centre (a knife edge: a roller of radius 0), whose
+        travel the lift law gives.
+    carrier : str
+        The body that carries the cam's pivot and the follower's guide.
+    along : (str, str)
+        Two points of the carrier: the guide's direction.
+    lift : tuple of (float, float)
+        (turn in rad, lift in m) from 0 to 2π, strictly increasing, the last lift equal to the
+        first.
+    face : {"roller", "flat"}
+        A roller (or knife-edge) follower, or a flat face square to the guide.
+    """
+
+    name: str
+    cam: str
+    follower: str
+    carrier: str
+    along: tuple[str, str]
+    lift: tuple[tuple[float, float], ...]
+    face: Literal["roller", "flat"] = "roller"
+
+
+@dataclass(frozen=True, slots=True)
 class DesignVariable:
     """A named design variable of a model file: one value that several entries refer to.
 
@@ -346,6 +385,8 @@ class Model:
         Meshing gear pairs: higher pairs, one freedom each.
     racks : tuple of RackPinion
         Racks and pinions: a prismatic pair and a mesh each.
+    cams : tuple of CamFollower
+        Disc cams and translating followers: a prismatic pair and a contact each.
     """
 
     name: str
@@ -361,6 +402,7 @@ class Model:
     design: tuple[DesignVariable, ...] = ()
     gears: tuple[GearPair, ...] = ()
     racks: tuple[RackPinion, ...] = ()
+    cams: tuple[CamFollower, ...] = ()
 
     def __hash__(self) -> int:
         return hash((self.name, tuple(self.points), self.bodies, self.rotary, self.linear))

@@ -36,7 +36,8 @@ def describe_meshes(model: Model) -> list[str]:
     -------
     list of str
         ``"  gears   : NAME external 1:3 — G1 (about O1) with G2 (about O2) on CARRIER, φ = 20°"``
-        and ``"  rack    : NAME — RACK along L1→L2 on CARRIER by PINION (r = … m), φ = 20°"``.
+        , ``"  rack    : NAME — RACK along L1→L2 on CARRIER by PINION (r = … m), φ = 20°"`` and
+        ``"  cam     : NAME — CAM lifts FOLLOWER (roller) along L1→L2 on CARRIER, …"``.
     """
     out = []
     for g in model.gears:
@@ -51,6 +52,13 @@ def describe_meshes(model: Model) -> list[str]:
             f"  rack    : {rk.name} — {rk.rack} along {rk.along[0]}→{rk.along[1]} on "
             f"{rk.carrier} by {rk.pinion} (r = {rk.radius:.6g} m), "
             f"φ = {np.degrees(rk.pressure_angle):.6g}°"
+        )
+    for cm in model.cams:
+        lifts = [s for _, s in cm.lift]
+        out.append(
+            f"  cam     : {cm.name} — {cm.cam} lifts {cm.follower} ({cm.face}) along "
+            f"{cm.along[0]}→{cm.along[1]} on {cm.carrier}, lift {min(lifts):.6g}…"
+            f"{max(lifts):.6g} m over {len(cm.lift) - 1} rows"
         )
     return out
 
@@ -195,6 +203,22 @@ class GearTrain:
         car = dict(self.angles[rack.carrier])
         return tuple((ri, k * (pin.get(ri, 0.0) - car.get(ri, 0.0))) for ri in sorted(pin | car))
 
+    def turn(self, body: str, carrier: str) -> tuple[tuple[int, float], ...]:
+        """A body's turn relative to a carrier, ``Δ(θb − θc) = Σ c·Δq``.
+
+        Parameters
+        ----------
+        body, carrier : str
+            Two bodies of a train.
+
+        Returns
+        -------
+        tuple of (int, float)
+            (rotary driver index, coefficient) pairs.
+        """
+        b, c = dict(self.angles[body]), dict(self.angles[carrier])
+        return tuple((ri, b.get(ri, 0.0) - c.get(ri, 0.0)) for ri in sorted(b | c))
+
 
 def gear_train(model: Model) -> GearTrain:
     """Solve the angle relations of every gear train of ``model`` (see the module's text).
@@ -214,7 +238,7 @@ def gear_train(model: Model) -> GearTrain:
     MobilityError
         The drivers and meshes of a train do not fix its bodies' angles, or fix them twice.
     """
-    if not (model.gears or model.racks):
+    if not (model.gears or model.racks or model.cams):
         return GearTrain({}, {}, {})
     ground = model.ground.name
     members = {ground}
@@ -222,6 +246,8 @@ def gear_train(model: Model) -> GearTrain:
         members.update((*g.gears, g.carrier))
     for rk in model.racks:
         members.update((rk.pinion, rk.carrier))
+    for cm in model.cams:
+        members.update((cm.cam, cm.carrier))
     drivers: list[int] = []
     grown = True
     while grown:
@@ -234,6 +260,7 @@ def gear_train(model: Model) -> GearTrain:
     order = [b.name for b in model.bodies if b.name in members and b.name != ground]
     col = {b: k for k, b in enumerate(order)}
     names = tuple(g.name for g in model.gears) + tuple(rk.name for rk in model.racks)
+    names += tuple(cm.name for cm in model.cams)
     n_eq = len(drivers) + len(model.gears)
     if n_eq != len(order):
         what = "fewer" if n_eq < len(order) else "more"

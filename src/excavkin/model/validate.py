@@ -27,6 +27,7 @@ def validate(model: Model) -> None:
     _check_lengths(model)
     _check_gears(model)
     _check_racks(model)
+    _check_cams(model)
     mobility_check(model)
     gear_train(model)
 
@@ -54,6 +55,7 @@ def _check_names(model: Model) -> None:
     _unique([s.name for s in model.sliders], "sliders", src)
     _unique([g.name for g in model.gears], "gears", src)
     _unique([r.name for r in model.racks], "racks", src)
+    _unique([c.name for c in model.cams], "cams", src)
 
 
 def _check_bodies(model: Model) -> None:
@@ -384,6 +386,57 @@ def _check_racks(model: Model) -> None:
         rack_side(model, rk)
 
 
+def _check_cams(model: Model) -> None:
+    """``[cams]``: a cam, a follower and a carrier, three different known bodies, neither the
+    cam nor the follower the ground; the guide two carrier points apart; the cam pivoted on the
+    carrier, the follower sharing no point with it; a lift table from 0 to 360° (at least four
+    rows, turns strictly increasing, the same lift at both ends, finite)."""
+    src = model.source
+    names = {b.name for b in model.bodies}
+    for cm in model.cams:
+        table = f"cams.{cm.name}"
+
+        def bad(problem: str, entry: str, table: str = table) -> ModelError:
+            return ModelError(problem, table=table, entry=entry, source=src)
+
+        for key, body in (("cam", cm.cam), ("follower", cm.follower), ("carrier", cm.carrier)):
+            if body not in names:
+                raise bad(f"unknown body {body!r}{did_you_mean(body, names)}", key)
+        if len({cm.cam, cm.follower, cm.carrier}) != 3:
+            raise bad("the cam, the follower and the carrier must be three different bodies", "cam")
+        if model.body(cm.cam).ground or model.body(cm.follower).ground:
+            raise bad("the cam and the follower move: neither can be the ground", "cam")
+        carrier = model.body(cm.carrier)
+        if not all(p in carrier.points for p in cm.along) or cm.along[0] == cm.along[1]:
+            raise bad(
+                f"along must name two different points of the carrier {cm.carrier!r}", "along"
+            )
+        if math.dist(model.points[cm.along[0]], model.points[cm.along[1]]) == 0.0:
+            raise bad("the guide's two points coincide in the sketch", "along")
+        shared = [p for p in model.body(cm.follower).points if p in carrier.points]
+        if shared:
+            raise bad(f"the follower shares {', '.join(shared)} with its carrier", "follower")
+        if cm.face not in ("roller", "flat"):
+            raise bad(f"face must be 'roller' or 'flat', not {cm.face!r}", "face")
+        pivot_on(model, cm.cam, cm.carrier, table, "cam")
+        lift = cm.lift
+        if len(lift) < 4 or not all(
+            len(row) == 2 and all(math.isfinite(v) for v in row) for row in lift
+        ):
+            raise bad("the lift table needs at least four finite rows [turn, lift]", "lift")
+        turns = [a for a, _ in lift]
+        if turns[0] != 0.0 or not math.isclose(turns[-1], 2 * math.pi, abs_tol=1e-12):
+            raise bad("the lift table runs from 0 to 360 deg", "lift")
+        if any(b <= a for a, b in zip(turns, turns[1:], strict=False)):
+            raise bad("the lift table's turns must increase strictly", "lift")
+        if lift[-1][1] != lift[0][1]:
+            raise bad(
+                f"the lift at 360 deg ({lift[-1][1]:.6g} m) must equal the lift at 0 "
+                f"({lift[0][1]:.6g} m): the cam turns round",
+                "lift",
+            )
+
+
 def _unique(names: list[str], table: str, src: str | None) -> None:
     seen: set[str] = set()
     for n in names:
@@ -437,7 +490,7 @@ class Mobility:
         n, p1, p2 = self.links, self.lower_pairs, self.slot_pairs
         text = f"M = 3·({n} − 1) − 2·{p1} − {p2}"
         if self.gear_pairs:
-            text += f" − {self.gear_pairs} mesh{'es' if self.gear_pairs > 1 else ''}"
+            text += f" − {self.gear_pairs} higher pair{'s' if self.gear_pairs > 1 else ''}"
         if self.locked:
             text += f" − {self.locked} locked"
         return f"{text} = {self.mobility}"
@@ -454,9 +507,9 @@ def mobility(model: Model) -> Mobility:
     links += 2 * len(model.linear)
     lower += 3 * len(model.linear)
     locked = sum(1 for d in model.linear if d.mode == "locked")
-    # a rack: a prismatic pair with its carrier and a mesh with its pinion
-    lower += len(model.racks)
-    higher = len(model.gears) + len(model.racks)
+    # a rack (a cam's follower): a prismatic pair with its carrier and a mesh (a contact)
+    lower += len(model.racks) + len(model.cams)
+    higher = len(model.gears) + len(model.racks) + len(model.cams)
     return Mobility(links, lower, len(model.sliders), locked, len(model.inputs), higher)
 
 

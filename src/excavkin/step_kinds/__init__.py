@@ -1,12 +1,12 @@
 """Step kinds: one module each, a registry.
 
 A solve plan (`excavkin.structure.plan`) is a sequence of steps of a few kinds: `Fixed`,
-`Rotate`, `Attach`, `Dyad`, `SliderStep`, `NewtonGroup`, `GearStep` and `RackStep`. Each kind's
-module holds its record and every operation on it (`excavkin.step_kinds.base.StepKind` lists
-them): building it, its constants for a family of designs, its NumPy kernel, its compiled
-source, the precision check's part, its description, its part in the statics and its drawing.
-Importing this package registers every kind; `kind_of` finds a step's kind by its record's
-type.
+`Rotate`, `Attach`, `Dyad`, `SliderStep`, `NewtonGroup`, `GearStep`, `RackStep` and `CamStep`.
+Each kind's module holds its record and every operation on it
+(`excavkin.step_kinds.base.StepKind` lists them): building it, its constants for a family of
+designs, its NumPy kernel, its compiled source, the precision check's part, its description, its
+part in the statics and its drawing. Importing this package registers every kind; `kind_of`
+finds a step's kind by its record's type.
 
 To add a kind: write a module here with its record (a frozen dataclass) and a `StepKind`
 subclass decorated with `register` that implements every operation, import it below, and add
@@ -15,7 +15,17 @@ its record to `Step`.
 
 from __future__ import annotations
 
-from excavkin.step_kinds import attach, dyad, fixed, gear, newton_group, rack, rotate, slider
+from excavkin.step_kinds import (
+    attach,
+    cam,
+    dyad,
+    fixed,
+    gear,
+    newton_group,
+    rack,
+    rotate,
+    slider,
+)
 from excavkin.step_kinds.attach import Attach
 from excavkin.step_kinds.base import (
     OPERATIONS,
@@ -27,6 +37,7 @@ from excavkin.step_kinds.base import (
     register,
     registered,
 )
+from excavkin.step_kinds.cam import CamStep
 from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
 from excavkin.step_kinds.dist import Dist
 from excavkin.step_kinds.dyad import Dyad
@@ -38,12 +49,13 @@ from excavkin.step_kinds.rotate import Rotate
 from excavkin.step_kinds.slider import SliderStep
 
 #: a step of a solve plan: a record of one of the registered kinds
-Step = Fixed | Rotate | Attach | Dyad | SliderStep | NewtonGroup | GearStep | RackStep
+Step = Fixed | Rotate | Attach | Dyad | SliderStep | NewtonGroup | GearStep | RackStep | CamStep
 
 __all__ = [
     "OPERATIONS",
     "Attach",
     "CAngle",
+    "CamStep",
     "CDist",
     "CFrame",
     "CLine",
@@ -62,6 +74,7 @@ __all__ = [
     "Step",
     "StepKind",
     "attach",
+    "cam",
     "dyad",
     "fixed",
     "gear",

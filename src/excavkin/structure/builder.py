@@ -26,11 +26,13 @@ from collections.abc import Callable
 from typing import ClassVar, Literal
 
 from excavkin.errors import AssemblyError, MobilityError
+from excavkin.model.cams import lift_law
 from excavkin.model.entities import Body, Model
 from excavkin.model.gears import gear_train, pivot_on
 from excavkin.model.validate import mobility
 from excavkin.step_kinds import (
     Attach,
+    CamStep,
     Dyad,
     Fixed,
     GearStep,
@@ -105,7 +107,15 @@ class PlanBuilder:
     """
 
     #: The closed-form step kinds, in the order they are tried after each step added.
-    ORDER: ClassVar[tuple[str, ...]] = ("attach", "rotate", "gear", "rack", "dyad", "slider")
+    ORDER: ClassVar[tuple[str, ...]] = (
+        "attach",
+        "rotate",
+        "gear",
+        "rack",
+        "cam",
+        "dyad",
+        "slider",
+    )
 
     def __init__(self, model: Model, method: Literal["closed-form", "newton"]) -> None:
         self.model = model
@@ -432,12 +442,21 @@ class PlanBuilder:
             pivot = pivot_on(self.model, rk.pinion, rk.carrier, f"racks.{rk.name}", "pinion")
             for n in {pivot, *rk.along}:
                 self.rack_at.setdefault(n, []).append(k)
+        # each cam's follower likewise waits for the cam's pivot and its guide's points
+        self.cam_next: list[int] = []
+        self.cam_at: dict[str, list[int]] = {}
+        self.cam_placed = [0] * len(self.model.cams)
+        for k, cm in enumerate(self.model.cams):
+            pivot = pivot_on(self.model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
+            for n in {pivot, *cm.along}:
+                self.cam_at.setdefault(n, []).append(k)
 
     def check_no_meshes(self, unknown: list[str]) -> None:
         """Refuse a Newton group that holds a body a gear or a rack moves: its mesh is a
         relation of the inputs (`excavkin.model.gears`), which only the closed-form steps
         place."""
         moved = set(self.train.placed) | {rk.rack for rk in self.model.racks}
+        moved |= {cm.follower for cm in self.model.cams}
         caught = [b.name for b in self.bodies if b.name in moved and set(b.points) & set(unknown)]
         if caught:
             raise MobilityError(
@@ -539,6 +558,57 @@ class PlanBuilder:
             return True
         return False
 
+    def cam(self) -> bool:
+        """The first cam whose pivot and follower's guide are known: the follower's first two
+        points, at the lift of the cam's turn (`excavkin.model.cams`)."""
+        model = self.model
+        while self.cam_next:
+            k = heapq.heappop(self.cam_next)
+            cm = model.cams[k]
+            pivot = pivot_on(model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
+            if self.cam_placed[k] or not all(n in self.known for n in (pivot, *cm.along)):
+                continue
+            body = self.body_named[cm.follower]
+            if any(n in self.known for n in body.points[:2]):
+                continue  # fixed otherwise: refused as over-constrained after the steps
+            law = lift_law(cm.lift)
+            s0 = float(law(0.0)[0])
+            sk = self.sketch
+            (ax, ay), (bx, by) = sk[cm.along[0]], sk[cm.along[1]]
+            dx, dy = bx - ax, by - ay
+            d = math.hypot(dx, dy)
+            offset, inputs, coef = 0.0, [], []
+            for ri, c in self.train.turn(cm.cam, cm.carrier):
+                if c == 0.0:
+                    continue
+                i = self.in_idx[model.rotary[ri].name]
+                offset -= c * self.input_sketch[i]
+                inputs.append(i)
+                coef.append(c)
+            for n in body.points[:2]:
+                px, py = sk[n][0] - sk[pivot][0], sk[n][1] - sk[pivot][1]
+                self.steps.append(
+                    _kind(CamStep).build(
+                        self.idx[n],
+                        self.idx[pivot],
+                        self.idx[cm.along[0]],
+                        self.idx[cm.along[1]],
+                        (px * dx + py * dy) / d - s0,
+                        (dx * py - dy * px) / d,
+                        offset,
+                        tuple(inputs),
+                        tuple(coef),
+                        law,
+                        cm.name,
+                        cm.follower,
+                    )
+                )
+                self.learn(n)
+            self.body_used[self.body_index[cm.follower]] += 1
+            self.cam_placed[k] = 1
+            return True
+        return False
+
     # ---- helpers of the step kinds
     def distance_options(self, p: str) -> list[Option]:
         """Known partners of ``p`` at a known distance: its bodies' points and its elements."""
@@ -606,6 +676,8 @@ class PlanBuilder:
                 heapq.heappush(self.gear_next, bi)
         for k in self.rack_at.get(n, ()):
             heapq.heappush(self.rack_next, k)
+        for k in self.cam_at.get(n, ()):
+            heapq.heappush(self.cam_next, k)
         for si in self.slider_along[n]:
             heapq.heappush(self.slider_next, si)
 
@@ -712,6 +784,15 @@ class PlanBuilder:
                     "as well as by its guide and pinion (over-constrained), or its pinion's "
                     "pivot or guide is not placed before it",
                     table=f"racks.{rk.name}",
+                    source=src,
+                )
+        for k, cm in enumerate(self.model.cams):
+            if not self.cam_placed[k]:
+                raise MobilityError(
+                    f"cam {cm.name!r}: follower {cm.follower!r} is fixed by the rest of the "
+                    "mechanism as well as by its guide and cam (over-constrained), or the cam's "
+                    "pivot or the guide is not placed before it",
+                    table=f"cams.{cm.name}",
                     source=src,
                 )
         for bi, b in enumerate(self.bodies):

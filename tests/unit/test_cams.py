@@ -1,0 +1,152 @@
+"""Disc cams and translating followers: the ``[cams]`` table, the follower's lift, velocity and
+acceleration from the lift law, the contact force along the common normal (by virtual work),
+the power balance and exact sensitivities."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from scipy.interpolate import CubicSpline
+
+import excavkin
+from excavkin.errors import ModelError
+from excavkin.model.entities import PointForce
+
+CAM = Path(__file__).parents[1] / "reference" / "data" / "disc_cam.toml"
+TEXT = CAM.read_text()
+TABLE = [0, 2, 8, 14, 18, 20, 20, 18, 14, 8, 2, 0, 0]
+
+
+def law() -> CubicSpline:
+    """The lift law, built here on its own: the periodic cubic spline of the table (m)."""
+    return CubicSpline(np.radians(np.arange(0, 361, 30)), np.array(TABLE) / 1e3, bc_type="periodic")
+
+
+def cam(old: str = "", new: str = "") -> excavkin.Mechanism:
+    return excavkin.loads(TEXT.replace(old, new) if old else TEXT, "cam.toml")
+
+
+def test_the_follower_rises_by_the_lift_law_at_every_turn() -> None:
+    mech = cam()
+    assert "− 2·2 − 0 − 1 higher pair = 1" in mech.plan.mobility.describe()
+    rng = np.random.default_rng(11)
+    turn = rng.uniform(-20.0, 20.0, 200)
+    w, e = rng.uniform(-30, 30, 200), rng.uniform(-50, 50, 200)
+    q0 = mech.sketch_values()["shaft"]
+    res = mech.solve({"shaft": q0 + turn}, rates={"shaft": w}, accels={"shaft": e})
+    assert res.status.all_ok
+    s = law()
+    u = np.mod(turn, 2 * np.pi)
+    x, v, a = res.point("F1")
+    assert_allclose(x[:, 0], 0.0, atol=1e-15)
+    assert_allclose(x[:, 1], 0.06 + s(u), atol=1e-15)
+    assert_allclose(v[:, 1], s(u, 1) * w, rtol=1e-12, atol=1e-15)
+    assert_allclose(a[:, 1], s(u, 2) * w * w + s(u, 1) * e, rtol=1e-12, atol=1e-13)
+
+
+def test_the_cam_torque_is_the_load_times_the_lift_slope() -> None:
+    """Statics by virtual work: T·dθ = F·ds, so the shaft needs T = F·s'(θ) to hold a load F
+    down the guide; the contact force is F / cos α along the common normal, tan α = s'/(s_B),
+    s_B the roller centre's height above the shaft (a radial follower)."""
+    mech = cam()
+    turn = np.radians(np.linspace(0.0, 360.0, 73))
+    res = mech.solve({"shaft": mech.sketch_values()["shaft"] + turn})
+    f = mech.forces(res, loads=[PointForce("spring", "follower", "F2", (0.0, -80.0))])
+    s = law()
+    assert_allclose(f.torque("shaft"), 80.0 * s(turn, 1), rtol=1e-10, atol=1e-12)
+    height = 0.06 + s(turn)
+    alpha = np.arctan2(s(turn, 1), height)
+    assert_allclose(f.column("lift.contact"), 80.0 / np.cos(alpha), rtol=1e-12)
+    assert_allclose(np.abs(f.column("lift.guide")), 80.0 * np.abs(np.tan(alpha)), atol=1e-10)
+    assert_allclose(f.column("lift.couple"), 0.0, atol=1e-12)
+
+
+def test_a_flat_faced_follower_is_pushed_square_to_its_face() -> None:
+    mech = cam('face = "roller"', 'face = "flat"')
+    turn = np.radians(np.linspace(0.0, 360.0, 37))
+    res = mech.solve({"shaft": mech.sketch_values()["shaft"] + turn})
+    f = mech.forces(res, loads=[PointForce("spring", "follower", "F2", (0.0, -80.0))])
+    s = law()
+    assert_allclose(f.column("lift.contact"), 80.0, rtol=1e-12)
+    assert_allclose(f.column("lift.guide"), 0.0, atol=1e-10)
+    # the contact is s'(θ) off the axis: the guide's couple holds it
+    assert_allclose(np.abs(f.column("lift.couple")), 80.0 * np.abs(s(turn, 1)), atol=1e-12)
+    assert_allclose(f.torque("shaft"), 80.0 * s(turn, 1), rtol=1e-10, atol=1e-12)
+
+
+@pytest.mark.parametrize("face", ["roller", "flat"])
+def test_power_balances_with_inertia_and_gravity(face: str) -> None:
+    mech = cam('face = "roller"', f'face = "{face}"')
+    rng = np.random.default_rng(2)
+    n = 300
+    q = mech.sketch_values()["shaft"] + rng.uniform(-9, 9, n)
+    res = mech.solve(
+        {"shaft": q}, rates={"shaft": rng.uniform(-40, 40, n)},
+        accels={"shaft": rng.uniform(-90, 90, n)}, loads="model",
+    )  # fmt: skip
+    assert np.abs(res.power_balance().relative).max() < 1e-9
+
+
+def test_a_plan_with_a_cam_runs_in_numpy() -> None:
+    mech = cam()
+    from excavkin.kinematics.compiled import supports
+
+    assert not supports(mech.plan)
+    q = mech.sketch_values()["shaft"] + np.linspace(0, 7, 5000)
+    res = mech.solve({"shaft": q}, rates={"shaft": 3.0}, loads="model")
+    assert res.kinematics.status.all_ok
+
+
+@pytest.mark.parametrize("face", ["roller", "flat"])
+def test_sensitivities_equal_8th_order_differences(face: str) -> None:
+    sys.path.insert(0, str(Path(__file__).parents[1] / "property"))
+    from test_sensitivities import differences
+
+    mech = cam('face = "roller"', f'face = "{face}"')
+    q0 = mech.sketch_values()["shaft"]
+    values = {"shaft": q0 + np.array([0.3, 1.9, 4.0, -2.5])}
+    rates = {"shaft": 0.07}
+    names = ["F1.x", "G2.x", "O.y", "follower.mass", "C1.y"]
+    res = mech.solve(values, rates=rates, sensitivities=names, loads="model")
+    table = res.to_frame()
+    forces = [
+        c for c in table.columns if c.endswith((".Fx", ".Fy", ".torque", ".contact", ".guide"))
+    ]
+    force_scale = max(np.abs(table[c].to_numpy()).max() for c in forces)
+    for name in names:
+        step = 3e-4 * (0.5 if name == "follower.mass" else mech.plan.scale)
+        for col, ref in differences(mech, values, rates, {}, name, step).items():
+            exact = res.sensitivity(col, name)
+            own = force_scale if col in forces or col.endswith((".Rx", ".Ry", ".couple")) else 0
+            scale = max(np.abs(ref).max(), 1e-3 * max(np.abs(table[col]).max(), own, 1e-3))
+            assert np.abs(exact - ref).max() / scale < 1e-8, (name, col)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("[330, 0], [360, 0]]", "[330, 0], [360, 1]]", "must equal the lift at 0"),
+        ("[[0, 0], [30, 2]", "[[0, 0], [30, 2], [20, 3]", "increase strictly"),
+        ("[330, 0], [360, 0]]", "[330, 0], [350, 0]]", "runs from 0 to 360 deg"),
+        ('face = "roller"', 'face = "knife"', "face must be 'roller' or 'flat'"),
+        ('along = ["G1", "G2"]', 'along = ["G1", "C1"]', "two different points of the carrier"),
+        ('follower = "follower"', 'follower = "disc"', "three different bodies"),
+        ('face = "roller"', 'face = "roller"\nspring = 1', "unknown key spring"),
+    ],
+)
+def test_bad_cam_entries_are_refused_by_name(old: str, new: str, message: str) -> None:
+    with pytest.raises(ModelError, match=message) as info:
+        cam(old, new)
+    assert "lift" in str(info.value)
+
+
+def test_the_lift_law_is_read_with_units() -> None:
+    text = TEXT.replace('angle = "deg"', "").replace("lift = [[0, 0]", 'lift = [["0 deg", "0 mm"]')
+    with pytest.raises(ModelError, match="needs a unit"):
+        excavkin.loads(text, "cam.toml")  # bare turns without a default angle unit
+    assert math.isclose(cam().model.cams[0].lift[1][0], math.radians(30.0))
