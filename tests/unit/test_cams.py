@@ -150,3 +150,40 @@ def test_the_lift_law_is_read_with_units() -> None:
     with pytest.raises(ModelError, match="needs a unit"):
         excavkin.loads(text, "cam.toml")  # bare turns without a default angle unit
     assert math.isclose(cam().model.cams[0].lift[1][0], math.radians(30.0))
+
+
+def _with_law(law: object) -> excavkin.Model:
+    from excavkin import Body, CamFollower, Model, RotaryDriver
+
+    return Model(
+        name="cam by a function",
+        points={"O": (0.0, 0.0), "G1": (0.0, -0.1), "G2": (0.0, 0.3), "C": (0.02, 0.0),
+                "F1": (0.0, 0.035), "F2": (0.0, 0.2)},
+        bodies=(Body("frame", ("O", "G1", "G2"), ground=True), Body("cam", ("O", "C")),
+                Body("valve", ("F1", "F2"), mass=0.3)),
+        rotary=(RotaryDriver("shaft", body="cam", pivot="O", reference="frame"),),
+        cams=(CamFollower("lift", "cam", "valve", "frame", ("G1", "G2"), law),),  # type: ignore[arg-type]
+    )  # fmt: skip
+
+
+def eccentric(theta):  # type: ignore[no-untyped-def]
+    """An eccentric's lift, 10 mm peak to peak: s = 5 mm·(1 − cos θ)."""
+    return 0.005 * (1 - np.cos(theta)), 0.005 * np.sin(theta), 0.005 * np.cos(theta)
+
+
+def test_a_lift_function_drives_the_follower_but_refuses_sensitivities() -> None:
+    mech = excavkin.Mechanism(_with_law(eccentric))
+    q = mech.sketch_values()["shaft"] + np.linspace(0, 9, 10)
+    res = mech.solve({"shaft": q}, rates={"shaft": 4.0})
+    turn = np.linspace(0, 9, 10)
+    assert_allclose(res.point("F1")[0][:, 1], 0.035 + 0.005 * (1 - np.cos(turn)), atol=1e-15)
+    assert_allclose(res.point("F1")[1][:, 1], 0.02 * np.sin(turn), atol=1e-15)
+    with pytest.raises(excavkin.InputError, match="lift law is a function"):
+        mech.solve({"shaft": q}, sensitivities=["F1.y"])
+
+
+def test_a_lift_function_that_is_not_periodic_is_refused() -> None:
+    with pytest.raises(ModelError, match="must be periodic"):
+        excavkin.Mechanism(_with_law(lambda t: (t, 1.0 + 0 * t, 0 * t)))
+    with pytest.raises(ModelError, match="failed at the turn 0: ZeroDivisionError"):
+        excavkin.Mechanism(_with_law(lambda t: (1 / 0, 0, 0)))

@@ -60,7 +60,7 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import MobilityError
-from excavkin.model.cams import LiftLaw, lift_law
+from excavkin.model.cams import Law, evaluate, lift_law
 from excavkin.model.entities import Model
 from excavkin.model.gears import gear_pivots, pivot_on, rack_side
 
@@ -182,8 +182,8 @@ class CamContact:
         The cam's angle from the carrier's orientation in the sketch (rad).
     face : float
         0 for a roller follower, else ±1: the flat face's normal is ``face·ê``.
-    law : LiftLaw
-        The lift law.
+    law : callable
+        The lift law (`excavkin.model.cams.lift_law`).
     """
 
     name: str
@@ -198,7 +198,7 @@ class CamContact:
     carrier_base: tuple[int, int] | None
     sketch_turn: float
     face: float
-    law: LiftLaw
+    law: Law
 
 
 @dataclass(frozen=True, slots=True)
@@ -511,7 +511,7 @@ def cam_normal(cm: CamContact, x: Any) -> tuple[Any, Any, Any, Any, Any, Any, An
         k0, k1 = cm.carrier_base
         kx, ky = x[k1, 0] - x[k0, 0], x[k1, 1] - x[k0, 1]
         turn = np.arctan2(kx * cy - ky * cx, kx * cx + ky * cy)
-    _, s1, _ = cm.law(turn - cm.sketch_turn)
+    _, s1, _ = evaluate(cm.law, turn - cm.sketch_turn, cm.name)
     ex, ey = x[cm.l2, 0] - x[cm.l1, 0], x[cm.l2, 1] - x[cm.l1, 1]
     inv = 1.0 / np.sqrt(ex * ex + ey * ey)
     ex, ey = ex * inv, ey * inv

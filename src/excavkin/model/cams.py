@@ -10,12 +10,18 @@ value; the polynomial carries the derivative).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-__all__ = ["LiftLaw", "lift_law"]
+from excavkin.errors import InputError
+
+__all__ = ["Law", "LiftLaw", "evaluate", "lift_law"]
+
+#: a lift law: the turn (rad, an array or a dual number) → (s, ds/dθ, d²s/dθ²), periodic in 2π
+Law = Callable[[Any], tuple[Any, Any, Any]]
 
 TWO_PI = 2.0 * math.pi
 
@@ -61,22 +67,59 @@ class LiftLaw:
         return s, s1, s2
 
 
-def lift_law(table: tuple[tuple[float, float], ...]) -> LiftLaw:
-    """The periodic cubic spline through a lift table.
+def lift_law(table: tuple[tuple[float, float], ...] | Law) -> Law:
+    """The lift law of a table (the periodic cubic spline through it) or of a function.
 
     Parameters
     ----------
-    table : tuple of (float, float)
+    table : tuple of (float, float), or callable
         (turn in rad, lift in m), the turns from 0 to 2π strictly increasing, the last lift
-        equal to the first (checked by `validate`).
+        equal to the first (checked by `validate`); or a function of the turn returning
+        ``(s, ds/dθ, d²s/dθ²)`` in m, periodic in 2π, written in NumPy operations so that it
+        takes arrays (and the dual numbers of the force sensitivities).
 
     Returns
     -------
-    LiftLaw
+    callable
+        A `LiftLaw`, or the function itself.
     """
     from scipy.interpolate import CubicSpline
 
+    if callable(table):
+        return table
     x = np.array([a for a, _ in table], dtype=np.float64)
     y = np.array([s for _, s in table], dtype=np.float64)
     spline = CubicSpline(x, y, bc_type="periodic")
     return LiftLaw(x, np.asarray(spline.c, dtype=np.float64))
+
+
+def evaluate(law: Law, theta: Any, name: str) -> tuple[Any, Any, Any]:
+    """A lift law at the turn ``theta``; a function law refuses a dual number.
+
+    A table's spline carries the derivatives of a dual turn itself; a function's would need its
+    third derivative (the tangent of ``d²s/dθ²``), which it does not give.
+
+    Parameters
+    ----------
+    law : callable
+        From `lift_law`.
+    theta : float, ndarray or dual number
+        The cam's turn (rad).
+    name : str
+        The cam's name, for the message.
+
+    Returns
+    -------
+    (s, ds/dθ, d²s/dθ²)
+
+    Raises
+    ------
+    InputError
+        ``theta`` is a dual number and the law a function.
+    """
+    if not isinstance(law, LiftLaw) and hasattr(theta, "tan"):
+        raise InputError(
+            f"cam {name!r}: its lift law is a function, so its sensitivities are not "
+            "available (they need its third derivative); give the law as a table [turn, lift]"
+        )
+    return law(theta)

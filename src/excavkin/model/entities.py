@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal, TypeAlias
+from typing import TYPE_CHECKING, Any, Literal, TypeAlias
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -318,9 +318,10 @@ class CamFollower:
         The body that carries the cam's pivot and the follower's guide.
     along : (str, str)
         Two points of the carrier: the guide's direction.
-    lift : tuple of (float, float)
+    lift : tuple of (float, float), or callable
         (turn in rad, lift in m) from 0 to 2π, strictly increasing, the last lift equal to the
-        first.
+        first; or (in Python) a function of the turn (rad, any number of turns) returning
+        ``(s, ds/dθ, d²s/dθ²)`` in m, written in NumPy operations.
     face : {"roller", "flat"}
         A roller (or knife-edge) follower, or a flat face square to the guide.
     """
@@ -330,7 +331,7 @@ class CamFollower:
     follower: str
     carrier: str
     along: tuple[str, str]
-    lift: tuple[tuple[float, float], ...]
+    lift: tuple[tuple[float, float], ...] | Callable[[Any], tuple[Any, Any, Any]]
     face: Literal["roller", "flat"] = "roller"
 
 

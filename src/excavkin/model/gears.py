@@ -54,11 +54,14 @@ def describe_meshes(model: Model) -> list[str]:
             f"φ = {np.degrees(rk.pressure_angle):.6g}°"
         )
     for cm in model.cams:
-        lifts = [s for _, s in cm.lift]
+        if callable(cm.lift):
+            law = "by a function"
+        else:
+            lifts = [s for _, s in cm.lift]
+            law = f"lift {min(lifts):.6g}…{max(lifts):.6g} m over {len(cm.lift) - 1} rows"
         out.append(
             f"  cam     : {cm.name} — {cm.cam} lifts {cm.follower} ({cm.face}) along "
-            f"{cm.along[0]}→{cm.along[1]} on {cm.carrier}, lift {min(lifts):.6g}…"
-            f"{max(lifts):.6g} m over {len(cm.lift) - 1} rows"
+            f"{cm.along[0]}→{cm.along[1]} on {cm.carrier}, {law}"
         )
     return out
 

@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
 
 from excavkin.errors import MobilityError, ModelError, did_you_mean
 from excavkin.model.entities import Model
@@ -419,6 +422,9 @@ def _check_cams(model: Model) -> None:
         if cm.face not in ("roller", "flat"):
             raise bad(f"face must be 'roller' or 'flat', not {cm.face!r}", "face")
         pivot_on(model, cm.cam, cm.carrier, table, "cam")
+        if callable(cm.lift):
+            _check_lift_function(cm.lift, bad)
+            continue
         lift = cm.lift
         if len(lift) < 4 or not all(
             len(row) == 2 and all(math.isfinite(v) for v in row) for row in lift
@@ -435,6 +441,22 @@ def _check_cams(model: Model) -> None:
                 f"({lift[0][1]:.6g} m): the cam turns round",
                 "lift",
             )
+
+
+def _check_lift_function(law: Any, bad: Any) -> None:
+    """A lift function returns three finite values, the same at 0 and 2π (periodic)."""
+    try:
+        at = [[float(np.asarray(v)) for v in law(np.float64(t))] for t in (0.0, 2 * math.pi)]
+    except Exception as exc:  # a user's function: any failure is reported, named
+        problem = f"the lift function failed at the turn 0: {type(exc).__name__}: {exc}"
+        raise bad(problem, "lift") from None
+    if not all(len(row) == 3 and all(math.isfinite(v) for v in row) for row in at):
+        raise bad("the lift function must return three finite values (s, ds/dθ, d²s/dθ²)", "lift")
+    scale = max(abs(at[0][0]), 1e-3)
+    if any(abs(a - b) > 1e-9 * scale for a, b in zip(at[0], at[1], strict=True)):
+        raise bad(
+            "the lift function must be periodic: the same (s, s', s'') at 0 and 360 deg", "lift"
+        )
 
 
 def _unique(names: list[str], table: str, src: str | None) -> None:

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.model.cams import LiftLaw
+from excavkin.model.cams import Law, LiftLaw, evaluate
 from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
 from excavkin.step_kinds.dist import Index, at, varies
@@ -46,7 +46,7 @@ class CamStep:
     offset: float
     inputs: tuple[int, ...]
     coef: tuple[float, ...]
-    law: LiftLaw
+    law: Law
     cam: str
     body: str
 
@@ -71,7 +71,7 @@ class CamKind(StepKind[CamStep]):
         offset: float,
         inputs: tuple[int, ...],
         coef: tuple[float, ...],
-        law: LiftLaw,
+        law: Law,
         cam: str,
         body: str,
     ) -> CamStep:
@@ -84,7 +84,7 @@ class CamKind(StepKind[CamStep]):
         d = np.hypot(dx, dy)
         px = sk[names[st.point]][0] - sk[names[st.origin]][0]
         py = sk[names[st.point]][1] - sk[names[st.origin]][1]
-        along = (px * dx + py * dy) / d - st.law(0.0)[0]
+        along = (px * dx + py * dy) / d - evaluate(st.law, 0.0, st.cam)[0]
         across = (dx * py - dy * px) / d
         offset: Any = 0.0
         rotary = {dr.name: k for k, dr in enumerate(model.rotary)}
@@ -112,7 +112,7 @@ class CamKind(StepKind[CamStep]):
         th: Any = st.offset
         for i, co in zip(st.inputs, st.coef, strict=True):
             th = th + co * c.q[i]
-        lift, s1, s2 = st.law(th)
+        lift, s1, s2 = evaluate(st.law, th, st.cam)
         s = st.along + lift
         b = st.across
         dx, dy = x[st.l2, 0] - x[st.l1, 0], x[st.l2, 1] - x[st.l1, 1]
@@ -157,7 +157,12 @@ class CamKind(StepKind[CamStep]):
         return (
             f"cam      {names[st.point]} along {names[st.l1]}→{names[st.l2]} from "
             f"{names[st.origin]}: body {st.body!r} lifted by {st.cam!r} "
-            f"(s = s(θ), θ = θ0 {terms}, {st.law.coef.shape[1]} spline pieces)"
+            f"(s = s(θ), θ = θ0 {terms}, "
+            + (
+                f"{st.law.coef.shape[1]} spline pieces)"
+                if isinstance(st.law, LiftLaw)
+                else "a function)"
+            )
         )
 
     def label(self, st: CamStep, names: tuple[str, ...], k: int) -> str:
