@@ -29,7 +29,15 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.kinetostatics.equilibrium import StaticsSystem
 
-__all__ = ["CAM_COLUMNS", "RACK_COLUMNS", "RACK_KINDS", "add_radial", "pin_updates", "tooth_forces"]
+__all__ = [
+    "CAM_COLUMNS",
+    "RACK_COLUMNS",
+    "RACK_KINDS",
+    "mesh_forces",
+    "add_radial",
+    "pin_updates",
+    "tooth_forces",
+]
 
 #: a rack's force columns: its tooth force (N, along the guide, on the rack), its guide's
 #: normal force (N, along perp of the guide, on the rack, at the pitch point) and couple (N·m)
@@ -122,3 +130,28 @@ def tooth_forces(sy: StaticsSystem, solution: Sequence[Any]) -> list[Any]:
         *solution[g0 : g0 + len(sy.gears)],
         *(solution[r0 + 3 * k] for k in range(len(sy.racks))),
     ]
+
+
+def mesh_forces(sy: StaticsSystem, out: F) -> tuple[F, F, F]:
+    """The gear pairs', racks' and cams' forces of a `ForceResult`, from the solved unknowns.
+
+    Parameters
+    ----------
+    sy : StaticsSystem
+        The equilibrium system.
+    out : ndarray, shape (n_unknowns, n)
+        The solved unknowns.
+
+    Returns
+    -------
+    gear_force : ndarray, shape (n, n_gears)
+    rack_force : ndarray, shape (n, n_racks, 3)
+    cam_force : ndarray, shape (n, n_cams, 3)
+    """
+    n = out.shape[1]
+    g0, r0, c0 = sy.gear_col0, sy.rack_col0, sy.cam_col0
+    return (
+        out[g0:r0].T,
+        np.moveaxis(out[r0:c0].reshape(len(sy.racks), 3, n), -1, 0),
+        np.moveaxis(out[c0:].reshape(len(sy.cams), 3, n), -1, 0),
+    )

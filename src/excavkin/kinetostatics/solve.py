@@ -23,7 +23,7 @@ from excavkin.kinetostatics.equilibrium import (
     dense_matrix,
     solve_system,
 )
-from excavkin.kinetostatics.gears import add_radial
+from excavkin.kinetostatics.gears import add_radial, mesh_forces
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, evaluate_loads
 from excavkin.kinetostatics.result import ForceResult
@@ -110,24 +110,18 @@ def solve_forces(
         out[:, bad] = np.nan
     singular &= result.status.solved
     ns = len(sy.slots)
-    e0, s0, t0, g0, r0, c0 = (
-        sy.element_col0,
-        sy.slider_col0,
-        sy.torque_col0,
-        sy.gear_col0,
-        sy.rack_col0,
-        sy.cam_col0,
-    )
+    e0, s0, t0 = sy.element_col0, sy.slider_col0, sy.torque_col0
+    gears, racks, cams = mesh_forces(sy, out)
     return ForceResult(
         kinematics=result,
         system=sy,
         pin_force=np.moveaxis(out[: 2 * ns].reshape(ns, 2, n), -1, 0),
         element_force=out[e0:s0].T,
         slider_force=out[s0:t0].T,
-        driver_torque=out[t0:g0].T,
-        gear_force=out[g0:r0].T,
-        rack_force=np.moveaxis(out[r0:c0].reshape(len(sy.racks), 3, n), -1, 0),
-        cam_force=np.moveaxis(out[c0:].reshape(len(sy.cams), 3, n), -1, 0),
+        driver_torque=out[t0 : sy.gear_col0].T,
+        gear_force=gears,
+        rack_force=racks,
+        cam_force=cams,
         singular=singular,
         loads=checked,
         evaluated=ev,
