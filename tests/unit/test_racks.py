@@ -146,3 +146,19 @@ def test_a_rack_that_does_not_fit_its_guide_is_refused(old: str, new: str, messa
     text = ARM.replace("RACK_KEYS", 'radius = "40 mm"').replace(old, new)
     with pytest.raises(ModelError, match=message):
         excavkin.loads(text, "arm.toml")
+
+
+@pytest.mark.parametrize("name", ["rack_on_arm.toml", "planetary_21_43_108.toml"])
+def test_compiled_sensitivities_equal_numpy_ones(name: str) -> None:
+    from excavkin.kinematics.sensitivity import solve_tangents
+
+    mech = excavkin.load(Path(__file__).parents[1] / "reference" / "data" / name)
+    rng = np.random.default_rng(1)
+    q = {k: v + rng.uniform(-3, 3, 3000) for k, v in mech.sketch_values().items()}
+    res = mech.solve(q, rates={k: 1.3 for k in q}, accels={k: -0.4 for k in q})
+    names = [k for k in mech.parameters if not k.endswith(("mass", "inertia"))][:6]
+    a = solve_tangents(res, names, compiled=False)
+    b = solve_tangents(res, names, compiled=True)
+    for k in names:
+        for arr in ("positions", "velocities", "accelerations"):
+            assert_allclose(getattr(b[k], arr), getattr(a[k], arr), rtol=1e-12, atol=1e-12)
