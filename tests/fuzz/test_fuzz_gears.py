@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from tests.fuzz.test_fuzz_readers import FUZZ, check_outcome, mutate
 
 DATA = Path(__file__).parents[1] / "reference" / "data"
-MODELS = ["planetary_21_43_108.toml", "rack_on_arm.toml", "disc_cam.toml"]
+MODELS = ["planetary_21_43_108.toml", "rack_on_arm.toml", "disc_cam.toml", "cam_rocker.toml"]
 
 
 @pytest.mark.parametrize("name", MODELS)

@@ -187,3 +187,89 @@ def test_a_lift_function_that_is_not_periodic_is_refused() -> None:
         excavkin.Mechanism(_with_law(lambda t: (t, 1.0 + 0 * t, 0 * t)))
     with pytest.raises(ModelError, match="failed at the turn 0: ZeroDivisionError"):
         excavkin.Mechanism(_with_law(lambda t: (1 / 0, 0, 0)))
+
+
+ROCKER = Path(__file__).parents[1] / "reference" / "data" / "cam_rocker.toml"
+SWING = [0, 2, 7, 12, 15, 12, 6, 1, 0]
+
+
+def swing_law() -> CubicSpline:
+    """The oscillating follower's law, built here on its own (rad per rad of the cam)."""
+    return CubicSpline(np.radians(np.arange(0, 361, 45)), np.radians(SWING), bc_type="periodic")
+
+
+def test_an_oscillating_follower_swings_by_its_law() -> None:
+    mech = excavkin.load(ROCKER)
+    assert "− 2·2 − 0 − 1 higher pair = 1" in mech.plan.mobility.describe()
+    rng = np.random.default_rng(4)
+    turn = rng.uniform(-15, 15, 100)
+    w, e = rng.uniform(-30, 30, 100), rng.uniform(-60, 60, 100)
+    res = mech.solve(
+        {"shaft": mech.sketch_values()["shaft"] + turn}, rates={"shaft": w}, accels={"shaft": e}
+    )
+    psi = swing_law()
+    u = np.mod(turn, 2 * np.pi)
+    angle, omega, eps = res.body("arm")
+    start = math.atan2(10.0, 100.0)
+    assert_allclose(np.mod(angle - start - psi(u) + np.pi, 2 * np.pi) - np.pi, 0.0, atol=1e-14)
+    assert_allclose(omega, psi(u, 1) * w, rtol=1e-12, atol=1e-14)
+    assert_allclose(eps, psi(u, 2) * w * w + psi(u, 1) * e, rtol=1e-12, atol=1e-12)
+
+
+def test_an_oscillating_follower_by_virtual_work_and_its_instant_centre() -> None:
+    """A couple −T on the arm needs T·ψ'(θ) on the shaft; the contact force acts at the roller
+    through the instant centre I = (Oc − ψ'·Of)/(1 − ψ') of cam and arm, and its moment about
+    the arm's pivot holds the couple."""
+    from excavkin.model.entities import Torque
+
+    mech = excavkin.load(ROCKER)
+    turn = np.radians(np.linspace(0.0, 355.0, 72))
+    res = mech.solve({"shaft": mech.sketch_values()["shaft"] + turn})
+    f = mech.forces(res, loads=[Torque("spring", "arm", -3.0)])
+    psi1 = swing_law()(turn, 1)
+    assert_allclose(f.torque("shaft"), 3.0 * psi1, rtol=1e-10, atol=1e-12)
+    oc, of = np.array([0.0, 0.0]), np.array([-0.12, 0.04])
+    b = res.point("B")[0]
+    direction = (b - oc) - psi1[:, None] * (b - of)
+    n = direction / np.hypot(direction[:, 0], direction[:, 1])[:, None]
+    arm = (b - of)[:, 0] * n[:, 1] - (b - of)[:, 1] * n[:, 0]
+    assert_allclose(f.column("swing.contact") * arm, 3.0, rtol=1e-12)
+
+
+def test_an_oscillating_follower_balances_power_and_has_exact_sensitivities() -> None:
+    sys.path.insert(0, str(Path(__file__).parents[1] / "property"))
+    from test_sensitivities import differences
+
+    mech = excavkin.load(ROCKER)
+    rng = np.random.default_rng(8)
+    q = mech.sketch_values()["shaft"] + rng.uniform(-9, 9, 300)
+    res = mech.solve(
+        {"shaft": q}, rates={"shaft": rng.uniform(-40, 40, 300)},
+        accels={"shaft": rng.uniform(-90, 90, 300)}, loads="model",
+    )  # fmt: skip
+    assert np.abs(res.power_balance().relative).max() < 1e-9
+    values = {"shaft": mech.sketch_values()["shaft"] + np.array([0.3, 1.9, 4.0, -2.5])}
+    rates = {"shaft": 0.07}
+    names = ["P.x", "B.y", "O.y", "arm.mass", "C1.y"]
+    res = mech.solve(values, rates=rates, sensitivities=names, loads="model")
+    table = res.to_frame()
+    forces = [c for c in table.columns if c.endswith((".Fx", ".Fy", ".torque", ".contact"))]
+    force_scale = max(np.abs(table[c].to_numpy()).max() for c in forces)
+    for name in names:
+        step = 3e-4 * (0.4 if name == "arm.mass" else mech.plan.scale)
+        for col, ref in differences(mech, values, rates, {}, name, step).items():
+            exact = res.sensitivity(col, name)
+            own = force_scale if col in forces or col.endswith((".Rx", ".Ry")) else 0
+            scale = max(np.abs(ref).max(), 1e-3 * max(np.abs(table[col]).max(), own, 1e-3))
+            assert np.abs(exact - ref).max() / scale < 1e-8, (name, col)
+
+
+def test_an_oscillating_follower_must_be_a_pivoted_roller() -> None:
+    text = ROCKER.read_text()
+    with pytest.raises(ModelError, match="an oscillating follower is a roller"):
+        excavkin.loads(text.replace('follower = "arm"', 'follower = "arm"\nface = "flat"'), "r")
+    with pytest.raises(ModelError, match="shares 0 points with its carrier"):
+        excavkin.loads(
+            text.replace('arm = { points = ["P", "B", "E"]', 'arm = { points = ["B", "E"]'),
+            "r",
+        )

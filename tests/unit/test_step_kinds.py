@@ -22,6 +22,7 @@ from excavkin.kinematics import compiled as compiled_plan
 from excavkin.step_kinds import (
     OPERATIONS,
     Attach,
+    CamRockerStep,
     CamStep,
     Dyad,
     Fixed,
@@ -48,6 +49,7 @@ def _plans() -> dict[str, SolvePlan]:
     out["planetary"] = excavkin.load(DATA / "planetary_21_43_108.toml").plan
     out["rack on an arm"] = excavkin.load(DATA / "rack_on_arm.toml").plan
     out["disc cam"] = excavkin.load(DATA / "disc_cam.toml").plan
+    out["cam rocker"] = excavkin.load(DATA / "cam_rocker.toml").plan
     return out
 
 
@@ -57,8 +59,9 @@ DATA = Path(__file__).parents[1] / "reference" / "data"
 PLANS = _plans()
 
 
-def test_the_nine_kinds_are_registered() -> None:
+def test_the_ten_kinds_are_registered() -> None:
     kinds = {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup, GearStep, RackStep, CamStep}
+    kinds.add(CamRockerStep)
     assert set(registered()) == kinds
     names = [kind.name for kind in registered().values()]
     assert len(set(names)) == len(names)

@@ -599,8 +599,10 @@ def _racks(r: TomlReader, bodies: list[Body]) -> tuple[RackPinion, ...]:
 
 def _cams(r: TomlReader, bodies: list[Body]) -> tuple[CamFollower, ...]:
     """The ``[cams.NAME]`` tables: ``cam``, ``follower``, ``carrier`` (default the ground),
-    ``along = ["L1", "L2"]``, ``face`` ("roller", the default, or "flat") and ``lift``, rows
-    of [turn, lift] from 0 to 360 deg."""
+    ``along = ["L1", "L2"]`` (a translating follower's guide; without it the follower
+    oscillates about the point it shares with the carrier), ``face`` ("roller", the default, or
+    "flat") and ``lift``, rows of [turn, lift] from 0 to 360 deg (the lift an angle for an
+    oscillating follower)."""
     out = []
     for cname, spec in r.table("cams").items():
         r.name(cname, "cams")
@@ -608,11 +610,11 @@ def _cams(r: TomlReader, bodies: list[Body]) -> tuple[CamFollower, ...]:
         if not isinstance(spec, dict):
             raise r.err("must be a table", table)
         r.keys(spec, {"cam", "follower", "carrier", "along", "face", "lift"}, "cams", cname)
-        for key in ("cam", "follower", "along", "lift"):
+        for key in ("cam", "follower", "lift"):
             if key not in spec:
                 raise r.err(f"a cam and follower needs {key!r}", table)
-        along = spec["along"]
-        if not (
+        along = spec.get("along")
+        if along is not None and not (
             isinstance(along, list) and len(along) == 2 and all(isinstance(p, str) for p in along)
         ):
             raise r.err('along must name two points of the carrier, along = ["L1", "L2"]', table)
@@ -627,8 +629,9 @@ def _cams(r: TomlReader, bodies: list[Body]) -> tuple[CamFollower, ...]:
             isinstance(row, list) and len(row) == 2 for row in rows
         ):
             raise r.err('lift must be rows of [turn, lift], e.g. [["0 deg", "0 mm"], …]', table)
+        kind = "length" if along is not None else "angle"
         lift = tuple(
-            (r.qty(a, "angle", table, "lift"), r.qty(b, "length", table, "lift")) for a, b in rows
+            (r.qty(a, "angle", table, "lift"), r.qty(b, kind, table, "lift")) for a, b in rows
         )
         face = spec.get("face", "roller")
         if face not in ("roller", "flat"):
@@ -639,7 +642,7 @@ def _cams(r: TomlReader, bodies: list[Body]) -> tuple[CamFollower, ...]:
                 names["cam"],
                 names["follower"],
                 names["carrier"],
-                (along[0], along[1]),
+                None if along is None else (along[0], along[1]),
                 lift,
                 face,
             )

@@ -173,7 +173,9 @@ class CamContact:
     cam, follower, carrier : int
         Bodies.
     pivot, l1, l2, trace : int
-        The cam's pivot, the guide's points and the follower's first point.
+        The cam's pivot, the guide's points (−1 for an oscillating follower) and the roller's
+        centre (the follower's first point; an oscillating one's first point other than its
+        pivot).
     cam_base : (int, int)
         The cam's first two points (its orientation).
     carrier_base : (int, int) or None
@@ -184,6 +186,8 @@ class CamContact:
         0 for a roller follower, else ±1: the flat face's normal is ``face·ê``.
     law : callable
         The lift law (`excavkin.model.cams.lift_law`).
+    rocker : int
+        An oscillating follower's pivot, −1 for a translating one.
     """
 
     name: str
@@ -199,6 +203,13 @@ class CamContact:
     sketch_turn: float
     face: float
     law: Law
+    rocker: int = -1
+
+    @property
+    def unknowns(self) -> int:
+        """3 (contact, guide force, guide couple) for a translating follower; 1 (contact)
+        for an oscillating one, whose pivot is a pin."""
+        return 3 if self.rocker < 0 else 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -305,9 +316,19 @@ class StaticsSystem:
 
     @property
     def cam_col0(self) -> int:
-        """Column of the first cam's contact force (then its guide's normal force and couple,
-        three columns a cam)."""
+        """Column of the first cam's contact force (then its guide's normal force and couple
+        for a translating follower: `cam_cols`)."""
         return self.rack_col0 + 3 * len(self.racks)
+
+    @property
+    def cam_cols(self) -> tuple[int, ...]:
+        """The column of each cam's contact force (a translating follower's guide force and
+        couple follow it)."""
+        out, col = [], self.cam_col0
+        for cm in self.cams:
+            out.append(col)
+            col += cm.unknowns
+        return tuple(out)
 
     @property
     def rack_col0(self) -> int:
@@ -371,7 +392,7 @@ def _structure(model: Model) -> StaticsSystem:
     unknowns += [
         Unknown("cam", k, c, f"cam {cm.name!r} ({what})")
         for k, cm in enumerate(cams)
-        for c, what in enumerate(("contact", "guide", "guide couple"))
+        for c, what in enumerate(("contact", "guide", "guide couple")[: cm.unknowns])
     ]
     rows = [f"pin {points[i]} ({'xy'[c]})" for i in nodes for c in (0, 1)]
     for j in moving:
@@ -453,17 +474,27 @@ def _cams(model: Model, pidx: dict[str, int], bidx: dict[str, int]) -> tuple[Cam
     for cm in model.cams:
         pivot = pivot_on(model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
         cam, carrier = model.body(cm.cam), model.body(cm.carrier)
-        trace = model.body(cm.follower).points[0]
+        follower = model.body(cm.follower)
+        rocker = -1
+        if cm.along is None:
+            swing = pivot_on(model, cm.follower, cm.carrier, f"cams.{cm.name}", "follower")
+            rocker = pidx[swing]
+            trace = next(n for n in follower.points if n != swing)
+            guide = (-1, -1)
+        else:
+            trace = follower.points[0]
+            guide = (pidx[cm.along[0]], pidx[cm.along[1]])
         (c0x, c0y), (c1x, c1y) = sk[cam.points[0]], sk[cam.points[1]]
         kx, ky = 1.0, 0.0
         if not carrier.ground:
             (k0x, k0y), (k1x, k1y) = sk[carrier.points[0]], sk[carrier.points[1]]
             kx, ky = k1x - k0x, k1y - k0y
         cx, cy = c1x - c0x, c1y - c0y
-        (ax, ay), (bx, by) = sk[cm.along[0]], sk[cm.along[1]]
-        along = (sk[trace][0] - sk[pivot][0]) * (bx - ax) + (sk[trace][1] - sk[pivot][1]) * (
-            by - ay
-        )
+        face = 0.0
+        if cm.face == "flat" and cm.along is not None:
+            (ax, ay), (bx, by) = sk[cm.along[0]], sk[cm.along[1]]
+            dot = (sk[trace][0] - sk[pivot][0]) * (bx - ax)
+            face = math.copysign(1.0, dot + (sk[trace][1] - sk[pivot][1]) * (by - ay))
         out.append(
             CamContact(
                 cm.name,
@@ -471,14 +502,15 @@ def _cams(model: Model, pidx: dict[str, int], bidx: dict[str, int]) -> tuple[Cam
                 bidx[cm.follower],
                 bidx[cm.carrier],
                 pidx[pivot],
-                pidx[cm.along[0]],
-                pidx[cm.along[1]],
+                guide[0],
+                guide[1],
                 pidx[trace],
                 (pidx[cam.points[0]], pidx[cam.points[1]]),
                 None if carrier.ground else (pidx[carrier.points[0]], pidx[carrier.points[1]]),
                 math.atan2(kx * cy - ky * cx, kx * cx + ky * cy),
-                0.0 if cm.face == "roller" else math.copysign(1.0, along),
+                face,
                 lift_law(cm.lift),
+                rocker,
             )
         )
     return tuple(out)
@@ -489,7 +521,9 @@ def cam_normal(cm: CamContact, x: Any) -> tuple[Any, Any, Any, Any, Any, Any, An
     normal n (on the follower) and the instant centre I of the cam and the follower, through
     which the contact force acts: ``I = O − s'(θ)·perp(ê)``, with θ the cam's turn from the
     sketch (from the positions, modulo a turn: the law is periodic) and, for a roller, ``n``
-    from I to the roller's centre, for a flat face ``n = ±ê``.
+    from I to the roller's centre, for a flat face ``n = ±ê``. For an oscillating follower (ê
+    is returned as 0) I is ``(Oc − ψ'·Of)/(1 − ψ')`` and the force acts at the roller's centre
+    B along ``(B − Oc) − ψ'·(B − Of)`` (I is returned as B: a point of the line).
 
     Parameters
     ----------
@@ -512,11 +546,17 @@ def cam_normal(cm: CamContact, x: Any) -> tuple[Any, Any, Any, Any, Any, Any, An
         kx, ky = x[k1, 0] - x[k0, 0], x[k1, 1] - x[k0, 1]
         turn = np.arctan2(kx * cy - ky * cx, kx * cx + ky * cy)
     _, s1, _ = evaluate(cm.law, turn - cm.sketch_turn, cm.name)
+    bx, by = x[cm.trace, 0], x[cm.trace, 1]
+    if cm.rocker >= 0:  # n along (B − Oc) − ψ'·(B − Of): from I, (Oc − ψ'·Of)/(1 − ψ'), to B
+        f = cm.rocker
+        nx = bx - x[cm.pivot, 0] - s1 * (bx - x[f, 0])
+        ny = by - x[cm.pivot, 1] - s1 * (by - x[f, 1])
+        inv = 1.0 / np.sqrt(nx * nx + ny * ny)
+        return 0.0, 0.0, nx * inv, ny * inv, bx, by, bx, by
     ex, ey = x[cm.l2, 0] - x[cm.l1, 0], x[cm.l2, 1] - x[cm.l1, 1]
     inv = 1.0 / np.sqrt(ex * ex + ey * ey)
     ex, ey = ex * inv, ey * inv
     ix, iy = x[cm.pivot, 0] + s1 * ey, x[cm.pivot, 1] - s1 * ex
-    bx, by = x[cm.trace, 0], x[cm.trace, 1]
     if cm.face:
         nx, ny = cm.face * ex, cm.face * ey
     else:
@@ -618,12 +658,11 @@ def _cam_rows(
     """Each cam's contact force W·n through the instant centre I (on the follower; −W·n on
     the cam), its guide's force N·perp(ê) at the follower's first point (on the follower;
     the opposite on the carrier) and its guide's couple M."""
-    col = sy.cam_col0
-    for k, cm in enumerate(sy.cams):
-        w, n, m = col + 3 * k, col + 3 * k + 1, col + 3 * k + 2
+    for cm, w in zip(sy.cams, sy.cam_cols, strict=True):
+        n, m = w + 1, w + 2
         geo = None if x is None else cam_normal(cm, x)
         forces = ((cm.follower, w, 1.0), (cm.cam, w, -1.0), (cm.follower, n, 1.0),
-                  (cm.carrier, n, -1.0))  # fmt: skip
+                  (cm.carrier, n, -1.0))[: 2 if cm.rocker >= 0 else 4]  # fmt: skip
         for body, c, sign in forces:
             if body not in body_row:
                 continue
@@ -643,6 +682,8 @@ def _cam_rows(
             rows[rb][c] = ux
             rows[rb + 1][c] = uy
             rows[rb + 2][c] = dx * uy - dy * ux
+        if cm.rocker >= 0:
+            continue
         if cm.follower in body_row:
             rows[body_row[cm.follower] + 2][m] = 1.0
         if cm.carrier in body_row:

@@ -147,11 +147,15 @@ def mesh_forces(sy: StaticsSystem, out: F) -> tuple[F, F, F]:
     gear_force : ndarray, shape (n, n_gears)
     rack_force : ndarray, shape (n, n_racks, 3)
     cam_force : ndarray, shape (n, n_cams, 3)
+        (an oscillating follower's guide force and couple are 0: it has none)
     """
     n = out.shape[1]
     g0, r0, c0 = sy.gear_col0, sy.rack_col0, sy.cam_col0
+    cams = np.zeros((n, len(sy.cams), 3))  # an oscillating follower has no guide: zeros
+    for k, (cm, col) in enumerate(zip(sy.cams, sy.cam_cols, strict=True)):
+        cams[:, k, : cm.unknowns] = out[col : col + cm.unknowns].T
     return (
         out[g0:r0].T,
         np.moveaxis(out[r0:c0].reshape(len(sy.racks), 3, n), -1, 0),
-        np.moveaxis(out[c0:].reshape(len(sy.cams), 3, n), -1, 0),
+        cams,
     )

@@ -417,7 +417,8 @@ class ForceResult:
             for c, (qty, kind) in enumerate(zip(RACK_COLUMNS, RACK_KINDS, strict=True)):
                 cols.append((column(rk[0], "other", qty, kind), self.rack_force[:, k, c]))
         for k, cm in enumerate(sy.cams):
-            for c, (qty, kind) in enumerate(zip(CAM_COLUMNS, RACK_KINDS, strict=True)):
+            kinds = zip(CAM_COLUMNS[: cm.unknowns], RACK_KINDS[: cm.unknowns], strict=True)
+            for c, (qty, kind) in enumerate(kinds):
                 cols.append((column(cm.name, "other", qty, kind), self.cam_force[:, k, c]))
         for b in resultants:
             r = self.resultant(b)

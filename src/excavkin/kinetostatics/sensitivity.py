@@ -237,9 +237,9 @@ def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
     for k, rk in enumerate(sy.racks):
         for c, qty in enumerate(RACK_COLUMNS):
             out[f"{rk[0]}.{qty}"] = tan[sy.rack_col0 + 3 * k + c]
-    for k, cm in enumerate(sy.cams):
-        for c, qty in enumerate(CAM_COLUMNS):
-            out[f"{cm.name}.{qty}"] = tan[sy.cam_col0 + 3 * k + c]
+    for cm, col in zip(sy.cams, sy.cam_cols, strict=True):
+        for c, qty in enumerate(CAM_COLUMNS[: cm.unknowns]):
+            out[f"{cm.name}.{qty}"] = tan[col + c]
     for k, s in enumerate(sy.sliders):
         out[f"{s[0]}.normal"] = tan[s0 + k]
     ground = sy.ground

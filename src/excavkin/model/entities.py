@@ -297,12 +297,14 @@ class RackPinion:
 
 @dataclass(frozen=True, slots=True)
 class CamFollower:
-    """A disc cam turning on ``carrier`` and a follower translating in a guide on it.
+    """A disc cam turning on ``carrier`` and a follower translating in a guide on it, or
+    oscillating about a pivot on it.
 
-    The follower's travel along its guide is the lift law ``s(θ)`` of the cam's turn θ from its
-    sketch, relative to the carrier and counter-clockwise (a table over one turn, interpolated
-    by a periodic cubic spline; see `excavkin.model.cams`). At the sketch the follower is where
-    it is drawn, at the lift ``s(0)``.
+    The follower's travel along its guide (its angle about its pivot, counter-clockwise, for an
+    oscillating one) is the lift law ``s(θ)`` of the cam's turn θ from its sketch, relative to
+    the carrier and counter-clockwise (a table over one turn, interpolated by a periodic cubic
+    spline; see `excavkin.model.cams`). At the sketch the follower is where it is drawn, at
+    the lift ``s(0)``.
 
     Attributes
     ----------
@@ -311,26 +313,28 @@ class CamFollower:
     cam : str
         The cam body; it shares exactly one point with the carrier, its pivot.
     follower : str
-        The translating body (it shares no point with the carrier). With ``face = "roller"``
-        its first point is the roller's centre (a knife edge: a roller of radius 0), whose
-        travel the lift law gives.
+        The translating body (it shares no point with the carrier), or the oscillating one (it
+        shares one, its pivot). With ``face = "roller"`` its first point other than a pivot is
+        the roller's centre (a knife edge: a roller of radius 0), whose motion the law gives.
     carrier : str
         The body that carries the cam's pivot and the follower's guide.
-    along : (str, str)
-        Two points of the carrier: the guide's direction.
+    along : (str, str) or None
+        Two points of the carrier: the guide's direction; None for an oscillating follower.
     lift : tuple of (float, float), or callable
-        (turn in rad, lift in m) from 0 to 2π, strictly increasing, the last lift equal to the
-        first; or (in Python) a function of the turn (rad, any number of turns) returning
-        ``(s, ds/dθ, d²s/dθ²)`` in m, written in NumPy operations.
+        (turn in rad, lift in m, or in rad for an oscillating follower) from 0 to 2π, strictly
+        increasing, the last lift equal to the first; or (in Python) a function of the turn
+        (rad, any number of turns) returning ``(s, ds/dθ, d²s/dθ²)``, written in NumPy
+        operations.
     face : {"roller", "flat"}
-        A roller (or knife-edge) follower, or a flat face square to the guide.
+        A roller (or knife-edge) follower, or a flat face square to the guide (translating
+        followers only).
     """
 
     name: str
     cam: str
     follower: str
     carrier: str
-    along: tuple[str, str]
+    along: tuple[str, str] | None
     lift: tuple[tuple[float, float], ...] | Callable[[Any], tuple[Any, Any, Any]]
     face: Literal["roller", "flat"] = "roller"
 

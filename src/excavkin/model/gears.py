@@ -59,9 +59,13 @@ def describe_meshes(model: Model) -> list[str]:
         else:
             lifts = [s for _, s in cm.lift]
             law = f"lift {min(lifts):.6g}…{max(lifts):.6g} m over {len(cm.lift) - 1} rows"
+        if cm.along is not None:
+            how = f"along {cm.along[0]}→{cm.along[1]}"
+        else:
+            how = f"about {pivot_on(model, cm.follower, cm.carrier, f'cams.{cm.name}', 'follower')}"
         out.append(
-            f"  cam     : {cm.name} — {cm.cam} lifts {cm.follower} ({cm.face}) along "
-            f"{cm.along[0]}→{cm.along[1]} on {cm.carrier}, {law}"
+            f"  cam     : {cm.name} — {cm.cam} moves {cm.follower} ({cm.face}) {how} on "
+            f"{cm.carrier}, {law}"
         )
     return out
 

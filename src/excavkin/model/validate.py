@@ -410,17 +410,27 @@ def _check_cams(model: Model) -> None:
         if model.body(cm.cam).ground or model.body(cm.follower).ground:
             raise bad("the cam and the follower move: neither can be the ground", "cam")
         carrier = model.body(cm.carrier)
-        if not all(p in carrier.points for p in cm.along) or cm.along[0] == cm.along[1]:
-            raise bad(
-                f"along must name two different points of the carrier {cm.carrier!r}", "along"
-            )
-        if math.dist(model.points[cm.along[0]], model.points[cm.along[1]]) == 0.0:
-            raise bad("the guide's two points coincide in the sketch", "along")
-        shared = [p for p in model.body(cm.follower).points if p in carrier.points]
-        if shared:
-            raise bad(f"the follower shares {', '.join(shared)} with its carrier", "follower")
         if cm.face not in ("roller", "flat"):
             raise bad(f"face must be 'roller' or 'flat', not {cm.face!r}", "face")
+        if cm.along is None:
+            pivot_on(model, cm.follower, cm.carrier, table, "follower")
+            if cm.face != "roller":
+                raise bad("an oscillating follower is a roller (face = 'roller')", "face")
+        else:
+            if not all(p in carrier.points for p in cm.along) or cm.along[0] == cm.along[1]:
+                raise bad(
+                    f"along must name two different points of the carrier {cm.carrier!r}",
+                    "along",
+                )
+            if math.dist(model.points[cm.along[0]], model.points[cm.along[1]]) == 0.0:
+                raise bad("the guide's two points coincide in the sketch", "along")
+            shared = [p for p in model.body(cm.follower).points if p in carrier.points]
+            if shared:
+                raise bad(
+                    f"the follower shares {', '.join(shared)} with its carrier; a translating "
+                    "follower slides in its guide (leave out along for one pivoted there)",
+                    "follower",
+                )
         pivot_on(model, cm.cam, cm.carrier, table, "cam")
         if callable(cm.lift):
             _check_lift_function(cm.lift, bad)
@@ -530,7 +540,7 @@ def mobility(model: Model) -> Mobility:
     lower += 3 * len(model.linear)
     locked = sum(1 for d in model.linear if d.mode == "locked")
     # a rack (a cam's follower): a prismatic pair with its carrier and a mesh (a contact)
-    lower += len(model.racks) + len(model.cams)
+    lower += len(model.racks) + sum(1 for cm in model.cams if cm.along is not None)
     higher = len(model.gears) + len(model.racks) + len(model.cams)
     return Mobility(links, lower, len(model.sliders), locked, len(model.inputs), higher)
 

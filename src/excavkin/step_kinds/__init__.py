@@ -1,7 +1,8 @@
 """Step kinds: one module each, a registry.
 
 A solve plan (`excavkin.structure.plan`) is a sequence of steps of a few kinds: `Fixed`,
-`Rotate`, `Attach`, `Dyad`, `SliderStep`, `NewtonGroup`, `GearStep`, `RackStep` and `CamStep`.
+`Rotate`, `Attach`, `Dyad`, `SliderStep`, `NewtonGroup`, `GearStep`, `RackStep`, `CamStep` and
+`CamRockerStep`.
 Each kind's module holds its record and every operation on it
 (`excavkin.step_kinds.base.StepKind` lists them): building it, its constants for a family of
 designs, its NumPy kernel, its compiled source, the precision check's part, its description, its
@@ -18,6 +19,7 @@ from __future__ import annotations
 from excavkin.step_kinds import (
     attach,
     cam,
+    cam_rocker,
     dyad,
     fixed,
     gear,
@@ -38,6 +40,7 @@ from excavkin.step_kinds.base import (
     registered,
 )
 from excavkin.step_kinds.cam import CamStep
+from excavkin.step_kinds.cam_rocker import CamRockerStep
 from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
 from excavkin.step_kinds.dist import Dist
 from excavkin.step_kinds.dyad import Dyad
@@ -49,12 +52,24 @@ from excavkin.step_kinds.rotate import Rotate
 from excavkin.step_kinds.slider import SliderStep
 
 #: a step of a solve plan: a record of one of the registered kinds
-Step = Fixed | Rotate | Attach | Dyad | SliderStep | NewtonGroup | GearStep | RackStep | CamStep
+Step = (
+    Fixed
+    | Rotate
+    | Attach
+    | Dyad
+    | SliderStep
+    | NewtonGroup
+    | GearStep
+    | RackStep
+    | CamStep
+    | CamRockerStep
+)
 
 __all__ = [
     "OPERATIONS",
     "Attach",
     "CAngle",
+    "CamRockerStep",
     "CamStep",
     "CDist",
     "CFrame",
@@ -75,6 +90,7 @@ __all__ = [
     "StepKind",
     "attach",
     "cam",
+    "cam_rocker",
     "dyad",
     "fixed",
     "gear",

@@ -27,11 +27,12 @@ from typing import ClassVar, Literal
 
 from excavkin.errors import AssemblyError, MobilityError
 from excavkin.model.cams import lift_law
-from excavkin.model.entities import Body, Model
+from excavkin.model.entities import Body, CamFollower, Model
 from excavkin.model.gears import gear_train, pivot_on
 from excavkin.model.validate import mobility
 from excavkin.step_kinds import (
     Attach,
+    CamRockerStep,
     CamStep,
     Dyad,
     Fixed,
@@ -448,7 +449,7 @@ class PlanBuilder:
         self.cam_placed = [0] * len(self.model.cams)
         for k, cm in enumerate(self.model.cams):
             pivot = pivot_on(self.model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
-            for n in {pivot, *cm.along}:
+            for n in {pivot, *self.cam_guide(cm)}:
                 self.cam_at.setdefault(n, []).append(k)
 
     def check_no_meshes(self, unknown: list[str]) -> None:
@@ -566,15 +567,21 @@ class PlanBuilder:
             k = heapq.heappop(self.cam_next)
             cm = model.cams[k]
             pivot = pivot_on(model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
-            if self.cam_placed[k] or not all(n in self.known for n in (pivot, *cm.along)):
+            if self.cam_placed[k] or not all(n in self.known for n in (pivot, *self.cam_guide(cm))):
                 continue
+            if cm.along is None:
+                if not self.cam_rocker(cm):
+                    continue
+                self.cam_placed[k] = 1
+                return True
             body = self.body_named[cm.follower]
             if any(n in self.known for n in body.points[:2]):
                 continue  # fixed otherwise: refused as over-constrained after the steps
             law = lift_law(cm.lift)
             s0 = float(law(0.0)[0])
             sk = self.sketch
-            (ax, ay), (bx, by) = sk[cm.along[0]], sk[cm.along[1]]
+            l1, l2 = self.cam_guide(cm)
+            (ax, ay), (bx, by) = sk[l1], sk[l2]
             dx, dy = bx - ax, by - ay
             d = math.hypot(dx, dy)
             offset, inputs, coef = 0.0, [], []
@@ -591,8 +598,8 @@ class PlanBuilder:
                     _kind(CamStep).build(
                         self.idx[n],
                         self.idx[pivot],
-                        self.idx[cm.along[0]],
-                        self.idx[cm.along[1]],
+                        self.idx[l1],
+                        self.idx[l2],
                         (px * dx + py * dy) / d - s0,
                         (dx * py - dy * px) / d,
                         offset,
@@ -608,6 +615,58 @@ class PlanBuilder:
             self.cam_placed[k] = 1
             return True
         return False
+
+    def cam_guide(self, cm: CamFollower) -> tuple[str, ...]:
+        """What places a cam's follower besides the cam's pivot: its guide's two points, or
+        the oscillating follower's pivot."""
+        if cm.along is not None:
+            return cm.along
+        return (pivot_on(self.model, cm.follower, cm.carrier, f"cams.{cm.name}", "follower"),)
+
+    def cam_rocker(self, cm: CamFollower) -> bool:
+        """An oscillating follower: its first point other than its pivot, about the pivot at
+        the carrier's angle plus the lift law's (`excavkin.step_kinds.cam_rocker`); whether it
+        was placed."""
+        model, sk = self.model, self.sketch
+        (pivot,) = self.cam_guide(cm)
+        body = self.body_named[cm.follower]
+        point = next(n for n in body.points if n != pivot)
+        if point in self.known:
+            return False  # fixed otherwise: refused as over-constrained after the steps
+        law = lift_law(cm.lift)
+        offset = math.atan2(sk[point][1] - sk[pivot][1], sk[point][0] - sk[pivot][0])
+        offset -= float(law(0.0)[0])
+        carrier = dict(self.train.angles[cm.carrier])
+        turn = dict(self.train.turn(cm.cam, cm.carrier))
+        turn0, inputs, a, c = 0.0, [], [], []
+        for ri in sorted(carrier | turn):
+            ca, ct = carrier.get(ri, 0.0), turn.get(ri, 0.0)
+            if ca == 0.0 and ct == 0.0:
+                continue
+            i = self.in_idx[model.rotary[ri].name]
+            offset -= ca * self.input_sketch[i]
+            turn0 -= ct * self.input_sketch[i]
+            inputs.append(i)
+            a.append(ca)
+            c.append(ct)
+        self.steps.append(
+            _kind(CamRockerStep).build(
+                self.idx[point],
+                self.idx[pivot],
+                self.shapes[body.name].distance(point, pivot),
+                offset,
+                turn0,
+                tuple(inputs),
+                tuple(a),
+                tuple(c),
+                law,
+                cm.name,
+                cm.follower,
+            )
+        )
+        self.body_used[self.body_index[cm.follower]] += 1
+        self.learn(point)
+        return True
 
     # ---- helpers of the step kinds
     def distance_options(self, p: str) -> list[Option]:
