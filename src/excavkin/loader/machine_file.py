@@ -299,3 +299,5 @@ def _mass(r: MachineReader, chassis: dict[str, Any], part: str, *, positive: boo
         if not abs(v) <= _MAX_X:
             raise r.err(f"{v:.6g} m is out of range (±{_MAX_X:g} m)", table, "center_of_mass")
     return Mass(part, m, x, y)
+
+
