@@ -126,3 +126,26 @@ def test_rack_and_pinion_platform_reproduces_the_printed_digits() -> None:
     assert_allclose(abs(travel), 4160.0, rtol=1e-12)
     speed = np.abs(res.point("R1")[1][:, 0]) * 60e3  # mm/min
     assert_allclose(speed, 4160.0, rtol=1e-14)
+
+
+def test_planetary_power_balances_with_the_planets_inertia() -> None:
+    mech = excavkin.load(MODEL)
+    rng = np.random.default_rng(6)
+    n = 200
+    res = mech.solve(
+        {"input": rng.uniform(-50, 50, n)},
+        rates={"input": rng.uniform(-300, 300, n)},
+        accels={"input": rng.uniform(-900, 900, n)},
+    )
+    f = mech.forces(res, loads=[Torque("load", "carrier", -250.0)])
+    assert np.abs(f.power_balance().relative).max() < 1e-9
+    # a family of designs (the planet's pin moved) solves as each design alone
+    params = {"P.x": np.array([0.0568, 0.0570, 0.0565])}
+    q = {"input": np.array([0.3, 2.0, 5.0])}
+    fam = mech.solve(q, params=params, rates={"input": 1.5})
+    for i in range(3):
+        one = mech.solve(
+            {"input": q["input"][i : i + 1]}, params={"P.x": float(params["P.x"][i])},
+            rates={"input": 1.5},
+        )  # fmt: skip
+        assert_allclose(fam.positions[i], one.positions[0], rtol=0, atol=0)
