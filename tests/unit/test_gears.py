@@ -234,3 +234,30 @@ def test_a_geared_body_fixed_otherwise_too_is_refused() -> None:
     )
     with pytest.raises(MobilityError):
         excavkin.loads(text, "pair.toml")
+
+
+def test_drawings_show_the_pitch_circles_moving_with_their_centres() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from excavkin.outputs.drawing import draw_mechanism
+
+    data = Path(__file__).parents[1] / "reference" / "data"
+    mech = excavkin.load(data / "planetary_21_43_108.toml")
+    res = mech.solve({"input": np.linspace(0.0, 3.0, 10)})
+    fig, ax = plt.subplots()
+    try:
+        drawing = draw_mechanism(res, ax=ax, sample=0)
+        radii = sorted(c.radius for _, c in drawing.circles)
+        a = 56.8  # mm
+        want = sorted([a * 21 / 64, a * 43 / 64, a * 43 / 65, a * 108 / 65])
+        assert_allclose(radii, want, rtol=1e-12)
+        drawing.set_sample(7)
+        planet = mech.plan.points.index("P")
+        for centre, circle in drawing.circles:
+            assert_allclose(circle.center, res.positions[7, centre] * 1000, rtol=1e-12)
+        assert any(centre == planet for centre, _ in drawing.circles)
+    finally:
+        plt.close(fig)
