@@ -261,3 +261,18 @@ def test_drawings_show_the_pitch_circles_moving_with_their_centres() -> None:
         assert any(centre == planet for centre, _ in drawing.circles)
     finally:
         plt.close(fig)
+
+
+def test_the_report_figure_draws_the_pitch_circles() -> None:
+    from excavkin.outputs.meshes import circle_paths
+    from excavkin.outputs.scene import scene_of
+
+    data = Path(__file__).parents[1] / "reference" / "data"
+    mech = excavkin.load(data / "planetary_21_43_108.toml")
+    res = mech.solve({"input": np.linspace(0.0, 3.0, 5)})
+    scene, _ = scene_of(res, (), "mm")
+    paths = circle_paths(scene, 3)
+    assert len(paths) == 4
+    centre = res.positions[3, mech.plan.points.index("P")] * 1000
+    radius = np.hypot(*(paths[1] - centre).T)
+    assert_allclose(radius, 56.8 * 43 / 64, rtol=1e-12)

@@ -20,7 +20,7 @@ if TYPE_CHECKING:
 
     from excavkin.outputs.scene import Scene
 
-__all__ = ["add_pitch_circles", "move_pitch_circles", "pitch_circles"]
+__all__ = ["add_pitch_circles", "circle_paths", "move_pitch_circles", "pitch_circles"]
 
 
 def pitch_circles(scene: Scene) -> list[tuple[int, float]]:
@@ -115,3 +115,25 @@ def move_pitch_circles(circles: list[tuple[int, Any]], scene: Scene, sample: int
         circle.center = tuple(scene.xy[sample, centre])
         circle.set_visible(bool(np.isfinite(scene.xy[sample, centre]).all()))
     return [c for _, c in circles]
+
+
+def circle_paths(scene: Scene, sample: int, n: int = 73) -> list[np.ndarray]:
+    """Each pitch circle at ``sample`` as a closed polyline (for the HTML report's figure).
+
+    Parameters
+    ----------
+    scene : Scene
+        The drawing's geometry.
+    sample : int
+        The sample shown.
+    n : int
+        Points on each circle (the last repeats the first).
+
+    Returns
+    -------
+    list of ndarray, shape (n, 2)
+        One path per circle of `pitch_circles`, in its order.
+    """
+    t = np.linspace(0.0, 2.0 * np.pi, n)
+    ring = np.stack([np.cos(t), np.sin(t)], axis=1)
+    return [scene.xy[sample, c] + r * ring for c, r in pitch_circles(scene)]
