@@ -42,6 +42,10 @@ QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
     "force": ("driver", "force"),
     "torque": ("driver", "torque"),
     "normal": ("slider", "force"),
+    "tooth": ("other", "force"),
+    "guide": ("other", "force"),
+    "contact": ("other", "force"),
+    "couple": ("other", "torque"),
     "power": ("driver", "power"),
     "pressure": ("driver", "pressure"),
 }
