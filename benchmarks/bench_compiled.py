@@ -1,6 +1,6 @@
 """The compiled plan against a hand-written numba kernel and against the NumPy engine.
 
-Run: ``python benchmarks/bench_compiled.py [N]`` (needs numba: ``pip install 'excavkin[fast]'``).
+Run: ``python benchmarks/bench_compiled.py [N]``.
 Prints, in one run:
 
 - the four-bar's full kinematic state at N samples: excavkin's compiled plan (``mech.solve``,
@@ -92,14 +92,14 @@ def main(n: int = 1_000_000, repeat: int = 7) -> tuple[float, float, float]:
     for row, key in checked.items():
         assert np.allclose(hand[row], ref[key], rtol=1e-9, atol=1e-9 * np.abs(ref[key]).max())
 
-    def fb(compiled: bool) -> Callable[[], object]:
+    def fb(backend: str) -> Callable[[], object]:
         return lambda: fourbar.solve(
-            {"crank": th}, rates={"crank": w}, accels={"crank": al}, compiled=compiled
+            {"crank": th}, rates={"crank": w}, accels={"crank": al}, backend=backend
         )
 
-    fourbar.solve({"crank": th[:1000]}, compiled=True)  # compile (or load the kernel made before)
+    fourbar.solve({"crank": th[:1000]}, backend="numba")  # compile (or load the kernel made before)
     t_hand, t_ours, t_numpy = times_in_turn(
-        [lambda: textbook(th, w, al), fb(True), fb(False)], repeat
+        [lambda: textbook(th, w, al), fb("numba"), fb("numpy")], repeat
     )
     print(f"four-bar, full kinematic state, N = {n:,}, {numba.get_num_threads()} threads, "
           f"{repeat} rounds (best, median)")  # fmt: skip
@@ -118,21 +118,21 @@ def main(n: int = 1_000_000, repeat: int = 7) -> tuple[float, float, float]:
         values[k] = v + span * np.sin(np.linspace(0.0, 7.0, n) + len(k))
     rates = {k: 0.5 for k in values}
 
-    def ex(compiled: bool) -> Callable[[], object]:
-        return lambda: exc.solve(values, rates=rates, compiled=compiled)
+    def ex(backend: str) -> Callable[[], object]:
+        return lambda: exc.solve(values, rates=rates, backend=backend)
 
-    exc.solve({k: v[:1000] for k, v in values.items()}, compiled=True)
-    t_fast, t_slow = times_in_turn([ex(True), ex(False)], repeat)
+    exc.solve({k: v[:1000] for k, v in values.items()}, backend="numba")
+    t_fast, t_slow = times_in_turn([ex("numba"), ex("numpy")], repeat)
     r_exc, m_exc = _ratios(t_slow, t_fast)
     print(f"excavator, full kinematic state, N = {n:,}")
     print(f"  excavkin, NumPy path                 : {n / min(t_slow) / 1e6:6.2f} M samples/s")
     print(f"  excavkin, compiled plan              : {n / min(t_fast) / 1e6:6.2f} M samples/s")
     print(f"  compiled / NumPy                     : {r_exc:6.2f}×, {m_exc:.2f}×  (target ≥ 2)")
 
-    kin = exc.solve(values, rates=rates, compiled=True)
+    kin = exc.solve(values, rates=rates, backend="numba")
     loads = [Gravity(), PointForce("dig", "bucket", "W", (-20e3, 5e3))]
-    exc.forces(kin, loads, compiled=True)
-    fast, slow = (lambda c=c: exc.forces(kin, loads, compiled=c) for c in (True, False))
+    exc.forces(kin, loads, backend="numba")
+    fast, slow = (lambda b=b: exc.forces(kin, loads, backend=b) for b in ("numba", "numpy"))
     t_fast, t_slow = times_in_turn([fast, slow], repeat)
     r_forces, m_forces = _ratios(t_slow, t_fast)
     print(f"excavator, forces (inertia, gravity, a load at the tip), N = {n:,}")

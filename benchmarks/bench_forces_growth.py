@@ -5,7 +5,7 @@ minute on a 2-core machine: slow). For each size, the chain of crank-rocker four
 ``tests/models.py`` made for it, as ``bench_check.py`` makes it (3·stages + 1 points: 10, 100
 and 1,000), solved over S samples of the crank (default 16 384) with a rate and an
 acceleration, then its forces (a load per sample at every tenth body's last point) along the
-solve plan; both on the NumPy path (``compiled=False``: the compiled paths stop at a size
+solve plan; both on the NumPy path (``backend="numpy"``: the compiled paths stop at a size
 limit). It prints the time per sample of each, their ratio, and the growth exponent between
 consecutive sizes, log(t₂/t₁) / log(n₂/n₁) (1: linear), and checks the power balance. The
 dense per-sample LAPACK solve of the whole system (``method="dense"``) is timed on a few
@@ -55,14 +55,14 @@ def main(sizes: list[int], samples: int = 16_384) -> list[tuple[int, float, floa
                 if k % 10 == 0
             ]
             statics = mech.statics  # (compiled once, as Mechanism.forces does)
-            kin = mech.solve(*args, compiled=False)
+            kin = mech.solve(*args, backend="numpy")
             assert kin.status.solved.all()
-            forces = mech.forces(kin, loads, compiled=False)
+            forces = mech.forces(kin, loads, backend="numpy")
             worst = float(np.max(forces.power_balance().relative))
             repeat = 3 if points <= 100 else 2
-            t_kin = best_of(lambda a=args, m=mech: m.solve(*a, compiled=False), repeat) / samples
+            t_kin = best_of(lambda a=args, m=mech: m.solve(*a, backend="numpy"), repeat) / samples
             t_force = best_of(
-                lambda k=kin, ld=loads, s=statics: solve_forces(k, ld, system=s, compiled=False),
+                lambda k=kin, ld=loads, s=statics: solve_forces(k, ld, system=s, backend="numpy"),
                 repeat,
             )
             t_force /= samples
@@ -74,7 +74,7 @@ def main(sizes: list[int], samples: int = 16_384) -> list[tuple[int, float, floa
             )
             if points <= 100:  # (a 100-point chain's takes 0.2 s a sample)
                 m = 200 if points <= 10 else 5
-                part = mech.solve({crank: q[:m]}, {crank: 1.0}, {crank: 0.5}, compiled=False)
+                part = mech.solve({crank: q[:m]}, {crank: 1.0}, {crank: 0.5}, backend="numpy")
                 few = [PointForce(ld.name, ld.body, ld.point, ld.value[:m]) for ld in loads]
                 t_dense = best_of(
                     lambda p=part, f=few, s=statics: solve_forces(p, f, system=s, method="dense"),

@@ -56,16 +56,16 @@ def one(name: str, n: int) -> tuple[float, float, float]:
     values = inputs(mech, n)
     rates = {k: 0.5 for k in values}
     small = {k: v[:1000] for k, v in values.items()}
-    mech.solve(small, rates, sensitivities=names, compiled=True)  # compile both kernels
-    assert compiled_tangents.use(mech.plan, n, None), "the default is not the compiled kernel"
+    mech.solve(small, rates, sensitivities=names, backend="numba")  # compile both kernels
+    assert compiled_tangents.is_compiled(mech.plan), "the default is not the compiled kernel"
     ok = mech.solve(values, rates).status.ok.mean()
-    t_numpy = best_of(lambda: mech.solve(values, rates, compiled=False), 3)
-    t_comp = best_of(lambda: mech.solve(values, rates, compiled=True), 3)
+    t_numpy = best_of(lambda: mech.solve(values, rates, backend="numpy"), 3)
+    t_comp = best_of(lambda: mech.solve(values, rates, backend="numba"), 3)
     t_kin = best_of(lambda: mech.solve(values, rates), 3)
     t_sens = best_of(lambda: mech.solve(values, rates, sensitivities=names), 3)
     tool = TOOL[name]
     cols = [f"{tool}.x", f"{tool}.y", *(f"{p}.transmission" for p in mech.plan.transmissions)]
-    mech.solve(small, rates, sensitivities=names, sensitivity_columns=cols, compiled=True)
+    mech.solve(small, rates, sensitivities=names, sensitivity_columns=cols, backend="numba")
     t_some = best_of(
         lambda: mech.solve(values, rates, sensitivities=names, sensitivity_columns=cols), 3
     )
@@ -78,8 +78,8 @@ def one(name: str, n: int) -> tuple[float, float, float]:
     t_mem = best_of(memory, 3)
     m = n // 10
     part = {k: v[:m] for k, v in values.items()}
-    t_numpy_kin = best_of(lambda: mech.solve(part, rates, compiled=False), 3)
-    t_numpy_sens = best_of(lambda: mech.solve(part, rates, sensitivities=names, compiled=False), 2)
+    t_numpy_kin = best_of(lambda: mech.solve(part, rates, backend="numpy"), 3)
+    t_numpy_sens = best_of(lambda: mech.solve(part, rates, sensitivities=names, backend="numpy"), 2)
     print(f"{name}, {n:,} samples ({ok:.1%} closed), {len(names)} parameters:")
     print(f"  kinematics: NumPy {t_numpy:.3f} s, compiled {t_comp:.3f} s, default {t_kin:.3f} s")
     r = t_sens / t_kin

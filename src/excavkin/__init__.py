@@ -38,7 +38,7 @@ if TYPE_CHECKING:
         RotaryDriver,
         Slider,
     )
-    from excavkin.model.entities import Gravity, PointForce, Torque
+    from excavkin.model.entities import Gravity, PointForce, Rope, Torque
     from excavkin.studies.optimize import Optimum, optimize_study
     from excavkin.studies.study import StudyResult, run_study
     from excavkin.studies.study_file import load_study
@@ -75,7 +75,7 @@ _LAZY = {
         ),
         "excavkin.model",
     ),
-    **dict.fromkeys(("Gravity", "PointForce", "Torque"), "excavkin.model.entities"),
+    **dict.fromkeys(("Gravity", "PointForce", "Rope", "Torque"), "excavkin.model.entities"),
     **dict.fromkeys(("ToleranceBands", "tolerance_bands"), "excavkin.studies.tolerance"),
     **dict.fromkeys(("Optimum", "optimize_study"), "excavkin.studies.optimize"),
     **dict.fromkeys(("StudyResult", "run_study"), "excavkin.studies.study"),
@@ -115,6 +115,7 @@ __all__ = [
     "ModelError",
     "PointForce",
     "RackPinion",
+    "Rope",
     "RotaryDriver",
     "SingularityWarning",
     "Slider",

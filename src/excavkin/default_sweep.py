@@ -80,7 +80,8 @@ def default_sweep(mech: Mechanism, n: int | None = None) -> dict[str, np.ndarray
       720 positions), from one dead position to the other.
     * A linear input (a cylinder, a rope) sweeps its ``stroke`` when the model gives one,
       else from 0.8 to 1.25 times its sketch length (`STROKE`), cut to the range around
-      the sketch over which the mechanism closes.
+      the sketch over which the mechanism closes. A winch rope's motor angle sweeps so that
+      its blocks' distance does that (its angle is proportional to that distance).
 
     Each input's range is found with the others held at their sketch values.
 
@@ -106,9 +107,10 @@ def default_sweep(mech: Mechanism, n: int | None = None) -> dict[str, np.ndarray
         raise ValueError(f"n: a sweep needs at least 2 samples, got {n}")
     sketch = mech.sketch_values()
     out: dict[str, np.ndarray] = {}
+    winches = {r.name for r in mech.model.ropes if r.mode == "winch"}
     for name in names:
         q0 = sketch[name]
-        if kinds[name] == "angle":
+        if kinds[name] == "angle" and name not in winches:
             m = 720
             probe = q0 + np.linspace(0.0, 2 * np.pi, m, endpoint=False)
             ok = _passable(mech.solve({name: probe}).status.code)

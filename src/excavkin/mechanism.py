@@ -19,9 +19,10 @@ from numpy.typing import ArrayLike
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, SolveFailure, did_you_mean
+from excavkin.execution import DEFAULT, Execution, settings
 from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble
 from excavkin.kinematics.sweep import Part, solve_parts
-from excavkin.model.entities import Model
+from excavkin.model.entities import Model, rope_line
 from excavkin.model.gears import describe_meshes
 from excavkin.model.validate import validate
 from excavkin.structure.builder import compile_plan
@@ -31,6 +32,9 @@ from excavkin.sweeps import Lazy, part_of
 if TYPE_CHECKING:
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
 
+
+#: the names ``backend=`` takes (`excavkin.backends`)
+Backend = Literal["auto", "numpy", "numba", "cuda"]
 
 #: the kinds of a driver's value, rate and acceleration, by the kind of its value
 _ORDER_KINDS = {
@@ -375,6 +379,8 @@ class Mechanism:
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
+        backend: Backend | None = None,
+        execution: Execution | None = None,
         compiled: bool | None = None,
         loads: None = None,
         params: Mapping[str, Any] | None = None,
@@ -396,6 +402,8 @@ class Mechanism:
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
+        backend: Backend | None = None,
+        execution: Execution | None = None,
         compiled: bool | None = None,
         loads: Iterable[Load] | Literal["model"],
         params: Mapping[str, Any] | None = None,
@@ -416,6 +424,8 @@ class Mechanism:
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
+        backend: Backend | None = None,
+        execution: Execution | None = None,
         compiled: bool | None = None,
         loads: Iterable[Load] | Literal["model"] | None = None,
         params: Mapping[str, Any] | None = None,
@@ -457,16 +467,29 @@ class Mechanism:
             At a change point between neighbouring samples (a dyad folding flat): keep each
             dyad on its sketch side, or continue the motion onto the other side (the samples
             taken in order, as a path). ``result.change_points`` lists them either way.
+        backend : {"auto", "numpy", "numba", "cuda"}, optional
+            Where a closed-form plan, its ``sensitivities`` and (with ``loads``) the
+            equilibrium run (``docs/design.md``, "Backends"): ``"numba"`` as one compiled
+            loop over samples (results equal the NumPy path's to round-off), ``"numpy"`` as
+            array operations. Default ``"auto"``: a compiled kernel whenever it is ready
+            (compiled before, in this process or cached on disk), at any sample count; NumPy
+            otherwise, and for a plan with a Newton group. A kernel not yet compiled is
+            compiled unasked only for 20 million samples or more. ``"cuda"`` is not
+            available in this version (an error says so).
+        execution : Execution, optional
+            ``backend``, ``workers``, ``chunk`` and ``progress`` as one object
+            ([`Execution`][excavkin.execution.Execution]); a keyword also given replaces
+            its field.
         compiled : bool, optional
-            Run a closed-form plan (and, with ``loads``, the equilibrium) as one compiled loop
-            (needs numba: ``pip install 'excavkin[fast]'``; results equal the NumPy path's to
-            round-off) or in NumPy. Default: compiled when numba is installed and the batch
-            has at least 131 072 samples. The ``sensitivities`` follow the same rule with a
-            kernel of their own (`excavkin.kinematics.compiled_tangents`).
+            Deprecated (a `DeprecationWarning`): ``backend="numba"`` (True) or
+            ``backend="numpy"`` (False).
         loads : iterable of PointForce, Torque, Gravity, or "model", optional
             Also solve the kinetostatics (`forces`) with these loads (``"model"``: the
-            model's own loads and gravity; an empty list: inertia only). A swept driver given
-            no rate is then at rest (rate 0): without any rates the forces are static.
+            model's own loads and gravity; an empty list: inertia only), and return a
+            ``ForceResult`` instead of the ``KinematicResult``: a shortcut for
+            ``mech.forces(mech.solve(...), loads)``, the return type fixed by the typing
+            overloads. A swept driver given no rate is then at rest (rate 0): without any
+            rates the forces are static.
         params : mapping of str to array_like, optional
             Dimensions per sample: a parameter name of
             [`parameters`][excavkin.structure.design.parameters] → a scalar or an
@@ -496,6 +519,10 @@ class Mechanism:
                 "sensitivity_columns selects kinematic columns of sensitivities: give it with "
                 "sensitivities and without loads (the forces' derivatives need all of them)"
             )
+        run = settings(
+            execution, backend=backend, compiled=compiled, workers=workers, chunk=chunk,
+            progress=progress,
+        )  # fmt: skip
         batch = self._batch(
             values, rates, accels, time, params, continuation, lazy=False, forces=loads is not None
         )
@@ -508,23 +535,18 @@ class Mechanism:
                     lambda: [whole],
                     total=batch.n,
                     tol=tol or Tolerances(),
-                    workers=workers,
-                    progress=progress,
+                    execution=run,
                     continuation=continuation,
-                    compiled=compiled,
-                    **({} if chunk is None else {"chunk": int(chunk)}),
                 )  # fmt: skip
             )
         )
-        result = self._finish(
-            result, batch, 0, batch.n, sensitivities, compiled, sensitivity_columns
-        )
+        result = self._finish(result, batch, 0, batch.n, sensitivities, run, sensitivity_columns)
         if strict and not result.status.all_ok:
             raise SolveFailure(result.summary(), result)
         if loads is None:
             return result
         given = None if isinstance(loads, str) and loads == "model" else loads
-        return self._forces(result, given, compiled, batch.unrated)
+        return self._forces(result, given, run, batch.unrated)
 
     def solve_stream(
         self,
@@ -538,6 +560,8 @@ class Mechanism:
         progress: Callable[[int, int], None] | None = None,
         chunk: int | None = None,
         continuation: Literal["side", "smooth"] = "side",
+        backend: Backend | None = None,
+        execution: Execution | None = None,
         compiled: bool | None = None,
         loads: Iterable[Load] | Literal["model"] | None = None,
         params: Mapping[str, Any] | None = None,
@@ -557,7 +581,7 @@ class Mechanism:
         values, rates, accels, time, params
             As for `solve`; every array may also be an [`excavkin.sweeps.Lazy`][]
             column.
-        tol, workers, chunk, continuation, compiled, loads, sensitivities
+        tol, workers, chunk, continuation, backend, execution, compiled, loads, sensitivities
             As for `solve`.
         progress : callable, optional
             ``progress(done, total)`` over the whole sweep, after each solved chunk.
@@ -583,6 +607,10 @@ class Mechanism:
         """
         from excavkin.kinematics.solve import BLOCK
 
+        run = settings(
+            execution, backend=backend, compiled=compiled, workers=workers, chunk=chunk,
+            progress=progress,
+        )  # fmt: skip
         batch = self._batch(
             values, rates, accels, time, params, continuation, lazy=True, forces=loads is not None
         )
@@ -602,13 +630,12 @@ class Mechanism:
                 yield batch.part(s, min(s + span, n))
 
         kinematics = solve_parts(
-            self.plan, self.assembly, parts, total=n, tol=tol or Tolerances(), workers=workers,
-            progress=progress, continuation=continuation, compiled=compiled,
-            **({} if chunk is None else {"chunk": int(chunk)}),
+            self.plan, self.assembly, parts, total=n, tol=tol or Tolerances(), execution=run,
+            continuation=continuation,
         )  # fmt: skip
         given = None if loads is None or loads == "model" else list(loads)  # type: ignore[arg-type]
         # the inputs are checked above, at the call; the parts come as they are asked for
-        return self._stream(kinematics, batch, span, size, sensitivities, loads, given, compiled)
+        return self._stream(kinematics, batch, span, size, sensitivities, loads, given, run)
 
     def _stream(
         self,
@@ -619,7 +646,7 @@ class Mechanism:
         sensitivities: Sequence[str] | None,
         loads: object,
         given: list[Load] | None,
-        compiled: bool | None = None,
+        execution: Execution = DEFAULT,
     ) -> Iterator[SolvedPart]:
         """The parts of `solve_stream`: each span's kinematics cut into parts of
         ``size`` samples, with their parameters, sensitivities, time and forces."""
@@ -633,11 +660,11 @@ class Mechanism:
                     s + first,
                     s + last,
                     sensitivities,
-                    compiled,
+                    execution,
                 )
                 out: KinematicResult | ForceResult = result
                 if loads is not None:
-                    out = self._forces(result, given, compiled, batch.unrated)
+                    out = self._forces(result, given, execution, batch.unrated)
                 yield SolvedPart(s + first, out, n)
 
     def _finish(
@@ -647,11 +674,11 @@ class Mechanism:
         start: int,
         stop: int,
         sensitivities: Sequence[str] | None,
-        compiled: bool | None = None,
+        execution: Execution = DEFAULT,
         columns: Sequence[str] | None = None,
     ) -> KinematicResult:
         """A kinematic result of samples ``start`` … ``stop − 1`` with its design parameters,
-        sensitivities (``compiled`` as for the kinematics) and time."""
+        sensitivities (on ``execution``'s backend) and time."""
         given = {k: part_of(v, start, stop) for k, v in batch.params.items()}
         if given:
             result = dataclasses.replace(result, parameters=given)
@@ -662,7 +689,7 @@ class Mechanism:
         if sensitivities:
             from excavkin.kinematics.sensitivity import solve_tangents
 
-            tangents = solve_tangents(result, list(sensitivities), given, compiled, columns)
+            tangents = solve_tangents(result, list(sensitivities), given, execution, columns)
             kept = None if columns is None else frozenset(columns)
             result = dataclasses.replace(result, tangents=tangents, tangent_columns=kept)
         if batch.time is not None:
@@ -757,6 +784,8 @@ class Mechanism:
         result: KinematicResult,
         loads: Iterable[Load] | None = None,
         *,
+        backend: Backend | None = None,
+        execution: Execution | None = None,
         compiled: bool | None = None,
     ) -> ForceResult:
         """Joint forces, cylinder forces and driver torques for a kinematic result.
@@ -782,23 +811,32 @@ class Mechanism:
             (of any registry) or a string such as ``"5 kN"`` or ``("5 kN", "-2 kN")`` for a
             force, ``"300 N*m"`` for a torque, ``"9.81 m/s^2"`` for gravity; a wrong dimension
             is a [`UnitError`][excavkin.errors.UnitError] naming the load.
+        backend : {"auto", "numpy", "numba", "cuda"}, optional
+            Solve the equilibrium as one compiled loop over samples (``"numba"``; equal to the
+            NumPy path's to round-off) or in NumPy; ``"auto"`` (default) as for `solve`.
+        execution : Execution, optional
+            The backend and threads as one object
+            ([`Execution`][excavkin.execution.Execution]); ``backend`` given replaces its
+            own.
         compiled : bool, optional
-            Solve the equilibrium as one compiled loop over samples (needs numba; equal to the
-            NumPy path's to round-off) or in NumPy. Default: compiled when numba is installed
-            and the batch has at least 131 072 samples.
+            Deprecated (a `DeprecationWarning`): ``backend="numba"`` (True) or
+            ``backend="numpy"`` (False).
 
         Returns
         -------
         ForceResult
         """
+        run = settings(execution, backend=backend, compiled=compiled)
         if result.plan.model is not self.plan.model:  # (a family of designs has its own plan)
             raise InputError("the kinematic result belongs to another mechanism")
         rest = result.unit_rates
         if rest:
-            result = self._at_rest(result, rest)
-        return self._forces(result, loads, compiled, rest)
+            result = self._at_rest(result, rest, run)
+        return self._forces(result, loads, run, rest)
 
-    def _at_rest(self, result: KinematicResult, rest: tuple[str, ...]) -> KinematicResult:
+    def _at_rest(
+        self, result: KinematicResult, rest: tuple[str, ...], execution: Execution = DEFAULT
+    ) -> KinematicResult:
         """``result``'s poses with the drivers ``rest`` at rate 0 (their accelerations and the
         other drivers' rates as they were)."""
         inputs = self.plan.inputs
@@ -815,6 +853,7 @@ class Mechanism:
             time=result.time,
             params=result.parameters,
             continuation="smooth" if smooth else "side",
+            execution=dataclasses.replace(execution, progress=None),  # (its bar is done)
             sensitivities=list(result.tangents) if result.tangents else None,
             sensitivity_columns=None
             if result.tangent_columns is None
@@ -825,7 +864,7 @@ class Mechanism:
         self,
         result: KinematicResult,
         loads: Iterable[Load] | None,
-        compiled: bool | None,
+        execution: Execution,
         rest: tuple[str, ...],
     ) -> ForceResult:
         """`forces` of a result already at rest in the drivers ``rest`` (those swept
@@ -837,7 +876,7 @@ class Mechanism:
         given = self.loads if loads is None else [_load_in_si(load) for load in loads]
         if result.parameters:
             given = _loads_of_designs(given, result.parameters, len(result))
-        forces = solve_forces(result, given, system=self.statics, compiled=compiled)
+        forces = solve_forces(result, given, system=self.statics, execution=execution)
         if rest:
             forces = dataclasses.replace(forces, at_rest=rest)
         if result.tangents:
@@ -884,6 +923,7 @@ class Mechanism:
         for s in m.sliders:
             lines.append(f"  slider  : {s.name} — {s.point} on {s.along[0]}→{s.along[1]}")
         lines += describe_meshes(m)
+        lines += [f"  rope    : {rope_line(r)}" for r in m.ropes]
         mob = self.plan.mobility
         lines.append(f"  mobility: {mob.describe()}; inputs: {', '.join(self.inputs) or 'none'}")
         params = self.parameters

@@ -64,7 +64,7 @@ def assert_same(a: ForceResult, b: ForceResult, rtol: float = 1e-10) -> None:
 def test_along_the_plan_equals_the_dense_solve(name: str) -> None:
     mech, res = motion(name)
     assert along_plan(res.plan, mech.statics) is not None
-    sparse = solve_forces(res, loads(mech), system=mech.statics, compiled=False)
+    sparse = solve_forces(res, loads(mech), system=mech.statics, backend="numpy")
     dense = solve_forces(res, loads(mech), system=mech.statics, method="dense")
     assert not dense.singular.any()
     assert_same(sparse, dense)
@@ -80,7 +80,7 @@ def test_a_model_the_plan_cannot_take_is_solved_densely(
     name: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     mech, res = motion(name, 100)
-    along = solve_forces(res, loads(mech), system=mech.statics, compiled=False)
+    along = solve_forces(res, loads(mech), system=mech.statics, backend="numpy")
     monkeypatch.setattr(solve_module, "along_plan", lambda plan, sy: None)
     dense = solve_forces(res, loads(mech), system=mech.statics, chunk=37)
     assert_same(dense, along)
@@ -89,6 +89,6 @@ def test_a_model_the_plan_cannot_take_is_solved_densely(
 @pytest.mark.parametrize("name", ["planetary_21_43_108", "rack_on_arm"])
 def test_compiled_equals_numpy(name: str) -> None:
     mech, res = motion(name, 300)
-    numpy_path = solve_forces(res, loads(mech), system=mech.statics, compiled=False)
-    kernel = solve_forces(res, loads(mech), system=mech.statics, compiled=True)
+    numpy_path = solve_forces(res, loads(mech), system=mech.statics, backend="numpy")
+    kernel = solve_forces(res, loads(mech), system=mech.statics, backend="numba")
     assert_same(kernel, numpy_path, rtol=1e-14)

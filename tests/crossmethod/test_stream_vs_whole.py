@@ -75,9 +75,9 @@ def test_compiled_parts_equal_the_compiled_whole() -> None:
     n = 2 * BLOCK + 12345
     q = {"crank": Linspace(0.0, 6.0 * np.pi, n)}
     rate = {"crank": Linspace(1.0, 5.0, n)}
-    whole = mech.solve({"crank": np.asarray(q["crank"])}, rate, compiled=True)
+    whole = mech.solve({"crank": np.asarray(q["crank"])}, rate, backend="numba")
     for size in (1000, BLOCK + 7):
-        parts = list(mech.solve_stream(q, rate, size=size, compiled=True))
+        parts = list(mech.solve_stream(q, rate, size=size, backend="numba"))
         assert_same(whole, parts)
 
 

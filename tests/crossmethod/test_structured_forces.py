@@ -82,12 +82,12 @@ def sweep(mech: excavkin.Mechanism, n: int, seed: int) -> excavkin.KinematicResu
         values[k] = v + rng.uniform(-span, span, n)
         rates[k] = rng.uniform(-1.0, 1.0, n)
         accels[k] = rng.uniform(-1.0, 1.0, n)
-    return mech.solve(values, rates, accels, compiled=False)
+    return mech.solve(values, rates, accels, backend="numpy")
 
 
 def assert_equal_to_dense(mech: excavkin.Mechanism, kin: excavkin.KinematicResult) -> None:
     loads = loads_on(mech, len(kin), 5)
-    fast = solve_forces(kin, loads, system=mech.statics, compiled=False)
+    fast = solve_forces(kin, loads, system=mech.statics, backend="numpy")
     dense = solve_forces(kin, loads, system=mech.statics, method="dense")
     a, b = columns(fast), columns(dense)
     ok = kin.status.solved & ~dense.singular
@@ -160,9 +160,9 @@ def _power_balanced(mech: excavkin.Mechanism, n: int, tol: float) -> ForceResult
         span = 0.02 if mech.input_kind(k) == "angle" else 0.002 * abs(v)
         values[k] = v + rng.uniform(-span, span, n)
         rates[k] = rng.uniform(-1.0, 1.0, n)
-    kin = mech.solve(values, rates, compiled=False)
+    kin = mech.solve(values, rates, backend="numpy")
     assert kin.status.solved.all()
-    res = mech.forces(kin, loads, compiled=False)
+    res = mech.forces(kin, loads, backend="numpy")
     pb = res.power_balance()
     assert np.all(np.abs(pb.load) > 0.0)
     assert np.max(pb.relative) <= tol
@@ -197,9 +197,9 @@ def test_chunks_give_the_same_forces_to_the_bit() -> None:
     mech = excavkin.load(excavkin.example_path("excavator"))
     kin = sweep(mech, 1000, 3)
     loads = loads_on(mech, len(kin), 4)
-    whole = solve_forces(kin, loads, system=mech.statics, compiled=False, chunk=len(kin))
+    whole = solve_forces(kin, loads, system=mech.statics, backend="numpy", chunk=len(kin))
     for chunk in (1, 7, 333):
-        part = solve_forces(kin, loads, system=mech.statics, compiled=False, chunk=chunk)
+        part = solve_forces(kin, loads, system=mech.statics, backend="numpy", chunk=chunk)
         np.testing.assert_array_equal(columns(part), columns(whole))
         np.testing.assert_array_equal(part.singular, whole.singular)
 
@@ -216,10 +216,10 @@ def test_one_newton_group_gives_the_closed_forms_forces(name: str) -> None:
     values = {k: kin.inputs[:, i] for i, k in enumerate(kin.plan.inputs)}
     rates = {k: kin.input_rates[:, i] for i, k in enumerate(kin.plan.inputs)}
     accels = {k: kin.input_accels[:, i] for i, k in enumerate(kin.plan.inputs)}
-    other = generic.solve(values, rates, accels, compiled=False)
+    other = generic.solve(values, rates, accels, backend="numpy")
     loads = loads_on(closed, len(kin), 9)
-    a = columns(closed.forces(kin, loads, compiled=False))
-    b = columns(generic.forces(other, loads, compiled=False))
+    a = columns(closed.forces(kin, loads, backend="numpy"))
+    b = columns(generic.forces(other, loads, backend="numpy"))
     ok = kin.status.solved & other.status.solved
     assert ok.sum() > 150
     assert np.max(np.abs(a[ok] - b[ok])) <= 1e-12 * np.max(np.abs(a[ok]))
@@ -239,7 +239,7 @@ def test_solve_with_loads_equals_solve_then_forces() -> None:
     values = {k: v + rng.uniform(-0.1, 0.1, 500) for k, v in mech.sketch_values().items()}
     rates = {k: 0.3 for k in values}
     loads = [Gravity(), PointForce("p", "bucket", "T", (0.0, -2000.0))]
-    one = mech.solve(values, rates, loads=loads, compiled=False)
+    one = mech.solve(values, rates, loads=loads, backend="numpy")
     assert isinstance(one, ForceResult)
-    two = mech.forces(mech.solve(values, rates, compiled=False), loads, compiled=False)
+    two = mech.forces(mech.solve(values, rates, backend="numpy"), loads, backend="numpy")
     np.testing.assert_array_equal(columns(one), columns(two))

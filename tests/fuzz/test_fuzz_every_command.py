@@ -66,9 +66,11 @@ BASE: dict[str, list[str]] = {
     "report": ["slider_crank", "--sweep", "crank=0:1:5", "-o", "{d}/r.html", "--force", "-q"],
     "simulate": ["fourbar", "--drive", "crank=crank:31.416rad/s", "--duration", "0.1s",
                  "--samples", "5", "-o", "{d}/s.csv", "--force"],
-    "solve": ["fourbar", "--sweep", "crank=0:1:5", "-o", "{d}/o.csv", "--force", "-q"],
-    "study": ["{study}", "-o", "{d}/s.parquet", "--force", "-q"],
-    "tolerance": ["fourbar", "--sweep", "crank=0:1:3", "--tol", "A-B=0.1mm", "--draws", "20"],
+    "solve": ["fourbar", "--sweep", "crank=0:1:5", "-o", "{d}/o.csv", "--force", "-q",
+              "--backend", "auto"],
+    "study": ["{study}", "-o", "{d}/s.parquet", "--force", "-q", "--backend", "auto"],
+    "tolerance": ["fourbar", "--sweep", "crank=0:1:3", "--tol", "A-B=0.1mm", "--draws", "20",
+                  "--backend", "auto"],
     "excavator cycle": ["excavator_machine"],
     "excavator dig": ["excavator_machine", "--width", "1.2m", "--samples", "5"],
     "excavator forces": ["excavator_machine", "--samples", "3"],
@@ -275,3 +277,26 @@ def garbage_option_value(
     else:
         args += [option, value]
     check(path, args, d)
+
+
+#: the commands that take ``--backend`` (where the solves run)
+BACKEND_COMMANDS = sorted(p for p in BASE if "--backend" in options(p))
+
+
+def test_the_commands_that_solve_take_a_backend() -> None:
+    assert {"solve", "study", "tolerance"} <= set(BACKEND_COMMANDS)
+
+
+@pytest.mark.parametrize("path", BACKEND_COMMANDS)
+@FUZZ
+@given(value=st.one_of(GARBAGE, st.sampled_from(["auto", "numpy", "cuda", "NUMBA", " numpy"])))
+def test_garbage_backends(tmp_path_factory, path: str, value: str) -> None:
+    """``--backend`` with any value: the command runs, or refuses naming the option (an
+    unknown name, or cuda where no GPU is usable) with exit 2."""
+    d = folder(tmp_path_factory)
+    args = [*base_args(path, d), "--backend", value]
+    check(path, args, d)
+    if value == "cuda":
+        with contextlib.chdir(d):
+            r = CliRunner().invoke(main, args)
+        assert r.exit_code == 0 or "--backend cuda: " in r.output, r.output

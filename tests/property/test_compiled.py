@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import excavkin
+from excavkin import backends
 from excavkin.errors import InputError
 from excavkin.kinematics import compiled
 from tests.models import parallelogram
@@ -60,8 +61,8 @@ def test_each_example_compiled_equals_numpy(name: str) -> None:
     for v in values.values():
         v[2000] = np.nan
     args = dict(rates=rates, accels=accels, chunk=997)
-    fast = mech.solve(values, compiled=True, **args)
-    ref = mech.solve(values, compiled=False, **args)
+    fast = mech.solve(values, backend="numba", **args)
+    ref = mech.solve(values, backend="numpy", **args)
     assert_same(fast, ref)
     assert fast.status.ok.sum() > 100  # the comparison is not of failures alone
 
@@ -75,7 +76,7 @@ def test_families_of_designs_compiled_equal_numpy(name: str) -> None:
     params[key][5] = -1.0 if "-" in key else np.nan
     args = dict(rates={k: 0.1 for k in values}, params=params, chunk=512)
     assert_same(
-        mech.solve(values, compiled=True, **args), mech.solve(values, compiled=False, **args)
+        mech.solve(values, backend="numba", **args), mech.solve(values, backend="numpy", **args)
     )
 
 
@@ -84,21 +85,21 @@ def test_near_dead_samples_are_checked_alike() -> None:
     same samples, and the change points found (and passed over) are the same."""
     mech = excavkin.Mechanism(parallelogram())
     th = np.pi / 2 - np.linspace(0.0, np.pi, 20001)  # crank from upright to flat, through 0
-    fast = mech.solve({"crank": th}, compiled=True, chunk=1000)
-    ref = mech.solve({"crank": th}, compiled=False, chunk=1000)
+    fast = mech.solve({"crank": th}, backend="numba", chunk=1000)
+    ref = mech.solve({"crank": th}, backend="numpy", chunk=1000)
     assert_same(fast, ref)
     assert np.isfinite(ref.error_estimate).sum() > 10  # some samples were near dead
     assert ref.change_points  # and the fold was found
-    smooth = mech.solve({"crank": th}, compiled=True, continuation="smooth")
-    assert_same(smooth, mech.solve({"crank": th}, compiled=False, continuation="smooth"))
+    smooth = mech.solve({"crank": th}, backend="numba", continuation="smooth")
+    assert_same(smooth, mech.solve({"crank": th}, backend="numpy", continuation="smooth"))
 
 
 def test_overflowing_rates_are_not_finite_alike() -> None:
     mech = excavkin.load(excavkin.example_path("fourbar"))
     th = np.linspace(0.0, 2 * np.pi, 300)
     w = np.where(np.arange(300) % 7 == 0, 1e300, 3.0)
-    fast = mech.solve({"crank": th}, rates={"crank": w}, compiled=True)
-    ref = mech.solve({"crank": th}, rates={"crank": w}, compiled=False)
+    fast = mech.solve({"crank": th}, rates={"crank": w}, backend="numba")
+    ref = mech.solve({"crank": th}, rates={"crank": w}, backend="numpy")
     assert_same(fast, ref)
     assert (ref.status.labels() != "ok").sum() >= 43
 
@@ -108,7 +109,7 @@ def test_negative_driven_lengths_alike() -> None:
     values = sweep(mech, 500, 1.0)
     name = next(k for k in values if mech.input_kind(k) == "length")
     values[name][::50] = -values[name][::50]
-    assert_same(mech.solve(values, compiled=True), mech.solve(values, compiled=False))
+    assert_same(mech.solve(values, backend="numba"), mech.solve(values, backend="numpy"))
 
 
 def test_kernel_source_depends_on_structure_only() -> None:
@@ -125,17 +126,13 @@ def test_kernel_source_depends_on_structure_only() -> None:
     np.testing.assert_array_equal(table[0], np.arange(10.0))
 
 
-def test_automatic_choice_and_refusals(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_newton_plan_is_refused() -> None:
+    """(The rule that chooses is tested in tests/unit/test_backends.py.)"""
     fb = excavkin.load(excavkin.example_path("fourbar"))
-    assert not compiled.use(fb.plan, 1000, None)  # small: NumPy
-    compiled.compile_plan(fb.plan)
-    assert compiled.use(fb.plan, compiled.THRESHOLD, None)  # large, and compiled already
-    monkeypatch.setenv("EXCAVKIN_COMPILED", "0")
-    assert not compiled.use(fb.plan, compiled.THRESHOLD, None)
     newton = excavkin.Mechanism(fb.model, method="newton")
     assert not compiled.supports(newton.plan)
     with pytest.raises(InputError, match="Newton group"):
-        newton.solve({"crank": np.zeros(3)}, compiled=True)
+        newton.solve({"crank": np.zeros(3)}, backend="numba")
 
 
 def test_a_cache_folder_that_cannot_be_written_compiles_in_memory(
@@ -144,11 +141,11 @@ def test_a_cache_folder_that_cannot_be_written_compiles_in_memory(
     blocker = tmp_path / "file"
     blocker.write_text("")
     monkeypatch.setenv("EXCAVKIN_CACHE_DIR", str(blocker / "kernels"))
-    monkeypatch.setattr(compiled, "_kernels", {})
+    monkeypatch.setattr(backends, "_kernels", {})
     mech = excavkin.load(excavkin.example_path("pasika_module"))
     values = sweep(mech, 50, 0.5)
-    assert_same(mech.solve(values, compiled=True), mech.solve(values, compiled=False))
-    assert not compiled.is_compiled(mech.plan) or compiled._kernels
+    assert_same(mech.solve(values, backend="numba"), mech.solve(values, backend="numpy"))
+    assert not compiled.is_compiled(mech.plan) or backends._kernels
 
 
 def test_fixed_points_rows_left_unwritten_only_when_asked() -> None:
@@ -164,7 +161,7 @@ def test_fixed_points_rows_left_unwritten_only_when_asked() -> None:
     fixed = list(plan.steps[0].points)
     outs = []
     for write in (False, True):
-        kernel = compiled.kernel_of(vectorised(compiled.source(plan, write_at_rest=write), False))
+        kernel = backends.kernel_of(vectorised(compiled.source(plan, write_at_rest=write), False))
         q = np.linspace(0.0, 6.0, n)[None, :]
         x, v, a = (np.full((len(plan.points), 2, n), 7.0) for _ in range(3))
         c = Chunk(x, v, a, q, np.ones((1, n)), np.zeros((1, n)), np.empty((1, n)),
@@ -212,9 +209,9 @@ def test_the_vectorised_loop_equals_the_scalar_loop_to_the_bit(name: str, per_sa
         out = (x, v, a, trans, d.body, d.element, st, failed, 1e-10, 1e-7, near, near_step)
         text = compiled.source(plan, write_at_rest=False)
         if not vector:
-            compiled.kernel_of(text)(q, qd, qdd, k, stride, *out)
+            backends.kernel_of(text)(q, qd, qdd, k, stride, *out)
         else:
-            kernel = compiled.kernel_of(vectorised(text, per_sample))
+            kernel = backends.kernel_of(vectorised(text, per_sample))
             for part in (slice(0, 300), slice(300, n)):
                 kk = k[:, part] if stride else k
                 c = Chunk(x, v, a, q[:, part], qd[:, part], qdd[:, part], trans, st, failed,

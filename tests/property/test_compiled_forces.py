@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 
 import excavkin
-from excavkin.errors import InputError
-from excavkin.kinematics import compiled as kinematic_kernels
+from excavkin import backends
 from excavkin.kinetostatics import ForceResult, Gravity, PointForce, Torque, compiled, solve_forces
 from tests.property.test_compiled import sweep
 from tests.property.test_designs import random_designs
@@ -67,15 +66,15 @@ def test_each_example_compiled_forces_equal_numpy(name: str) -> None:
         v[1500:1510] = np.nan  # and inputs that are no numbers: no forces either
     kin = mech.solve(values, rates={k: 0.7 for k in values}, accels={k: -0.3 for k in values})
     loads = every_kind_of_load(mech, len(kin))
-    ref = mech.forces(kin, loads, compiled=False)
-    assert_same_forces(mech.forces(kin, loads, compiled=True), ref)
+    ref = mech.forces(kin, loads, backend="numpy")
+    assert_same_forces(mech.forces(kin, loads, backend="numba"), ref)
     assert ref.ok.sum() > 100 and np.isnan(ref.pin_force).any()  # failures and forces both
     # statics at each pose (no inertia), and the model's own loads alone
     assert_same_forces(
-        solve_forces(kin, loads, system=mech.statics, inertia=False, compiled=True),
-        solve_forces(kin, loads, system=mech.statics, inertia=False, compiled=False),
+        solve_forces(kin, loads, system=mech.statics, inertia=False, backend="numba"),
+        solve_forces(kin, loads, system=mech.statics, inertia=False, backend="numpy"),
     )
-    assert_same_forces(mech.forces(kin, compiled=True), mech.forces(kin, compiled=False))
+    assert_same_forces(mech.forces(kin, backend="numba"), mech.forces(kin, backend="numpy"))
 
 
 @pytest.mark.parametrize("name", ["fourbar", "excavator"])
@@ -90,12 +89,12 @@ def test_families_of_designs_compiled_forces_equal_numpy(name: str) -> None:
     loads = [Gravity(), PointForce("w", mech.model.bodies[-1].name, mech.model.bodies[-1].points[0],
                                    (0.0, -500.0))]  # fmt: skip
     assert_same_forces(
-        mech.forces(kin, loads, compiled=True), mech.forces(kin, loads, compiled=False)
+        mech.forces(kin, loads, backend="numba"), mech.forces(kin, loads, backend="numpy")
     )
     # through solve, as one call
-    fast = mech.solve(values, **args, loads=loads, compiled=True)
+    fast = mech.solve(values, **args, loads=loads, backend="numba")
     assert isinstance(fast, ForceResult)
-    assert_same_forces(fast, mech.solve(values, **args, loads=loads, compiled=False))
+    assert_same_forces(fast, mech.solve(values, **args, loads=loads, backend="numpy"))
 
 
 def test_a_singular_pose_is_flagged_alike() -> None:
@@ -122,7 +121,7 @@ def test_a_singular_pose_is_flagged_alike() -> None:
         ref, singular = solve_structured(ss, x, body_loads(sy, mp, ev, x, a, eps, slice(None)))
     text, values = compiled.source(ss, mp, ev, inertia=True)
     out, flags = np.empty((sy.size, 400)), np.zeros(400, dtype=bool)
-    compiled.solve(text, values, x, a, eps, out, flags)
+    compiled.solve(backends.kernel_of(text), values, x, a, eps, out, flags)
     assert singular[::7].all() and singular.sum() == len(singular[::7])
     np.testing.assert_array_equal(flags, singular)
     ok = ~singular
@@ -154,27 +153,6 @@ def test_the_source_depends_on_the_structure_not_the_values() -> None:
     assert compiled.source(sy, mp, one, inertia=False)[0] != text
 
 
-def test_automatic_choice_and_refusal(monkeypatch: pytest.MonkeyPatch) -> None:
-    mech = excavkin.load(excavkin.example_path("fourbar"))
-    kin = mech.solve({"crank": np.linspace(0.0, 6.0, 10)})
-    from excavkin.kinetostatics.inertia import MassProperties
-    from excavkin.kinetostatics.loads import evaluate_loads
-    from excavkin.kinetostatics.structured import compile_structured
-
-    ss = compile_structured(mech.plan, mech.statics)
-    text, _ = compiled.source(ss, MassProperties.of(kin),
-                              evaluate_loads(mech.model, [], kin), inertia=True)  # fmt: skip
-    assert not compiled.use(text, 1000, None)  # small: NumPy
-    assert not compiled.use(text, 10**6, False)
-    kinematic_kernels.kernel_of(text)
-    assert compiled.use(text, kinematic_kernels.THRESHOLD, None)  # large, compiled already
-    monkeypatch.setenv("EXCAVKIN_COMPILED", "0")
-    assert not compiled.use(text, kinematic_kernels.THRESHOLD, None)
-    monkeypatch.setattr(kinematic_kernels, "numba_installed", lambda: False)
-    with pytest.raises(InputError, match="numba"):
-        mech.forces(kin, compiled=True)
-
-
 def test_streamed_parts_compiled_equal_numpy(monkeypatch: pytest.MonkeyPatch) -> None:
     """``solve_stream`` with loads passes ``compiled`` on to each part's forces."""
     mech = excavkin.load(excavkin.example_path("excavator"))
@@ -183,9 +161,9 @@ def test_streamed_parts_compiled_equal_numpy(monkeypatch: pytest.MonkeyPatch) ->
     calls = []
     solve = compiled.solve
     monkeypatch.setattr(compiled, "solve", lambda *a, **k: calls.append(1) or solve(*a, **k))
-    fast = list(mech.solve_stream(values, compiled=True, **args))
+    fast = list(mech.solve_stream(values, backend="numba", **args))
     assert len(calls) == 2  # each part's forces by the kernel
-    ref = list(mech.solve_stream(values, compiled=False, **args))
+    ref = list(mech.solve_stream(values, backend="numpy", **args))
     assert len(calls) == 2
     assert [p.start for p in fast] == [p.start for p in ref] == [0, 4096]
     for a, b in zip(fast, ref, strict=True):

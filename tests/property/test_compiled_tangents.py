@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import excavkin
-from excavkin.kinematics import compiled, compiled_tangents
+from excavkin.kinematics import compiled_tangents
 from excavkin.structure.design import joint_offsets
 from tests.models import parallelogram
 from tests.property.test_compiled import CLOSED_FORM, sweep
@@ -105,8 +105,8 @@ def test_each_example_compiled_tangents_equal_numpy(name: str) -> None:
         sensitivities=names,
         chunk=997,
     )
-    fast = mech.solve(values, compiled=True, **args)
-    ref = mech.solve(values, compiled=False, **args)
+    fast = mech.solve(values, backend="numba", **args)
+    ref = mech.solve(values, backend="numpy", **args)
     assert assert_tangents_same(mech, fast, ref) > 100 * len(names)
     assert fast.status.ok.sum() > 100 and not fast.status.all_ok  # failures compared too
     assert np.isnan(fast.sensitivity(fast.to_frame().columns[0], names[0])[1500])
@@ -124,8 +124,8 @@ def test_families_of_designs_compiled_tangents_equal_numpy(name: str) -> None:
     names = dimensions(mech, rng, 6) + list(params)[:4]
     names = list(dict.fromkeys(names))
     args = dict(rates={k: 0.1 for k in values}, params=params, sensitivities=names)
-    fast = mech.solve(values, compiled=True, **args)
-    ref = mech.solve(values, compiled=False, **args)
+    fast = mech.solve(values, backend="numba", **args)
+    ref = mech.solve(values, backend="numpy", **args)
     assert assert_tangents_same(mech, fast, ref) > 1000 * len(names)
     assert np.isnan(fast.sensitivity(fast.to_frame().columns[0], names[0])[5])
 
@@ -138,8 +138,8 @@ def test_near_dead_and_smooth_continuation_alike() -> None:
     names = [p for p in mech.parameters if not p.endswith((".mass", ".inertia"))][:6]
     for continuation in ("side", "smooth"):
         args = dict(sensitivities=names, continuation=continuation, chunk=1000)
-        fast = mech.solve({"crank": th}, compiled=True, **args)  # type: ignore[arg-type]
-        ref = mech.solve({"crank": th}, compiled=False, **args)  # type: ignore[arg-type]
+        fast = mech.solve({"crank": th}, backend="numba", **args)  # type: ignore[arg-type]
+        ref = mech.solve({"crank": th}, backend="numpy", **args)  # type: ignore[arg-type]
         assert assert_tangents_same(mech, fast, ref) > 1000
 
 
@@ -158,34 +158,19 @@ def test_against_central_differences(name: str, columns: list[str], names: list[
     values = sweep(mech, 41, 0.3)
     rates = {k: 0.07 for k in values}
     accels = {k: 0.02 for k in values}
-    res = mech.solve(values, rates, accels, sensitivities=names, compiled=True)
+    res = mech.solve(values, rates, accels, sensitivities=names, backend="numba")
     assert res.status.all_ok
     for p in names:
         step = 3e-4 * mech.plan.scale
         solves = []
         for k in range(-4, 5):
             moved = {p: mech.parameters[p] + k * step}
-            solves.append(mech.solve(values, rates, accels, params=moved, compiled=True))
+            solves.append(mech.solve(values, rates, accels, params=moved, backend="numba"))
         for col in columns:
             fd = sum(w * s.column(col) for w, s in zip(WEIGHTS, solves, strict=True)) / step
             exact = res.sensitivity(col, p)
             scale = max(np.abs(fd).max(), np.abs(res.column(col)).max() / mech.plan.scale)
             assert np.abs(exact - fd).max() <= 1e-8 * scale, (col, p)
-
-
-def test_choice_follows_the_compiled_plan(monkeypatch: pytest.MonkeyPatch) -> None:
-    fb = excavkin.load(excavkin.example_path("fourbar"))
-    assert not compiled_tangents.use(fb.plan, 1000, None)  # small: NumPy
-    assert not compiled_tangents.use(fb.plan, 1000, False)
-    assert compiled_tangents.use(fb.plan, 1000, True)
-    compiled.compile_plan(fb.plan)
-    compiled_tangents.compile_tangents(fb.plan)
-    assert compiled_tangents.is_compiled(fb.plan)
-    assert compiled_tangents.use(fb.plan, compiled.THRESHOLD, None)
-    monkeypatch.setenv("EXCAVKIN_COMPILED", "0")
-    assert not compiled_tangents.use(fb.plan, compiled.THRESHOLD, None)
-    newton = excavkin.Mechanism(fb.model, method="newton")
-    assert not compiled_tangents.use(newton.plan, compiled.THRESHOLD, None)
 
 
 def test_source_depends_on_structure_only() -> None:

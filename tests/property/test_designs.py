@@ -74,7 +74,12 @@ def random_designs(mech: excavkin.Mechanism, rng: np.random.Generator, n: int) -
         for k, v in mech.sketch_values().items()
     }
     params = {}
+    # a slider's point and its line stay as drawn: a design that moves one off the other is no
+    # model of its own (the builder refuses a point drawn off its line), so it has none to match
+    on_slides = {p for sl in mech.model.sliders for p in (sl.point, *sl.along)}
     for k, v in list(mech.parameters.items())[::3]:
+        if k.rpartition(".")[0] in on_slides:
+            continue
         if k.endswith((".mass", ".inertia")):
             params[k] = v * (1 + rng.uniform(-0.2, 0.2, n))
         else:

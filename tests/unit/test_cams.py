@@ -102,6 +102,23 @@ def test_a_plan_with_a_cam_runs_in_numpy() -> None:
     assert res.kinematics.status.all_ok
 
 
+def test_the_forces_of_a_cam_are_never_compiled() -> None:
+    """``auto`` solves a cam's forces in NumPy even for a batch it would compile; ``numba``
+    asked by name is refused with the reason, not run silently another way."""
+    from excavkin.errors import InputError
+
+    mech = cam()
+    q = mech.sketch_values()["shaft"] + np.linspace(0, 7, 5000)
+    kin = mech.solve({"shaft": q}, rates={"shaft": 3.0}, backend="numpy")
+    loads = mech.model.loads
+    auto = mech.forces(kin, loads=loads, backend="auto")
+    ref = mech.forces(kin, loads=loads, backend="numpy")
+    assert_allclose(auto.cam_force, ref.cam_force, rtol=0, atol=0)
+    assert_allclose(auto.pin_force, ref.pin_force, rtol=0, atol=0)
+    with pytest.raises(InputError, match="backend='numba': the forces of a model with cams"):
+        mech.forces(kin, loads=loads, backend="numba")
+
+
 @pytest.mark.parametrize("face", ["roller", "flat"])
 def test_sensitivities_equal_8th_order_differences(face: str) -> None:
     sys.path.insert(0, str(Path(__file__).parents[1] / "property"))

@@ -88,13 +88,13 @@ def test_compiled_and_numpy_agree() -> None:
     mech = pair()
     q = np.linspace(-30.0, 30.0, 4001)
     kw = {"rates": {"motor": np.cos(q)}, "accels": {"motor": np.sin(q)}}
-    r0 = mech.solve({"motor": q}, compiled=False, **kw)
-    r1 = mech.solve({"motor": q}, compiled=True, **kw)
+    r0 = mech.solve({"motor": q}, backend="numpy", **kw)
+    r1 = mech.solve({"motor": q}, backend="numba", **kw)
     for name in ("positions", "velocities", "accelerations"):
         assert_allclose(getattr(r1, name), getattr(r0, name), rtol=0, atol=1e-14)
     loads = mech.model.loads
-    f0 = mech.forces(r0, loads=loads, compiled=False)
-    f1 = mech.forces(r0, loads=loads, compiled=True)
+    f0 = mech.forces(r0, loads=loads, backend="numpy")
+    f1 = mech.forces(r0, loads=loads, backend="numba")
     assert_allclose(f1.pin_force, f0.pin_force, rtol=1e-13, atol=1e-12)
     assert_allclose(f1.gear_force, f0.gear_force, rtol=1e-13, atol=1e-12)
     fd = solve_forces(r0, loads, method="dense")

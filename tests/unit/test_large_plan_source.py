@@ -9,7 +9,7 @@ import ast
 
 import numpy as np
 
-from excavkin import Body, Mechanism, Model, RotaryDriver
+from excavkin import Body, Mechanism, Model, RotaryDriver, backends
 from excavkin.kinematics import compiled
 from excavkin.kinematics.vectorise import vectorised
 
@@ -60,7 +60,8 @@ def test_a_large_chain_solves_by_default_at_a_compiled_size() -> None:
     `AUTO_POINTS` points is not compiled unasked, and solves in NumPy."""
     mech = Mechanism(chain(33))
     assert len(mech.plan.points) > compiled.AUTO_POINTS
-    assert not compiled.use(mech.plan, 1 << 17, None)
+    job = compiled.job(mech.plan)
+    assert backends.choose("auto", job, backends.COMPILE_AT) is backends.NUMPY
     q = np.pi / 2 + np.linspace(-0.05, 0.05, 1 << 17)
     result = mech.solve({"crank": q})
     assert result.status.all_ok

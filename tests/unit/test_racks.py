@@ -65,13 +65,13 @@ def test_the_rack_travels_r_per_radian_of_the_pinion_on_its_turning_guide() -> N
 def test_compiled_and_numpy_agree() -> None:
     mech = arm()
     q, qd, qdd = samples(3000)
-    r0 = mech.solve(q, rates=qd, accels=qdd, compiled=False)
-    r1 = mech.solve(q, rates=qd, accels=qdd, compiled=True)
+    r0 = mech.solve(q, rates=qd, accels=qdd, backend="numpy")
+    r1 = mech.solve(q, rates=qd, accels=qdd, backend="numba")
     for name in ("positions", "velocities", "accelerations"):
         assert_allclose(getattr(r1, name), getattr(r0, name), rtol=1e-14, atol=1e-13)
     loads = [PointForce("dig", "bar", "R2", (-3e3, 1e3)), Torque("brake", "pinion", 5.0)]
-    f0 = mech.forces(r0, loads=loads, compiled=False)
-    f1 = mech.forces(r0, loads=loads, compiled=True)
+    f0 = mech.forces(r0, loads=loads, backend="numpy")
+    f1 = mech.forces(r0, loads=loads, backend="numba")
     assert_allclose(f1.rack_force, f0.rack_force, rtol=1e-12, atol=1e-9)
     assert_allclose(f1.pin_force, f0.pin_force, rtol=1e-12, atol=1e-9)
 
@@ -150,6 +150,7 @@ def test_a_rack_that_does_not_fit_its_guide_is_refused(old: str, new: str, messa
 
 @pytest.mark.parametrize("name", ["rack_on_arm.toml", "planetary_21_43_108.toml"])
 def test_compiled_sensitivities_equal_numpy_ones(name: str) -> None:
+    from excavkin.execution import Execution
     from excavkin.kinematics.sensitivity import solve_tangents
 
     mech = excavkin.load(Path(__file__).parents[1] / "reference" / "data" / name)
@@ -157,8 +158,8 @@ def test_compiled_sensitivities_equal_numpy_ones(name: str) -> None:
     q = {k: v + rng.uniform(-3, 3, 3000) for k, v in mech.sketch_values().items()}
     res = mech.solve(q, rates={k: 1.3 for k in q}, accels={k: -0.4 for k in q})
     names = [k for k in mech.parameters if not k.endswith(("mass", "inertia"))][:6]
-    a = solve_tangents(res, names, compiled=False)
-    b = solve_tangents(res, names, compiled=True)
+    a = solve_tangents(res, names, execution=Execution("numpy"))
+    b = solve_tangents(res, names, execution=Execution("numba"))
     for k in names:
         for arr in ("positions", "velocities", "accelerations"):
             assert_allclose(getattr(b[k], arr), getattr(a[k], arr), rtol=1e-12, atol=1e-12)

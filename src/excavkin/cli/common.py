@@ -34,6 +34,20 @@ EXIT_SAMPLES = 3
 EXIT_PIPE = 141
 
 
+def backend_option(fn: T) -> T:
+    """The ``--backend`` option of a command that solves (`excavkin.backends`)."""
+    from excavkin.backends import BACKENDS
+
+    return click.option(
+        "--backend",
+        type=click.Choice(BACKENDS),
+        default="auto",
+        show_default=True,
+        help="Where the solves run: numba (one compiled loop, compiled once per model and "
+        "kept on disk), numpy, or auto (a compiled kernel whenever one is ready, else NumPy).",
+    )(fn)
+
+
 def fail(message: str, code: int = EXIT_USAGE) -> None:
     """Print ``message`` as an error paragraph and exit."""
     click.echo(f"excavkin: error: {message}", err=True)

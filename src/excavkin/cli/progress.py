@@ -195,3 +195,29 @@ def solve_with_progress(
             continuation=continuation,
             **more,
         )
+
+
+@contextmanager
+def compile_notes(quiet: bool = False, stream: TextIO | None = None) -> Iterator[None]:
+    """Within the block, a kernel compiled for the first time (`excavkin.backends`: seconds,
+    once per model structure) is announced on stderr before and after, so that the wait is
+    not taken for a hang; ``quiet``: nothing is shown."""
+    import logging
+
+    if quiet:
+        yield
+        return
+    log = logging.getLogger("excavkin.backends")
+
+    class Note(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            print(f"excavkin: note: {record.getMessage()}", file=stream or sys.stderr)
+
+    handler, level = Note(logging.INFO), log.level
+    log.addHandler(handler)
+    log.setLevel(logging.INFO)
+    try:
+        yield
+    finally:
+        log.removeHandler(handler)
+        log.setLevel(level)

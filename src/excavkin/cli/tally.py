@@ -42,6 +42,10 @@ class Tally:
         self.high = np.full(n_in, np.nan)
         self.singular: list[int] = []
         self.singular_count = 0
+        #: samples where a rope would have to push: (rope names, first samples), count
+        self.slack: list[int] = []
+        self.slack_count = 0
+        self.slack_ropes: dict[str, None] = {}
         self.change_points: list[ChangePoint] = []
 
     def add(self, start: int, result: Any) -> None:
@@ -77,6 +81,20 @@ class Tally:
             self.singular_count += singular.size
             room = self.limit - len(self.singular)
             self.singular += [start + int(i) for i in singular[: max(room, 0)]]
+            self.add_slack(start, result)
+
+    def add_slack(self, start: int, result: Any) -> None:
+        """Count a force part's samples where a rope would have to push (not ok)."""
+        kin = result.kinematics
+        slack = np.flatnonzero(result.slack & kin.status.ok & ~result.singular)
+        if not slack.size:
+            return
+        self.slack_count += slack.size
+        room = self.limit - len(self.slack)
+        self.slack += [start + int(i) for i in slack[: max(room, 0)]]
+        for rope in kin.plan.model.ropes:
+            if np.any(result.tension(rope.name)[slack] < 0.0):
+                self.slack_ropes[rope.name] = None
 
     @property
     def all_ok(self) -> bool:
@@ -109,6 +127,19 @@ class Tally:
         return (
             f"{self.singular_count} samples are statically singular (a redundant joint at "
             f"that position; their forces are NaN): samples {listed}"
+            + (f" and {more} more" if more else "")
+        )
+
+    def slack_text(self) -> str | None:
+        """The samples with a slack rope in a sentence, or None."""
+        if not self.slack_count:
+            return None
+        listed = ", ".join(str(i) for i in self.slack)
+        more = self.slack_count - len(self.slack)
+        ropes = ", ".join(repr(r) for r in self.slack_ropes)
+        return (
+            f"{self.slack_count} samples have a slack rope ({ropes}: it would have to push, "
+            f"and a rope pulls only, so their forces are not the mechanism's): samples {listed}"
             + (f" and {more} more" if more else "")
         )
 

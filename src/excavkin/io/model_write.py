@@ -100,6 +100,9 @@ def set_model_values(
         units = data.get("units", {}) if isinstance(data.get("units"), dict) else {}
     for name, value in values.items():
         holder, key, kind = _entry(data, name, source)
+        if kind == "dimensionless":  # a ratio: a plain number
+            holder[key] = float(value)
+            continue
         holder[key] = written_value(holder[key], float(value), kind, units, data)
     return _drop_orphans(data)
 
@@ -186,6 +189,12 @@ def _entry(data: dict[str, Any], name: str, source: str) -> tuple[Any, Any, str]
             return value, ("Fx", "Fy").index(last), "force"
         if last == "torque" and not isinstance(value, list):
             return loads[base], "value", "torque"
+    rope = table("ropes").get(base)
+    if last in ("drum_radius", "gear_ratio") and isinstance(rope, dict):
+        if last == "gear_ratio":
+            rope.setdefault("gear_ratio", 1.0)  # (a winch's default, written out)
+        if last in rope:
+            return rope, last, "length" if last == "drum_radius" else "dimensionless"
     raise missing()
 
 

@@ -24,6 +24,7 @@ from excavkin.model.entities import (
     Model,
     PointForce,
     RackPinion,
+    Rope,
     RotaryDriver,
     Slider,
     Torque,
@@ -49,6 +50,7 @@ _TOP = {
     "gears",
     "racks",
     "cams",
+    "ropes",
 }
 
 
@@ -308,6 +310,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     gears = _gears(r, bodies)
     racks = _racks(r, bodies)
     cams = _cams(r, bodies)
+    ropes = _ropes(r)
 
     model = Model(
         str(name),
@@ -324,6 +327,7 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         gears,
         racks,
         cams,
+        ropes=ropes,
     )
     validate(model)
     return model
@@ -462,6 +466,57 @@ def _drivers(r: TomlReader, bodies: list[Body]) -> tuple[list[RotaryDriver], lis
         else:
             raise r.err(f"type must be 'rotary' or 'linear', not {kind!r}", table, "type")
     return rotary, linear
+
+
+def _ropes(r: TomlReader) -> tuple[Rope, ...]:
+    """The ``[ropes]`` table: ``path = [A, B]`` (its two blocks; or ``[A, S1, …, B]`` over
+    sheaves centred at S1 …, with ``radii`` and ``wraps = ["ccw" | "cw", …]``, one per
+    sheave), ``parts`` (default 1), ``mode = "winch" | "locked"`` (default locked), and for a
+    winch ``drum_radius`` (a length) and ``gear_ratio`` (motor turns per drum turn, default
+    1)."""
+    ropes = []
+    for rname, spec in r.table("ropes").items():
+        r.name(rname, "ropes")
+        table = f"ropes.{rname}"
+        if not isinstance(spec, dict):
+            raise r.err('must be a table such as { path = ["A", "B"], mode = "locked" }', table)
+        allowed = {"path", "parts", "mode", "drum_radius", "gear_ratio", "radii", "wraps"}
+        r.keys(spec, allowed, "ropes", rname)
+        path = spec.get("path")
+        if not isinstance(path, list) or not all(isinstance(p, str) for p in path) or not path:
+            raise r.err("path must list the point names of the rope's blocks", table, "path")
+        parts = spec.get("parts", 1)
+        if isinstance(parts, bool) or not isinstance(parts, int) or parts < 1:
+            raise r.err(f"parts must be a whole number ≥ 1, not {parts!r}"[:120], table, "parts")
+        mode = spec.get("mode", "locked")
+        if mode not in ("winch", "locked"):
+            raise r.err(f"mode must be 'winch' or 'locked', not {mode!r}"[:120], table, "mode")
+        winch_keys = {"drum_radius", "gear_ratio"} & set(spec)
+        if mode == "locked" and winch_keys:
+            raise r.err(
+                f"{', '.join(sorted(winch_keys))} belong to a winch; a locked rope has none",
+                table,
+                sorted(winch_keys)[0],
+            )
+        radius = None
+        ratio = 1.0
+        if mode == "winch":
+            if "drum_radius" not in spec:
+                raise r.err("a winch needs its drum_radius", table, "drum_radius")
+            radius = r.qty(spec["drum_radius"], "length", table, "drum_radius")
+            if "gear_ratio" in spec:
+                ratio = r.qty(spec["gear_ratio"], "dimensionless", table, "gear_ratio")
+        radii = spec.get("radii", [])
+        if not isinstance(radii, list):
+            raise r.err("radii must list each sheave's radius", table, "radii")
+        wraps = spec.get("wraps", [])
+        if not isinstance(wraps, list) or not all(isinstance(w, str) for w in wraps):
+            raise r.err('wraps must list "ccw" or "cw" for each sheave', table, "wraps")
+        sizes = tuple(r.qty(v, "length", table, "radii") for v in radii)
+        ropes.append(
+            Rope(rname, tuple(path), parts, mode, radius, ratio, sizes, tuple(wraps))  # type: ignore[arg-type]
+        )
+    return tuple(ropes)
 
 
 def _sliders(r: TomlReader) -> list[Slider]:

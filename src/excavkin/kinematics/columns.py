@@ -22,6 +22,10 @@ DRIVER_KINDS: dict[str, tuple[str, str, str]] = {
     "length": ("length", "velocity", "acceleration"),
 }
 
+#: a winch rope's blocks' distance, its rate and acceleration (its ``.value`` is its motor's
+#: angle, the input)
+WINCH_LENGTH = ("length", "length_rate", "length_accel")
+
 #: (owner kind, kind) of each quantity, where the quantity alone tells them
 QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
     "x": ("point", "length"),
@@ -46,6 +50,10 @@ QUANTITIES: dict[str, tuple[OwnerKind, str]] = {
     "guide": ("other", "force"),
     "contact": ("other", "force"),
     "couple": ("other", "torque"),
+    "tension": ("driver", "force"),
+    "length": ("driver", "length"),
+    "length_rate": ("driver", "velocity"),
+    "length_accel": ("driver", "acceleration"),
     "power": ("driver", "power"),
     "pressure": ("driver", "pressure"),
 }

@@ -1,4 +1,4 @@
-"""A closed-form plan compiled to one machine-code loop over samples (numba, optional).
+"""A closed-form plan compiled to one machine-code loop over samples (numba).
 
 The NumPy kernels (`excavkin.step_kinds`) run each step over a whole chunk, so a
 step's temporaries go to memory and come back for the next one. Here the plan is written out
@@ -16,23 +16,18 @@ quantities and the finiteness check of `excavkin.kinematics.solve`. The NumPy pa
 the reference: tests hold the two to 1e-15 of each column's scale.
 
 Only a closed-form plan at full order is compiled; Newton groups, the precision check's wider
-solves and the emulated rounding run in NumPy.
+solves and the emulated rounding run in NumPy. Which path a solve takes is decided in one place,
+`excavkin.backends.choose`; the kernels are cached there too.
 """
 
 from __future__ import annotations
 
-import contextlib
-import hashlib
-import importlib.util
-import os
-import sys
-import threading
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from excavkin import backends
 from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.kernels import Chunk, Code
@@ -40,35 +35,14 @@ from excavkin.kinematics.vectorise import vectorised
 from excavkin.step_kinds import Dist, kind_of
 from excavkin.structure.plan import SolvePlan
 
-#: below this many samples the NumPy path is used: a compiled call saves little there
-THRESHOLD = 1 << 17
-#: a kernel not yet compiled costs 5–20 s to compile (the four-bar's, the excavator's); it is
-#: compiled unasked only for a batch this large, where it saves about as much (0.05–0.15 µs a
-#: sample), and it is kept on disk for every later solve
-COMPILE_AT = 20_000_000
 #: a plan of more points is not compiled unasked: numba's compile time and memory grow faster
 #: than the kernel's length (a 68-point chain's kernel took minutes and 4 GB), and one kernel
-#: per plan has no way to split it yet
+#: per plan has no way to split it yet (a kernel compiled before is used all the same)
 AUTO_POINTS = 40
 
 Kernel = Callable[..., None]
 #: the generated code's arctangent: arithmetic, inlined (`excavkin.kinematics.fast_atan2`)
 ATAN2 = fast_atan2.NAME
-
-_lock = threading.Lock()
-_kernels: dict[str, Kernel] = {}
-
-
-def available() -> bool:
-    """Whether numba can be imported (``EXCAVKIN_COMPILED=0`` turns the compiled path off)."""
-    if os.environ.get("EXCAVKIN_COMPILED", "") == "0":
-        return False
-    return importlib.util.find_spec("numba") is not None
-
-
-def numba_installed() -> bool:
-    """Whether numba can be imported (whatever ``EXCAVKIN_COMPILED`` says)."""
-    return importlib.util.find_spec("numba") is not None
 
 
 def supports(plan: SolvePlan) -> bool:
@@ -76,27 +50,55 @@ def supports(plan: SolvePlan) -> bool:
     return all(kind_of(st).compiles for st in plan.steps)
 
 
-def use(plan: SolvePlan, n: int, compiled: bool | None, per_sample: bool = False) -> bool:
-    """Whether a solve of ``n`` samples takes the compiled path (``compiled`` None: when numba
-    is installed and the batch is large — `THRESHOLD` for a kernel already compiled,
-    `COMPILE_AT` for one to compile — and the plan has at most `AUTO_POINTS` points);
-    ``per_sample``: the kernel for a constants table
-    of a column per sample (`compile_plan`)."""
-    if compiled is None:
-        if n < THRESHOLD or len(plan.points) > AUTO_POINTS or not supports(plan):
-            return False
-        if not available():
-            return False
-        return n >= COMPILE_AT or is_compiled(plan, per_sample)
-    if compiled and not (supports(plan) and importlib.util.find_spec("numba") is not None):
-        from excavkin.errors import InputError
+def unsupported(plan: SolvePlan) -> str | None:
+    """Why the plan cannot be compiled (None: it can), for `excavkin.backends.Job`."""
+    return None if supports(plan) else "of this plan have a Newton group, solved in NumPy"
 
-        why = "has a Newton group" if not supports(plan) else "needs numba"
-        raise InputError(
-            f"compiled=True: this plan {why} (pip install 'excavkin[fast]' for numba); "
-            "leave compiled unset to choose automatically"
-        )
-    return compiled
+
+#: the last kernel sources made, by plan of one design (its id, and the plan itself so that an
+#: id reused by another plan is not taken for it): a solve asks twice (is it cached? then run
+#: it), and a mechanism solves its one plan again and again
+_made: dict[tuple[int, bool], tuple[SolvePlan, str]] = {}
+
+
+def kernel_source(plan: SolvePlan, per_sample: bool = False) -> str:
+    """The source of the plan's compiled kernel (`compile_plan`): the generated loop
+    (`source`) rewritten over blocks of samples, branch-free, so that the compiler
+    vectorises it (`excavkin.kinematics.vectorise`). Made once per plan object (0.1–0.5 ms
+    a time: a tenth of a four-bar solve of 10⁴ samples)."""
+    key = (id(plan), per_sample)
+    made = _made.get(key)
+    if made is not None and made[0] is plan:
+        return made[1]
+    text = vectorised(source(plan, write_at_rest=False), per_sample)
+    if not any(np.ndim(v) for v in constants(plan)):  # (a family's plan holds its arrays)
+        if len(_made) >= 16:
+            _made.clear()
+        _made[key] = (plan, text)
+    return text
+
+
+def job(
+    plan: SolvePlan,
+    per_sample: bool = False,
+    numpy: Callable[[], None] = lambda: None,
+    compiled: Callable[[Kernel], None] = lambda kernel: None,
+    device: Callable[[Kernel], None] | None = None,
+) -> backends.Job:
+    """The plan's kinematics as a `excavkin.backends.Job`: its kernel's source, run by
+    ``numpy()``, ``compiled(kernel)`` or, on a device, ``device(kernel)`` with the plain
+    loop's kernel (`source`; nothing, by default: a job to choose for); a plan of more than
+    `AUTO_POINTS` points is not compiled unasked."""
+    return backends.Job(
+        "kinematics",
+        lambda: kernel_source(plan, per_sample),
+        numpy,
+        compiled,
+        unsupported(plan),
+        unasked=len(plan.points) <= AUTO_POINTS,
+        scalar=lambda: source(plan, write_at_rest=False),
+        device=device,
+    )
 
 
 def constants(plan: SolvePlan) -> list[Any]:
@@ -133,6 +135,7 @@ def run(
     near: F,
     near_step: np.ndarray,
     start: int = 0,
+    scalar: bool = False,
 ) -> None:
     """Solve a chunk with the ``kernel`` of ``plan``'s structure (`compile_plan`), at full
     order: its inputs are ``c.q``, ``c.qd`` and ``c.qdd``; it fills ``c``'s outputs, the derived
@@ -144,7 +147,7 @@ def run(
     Bytes not written are bytes not paged in: ``c.v`` and ``c.a`` come zeroed (fresh
     ``np.zeros`` pages cost nothing until written), and a fixed point's rows are left so."""
     k, stride = table(constants(plan), c.q.shape[1])
-    run_table(kernel, (k, stride), c, body, element, near, near_step, start)
+    run_table(kernel, (k, stride), c, body, element, near, near_step, start, scalar)
 
 
 def run_table(
@@ -156,10 +159,21 @@ def run_table(
     near: F,
     near_step: np.ndarray,
     start: int = 0,
+    scalar: bool = False,
 ) -> None:
     """`run` with the chunk's constants table and stride (`table`) given: a
-    whole solve's table is made once, and each chunk takes its columns."""
+    whole solve's table is made once, and each chunk takes its columns. ``scalar``: the
+    kernel is the plain loop's (`source`, on a device): it takes the outputs' chunk, and no
+    ``start``."""
     k, stride = consts
+    if scalar:
+        part = slice(start, start + c.q.shape[1])
+        kernel(
+            c.q, c.qd, c.qdd, k, stride, c.x[..., part], c.v[..., part], c.a[..., part],
+            c.trans[:, part], body[..., part], element[..., part], c.status[part],
+            c.failed[part], c.close_tol, c.singular_tol, near[part], near_step[part],
+        )  # fmt: skip
+        return
     kernel(
         c.q, c.qd, c.qdd, k, stride, c.x, c.v, c.a, c.trans, body, element,
         c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, start,
@@ -167,72 +181,15 @@ def run_table(
 
 
 def compile_plan(plan: SolvePlan, per_sample: bool = False) -> Kernel:
-    """The plan's compiled kernel: made once per structure, kept in memory and on disk (numba
-    compiles it at its first call). It is the generated loop (`source`) rewritten over
-    blocks of samples, branch-free, so that the compiler vectorises it
-    (`excavkin.kinematics.vectorise`); ``per_sample``: for a constants table with a
-    column per sample (`table`'s stride 1), else for one column."""
-    return kernel_of(vectorised(source(plan, write_at_rest=False), per_sample))
+    """The plan's compiled kernel (`kernel_source`): made once per structure, kept in memory
+    and on disk (`excavkin.backends.kernel_of`); ``per_sample``: for a constants table with
+    a column per sample (`table`'s stride 1), else for one column."""
+    return backends.kernel_of(kernel_source(plan, per_sample), "kinematics")
 
 
 def is_compiled(plan: SolvePlan, per_sample: bool = False) -> bool:
     """Whether the plan's kernel has been compiled, in this process or an earlier one."""
-    return source_compiled(vectorised(source(plan, write_at_rest=False), per_sample))
-
-
-def kernel_of(text: str) -> Kernel:
-    """The ``kernel`` function of a generated source: imported once, kept in memory and on
-    disk (a source made by another module's generator, too)."""
-    key = _key(text)
-    with _lock:
-        kernel = _kernels.get(key)
-        if kernel is None:
-            kernel = _load(text, key)
-            _kernels[key] = kernel
-            with contextlib.suppress(OSError):  # what a later process's is_compiled reads
-                (cache_dir() / f"excavkin_kernel_{key}.compiled").touch()
-    return kernel
-
-
-def source_compiled(text: str) -> bool:
-    """Whether a generated source's kernel has been compiled, here or in an earlier process."""
-    key = _key(text)
-    return key in _kernels or (cache_dir() / f"excavkin_kernel_{key}.compiled").exists()
-
-
-def _key(text: str) -> str:
-    return hashlib.sha256(text.encode()).hexdigest()[:20]
-
-
-def cache_dir() -> Path:
-    """Where generated kernels and numba's machine code are kept between runs."""
-    base = os.environ.get("EXCAVKIN_CACHE_DIR") or os.environ.get("XDG_CACHE_HOME")
-    root = Path(base) if base else Path.home() / ".cache"
-    return (root if os.environ.get("EXCAVKIN_CACHE_DIR") else root / "excavkin") / "kernels"
-
-
-def _load(text: str, key: str) -> Kernel:
-    """Import the source from the cache folder (numba caches the machine code beside it); if the
-    folder cannot be written, compile in memory for this process only."""
-    name = f"excavkin_kernel_{key}"
-    try:
-        folder = cache_dir()
-        folder.mkdir(parents=True, exist_ok=True)
-        path = folder / f"{name}.py"
-        if not path.exists() or path.read_text(encoding="utf-8") != text:
-            tmp = folder / f".{name}.{os.getpid()}.tmp"
-            tmp.write_text(text, encoding="utf-8")
-            os.replace(tmp, path)
-        spec = importlib.util.spec_from_file_location(name, path)
-        assert spec is not None and spec.loader is not None
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module
-        spec.loader.exec_module(module)
-        return module.kernel  # type: ignore[no-any-return]
-    except OSError:
-        scope: dict[str, Any] = {}
-        exec(compile(text.replace("cache=True", "cache=False"), name, "exec"), scope)
-        return scope["kernel"]  # type: ignore[no-any-return]
+    return backends.is_cached(kernel_source(plan, per_sample))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -327,6 +284,14 @@ class _Source:
             self.emit(f"{name} = {value}")
             return name, None, None
         i = d.input
+        if d.winch:  # a winch: the blocks' distance from its motor's angle (the constant)
+            k = value
+            self.emit(
+                f"{name} = {k} * q[{i}, i]",
+                f"{name}d = {k} * qd[{i}, i]",
+                f"{name}dd = {k} * qdd[{i}, i]",
+            )
+            return name, f"{name}d", f"{name}dd"
         self.emit(f"{name} = q[{i}, i]", f"{name}d = qd[{i}, i]", f"{name}dd = qdd[{i}, i]")
         return name, f"{name}d", f"{name}dd"
 

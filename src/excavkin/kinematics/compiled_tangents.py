@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from excavkin import backends
 from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import fast_atan2
@@ -60,25 +61,15 @@ class Outputs(Protocol):
     element: F
 
 
-def use(plan: SolvePlan, n: int, compiled: bool | None, keep: Keep | None = None) -> bool:
-    """Whether the sensitivities of a solve of ``n`` samples take the compiled path: by the
-    compiled plan's rule (`use`), and, left to choose,
-    only where the tangent kernel is compiled already or the batch is large enough to pay for
-    compiling it."""
-    if not compiled_plan.use(plan, n, compiled):
-        return False
-    return bool(compiled) or n >= compiled_plan.COMPILE_AT or is_compiled(plan, keep)
-
-
 def is_compiled(plan: SolvePlan, keep: Keep | None = None) -> bool:
     """Whether the plan's tangent kernel has been compiled, in this process or an earlier one."""
-    return compiled_plan.source_compiled(source(plan, keep))
+    return backends.is_cached(source(plan, keep))
 
 
 def compile_tangents(plan: SolvePlan, keep: Keep | None = None) -> Kernel:
     """The plan's tangent kernel (of the entries ``keep``, default all): made once per
-    structure, kept in memory and on disk."""
-    return compiled_plan.kernel_of(source(plan, keep))
+    structure, kept in memory and on disk (`excavkin.backends.kernel_of`)."""
+    return backends.kernel_of(source(plan, keep), "tangents")
 
 
 def fill(
@@ -90,6 +81,7 @@ def fill(
     base: dict[str, Any],
     workers: int | None = None,
     keep: Keep | None = None,
+    kernel: Kernel | None = None,
 ) -> None:
     """Fill ``out`` with the tangents of every sample's state with respect to ``names`` (of
     the entries ``keep`` only, if given: the others stay 0).
@@ -109,10 +101,17 @@ def fill(
         The parameters given per sample (arrays of shape (n,)) or for all (scalars).
     base : dict
         Each of ``names`` at its value (nominal, or as given).
+    workers : int, optional
+        Threads (default: one per core).
+    keep : Keep, optional
+        The entries to fill (default: all).
+    kernel : callable, optional
+        The tangent kernel of ``plan`` and ``keep`` (default: `compile_tangents`).
     """
     q, qd, qdd = inputs
     n, m = q.shape[1], len(names)
-    kernel = compile_tangents(plan, keep)
+    if kernel is None:
+        kernel = compile_tangents(plan, keep)
     per_sample = any(np.ndim(v) for v in (*given.values(), *base.values()))
     # one design: its seeds are computed once, on one sample
     nominal = None if per_sample else _Seeds(plan, given, base, names, 1)

@@ -16,6 +16,7 @@ from excavkin.kinematics.change_points import ChangePoint
 from excavkin.kinematics.columns import (
     QUANTITIES,
     TIME,
+    WINCH_LENGTH,
     Column,
     column,
     derivative_column,
@@ -24,7 +25,7 @@ from excavkin.kinematics.columns import (
     table_attrs,
 )
 from excavkin.kinematics.kernels import Code
-from excavkin.step_kinds import CAngle, CDist, CFrame, CLine, NewtonGroup, kind_of
+from excavkin.step_kinds import CAngle, CDist, CFrame, CLine, CRope, NewtonGroup, kind_of
 from excavkin.step_kinds.newton_solve import out_of_reach
 from excavkin.step_kinds.state import Chunk
 from excavkin.structure.design import parameter_kind, take_step
@@ -45,6 +46,7 @@ _REASON = {
     Code.IMPRECISE: "rates lose precision near a dead position",
     Code.BAD_DESIGN: "the design's dimensions build no mechanism",
     Code.OUT_OF_REACH: "out of reach",
+    Code.ROPE_OFF_SHEAVE: "a rope leaves a sheave (its wrap would be negative)",
 }
 
 
@@ -139,6 +141,11 @@ class Status:
             names = [s.name for s in self.plan.model.sliders if (s.point, s.along) == line]
             slider = f"slider {names[0]!r}" if names else "the line"
             return f"{pts[con.p]} on {slider} ({pts[con.l1]}→{pts[con.l2]})"
+        if isinstance(con, CRope):
+            over = "–".join(pts[p] for p in con.points)
+            return (
+                f"rope {con.name!r} {over} ({'driven' if con.dist.kind == 'input' else 'locked'})"
+            )
         return f"driver {self.plan.inputs[con.input]!r}"
 
     def _unmet(self, i: int) -> int:
@@ -197,7 +204,7 @@ class Status:
         if isinstance(con, CAngle):
             return f"{np.degrees(abs(amount)):.3g}° off"
         size = f"{abs(amount) * 1e3:.1f} mm" if unit == "mm" else f"{abs(amount):.4g} m"
-        if isinstance(con, CDist):
+        if isinstance(con, CDist | CRope):
             return f"{size} {'short' if amount < 0 else 'too long'}"
         return f"{size} off"
 
@@ -516,7 +523,9 @@ class KinematicResult:
         if status.unmet is None:
             status = diagnose(plan, x, q, status)
         for j, e in enumerate(plan.elements):
-            if e.input >= 0:  # a driven length is its input, exactly (failed samples too)
+            # a driven length is its input, exactly (failed samples too); a winch rope's, its
+            # motor's angle times each design's R/(i·n), is its blocks' distance as solved
+            if e.input >= 0 and not e.ratio:
                 derived.element[0, j] = q[e.input]
                 derived.element[1, j] = qd[e.input]
                 derived.element[2, j] = qdd[e.input]
@@ -770,9 +779,13 @@ class KinematicResult:
                 column(e.name, "driver", qty, QUANTITIES[qty][1])
                 for qty in ("angle", "omega", "epsilon")
             ]
-            for c, arr in zip(
-                [*driver_columns(e.name, "length"), *line], element_arrays, strict=True
-            ):
+            # a winch rope's value is its motor's angle: its blocks' distance is its length
+            lengths = (
+                [column(e.name, "driver", q, QUANTITIES[q][1]) for q in WINCH_LENGTH]
+                if e.ratio
+                else driver_columns(e.name, "length")
+            )
+            for c, arr in zip([*lengths, *line], element_arrays, strict=True):
                 cols.append((c, arr[:, j]))
         for k, p in enumerate(plan.transmissions):
             cols.append((column(p, "point", "transmission", "angle"), self.transmission[:, k]))

@@ -17,12 +17,17 @@ function theorem at its solved values: J·dx = −dΦ, and likewise for the rate
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
+from excavkin import backends
 from excavkin.arrays import FloatArray as F
+from excavkin.backends import Job, Kernel
+from excavkin.execution import DEFAULT, Execution
+from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import compiled_tangents, newton
 from excavkin.kinematics.dual import Dual, seed, zeros
 from excavkin.kinematics.kernels import Chunk
@@ -40,7 +45,7 @@ def solve_tangents(
     result: KinematicResult,
     names: Sequence[str],
     values: Mapping[str, Any] | None = None,
-    compiled: bool | None = None,
+    execution: Execution = DEFAULT,
     columns: Sequence[str] | None = None,
 ) -> dict[str, KinematicResult]:
     """For each parameter in ``names``, a result whose columns are the derivatives of
@@ -54,10 +59,11 @@ def solve_tangents(
         Parameters of [`parameters`][excavkin.structure.design.parameters].
     values : mapping, optional
         The parameters given per sample (``result.parameters``); the rest are nominal.
-    compiled : bool, optional
-        Differentiate a closed-form plan in its compiled loop
-        (`excavkin.kinematics.compiled_tangents`) or in NumPy, chosen as for the
-        kinematics (`excavkin.kinematics.compiled.use`).
+    execution : Execution
+        Its backend differentiates a closed-form plan in its compiled loop
+        (`excavkin.kinematics.compiled_tangents`) or in NumPy, chosen by the rule of
+        every workload (`excavkin.backends.choose`), with a kernel of its own; its
+        ``workers`` run the compiled loop's chunks.
     columns : sequence of str, optional
         Only these columns' derivatives are needed: the compiled loop then writes (and
         computes) no others; the result must say so (``tangent_columns``), since theirs are
@@ -77,14 +83,43 @@ def solve_tangents(
     qd = np.moveaxis(result.input_rates, 0, -1)
     qdd = np.moveaxis(result.input_accels, 0, -1)
     keep = None if columns is None else compiled_tangents.entries(result, columns)
-    if compiled_tangents.use(plan, n, compiled, keep):
-        fast = _Tangents(plan, n, m)
-        compiled_tangents.fill(fast, plan, (q, qd, qdd), list(names), given, base, keep=keep)
-        return fast.results(result, names)
+    out = _Tangents(plan, n, m)
+
+    def compiled(kernel: Kernel, workers: int | None = execution.workers) -> None:
+        compiled_tangents.fill(
+            out, plan, (q, qd, qdd), list(names), given, base, workers, keep, kernel
+        )
+
+    source = functools.cache(lambda: compiled_tangents.source(plan, keep))  # asked twice
+    job = Job(
+        "tangents",
+        source,
+        numpy=lambda: _numpy_tangents(out, plan, (q, qd, qdd), names, given, base, result),
+        compiled=compiled,
+        unsupported=compiled_plan.unsupported(plan),
+        unasked=len(plan.points) <= compiled_plan.AUTO_POINTS,
+        scalar=source,  # (a plain loop already)
+        device=lambda kernel: compiled(kernel, 1),  # the chunks one after another
+    )
+    backends.choose(execution.backend, job, n).run(job)
+    return out.results(result, names)
+
+
+def _numpy_tangents(
+    out: _Tangents,
+    plan: SolvePlan,
+    inputs: tuple[F, F, F],
+    names: Sequence[str],
+    given: dict[str, Any],
+    base: dict[str, Any],
+    result: KinematicResult,
+) -> None:
+    """The tangents on dual numbers, chunk by chunk, into ``out``."""
+    q, qd, qdd = inputs
+    n, m = q.shape[1], len(names)
     duals: dict[str, Any] = {**given, **seed(base, list(names), n)}
     dual_plan, held, _ = vary(plan, duals)
     q_dual = _inputs(plan, q, held, m)
-    out = _Tangents(plan, n, m)
     solved = (
         np.moveaxis(result.positions, 0, -1),
         np.moveaxis(result.velocities, 0, -1),
@@ -94,7 +129,6 @@ def solve_tangents(
         part = slice(s, min(s + CHUNK, n))
         here = tuple(arr[..., part] for arr in solved)
         out.solve(take(dual_plan, part), q_dual[:, part], qd[:, part], qdd[:, part], part, here)
-    return out.results(result, names)
 
 
 def _run_steps(plan: SolvePlan, c: Chunk, values: tuple[F, ...]) -> None:

@@ -20,8 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
+from excavkin import backends
 from excavkin.arrays import FloatArray as F
+from excavkin.backends import Kernel
 from excavkin.errors import AssemblyError
+from excavkin.execution import DEFAULT, Execution
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import kernels, precision
 from excavkin.kinematics.change_points import ChangePoint, Tail, dyads, find_change_points
@@ -73,6 +76,12 @@ class Assembly:
 #: Newton group's continuation starts (the block before's last reached sample) — so that a sweep
 #: solved whole and one solved part by part give the same numbers to the bit.
 BLOCK = 65536
+#: samples per pass of the kinematics, unless the execution sets it: a chunk's temporaries stay
+#: in cache
+CHUNK = 32768
+#: samples per pass on a device (`excavkin.gpu`), unless the execution sets it: each pass's
+#: arrays are copied to the device and back
+DEVICE_CHUNK = 1 << 20
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,13 +112,10 @@ def solve_part(
     qdd: F,
     *,
     tol: Tolerances = Tolerances(),
-    chunk: int = 32768,
-    workers: int | None = None,
-    progress: Callable[[int, int], None] | None = None,
+    execution: Execution = DEFAULT,
     unbuildable: np.ndarray | None = None,
     designs: DesignBatch | None = None,
     carry: Carry | None = None,
-    compiled: bool | None = None,
 ) -> tuple[KinematicResult, Carry]:
     """Positions, velocities and accelerations of every point for consecutive samples of a
     sweep, each dyad on its sketch side.
@@ -123,15 +129,13 @@ def solve_part(
     q, qd, qdd : ndarray, shape (n_inputs, n)
         Driver values, rates and accelerations, SI, in ``plan.inputs`` order.
     tol : Tolerances
-    chunk : int
-        Samples per pass; chosen so a chunk's temporaries stay in cache.
-    workers : int, optional
-        Threads solving chunks side by side (NumPy releases the GIL in its loops, and chunks
-        write disjoint slices). Default: the machine's cores.
-    progress : callable, optional
-        ``progress(done, n)``, called after each chunk with the samples finished so far;
-        calls are serialised (never two at once, ``done`` increasing), though they may come
-        from worker threads.
+    execution : Execution
+        The backend (a closed-form plan as one compiled loop, `excavkin.backends`, or in
+        NumPy), threads solving chunks side by side (NumPy releases the GIL in its loops,
+        and chunks write disjoint slices), samples per chunk (default `CHUNK`, so that a
+        chunk's temporaries stay in cache) and ``progress(done, n)``, called after each chunk
+        with the samples finished so far (serialised, ``done`` increasing, though the calls
+        may come from worker threads).
     unbuildable : ndarray of bool, shape (n,), optional
         Samples whose design (a plan with per-sample dimensions) builds no mechanism.
     designs : DesignBatch, optional
@@ -139,9 +143,6 @@ def solve_part(
         constants are made as the chunk is solved.
     carry : Carry, optional
         What the part before handed on (none: these samples start the sweep).
-    compiled : bool, optional
-        Run a closed-form plan as one compiled loop (`excavkin.kinematics.compiled`, needs
-        numba) or in NumPy. Default: compiled when numba is installed and the batch is large.
 
     Returns
     -------
@@ -167,8 +168,8 @@ def solve_part(
         q = _check_inputs(plan, q, qd, qdd, status, unbuildable)
     else:  # each chunk checks its own inputs, on its thread, while they are in cache
         failed = np.empty(n, dtype=np.int16)
-    each = designs is not None or compiled_plan.per_sample(plan)  # the kernel's constants
-    report, fast = _Reporter(progress, n), compiled_plan.use(plan, n, compiled, each)
+    report = _Reporter(execution.progress, n)
+    chunk, workers = execution.chunk_or(CHUNK), execution.workers
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     blocks = _blocks(carry.start, n)
@@ -177,13 +178,14 @@ def solve_part(
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if plan.has_newton:  # positions by continuation, block by block; then the rates
             chunk = _newton_chunk(plan, chunk)
+            execution = dataclasses.replace(execution, chunk=chunk)  # (the rates' chunks too)
             for b in blocks:
                 reached = _solve_newton(
                     take(plan, b), assembly, _view(full, b), reached, chunk, workers
                 )
         checked = assembly if plan.has_newton else None  # the Newton groups' branch
-        _solve_chunks(plan, full, derived, (near, near_step), chunk, workers, report, designs,
-                      checked, fast, unbuildable)  # fmt: skip
+        _solve_chunks(plan, full, derived, (near, near_step), execution, report, designs,
+                      checked, unbuildable)  # fmt: skip
     error, found, tail = _check_blocks(
         plan, (q_given, q, qd, qdd), precision.Arrays(x, v, a, trans, derived), status, failed,
         (near, near_step), tol, designs, carry, blocks,
@@ -349,29 +351,29 @@ def _solve_chunks(
     full: Chunk,
     derived: Derived,
     nearest: tuple[F, np.ndarray],
-    chunk: int,
-    workers: int | None,
+    execution: Execution,
     report: _Reporter,
     designs: DesignBatch | None = None,
     assembly: Assembly | None = None,
-    fast: bool = False,
     unbuildable: np.ndarray | None = None,
 ) -> None:
     """The plan over chunks of samples, on a thread per core: each chunk runs the steps and
     then its derived quantities and nearness to dead positions while it is in cache (and, for
     a family of designs, makes its own constants first). Newton groups' positions are already
     found (`_solve_newton`): here they get their rates, and their branch is checked
-    against ``assembly``'s. ``fast``: a closed-form plan as its compiled loop. Fills
+    against ``assembly``'s. The backend (`excavkin.backends.choose`) runs a closed-form
+    plan as its compiled loop or each chunk's steps in NumPy. Fills
     ``nearest`` (each sample's nearness and nearest step, as
     `nearness`). A closed-form plan's inputs are not
     checked yet: each chunk checks its own (`_check_inputs`, with the samples whose
     design builds no mechanism, ``unbuildable``) and sets its ``failed`` to −1; a plan with
     Newton groups had them checked before its continuation."""
     n = full.status.size
-    # the compiled loop's constants, made once: each chunk takes its columns
-    consts = compiled_plan.table(compiled_plan.constants(plan), n) if fast else None
-    each = designs is not None or (consts is not None and consts[1] == 1)
-    kernel = compiled_plan.compile_plan(plan, each) if fast else None
+    chunk, workers = execution.chunk_or(CHUNK), execution.workers
+    each = designs is not None or compiled_plan.per_sample(plan)  # the kernel's constants
+    consts: tuple[F, int] | None = None
+    kernel: Kernel | None = None
+    scalar = False  # the kernel is the plain loop's, on a device
 
     def one(s: int) -> None:
         e = min(s + chunk, n)
@@ -398,9 +400,9 @@ def _solve_chunks(
             if designs is None and consts is not None:
                 k, stride = consts
                 table = (k[:, part] if stride else k, stride)
-                compiled_plan.run_table(kernel, table, c, *out, s)
+                compiled_plan.run_table(kernel, table, c, *out, s, scalar)
             else:
-                compiled_plan.run(kernel, here, c, *out, s)
+                compiled_plan.run(kernel, here, c, *out, s, scalar)
         else:
             c = dataclasses.replace(_view(full, part), q=q)  # the inputs, unbuildable designs NaN
             near, near_step = nearest[0][part], nearest[1][part]
@@ -413,7 +415,24 @@ def _solve_chunks(
                 near[:], near_step[:] = precision.nearness(plan, c.trans, c.near)
         report(e - s)
 
-    over_chunks(n, chunk, workers, one)
+    def compiled(k: Kernel) -> None:
+        nonlocal consts, kernel
+        # the compiled loop's constants, made once: each chunk takes its columns
+        consts, kernel = compiled_plan.table(compiled_plan.constants(plan), n), k
+        over_chunks(n, chunk, workers, one)
+
+    def device(k: Kernel) -> None:
+        nonlocal consts, kernel, scalar, workers, chunk
+        consts, kernel = compiled_plan.table(compiled_plan.constants(plan), n), k
+        scalar, workers = True, 1  # the chunks one after another: the device runs each whole
+        chunk = execution.chunk_or(DEVICE_CHUNK)  # each crosses the bus: large ones
+        over_chunks(n, chunk, workers, one)
+
+    def numpy() -> None:
+        over_chunks(n, chunk, workers, one)
+
+    job = compiled_plan.job(plan, each, numpy, compiled, device)
+    backends.choose(execution.backend, job, n).run(job)
 
 
 def _newton_chunk(plan: SolvePlan, chunk: int) -> int:

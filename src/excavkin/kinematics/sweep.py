@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
+from excavkin.execution import DEFAULT, Execution, settings
 from excavkin.kinematics.change_points import ChangePoint, Tail, Unit, dyads, find_change_points
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinematics.solve import (
@@ -77,11 +78,8 @@ def solve_parts(
     *,
     total: int,
     tol: Tolerances | None = None,
-    chunk: int = 32768,
-    workers: int | None = None,
-    progress: Callable[[int, int], None] | None = None,
+    execution: Execution = DEFAULT,
     continuation: str = "side",
-    compiled: bool | None = None,
 ) -> Iterator[KinematicResult]:
     """One kinematic result per part, as `solve_kinematics` gives for the whole.
 
@@ -94,13 +92,11 @@ def solve_parts(
         Returns the parts in order (called once per pass).
     total : int
         Samples in the sweep (for ``progress``).
-    tol, chunk, workers
+    tol
         As for `solve_kinematics`.
-    progress : callable, optional
-        ``progress(done, total)`` over the whole sweep.
+    execution : Execution
+        As for `solve_part`; its ``progress(done, total)`` is over the whole sweep.
     continuation : {"side", "smooth"}
-    compiled : bool, optional
-        As for `solve_part`.
 
     Yields
     ------
@@ -109,14 +105,14 @@ def solve_parts(
     """
     tol = tol or Tolerances()
     if continuation == "smooth":
-        yield from _smooth(plan, assembly, parts, total, tol, chunk, workers, progress, compiled)
+        yield from _smooth(plan, assembly, parts, total, tol, execution)
         return
     carry = None
     for p in parts():
         result, carry = solve_part(
-            p.plan, assembly, p.q, p.qd, p.qdd, tol=tol, chunk=chunk, workers=workers,
-            progress=_shifted(progress, p.start, total), unbuildable=p.unbuildable,
-            designs=p.designs, carry=carry or Carry(p.start), compiled=compiled,
+            p.plan, assembly, p.q, p.qd, p.qdd, tol=tol,
+            execution=_shifted(execution, p.start, total), unbuildable=p.unbuildable,
+            designs=p.designs, carry=carry or Carry(p.start),
         )  # fmt: skip
         yield result
 
@@ -129,13 +125,14 @@ def solve_kinematics(
     qdd: F,
     *,
     tol: Tolerances | None = None,
-    chunk: int = 32768,
-    workers: int | None = None,
-    progress: Callable[[int, int], None] | None = None,
+    execution: Execution | None = None,
     continuation: str = "side",
     unbuildable: np.ndarray | None = None,
     designs: DesignBatch | None = None,
-    compiled: bool | None = None,
+    backend: str | None = None,
+    chunk: int | None = None,
+    workers: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> KinematicResult:
     """Positions, velocities and accelerations of every point for every sample.
 
@@ -147,15 +144,10 @@ def solve_kinematics(
     q, qd, qdd : ndarray, shape (n_inputs, n)
         Driver values, rates and accelerations, SI, in ``plan.inputs`` order.
     tol : Tolerances, optional
-    chunk : int
-        Samples per pass; chosen so a chunk's temporaries stay in cache.
-    workers : int, optional
-        Threads solving chunks side by side (NumPy releases the GIL in its loops, and chunks
-        write disjoint slices). Default: the machine's cores.
-    progress : callable, optional
-        ``progress(done, total)``, called after each chunk with the samples finished so far;
-        calls are serialised (never two at once, ``done`` increasing), though they may come
-        from worker threads.
+    execution : Execution, optional
+        Backend, threads, samples per chunk and progress (`excavkin.execution.Execution`);
+        ``progress(done, total)`` is called after each chunk with the samples finished so
+        far (serialised, ``done`` increasing, though the calls may come from worker threads).
     continuation : {"side", "smooth"}
         At a change point between neighbouring samples (a dyad folding flat), keep each dyad on
         its sketch side (``"side"``) or continue the motion onto the other side (``"smooth"``:
@@ -166,14 +158,16 @@ def solve_kinematics(
     designs : DesignBatch, optional
         A family of designs of ``plan`` (a closed-form one), one per sample: each chunk's
         constants are made as the chunk is solved.
-    compiled : bool, optional
-        Run a closed-form plan as one compiled loop (`excavkin.kinematics.compiled`, needs
-        numba) or in NumPy. Default: compiled when numba is installed and the batch is large.
+    backend, chunk, workers, progress : optional
+        Each replaces its field of ``execution``.
 
     Returns
     -------
     KinematicResult
     """
+    execution = settings(
+        execution, backend=backend, chunk=chunk, workers=workers, progress=progress
+    )
     whole = Part(0, q, qd, qdd, plan, unbuildable, designs)
     return next(
         iter(
@@ -183,23 +177,19 @@ def solve_kinematics(
                 lambda: [whole],
                 total=q.shape[1],
                 tol=tol,
-                chunk=chunk,
-                workers=workers,
-                progress=progress,
+                execution=execution,
                 continuation=continuation,
-                compiled=compiled,
             )  # fmt: skip
         )
     )
 
 
-def _shifted(
-    progress: Callable[[int, int], None] | None, start: int, total: int
-) -> Callable[[int, int], None] | None:
-    """A part's progress as the whole sweep's."""
+def _shifted(execution: Execution, start: int, total: int) -> Execution:
+    """The execution of a part: its progress reported as the whole sweep's."""
+    progress = execution.progress
     if progress is None:
-        return None
-    return lambda done, _: progress(start + done, total)
+        return execution
+    return dataclasses.replace(execution, progress=lambda done, _: progress(start + done, total))
 
 
 def _smooth(
@@ -208,10 +198,7 @@ def _smooth(
     parts: Parts,
     total: int,
     tol: Tolerances,
-    chunk: int,
-    workers: int | None,
-    progress: Callable[[int, int], None] | None,
-    compiled: bool | None = None,
+    execution: Execution,
 ) -> Iterator[KinematicResult]:
     """Solve with each dyad's side flipped after its change points, dyad by dyad in plan
     order (a flip moves what is built on the dyad, and so its later change points). The
@@ -229,8 +216,8 @@ def _smooth(
         for p in parts():
             res, carry = solve_part(
                 _signed(p.plan, flips, anchor, p.start, p.q.shape[1]), assembly, p.q, p.qd,
-                p.qdd, tol=tol, chunk=chunk, workers=workers, unbuildable=p.unbuildable,
-                carry=carry or Carry(p.start), compiled=compiled,
+                p.qdd, tol=tol, execution=dataclasses.replace(execution, progress=None),
+                unbuildable=p.unbuildable, carry=carry or Carry(p.start),
             )  # fmt: skip
             here = (
                 np.moveaxis(res.positions, 0, -1),
@@ -260,8 +247,8 @@ def _smooth(
         k = p.q.shape[1]
         res, carry = solve_part(
             _signed(p.plan, flips, anchor, p.start, k), assembly, p.q, p.qd, p.qdd, tol=tol,
-            chunk=chunk, workers=workers, progress=_shifted(progress, p.start, total),
-            unbuildable=p.unbuildable, carry=carry or Carry(p.start), compiled=compiled,
+            execution=_shifted(execution, p.start, total), unbuildable=p.unbuildable,
+            carry=carry or Carry(p.start),
         )  # fmt: skip
         mine = tuple(cp for cp in found if p.start <= cp.after < p.start + k)
         yield dataclasses.replace(res, change_points=mine)

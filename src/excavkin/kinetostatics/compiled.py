@@ -1,5 +1,4 @@
-"""The kinetostatic back-substitution compiled to one machine-code loop over samples (numba,
-optional).
+"""The kinetostatic back-substitution compiled to one machine-code loop over samples (numba).
 
 `solve_forces` reduces each moving body's loads to a force and a moment, then solves the
 equilibrium along the solve plan, step by step from the last
@@ -30,7 +29,8 @@ from typing import Any
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.kinematics import compiled as kernels
+from excavkin.backends import Kernel
+from excavkin.kinematics.compiled import table
 from excavkin.kinematics.threads import over_chunks
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.inertia import MassProperties
@@ -341,26 +341,8 @@ def _dense(g: _Source, a: list[list[Any]], b: list[Any]) -> list[_Sym]:
     return [_Sym(g, f"y{k}") for k in range(r)]
 
 
-def use(text: str, n: int, compiled: bool | None) -> bool:
-    """Whether forces of ``n`` samples are solved by the compiled kernel of ``text``: the rule
-    of `excavkin.kinematics.compiled.use` (``compiled`` None: numba installed and a large
-    batch; True: required)."""
-    if compiled is None:
-        if n < kernels.THRESHOLD or not kernels.available():
-            return False
-        return n >= kernels.COMPILE_AT or kernels.source_compiled(text)
-    if compiled and not kernels.numba_installed():
-        from excavkin.errors import InputError
-
-        raise InputError(
-            "compiled=True: the compiled forces need numba (pip install 'excavkin[fast]'); "
-            "leave compiled unset to choose automatically"
-        )
-    return compiled
-
-
 def solve(
-    text: str,
+    kernel: Kernel,
     values: list[float | F],
     x: F,
     a: F | None,
@@ -369,12 +351,12 @@ def solve(
     singular: np.ndarray,
     workers: int | None = None,
 ) -> None:
-    """Fill ``out`` (n_unknowns, n) and ``singular`` (n,) with the kernel of ``text``, over
-    chunks of samples on a thread per core. ``x``, ``a``: (n_points, 2, n); ``eps``:
-    (n_bodies, n) (``a`` and ``eps`` None: no inertia)."""
-    kernel = kernels.kernel_of(text)
+    """Fill ``out`` (n_unknowns, n) and ``singular`` (n,) with ``kernel`` (of a `source`'s
+    text, compiled by a backend: `excavkin.backends`), over chunks of samples on a thread
+    per core. ``x``, ``a``: (n_points, 2, n); ``eps``: (n_bodies, n) (``a`` and ``eps`` None:
+    no inertia)."""
     n = out.shape[1]
-    k, stride = kernels.table(values, n)
+    k, stride = table(values, n)
     acc = x if a is None else a
     e = np.empty((1, n)) if eps is None else eps
 

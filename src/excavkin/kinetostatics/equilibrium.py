@@ -19,6 +19,9 @@ Unknowns (DESIGN.md §5)::
                         on gear 1 at the pitch point, t = perp(O2 − O1)/|O2 − O1| (its
                         radial part, |W|·tan φ along the line of centres, is added to the
                         pivots' pin forces afterwards: `excavkin.kinetostatics.gears`)
+    T[r]                the tension of each rope over sheaves: it pulls the pin at path point
+                        k with T·(u_k − u_{k−1}), u_k its free segments' directions
+                        (`excavkin.step_kinds.rope_path`)
 
 Equations, with the known loads ``R_b`` (applied loads + d'Alembert inertia, force and moment
 about the body's first point p0)::
@@ -69,6 +72,7 @@ from excavkin.model.cams import Law, evaluate, lift_law
 from excavkin.model.entities import Model
 from excavkin.model.gears import gear_pivots, pivot_on, rack_side
 from excavkin.model.validate import validate
+from excavkin.step_kinds.rope_path import segment_directions
 from excavkin.structure.builder import compile_plan
 from excavkin.structure.plan import SolvePlan
 
@@ -110,7 +114,7 @@ class Unknown:
 
     Attributes
     ----------
-    kind : {"pin", "element", "slider", "torque", "gear", "rack", "cam"}
+    kind : {"pin", "element", "slider", "torque", "rope", "gear", "rack", "cam"}
     index : int
         Pin slot, element, slider or rotary-driver index in the system's lists.
     comp : int
@@ -119,7 +123,7 @@ class Unknown:
         For messages: ``"pin B on body 'rocker'"``.
     """
 
-    kind: Literal["pin", "element", "slider", "torque", "gear", "rack", "cam"]
+    kind: Literal["pin", "element", "slider", "torque", "rope", "gear", "rack", "cam"]
     index: int
     comp: int
     label: str
@@ -197,6 +201,8 @@ class StaticsSystem:
         Name, point, l1, l2 and carrier body of each slider.
     rotary : tuple of (str, int, int)
         Name, driven body and reference body of each rotary driver.
+    ropes : tuple of (str, tuple of int, tuple of float)
+        Name, path points and signed sheave radii of each rope over sheaves.
     unknowns : tuple of Unknown
     rows : tuple of str
         Equation labels.
@@ -226,6 +232,7 @@ class StaticsSystem:
     rotary: tuple[tuple[str, int, int], ...]
     unknowns: tuple[Unknown, ...]
     rows: tuple[str, ...]
+    ropes: tuple[tuple[str, tuple[int, ...], tuple[float, ...]], ...] = ()
     gears: tuple[tuple[str, int, int, int, int, float, float, float], ...] = ()
     carriers: tuple[int, ...] = ()
     racks: tuple[tuple[str, int, int, int, int, int, int, float, float, float], ...] = ()
@@ -263,9 +270,14 @@ class StaticsSystem:
         return self.slider_col0 + len(self.sliders)
 
     @property
+    def rope_col0(self) -> int:
+        """Column of the first tension of a rope over sheaves."""
+        return self.torque_col0 + len(self.rotary)
+
+    @property
     def gear_col0(self) -> int:
         """Column of the first gear pair's tooth force."""
-        return self.torque_col0 + len(self.rotary)
+        return self.rope_col0 + len(self.ropes)
 
     @property
     def cam_col0(self) -> int:
@@ -321,7 +333,9 @@ def _structure(model: Model) -> StaticsSystem:
         ]
         sliders.append((s.name, pidx[s.point], pidx[s.along[0]], pidx[s.along[1]], carriers[0]))
     rotary = tuple((d.name, bidx[d.body], bidx[d.reference]) for d in model.rotary)
+    ropes = sheaved_ropes(model, pidx)
     acted = {e[1] for e in elements} | {e[2] for e in elements} | {s[1] for s in sliders}
+    acted |= {p for r in ropes for p in r[1]}
     nodes = tuple(i for i in range(len(points)) if len(owners[i]) >= 2 or i in acted)
     slots = tuple((i, j) for i in nodes for j in owners[i])
     unknowns: list[Unknown] = []
@@ -333,6 +347,7 @@ def _structure(model: Model) -> StaticsSystem:
     ]
     unknowns += [Unknown("slider", k, 0, f"slider {s[0]!r}") for k, s in enumerate(sliders)]
     unknowns += [Unknown("torque", k, 0, f"rotary driver {d[0]!r}") for k, d in enumerate(rotary)]
+    unknowns += [Unknown("rope", k, 0, f"rope {r[0]!r}") for k, r in enumerate(ropes)]
     gears, gear_carriers = _gear_pairs(model, pidx, bidx)
     unknowns += [Unknown("gear", k, 0, f"gear pair {g[0]!r}") for k, g in enumerate(gears)]
     racks = _racks(model, pidx, bidx)
@@ -367,6 +382,7 @@ def _structure(model: Model) -> StaticsSystem:
         rotary,
         tuple(unknowns),
         tuple(rows),
+        ropes=ropes,
         gears=gears,
         carriers=gear_carriers,
         racks=racks,
@@ -519,6 +535,29 @@ def cam_normal(cm: CamContact, x: Any) -> tuple[Any, Any, Any, Any, Any, Any, An
     return ex, ey, nx, ny, ix, iy, bx, by
 
 
+def sheaved_ropes(
+    model: Model, pidx: dict[str, int]
+) -> tuple[tuple[str, tuple[int, ...], tuple[float, ...]], ...]:
+    """Each rope over sheaves: its name, path points and signed sheave radii (0 at the ends).
+
+    Parameters
+    ----------
+    model : Model
+    pidx : dict
+        Point indices by name.
+
+    Returns
+    -------
+    tuple of (str, tuple of int, tuple of float)
+    """
+    out = []
+    for r in model.ropes:
+        if r.over_sheaves:
+            signed = tuple(s if w == "ccw" else -s for s, w in zip(r.radii, r.wraps, strict=True))
+            out.append((r.name, tuple(pidx[p] for p in r.path), (0.0, *signed, 0.0)))
+    return tuple(out)
+
+
 def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
     """The coefficient rows of the equilibrium equations, one dict of column → entry per row.
 
@@ -599,6 +638,22 @@ def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
             rows[body_row[body] + 2][col + k] = 1.0
         if ref in body_row:
             rows[body_row[ref] + 2][col + k] = -1.0
+    col = sy.rope_col0
+    for k, (_, path, signed) in enumerate(sy.ropes):
+        # the rope pulls the pin at path point j with T·(u_j − u_{j−1}): the entry is minus that
+        if x is None:
+            for node in path:
+                r = node_row[node]
+                rows[r][col + k] = rows[r + 1][col + k] = VAR
+            continue
+        dirs = segment_directions([(x[p, 0], x[p, 1]) for p in path], signed)
+        last = len(path) - 1
+        for j, node in enumerate(path):
+            r = node_row[node]
+            for c, u in enumerate(dirs):
+                entry: Any = -u[j] if j == 0 else u[j - 1] if j == last else u[j - 1] - u[j]
+                old: Any = rows[r + c].get(col + k)
+                rows[r + c][col + k] = entry if old is None else old + entry
     _gear_rows(sy, x, rows, body_row)
     _rack_rows(sy, x, rows, body_row)
     _cam_rows(sy, x, rows, body_row)
@@ -809,8 +864,12 @@ def _check_rank(sy: StaticsSystem, model: Model, seed: int) -> None:
     sk = np.asarray([model.points[p] for p in sy.points], dtype=np.float64)
     span = float(np.ptp(sk, axis=0).max()) if len(sk) > 1 else 1.0
     span = span if span > 0 else 1.0
-    x = (sk + span * rng.standard_normal(sk.shape))[:, :, None]
-    a = dense_matrix(sy, x)[0]
+    for _ in range(16):  # a rope over sheaves has no tangent where two sheaves overlap: redraw
+        x = (sk + span * rng.standard_normal(sk.shape))[:, :, None]
+        with np.errstate(invalid="ignore"):
+            a = dense_matrix(sy, x)[0]
+        if np.isfinite(a).all():
+            break
     m, n = a.shape
     u, s, vt = np.linalg.svd(a)
     tol = max(m, n) * np.finfo(float).eps * 1e3 * (s[0] if s.size else 1.0)

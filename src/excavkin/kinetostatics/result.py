@@ -8,6 +8,10 @@ N·m)::
                              acts, the cylinder's force passed through the pin)
     <driver>.force           axial force of a driven or locked linear element; > 0 pushes its
                              two points apart (a rope in tension is negative)
+    <rope>.tension           a rope's tension, N (its blocks' force / its parts); a sample
+                             where it would be < 0 (the rope would push) is "slack rope", not ok
+    <rope>.torque            a winch rope's motor torque, N·m, in the sense of its angle
+                             (power = torque · motor speed; < 0 holds a load hanging on it)
     <driver>.torque          torque of a rotary driver on its body (CCW > 0); its reference body
                              receives the opposite torque
     <slider>.normal          normal force on the slider's point, along perp(l2 − l1); the body
@@ -18,7 +22,7 @@ N·m)::
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -33,12 +37,13 @@ from excavkin.kinetostatics.equilibrium import StaticsSystem
 from excavkin.kinetostatics.gears import CAM_COLUMNS, RACK_COLUMNS, RACK_KINDS
 from excavkin.kinetostatics.inertia import MassProperties, centre_of_mass, kinetic_energy_rate
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load
+from excavkin.model.entities import Rope
 from excavkin.structure.design import parameter_kind
 
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["ForceResult", "PowerBalance", "motion_note"]
+__all__ = ["ForceResult", "PowerBalance", "motion_note", "winch_drive"]
 
 
 def motion_note(static: bool, at_rest: Sequence[str]) -> str:
@@ -61,6 +66,29 @@ def motion_note(static: bool, at_rest: Sequence[str]) -> str:
     if static:
         return f"static forces, no inertia{why}"
     return f"forces with the inertia of the given driver rates and accelerations{why}"
+
+
+def winch_drive(rope: Rope, params: Mapping[str, Any] | None) -> tuple[Any, Any]:
+    """A winch's drum radius and gear ratio, per design where the result's parameters give
+    them.
+
+    Parameters
+    ----------
+    rope : Rope
+        A winch rope.
+    params : mapping of str to array_like, or None
+        The parameters the result was solved with.
+
+    Returns
+    -------
+    radius, ratio : float or ndarray, shape (n,)
+        m, and motor turns per drum turn.
+    """
+    given = params or {}
+    return (
+        given.get(f"{rope.name}.drum_radius", rope.drum_radius),
+        given.get(f"{rope.name}.gear_ratio", rope.gear_ratio),
+    )
 
 
 def _with_unit(value: float, kind: str) -> str:
@@ -158,6 +186,8 @@ class ForceResult:
     at_rest : tuple of str
         The swept drivers given no rate, taken at rest (rate 0) for these forces: forces
         without given rates are static (`static`, `motion_note`).
+    rope_tension : ndarray, shape (n, n_sheaved), optional
+        The tension of each rope over sheaves, N (`tension` reads every rope's).
     """
 
     kinematics: KinematicResult
@@ -175,6 +205,7 @@ class ForceResult:
     mass: MassProperties
     tangents: dict[str, dict[str, F]] | None = None
     at_rest: tuple[str, ...] = ()
+    rope_tension: F | None = None
 
     @property
     def static(self) -> bool:
@@ -242,6 +273,7 @@ class ForceResult:
               for k, d in enumerate(self.system.rotary)),
             *((f"{sl[0]}.normal", self.slider_force[:, k], "force")
               for k, sl in enumerate(self.system.sliders)),
+            *((f"{r.name}.tension", t, "force") for r, t in self._ropes() if r.over_sheaves),
         ]  # fmt: skip
         solved = int(ok.sum())
         if efforts:
@@ -276,8 +308,87 @@ class ForceResult:
 
     @property
     def ok(self) -> np.ndarray:
-        """Samples with both kinematics and forces solved, shape (n,)."""
-        return np.asarray(self.kinematics.status.ok & ~self.singular)
+        """Samples with both kinematics and forces solved and no rope slack, shape (n,)."""
+        return np.asarray(self.kinematics.status.ok & ~self.singular & ~self.slack)
+
+    # ---- ropes: tension only
+    def _ropes(self) -> list[tuple[Rope, F]]:
+        """Each rope of the model with its tension (N, shape (n,)): a rope between blocks
+        carries its blocks' force over its parts, one over sheaves its own unknown."""
+        names = [e[0] for e in self.system.elements]
+        sheaved = [r[0] for r in self.system.ropes]
+        out: list[tuple[Rope, F]] = []
+        for rope in self.kinematics.plan.model.ropes:
+            if rope.over_sheaves:
+                assert self.rope_tension is not None
+                t = self.rope_tension[:, sheaved.index(rope.name)]
+            else:
+                t = -self.element_force[:, names.index(rope.name)] / rope.parts
+            out.append((rope, np.asarray(t)))
+        return out
+
+    @property
+    def slack(self) -> np.ndarray:
+        """Samples where some rope would have to push (its tension < 0): a rope carries tension
+        only, so these forces are not the mechanism's (not `ok`), shape (n,)."""
+        out = np.zeros(len(self), dtype=bool)
+        for _, tension in self._ropes():
+            out |= tension < 0.0
+        return out
+
+    def tension(self, name: str) -> F:
+        """A rope's tension, N, shape (n,).
+
+        Parameters
+        ----------
+        name : str
+            The rope's name.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Between two blocks, ``−force / parts``; over sheaves, the tension along each free
+            segment (N). Negative where the rope would have to push (`slack`).
+
+        Raises
+        ------
+        UnknownNameError
+            No rope of that name, with the nearest names (a `KeyError` too).
+        """
+        ropes = self._ropes()
+        for rope, tension in ropes:
+            if rope.name == name:
+                return tension
+        raise unknown_name("rope", name, [r.name for r, _ in ropes])
+
+    def winch_torque(self, name: str) -> F:
+        """A winch rope's motor torque, N·m, shape (n,), in the sense of the motor's angle.
+
+        A motor angle θ pays out ``θ·R/i`` of rope, so by virtual work the motor's torque is
+        ``−T·R/i`` and its power ``torque·ω`` is the rope's on the mechanism.
+
+        Parameters
+        ----------
+        name : str
+            The winch rope's name.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            The torque (N·m); negative while the rope holds a load (hauling in, ω < 0,
+            then takes power from the motor).
+
+        Raises
+        ------
+        UnknownNameError
+            No winch rope of that name, with the nearest names (a `KeyError` too).
+        """
+        winches = [(r, t) for r, t in self._ropes() if r.mode == "winch"]
+        for rope, tension in winches:
+            if rope.name == name:
+                radius, ratio = winch_drive(rope, self.kinematics.parameters)
+                return np.asarray(-tension * (radius / ratio))
+        raise unknown_name("winch rope", name, [r.name for r, _ in winches])
 
     # ---- lookups by name
     def pin(self, point: str, body: str) -> F:
@@ -420,6 +531,11 @@ class ForceResult:
             kinds = zip(CAM_COLUMNS[: cm.unknowns], RACK_KINDS[: cm.unknowns], strict=True)
             for c, (qty, kind) in enumerate(kinds):
                 cols.append((column(cm.name, "other", qty, kind), self.cam_force[:, k, c]))
+        for rope, tension in self._ropes():
+            cols.append((column(rope.name, "driver", "tension", "force"), tension))
+            if rope.mode == "winch":
+                torque = self.winch_torque(rope.name)
+                cols.append((column(rope.name, "driver", "torque", "torque"), torque))
         for b in resultants:
             r = self.resultant(b)
             cols += [(column(b, "body", q, "force"), r[:, c]) for c, q in enumerate(("Rx", "Ry"))]
@@ -487,7 +603,8 @@ class ForceResult:
         return self.kinematics.sensitivity(column, parameter)
 
     def status_labels(self) -> np.ndarray:
-        """Per-sample label: the kinematic status, or ``"statically singular"``, shape (n,).
+        """Per-sample label: the kinematic status, ``"statically singular"`` or ``"slack
+        rope"``, shape (n,).
 
         Returns
         -------
@@ -498,6 +615,9 @@ class ForceResult:
         labels = self.kinematics.status.labels()
         bad = self.singular & self.kinematics.status.ok
         labels[bad] = "statically singular (redundant joint at this position)"
+        for rope, tension in self._ropes():
+            pushes = (tension < 0.0) & self.kinematics.status.ok & ~bad
+            labels[pushes] = f"slack rope {rope.name!r} (it would have to push)"
         return labels
 
     def to_frame(
@@ -546,7 +666,7 @@ class ForceResult:
         # copies, no insertions
         data: dict[str, Any] = {c.name: arr for c, arr in [*kin, *described]}
         status = self.kinematics.status
-        if self.singular.any():
+        if self.singular.any() or self.slack.any():
             data["status"] = pd.Categorical(self.status_labels())
         else:
             data["status"] = status.categorical()
@@ -579,6 +699,12 @@ class ForceResult:
             p = self.element_force[:, k] * kin.element_rate[:, e]
             driver += p
             scale += np.abs(p)
+        inputs = kin.plan.inputs
+        for rope, _ in self._ropes():  # a winch over sheaves: its motor's torque times speed
+            if rope.over_sheaves and rope.mode == "winch":
+                p = self.winch_torque(rope.name) * kin.input_rates[:, inputs.index(rope.name)]
+                driver += p
+                scale += np.abs(p)
         load = np.zeros(n)
         ev = self.evaluated
         for _, point, fx, fy in ev.forces:

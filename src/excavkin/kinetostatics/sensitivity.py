@@ -28,6 +28,7 @@ from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import dense_solve
 from excavkin.kinetostatics.gears import CAM_COLUMNS, RACK_COLUMNS, pin_updates, tooth_forces
+from excavkin.kinetostatics.result import winch_drive
 from excavkin.kinetostatics.structured import Arithmetic, along_plan, back_substitute
 from excavkin.structure.design import mass_items
 
@@ -109,7 +110,7 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
                 out[:, col, part] += val.tan
     bad = ~(kin.status.solved & ~forces.singular)
     out[:, :, bad] = np.nan
-    return {name: _columns(forces, out[j], x, x_t[j]) for j, name in enumerate(names)}
+    return {name: _columns(forces, out[j], x, x_t[j], name) for j, name in enumerate(names)}
 
 
 def _dual_loads(forces: ForceResult, names: Sequence[str], n: int) -> Any:
@@ -228,7 +229,7 @@ def _dual_masses(forces: ForceResult, names: Sequence[str], n: int) -> _Masses:
     )
 
 
-def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
+def _columns(forces: ForceResult, tan: F, x: F, x_t: F, parameter: str) -> dict[str, F]:
     """The force columns' derivatives from the unknowns' (``tan``: (size, n)), by name; the
     ground's resultant includes its sliders' normal forces turning with their slides."""
     sy = forces.system
@@ -252,6 +253,22 @@ def _columns(forces: ForceResult, tan: F, x: F, x_t: F) -> dict[str, F]:
             out[f"{cm.name}.{qty}"] = tan[col + c]
     for k, s in enumerate(sy.sliders):
         out[f"{s[0]}.normal"] = tan[s0 + k]
+    elements = [e[0] for e in sy.elements]
+    sheaved = [r[0] for r in sy.ropes]
+    for rope in forces.kinematics.plan.model.ropes:  # tension and winch torque: linear in force
+        if rope.over_sheaves:
+            dt = tan[sy.rope_col0 + sheaved.index(rope.name)]
+        else:
+            dt = -tan[e0 + elements.index(rope.name)] / rope.parts
+        out[f"{rope.name}.tension"] = dt
+        if rope.mode == "winch":  # −T·R/i, R and i parameters of their own
+            radius, ratio = winch_drive(rope, forces.kinematics.parameters)
+            d = -dt * (radius / ratio)
+            if parameter == f"{rope.name}.drum_radius":
+                d = d - forces.tension(rope.name) / ratio
+            elif parameter == f"{rope.name}.gear_ratio":
+                d = d + forces.tension(rope.name) * radius / (ratio * ratio)
+            out[f"{rope.name}.torque"] = d
     ground = sy.ground
     rx, ry = np.zeros(n), np.zeros(n)
     for k, (_, j) in enumerate(sy.slots):

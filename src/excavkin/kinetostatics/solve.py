@@ -17,9 +17,12 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from excavkin import backends
 from excavkin.arrays import FloatArray as F
+from excavkin.backends import Job, Kernel
 from excavkin.errors import InputError
-from excavkin.kinematics.compiled import AUTO_POINTS, THRESHOLD, available
+from excavkin.execution import Execution, settings
+from excavkin.kinematics.compiled import AUTO_POINTS
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
@@ -48,6 +51,8 @@ def solve_forces(
     inertia: bool = True,
     method: str = "sparse",
     chunk: int = 8192,
+    execution: Execution | None = None,
+    backend: str | None = None,
     compiled: bool | None = None,
 ) -> ForceResult:
     """Joint forces, linear-driver forces and rotary-driver torques for every sample.
@@ -70,12 +75,14 @@ def solve_forces(
         cross-checking).
     chunk : int
         Samples per pass (memory beyond the result's arrays is bounded by a pass).
+    execution : Execution, optional
+        Its backend runs the ``"sparse"`` back-substitution as one compiled loop over samples
+        (`excavkin.kinetostatics.compiled`) or in NumPy, by the rule of every workload
+        (`excavkin.backends.choose`); its ``workers`` run the compiled loop's chunks.
+    backend : {"auto", "numpy", "numba", "cuda"}, optional
+        Replaces ``execution``'s backend.
     compiled : bool, optional
-        Run the ``"sparse"`` back-substitution as one compiled loop over samples
-        (`excavkin.kinetostatics.compiled`, needs numba) or in NumPy. Default: compiled
-        when numba is installed, the batch is large and the model has at most
-        `excavkin.kinematics.compiled.AUTO_POINTS` points (the rule of the kinematics'
-        ``compiled``).
+        Deprecated: ``backend="numba"`` (True) or ``"numpy"`` (False).
 
     Returns
     -------
@@ -96,6 +103,7 @@ def solve_forces(
         raise InputError(f"method must be 'sparse' or 'dense', not {method!r}")
     if chunk < 1:
         raise InputError(f"chunk must be at least 1, got {chunk}")
+    execution = settings(execution, backend=backend, compiled=compiled)
     plan = result.plan
     model = plan.model
     checked = check_loads(model, loads)
@@ -115,8 +123,8 @@ def solve_forces(
             for s in range(0, n, chunk):
                 part = slice(s, min(s + chunk, n))
                 _solve_dense(sy, mp, ev, (x, a, eps), out, singular, part, fast=True)
-        elif not _solve_compiled((structured, mp, ev), (x, a, eps), out, singular, compiled):
-            _solve_sparse((structured, mp, ev), (x, a, eps), out, singular, chunk)
+        else:
+            _solve_chosen((structured, mp, ev), (x, a, eps), out, singular, chunk, execution)
     add_radial(sy, x, out)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
@@ -125,7 +133,7 @@ def solve_forces(
         out[:, bad] = np.nan
     singular &= result.status.solved
     ns = len(sy.slots)
-    e0, s0, t0 = sy.element_col0, sy.slider_col0, sy.torque_col0
+    e0, s0, t0, r0 = sy.element_col0, sy.slider_col0, sy.torque_col0, sy.rope_col0
     gears, racks, cams = mesh_forces(sy, out)
     return ForceResult(
         kinematics=result,
@@ -133,7 +141,7 @@ def solve_forces(
         pin_force=np.moveaxis(out[: 2 * ns].reshape(ns, 2, n), -1, 0),
         element_force=out[e0:s0].T,
         slider_force=out[s0:t0].T,
-        driver_torque=out[t0 : sy.gear_col0].T,
+        driver_torque=out[t0:r0].T,
         gear_force=gears,
         rack_force=racks,
         cam_force=cams,
@@ -141,6 +149,7 @@ def solve_forces(
         loads=checked,
         evaluated=ev,
         mass=mp,
+        rope_tension=out[r0 : sy.gear_col0].T,
     )
 
 
@@ -170,29 +179,48 @@ def _solve_sparse(
         out[:, sl], singular[sl] = solve_structured(structured, xc, rhs)
 
 
-def _solve_compiled(
+def _solve_chosen(
     known: tuple[StructuredSystem, MassProperties, EvaluatedLoads],
     motion: tuple[F, F | None, F | None],
     out: F,
     singular: np.ndarray,
-    compiled: bool | None,
-) -> bool:
-    """The back-substitution as its compiled kernel, if ``compiled`` (see
-    `solve_forces`) asks for it here; whether it ran."""
+    chunk: int,
+    execution: Execution,
+) -> None:
+    """The back-substitution on the backend chosen for it (`excavkin.backends.choose`):
+    its compiled kernel, or NumPy chunk by chunk. A model of more than
+    `excavkin.kinematics.compiled.AUTO_POINTS` points is never compiled unasked (numba's
+    compile grows with it), and under ``"auto"`` it is not traced either."""
     from excavkin.kinetostatics import compiled as kernel
 
-    n = out.shape[1]
-    big = len(known[0].system.points) > AUTO_POINTS  # (numba's compile grows with the model)
-    if known[0].system.cams:
-        return False  # a cam's lift law is a spline evaluated in NumPy: not traced
-    if compiled is False or compiled is None and (n < THRESHOLD or big or not available()):
-        return False  # (before the source is traced: small batches stay cheap)
     x, a, eps = motion
-    text, values = kernel.source(*known, inertia=a is not None)
-    if not kernel.use(text, n, compiled):
-        return False
-    kernel.solve(text, values, x, a, eps, out, singular)
-    return True
+    traced: list[tuple[str, list[float | F]]] = []
+
+    def source() -> str:  # traced once, and only if a compiled backend asks
+        if not traced:
+            traced.append(kernel.source(*known, inertia=a is not None))
+        return traced[0][0]
+
+    def compiled(k: Kernel, workers: int | None = execution.workers) -> None:
+        source()
+        kernel.solve(k, traced[0][1], x, a, eps, out, singular, workers)
+
+    big = len(known[0].system.points) > AUTO_POINTS
+    if big and execution.backend == "auto":
+        _solve_sparse(known, motion, out, singular, chunk)
+        return
+    job = Job(
+        "forces",
+        source,
+        numpy=lambda: _solve_sparse(known, motion, out, singular, chunk),
+        compiled=compiled,
+        # a cam's lift law is a spline evaluated in NumPy: not traced
+        unsupported="of a model with cams, solved in NumPy" if known[0].system.cams else None,
+        unasked=not big,
+        scalar=source,  # (a plain loop already)
+        device=lambda k: compiled(k, 1),  # the chunks one after another
+    )
+    backends.choose(execution.backend, job, out.shape[1]).run(job)
 
 
 def _solve_dense(

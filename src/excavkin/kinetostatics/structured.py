@@ -27,6 +27,9 @@ The constraints, their gradients and the forces they stand for (``perp(v) = (−
                               ∇_r1 = −perp(e)/|e|² = −∇_r0;  λ = the driver's torque τ
     line   cross(e, P − l1)/|e|, e = l2 − l1  ∇_P = n = perp(e)/|e|; ∇_l2 = −perp(w)/|e|,
                               ∇_l1 = (perp(w) − perp(e))/|e|, w = P − l1;  λ = the slider's N
+    rope   −L, L a rope's length over sheaves   ∇_{c_k} = u_k − u_{k−1}, u_k its free segments'
+                              directions (`excavkin.step_kinds.rope_path`);  λ = its tension T,
+                              pulling each path point's pin
 
 Each set of forces a constraint puts on a body is statically equivalent to what the pin
 equations of `excavkin.kinetostatics.equilibrium` put on it: a driver's forces at P and the
@@ -79,12 +82,14 @@ from excavkin.kinetostatics.equilibrium import (
     dense_block_solve,
 )
 from excavkin.step_kinds import CamRockerStep, CamStep, GearStep, RackStep
+from excavkin.step_kinds.rope_path import segment_directions
 from excavkin.structure.plan import (
     Attach,
     CAngle,
     CDist,
     CFrame,
     CLine,
+    CRope,
     Dist,
     Dyad,
     Fixed,
@@ -118,7 +123,7 @@ class Scalar:
 
     Attributes
     ----------
-    kind : {"dist", "frame_x", "frame_y", "angle", "line", "gear", "rack", "cam"}
+    kind : {"dist", "frame_x", "frame_y", "angle", "line", "rope", "gear", "rack", "cam"}
     points : tuple of int
         The points it touches (see the module docstring for each kind's order; a mesh's: two
         points of each body it acts on).
@@ -126,13 +131,15 @@ class Scalar:
         Per touched point, the body its force there acts on, or PIN.
     column : int
         The unknown of the equilibrium system it gives (an element's force, a slider's normal
-        force, a driver's torque, a tooth, contact or guide force or couple), or −1 (a body's
-        internal force).
+        force, a driver's torque, a rope's tension, a tooth, contact or guide force or
+        couple), or −1 (a body's internal force).
     mesh : tuple or CamContact, optional
         A mesh's entry of the system (``gears``, ``racks``, ``cams``).
     part : int
         Which of a rack's or cam's unknowns: 0 tooth or contact force, 1 guide force, 2
         guide couple.
+    signed : tuple of float
+        A rope's signed sheave radius at each of its points (0 at its ends); empty otherwise.
     """
 
     kind: str
@@ -141,6 +148,7 @@ class Scalar:
     column: int
     mesh: Any = None
     part: int = 0
+    signed: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -266,6 +274,8 @@ def compile_structured(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem:
                     scalars.extend(frame(c.p, c.a, c.b, c.body))
                 elif isinstance(c, CLine):
                     scalars.append(line(c.p, c.l1, c.l2))
+                elif isinstance(c, CRope):
+                    scalars.append(_rope(sy, c))
                 else:
                     assert isinstance(c, CAngle)
                     driver = plan.inputs[c.input]
@@ -528,6 +538,12 @@ def _mesh_gradients(sc: Scalar, x: Any) -> list[tuple[Value, Value]]:
     return out
 
 
+def _rope(sy: StaticsSystem, c: CRope) -> Scalar:
+    """A rope's constraint: its tension (its column of the system) acts on its path's pins."""
+    col = sy.rope_col0 + [r[0] for r in sy.ropes].index(c.name)
+    return Scalar("rope", c.points, (PIN,) * len(c.points), col, signed=c.signed)
+
+
 def determinate(plan: SolvePlan, sy: StaticsSystem, seed: int = 20240601) -> bool:
     """Whether the plan shows the equilibrium determinate: every closed-form step's block is
     regular wherever the step assembles, and each Newton group's block has full rank at
@@ -563,6 +579,8 @@ def determinate(plan: SolvePlan, sy: StaticsSystem, seed: int = 20240601) -> boo
                 if q in pos:
                     a[2 * pos[q], col] += float(np.asarray(gx).ravel()[0])
                     a[2 * pos[q] + 1, col] += float(np.asarray(gy).ravel()[0])
+        if not np.isfinite(a).all():  # (a rope with no tangent there): the whole-matrix check
+            return False
         sv = np.linalg.svd(a, compute_uv=False)
         if sv[-1] <= m * np.finfo(float).eps * 1e3 * sv[0]:
             return False
@@ -625,6 +643,17 @@ def _gradients(sc: Scalar, x: F) -> list[tuple[Value, Value]]:
         if len(p) == 4:
             out += _reference(x, p)
         return out
+    if k == "rope":  # ∇(−L) = u_k − u_{k−1}: the tension's pull per unit at each path point
+        ux, uy = segment_directions([(x[q, 0], x[q, 1]) for q in p], sc.signed)
+        last = len(p) - 1
+        return [
+            (ux[0], uy[0])
+            if j == 0
+            else (_neg(ux[j - 1]), _neg(uy[j - 1]))
+            if j == last
+            else (ux[j] - ux[j - 1], uy[j] - uy[j - 1])
+            for j in range(len(p))
+        ]
     assert k == "line"
     ex, ey = x[p[2], 0] - x[p[1], 0], x[p[2], 1] - x[p[1], 1]
     wx, wy = x[p[0], 0] - x[p[1], 0], x[p[0], 1] - x[p[1], 1]
@@ -791,7 +820,7 @@ def _solve_block(block: Block, x: F, f: _Forces, ops: Arithmetic, out: list[Valu
             _attach(first, x, rx, ry, f)
             return
         grads = [_gradients(sc, x) for sc in block.scalars]
-        (ax, ay), (bx, by) = grads[0][0], grads[1][0]
+        (ax, ay), (bx, by) = (_at(sc, g, p) for sc, g in zip(block.scalars, grads, strict=True))
         det = ax * by - ay * bx
         lam: list[Value] = [(rx * by - bx * ry) / det, (ax * ry - ay * rx) / det]
         if block.can_be_singular:  # two unit directions: det is their sine
@@ -817,6 +846,20 @@ def _solve_block(block: Block, x: F, f: _Forces, ops: Arithmetic, out: list[Valu
             out[sc.column] = lm
         for q, owner, (gx, gy) in zip(sc.points, sc.owners, g, strict=True):
             f.add(q, owner, _mul(lm, gx), _mul(lm, gy), q not in own)
+
+
+def _at(sc: Scalar, g: list[tuple[Value, Value]], p: int) -> tuple[Value, Value]:
+    """A scalar constraint's gradient at point ``p``: its first point's for a closed-form
+    step (its own point comes first), else summed over where ``p`` is among its points (a
+    one-point Newton group's distance of a body, or its rope)."""
+    if sc.points[0] == p:
+        return g[0]
+    gx: Value = 0.0
+    gy: Value = 0.0
+    for q, (ex, ey) in zip(sc.points, g, strict=True):
+        if q == p:
+            gx, gy = _add(gx, ex), _add(gy, ey)
+    return gx, gy
 
 
 def _pin_forces(sy: StaticsSystem, f: _Forces, out: list[Value]) -> list[Value]:

@@ -19,6 +19,10 @@ Conventions (drawn in ``docs/conventions.md``)::
   rope); ``mode`` says whether it is an input (``driven``), a rigid strut at its sketch length
   (``locked``) or passive, its length following the mechanism (``free``).
 * A slider keeps a point on the line through two points of another body.
+* A rope ([`Rope`][excavkin.model.entities.Rope]) reeved ``parts`` times between two blocks
+  is also a linear element of the model, of the rope's name, between its blocks: it pulls
+  them together with ``parts`` times its tension and never pushes. A winch rope's input is its
+  motor's angle (a positive angle pays rope out); a locked rope keeps its length.
 * Loads ([`PointForce`][excavkin.model.entities.PointForce],
 [`Torque`][excavkin.model.entities.Torque], [`Gravity`][excavkin.model.entities.Gravity]) act on
 bodies; a force acts at
@@ -38,6 +42,8 @@ if TYPE_CHECKING:
     from excavkin.kinematics.result import KinematicResult
 
 LinearMode = Literal["driven", "locked", "free"]
+RopeMode = Literal["winch", "locked"]
+Wrap = Literal["ccw", "cw"]
 
 #: A load's value: a constant, an array with one row per sample, or a function of the
 #: kinematic result returning either (see [`PointForce`][excavkin.model.entities.PointForce] and
@@ -122,6 +128,87 @@ class LinearDriver:
     between: tuple[str, str]
     mode: LinearMode = "driven"
     stroke: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Rope:
+    """A rope reeved ``parts`` times between two blocks, or run over sheaves; wound on a winch
+    or locked.
+
+    The rope runs ``parts`` times between the blocks at ``path[0]`` and ``path[1]``, so its
+    length is ``L = parts·d + L0`` with ``d`` the blocks' distance and ``L0`` what lies off
+    the blocks (constant). It pulls the blocks together with ``parts·T`` (T ≥ 0 its tension)
+    and never pushes: a sample where it would have to is slack, not ok.
+
+    ``winch``: the rope comes off a drum of radius ``drum_radius`` driven by a motor through
+    ``gear_ratio`` (motor turns per drum turn). The motor's angle θ is the input, counted from
+    the blocks together; a positive rate pays rope out: ``d = θ·R/(i·parts)``, so the blocks
+    part at ``ω·R/(i·parts)`` (the sketch's θ is ``d_sketch·i·parts/R``).
+
+    ``locked``: a pendant or suspension rope of fixed length (its sketch length, or its
+    ``[lengths]`` entry).
+
+    The model lists it also as a linear element of its name between its blocks (driven for
+    a winch, locked otherwise): a [`Model`][excavkin.model.entities.Model] adds that element.
+
+    Over sheaves (a ``path`` of more than two points, one part): the rope runs from
+    ``path[0]`` over a sheave of radius ``radii[k]`` centred at each inner point, turning
+    counter-clockwise (``"ccw"``: the sheave on the rope's left as it runs from the first point
+    to the last) or clockwise around it, to ``path[-1]``. Its length is the sum of its free
+    tangent segments and its arcs on the sheaves; a winch's length is ``θ·R/i``.
+
+    Attributes
+    ----------
+    name : str
+        The rope's name (the winch motor's input, for a winch).
+    path : tuple of str
+        The two blocks (points) the rope runs between, or its two ends with the centres of
+        the sheaves it runs over between them, in order.
+    parts : int
+        Parts of the rope between the blocks (the block's multiplicity), ≥ 1.
+    mode : {"winch", "locked"}
+    drum_radius : float or None
+        m; a winch's drum radius (to the rope's centre line).
+    gear_ratio : float
+        Motor turns per drum turn (> 0), for a winch.
+    radii : tuple of float
+        m; each sheave's radius (to the rope's centre line), one per inner point of ``path``.
+    wraps : tuple of {"ccw", "cw"}
+        The way the rope turns around each sheave, one per inner point of ``path``.
+    """
+
+    name: str
+    path: tuple[str, ...]
+    parts: int = 1
+    mode: RopeMode = "locked"
+    drum_radius: float | None = None
+    gear_ratio: float = 1.0
+    radii: tuple[float, ...] = ()
+    wraps: tuple[Wrap, ...] = ()
+
+    @property
+    def over_sheaves(self) -> bool:
+        """Whether the rope runs over sheaves (a path of more than two points)."""
+        return len(self.path) > 2
+
+    @property
+    def ratio(self) -> float:
+        """The blocks' distance (over sheaves: the rope's length) per motor angle,
+        ``R/(i·parts)`` (m/rad); 0 for a locked rope."""
+        if self.mode != "winch" or self.drum_radius is None:
+            return 0.0
+        return self.drum_radius / (self.gear_ratio * self.parts)
+
+    def element(self) -> LinearDriver:
+        """The linear element the rope is between its blocks.
+
+        Returns
+        -------
+        LinearDriver
+            Of the rope's name, between its blocks: driven for a winch, locked otherwise.
+        """
+        ends = (self.path[0], self.path[-1])
+        return LinearDriver(self.name, ends, "driven" if self.mode == "winch" else "locked")
 
 
 @dataclass(frozen=True, slots=True)
@@ -392,6 +479,9 @@ class Model:
         Racks and pinions: a prismatic pair and a mesh each.
     cams : tuple of CamFollower
         Disc cams and translating followers: a prismatic pair and a contact each.
+    ropes : tuple of Rope
+        Ropes between blocks; each is also in ``linear`` (added when absent), as the element
+        of its name between its blocks.
     """
 
     name: str
@@ -408,9 +498,16 @@ class Model:
     gears: tuple[GearPair, ...] = ()
     racks: tuple[RackPinion, ...] = ()
     cams: tuple[CamFollower, ...] = ()
+    ropes: tuple[Rope, ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.ropes:
+            object.__setattr__(self, "linear", with_rope_elements(self.linear, self.ropes))
 
     def __hash__(self) -> int:
-        return hash((self.name, tuple(self.points), self.bodies, self.rotary, self.linear))
+        return hash(
+            (self.name, tuple(self.points), self.bodies, self.rotary, self.linear, self.ropes)
+        )
 
     @property
     def ground(self) -> Body:
@@ -419,9 +516,12 @@ class Model:
 
     @property
     def inputs(self) -> tuple[str, ...]:
-        """Names of the drivers whose values are inputs: rotary ones and driven linear ones."""
-        return tuple(d.name for d in self.rotary) + tuple(
-            d.name for d in self.linear if d.mode == "driven"
+        """Names of the drivers whose values are inputs: rotary ones, driven linear ones (a
+        winch rope between two blocks among them), then winch ropes over sheaves."""
+        return (
+            tuple(d.name for d in self.rotary)
+            + tuple(d.name for d in self.linear if d.mode == "driven")
+            + tuple(r.name for r in self.ropes if r.mode == "winch" and r.over_sheaves)
         )
 
     def body(self, name: str) -> Body:
@@ -459,3 +559,52 @@ class Model:
             for n in dict.fromkeys(b.points):
                 out.setdefault(n, []).append(b)
         return out
+
+
+def rope_line(rope: Rope) -> str:
+    """A rope in one line, as ``excavkin check`` lists it.
+
+    Parameters
+    ----------
+    rope : Rope
+
+    Returns
+    -------
+    str
+        ``"hoist winch, 2 parts A–B, drum R 0.25 m, i = 20"`` and the like.
+    """
+    if rope.over_sheaves:
+        sheaves = ", ".join(
+            f"{p} (r {r:g} m, {w})"
+            for p, r, w in zip(rope.path[1:-1], rope.radii, rope.wraps, strict=False)
+        )
+        where = f"{rope.path[0]} over {sheaves} to {rope.path[-1]}"
+    else:
+        where = f"{rope.parts} part{'s' if rope.parts != 1 else ''} {'–'.join(rope.path)}"
+    drum = (
+        f", drum R {rope.drum_radius:g} m, i = {rope.gear_ratio:g}" if rope.mode == "winch" else ""
+    )
+    return f"{rope.name} {rope.mode}, {where}{drum}"
+
+
+def with_rope_elements(
+    linear: tuple[LinearDriver, ...], ropes: tuple[Rope, ...]
+) -> tuple[LinearDriver, ...]:
+    """The linear elements with each rope's own added, where none of its name is there.
+
+    Parameters
+    ----------
+    linear : tuple of LinearDriver
+        The model's linear elements.
+    ropes : tuple of Rope
+        Its ropes.
+
+    Returns
+    -------
+    tuple of LinearDriver
+        ``linear``, then the element (`Rope.element`) of each rope not in it, in order.
+    """
+    names = {d.name for d in linear}
+    return linear + tuple(
+        r.element() for r in ropes if r.name not in names and r.path and not r.over_sheaves
+    )

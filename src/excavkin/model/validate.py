@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from excavkin.errors import MobilityError, ModelError, did_you_mean
-from excavkin.model.entities import Model
+from excavkin.model.entities import Model, Rope
 from excavkin.model.gears import gear_pivots, gear_train, pivot_on, rack_side
 
 
@@ -25,6 +25,7 @@ def validate(model: Model) -> None:
     _check_names(model)
     _check_bodies(model)
     _check_rotary(model)
+    _check_ropes(model)
     _check_linear(model)
     _check_sliders(model)
     _check_lengths(model)
@@ -192,6 +193,123 @@ def _check_linear(model: Model) -> None:
                 entry="between",
                 source=src,
             )
+
+
+def _check_ropes(model: Model) -> None:
+    """``[ropes]``: two known, distinct blocks not on one body, a whole number of parts, a
+    winch's drum radius and gear ratio positive, and the element of its name its own."""
+    src = model.source
+    bodies_at = model.bodies_at()
+    _unique([r.name for r in model.ropes], "ropes", src)
+    elements = {d.name: d for d in model.linear}
+    drivers = {d.name for d in model.rotary} | set(elements)
+    for rope in model.ropes:
+        table = f"ropes.{rope.name}"
+        if len(rope.path) < 2:
+            raise ModelError(
+                f"path must list the rope's two blocks (got {len(rope.path)} points)",
+                table=table,
+                entry="path",
+                source=src,
+            )
+        _known_points(model, rope.path, table, "path")
+        if rope.over_sheaves:
+            _check_sheaves(model, rope, drivers)
+            continue
+        if rope.radii or rope.wraps:
+            raise ModelError(
+                "radii and wraps belong to sheaves: a rope between two blocks has none",
+                table=table,
+                entry="radii" if rope.radii else "wraps",
+                source=src,
+            )
+        p, q = rope.path
+        if p == q:
+            raise ModelError(
+                "its two blocks are the same point", table=table, entry="path", source=src
+            )
+        common = [b.name for b in bodies_at.get(p, ()) if q in b.points]
+        if common:
+            raise ModelError(
+                f"{p} and {q} are both points of body {common[0]!r}, so the rope between "
+                "them cannot move",
+                table=table,
+                entry="path",
+                source=src,
+            )
+        if isinstance(rope.parts, bool) or not isinstance(rope.parts, int) or rope.parts < 1:
+            raise ModelError(
+                f"parts must be a whole number ≥ 1, not {rope.parts!r}",
+                table=table,
+                entry="parts",
+                source=src,
+            )
+        if rope.mode not in ("winch", "locked"):
+            raise ModelError(
+                f"mode must be 'winch' or 'locked', not {rope.mode!r}",
+                table=table,
+                entry="mode",
+                source=src,
+            )
+        if rope.mode == "winch":
+            for key, value in (("drum_radius", rope.drum_radius), ("gear_ratio", rope.gear_ratio)):
+                if value is None or not (math.isfinite(value) and value > 0.0):
+                    raise ModelError(
+                        f"a winch needs a finite {key} > 0 (got {value!r})",
+                        table=table,
+                        entry=key,
+                        source=src,
+                    )
+        el = elements.get(rope.name)
+        if el is not None and el != rope.element():
+            raise ModelError(
+                f"a driver is also called {rope.name!r}: the rope is the linear element of its "
+                "name between its blocks; rename one",
+                table=table,
+                source=src,
+            )
+
+
+def _check_sheaves(model: Model, rope: Rope, drivers: set[str]) -> None:
+    """A rope over sheaves: one part, a radius > 0 and a wrap per sheave, no point twice in a
+    row, a winch's drum, and a name no driver has."""
+    src = model.source
+    table = f"ropes.{rope.name}"
+
+    def bad(problem: str, entry: str) -> ModelError:
+        return ModelError(problem, table=table, entry=entry, source=src)
+
+    if rope.name in drivers:
+        raise bad(f"a driver is also called {rope.name!r}: rename one", "path")
+    if rope.parts != 1:
+        raise bad(
+            f"a rope over sheaves has one part (got parts = {rope.parts!r}); a block of n parts "
+            "is a rope between two blocks",
+            "parts",
+        )
+    for a, b in zip(rope.path, rope.path[1:], strict=False):
+        if a == b:
+            raise bad(f"point {a} follows itself in the path", "path")
+    inner = len(rope.path) - 2
+    for key, given in (("radii", rope.radii), ("wraps", rope.wraps)):
+        if len(given) != inner:
+            raise bad(
+                f"{key} must give one value per sheave ({inner}: the inner points of path), "
+                f"got {len(given)}",
+                key,
+            )
+    for k, r in enumerate(rope.radii):
+        if not (math.isfinite(r) and r > 0.0):
+            raise bad(f"sheave {rope.path[k + 1]}: its radius must be finite and > 0", "radii")
+    for k, w in enumerate(rope.wraps):
+        if w not in ("ccw", "cw"):
+            raise bad(f"sheave {rope.path[k + 1]}: wrap must be 'ccw' or 'cw', not {w!r}", "wraps")
+    if rope.mode not in ("winch", "locked"):
+        raise bad(f"mode must be 'winch' or 'locked', not {rope.mode!r}", "mode")
+    if rope.mode == "winch":
+        for key, value in (("drum_radius", rope.drum_radius), ("gear_ratio", rope.gear_ratio)):
+            if value is None or not (math.isfinite(value) and value > 0.0):
+                raise bad(f"a winch needs a finite {key} > 0 (got {value!r})", key)
 
 
 def _check_sliders(model: Model) -> None:
@@ -539,6 +657,12 @@ def mobility(model: Model) -> Mobility:
     links += 2 * len(model.linear)
     lower += 3 * len(model.linear)
     locked = sum(1 for d in model.linear if d.mode == "locked")
+    # a rope over sheaves counts as a linear element: its own length a freedom (its winch's
+    # input), locked or not
+    sheaved = [r for r in model.ropes if r.over_sheaves]
+    links += 2 * len(sheaved)
+    lower += 3 * len(sheaved)
+    locked += sum(1 for r in sheaved if r.mode == "locked")
     # a rack (a cam's follower): a prismatic pair with its carrier and a mesh (a contact)
     lower += len(model.racks) + sum(1 for cm in model.cams if cm.along is not None)
     higher = len(model.gears) + len(model.racks) + len(model.cams)

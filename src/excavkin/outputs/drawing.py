@@ -197,6 +197,12 @@ class MechanismDrawing:
                 alpha=alpha,
             )
             self.cylinders[el.name] = (b, r)
+        for rope in scene.rope_paths:
+            poly = scene.rope_line(rope, sample)
+            (line,) = ax.plot(
+                poly[:, 0], poly[:, 1], color=CYLINDER_COLOR, lw=1.5, zorder=z + 2, alpha=alpha
+            )
+            self.cylinders[rope[0]] = (line, line)
         xy = scene.xy[sample]
         (self.pins,) = ax.plot(
             xy[scene.pins, 0],
@@ -271,6 +277,9 @@ class MechanismDrawing:
             b.set_data(barrel[:, 0], barrel[:, 1])
             if r is not b:
                 r.set_data(rod[:, 0], rod[:, 1])
+        for rope in sc.rope_paths:
+            poly = sc.rope_line(rope, sample)
+            self.cylinders[rope[0]][0].set_data(poly[:, 0], poly[:, 1])
         for sl in sc.sliders:
             block, g = self.sliders[sl[0]]
             block.set_xy(sc.slider_block(sl, sample)[:-1])

@@ -27,6 +27,7 @@ import numpy as np
 from excavkin.outputs.events import Table, dead_samples, failed_runs
 from excavkin.outputs.protocols import Drawable
 from excavkin.outputs.style import BODY_COLORS
+from excavkin.step_kinds.rope_path import rope_path, sketch_wraps
 
 
 def source(mech_or_result: Drawable) -> tuple[Any, np.ndarray, Any]:
@@ -123,7 +124,8 @@ class Scene:
     positions : ndarray, shape (n, n_points, 2)
         Point positions, m.
     ropes : iterable of str
-        Linear elements to draw as plain lines rather than cylinders.
+        Linear elements to draw as plain lines rather than cylinders (the model's ropes are
+        drawn so always).
     length_unit : str
         Display unit of lengths.
 
@@ -148,6 +150,11 @@ class Scene:
     dots: list[int] = field(init=False)
     ground_pivots: list[int] = field(init=False)
     sliders: list[tuple[str, int, int, int]] = field(init=False)
+    #: each rope over sheaves: name, path point indices, signed sheave radii (display units)
+    #: and wraps at the sketch
+    rope_paths: list[tuple[str, tuple[int, ...], tuple[float, ...], tuple[float, ...]]] = field(
+        init=False
+    )
 
     def __post_init__(self) -> None:
         from excavkin.outputs.display_units import convert
@@ -177,6 +184,7 @@ class Scene:
         unknown = ropes - {e.name for e in plan.elements}
         if unknown:
             raise ValueError(f"ropes: no linear element named {', '.join(sorted(unknown))}")
+        ropes |= {r.name for r in model.ropes}
         ends: set[str] = set()
         self.elements = []
         for e in plan.elements:
@@ -191,6 +199,21 @@ class Scene:
             barrel = min(max(lmax - 0.85 * lmin, 0.5 * lmin), 0.9 * lmin)
             style = "line" if e.name in ropes else "cylinder"
             self.elements.append(ElementGeometry(e.name, e.p, e.q, style, barrel, rod))
+        self.rope_paths = []
+        for r in model.ropes:
+            if not r.over_sheaves:
+                continue
+            ends |= set(r.path)
+            radii = [float(convert(np.float64(v), "length", self.length_unit)) for v in r.radii]
+            signed = (
+                0.0,
+                *(v if w == "ccw" else -v for v, w in zip(radii, r.wraps, strict=True)),
+                0.0,
+            )
+            path = tuple(index[p] for p in r.path)
+            sketch = convert(np.asarray([plan.sketch[i] for i in path]), "length", self.length_unit)
+            wraps0 = sketch_wraps([tuple(p) for p in sketch], signed)
+            self.rope_paths.append((r.name, path, signed, wraps0))
         slider_pts: set[str] = set()
         self.sliders = []
         for s in model.sliders:
@@ -259,6 +282,44 @@ class Scene:
         barrel = np.vstack([p, p + u * min(el.barrel, length)])
         rod = np.vstack([q, q - u * min(el.rod, length)])
         return barrel, rod
+
+    def rope_line(
+        self, rope: tuple[str, tuple[int, ...], tuple[float, ...], tuple[float, ...]], i: int
+    ) -> np.ndarray:
+        """A rope over sheaves at sample ``i`` as a polyline: its free tangent segments and
+        its arcs on the sheaves (16 points a quarter turn), shape (k, 2).
+
+        Parameters
+        ----------
+        rope : tuple
+            One of `rope_paths`.
+        i : int
+            The sample.
+
+        Returns
+        -------
+        ndarray, shape (k, 2)
+            Display units; NaN where the sample did not solve.
+        """
+        _, ids, signed, wraps0 = rope
+        pts = [(np.array([x]), np.array([y])) for x, y in self.xy[i, list(ids)]]
+        geo = rope_path(pts, signed, wraps0)
+        out: list[np.ndarray] = []
+        for k in range(len(ids) - 1):
+            u = np.array([geo.ux[k][0], geo.uy[k][0]])
+            n = np.array([-u[1], u[0]])
+            c0, c1 = self.xy[i, ids[k]], self.xy[i, ids[k + 1]]
+            start, end = c0 - signed[k] * n, c1 - signed[k + 1] * n
+            if k:  # the arc on sheave k, from the last segment's end to this one's start
+                r, sigma = abs(signed[k]), np.sign(signed[k])
+                a0 = np.arctan2(*(out[-1] - c0)[::-1])
+                phi = float(geo.wraps[k - 1][0])
+                steps = max(2, int(np.ceil(abs(phi) / (np.pi / 32))) + 1)
+                if np.isfinite(phi):
+                    t = a0 + sigma * np.linspace(0.0, phi, steps)
+                    out += list(c0 + r * np.column_stack([np.cos(t), np.sin(t)]))
+            out += [start, end]
+        return np.asarray(out, dtype=np.float64)
 
     def ground_symbols(self) -> tuple[np.ndarray, np.ndarray]:
         """Ground pivot triangles and their hatching, NaN-separated paths, each shape (k, 2).

@@ -98,6 +98,10 @@ def scene_svg(scene: Scene, sample: int = 0, *, size: int = 240, labels: bool = 
             continue
         parts += polylines(rod, f"stroke='{ROD_COLOR}' stroke-width='3.5'")
         parts += polylines(barrel, f"stroke='{CYLINDER_COLOR}' stroke-width='9'")
+    for rope in scene.rope_paths:
+        parts += polylines(
+            scene.rope_line(rope, sample), f"stroke='{CYLINDER_COLOR}' stroke-width='1.5'"
+        )
     for sl in scene.sliders:
         block = scene.slider_block(sl, sample)
         if np.isfinite(block).all():

@@ -268,6 +268,13 @@ def normalise_drives(mech: Mechanism, drives: Mapping[str, Drive | DriveLaw]) ->
         kind = mech.input_kind(name)
         if isinstance(drive.law, ConstantSpeedCrank) and kind != "angle":
             raise InputError(f"driver {name!r} is linear (a length); a crank drives an angle")
+        winches = {r.name for r in mech.model.ropes if r.mode == "winch"}
+        if isinstance(drive.law, RopeWinch) and name in winches:
+            raise InputError(
+                f"driver {name!r} is a winch rope of the model, its input its motor's angle: "
+                "drive the motor (a constant-speed crank at the motor's speed, or any law of "
+                "its angle); the model's drum radius, gear ratio and parts give the rope's speed"
+            )
         if isinstance(drive.law, RopeWinch) and kind != "length":
             raise InputError(f"driver {name!r} is rotary (an angle); a winch drives a length")
         out[name] = drive

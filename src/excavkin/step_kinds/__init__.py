@@ -41,7 +41,15 @@ from excavkin.step_kinds.base import (
 )
 from excavkin.step_kinds.cam import CamStep
 from excavkin.step_kinds.cam_rocker import CamRockerStep
-from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
+from excavkin.step_kinds.constraints import (
+    CAngle,
+    CDist,
+    CFrame,
+    CLine,
+    Constraint,
+    CRope,
+    GroupDyad,
+)
 from excavkin.step_kinds.dist import Dist
 from excavkin.step_kinds.dyad import Dyad
 from excavkin.step_kinds.fixed import Fixed
@@ -71,6 +79,7 @@ __all__ = [
     "CAngle",
     "CamRockerStep",
     "CamStep",
+    "CRope",
     "CDist",
     "CFrame",
     "CLine",

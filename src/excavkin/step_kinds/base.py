@@ -106,6 +106,10 @@ class Geometry(Protocol):
         """The unit vector q→p of the sketch."""
         ...
 
+    def winch_ratio(self, rope: str) -> Any:
+        """A winch rope's length (between blocks: its blocks' distance) per motor angle."""
+        ...
+
 
 class Emitter(Protocol):
     """The compiled plan's source being written (`excavkin.kinematics.compiled`): the

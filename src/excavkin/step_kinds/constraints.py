@@ -53,7 +53,21 @@ class CAngle:
     input: int
 
 
-Constraint = CDist | CFrame | CLine | CAngle
+@dataclass(frozen=True, slots=True)
+class CRope:
+    """Newton constraint ``L² = d²``: L the length of a rope over sheaves
+    (`excavkin.step_kinds.rope_path`), d its winch's payout or its locked length."""
+
+    points: tuple[int, ...]
+    #: each path point's signed sheave radius σ·r (0 at the ends), m
+    signed: tuple[float, ...]
+    #: each path point's wrap angle at the sketch (0 at the ends), rad
+    wraps0: tuple[float, ...]
+    dist: Dist
+    name: str = ""
+
+
+Constraint = CDist | CFrame | CLine | CAngle | CRope
 
 
 @dataclass(frozen=True, slots=True)

@@ -24,7 +24,9 @@ Index = slice | NDArray[np.intp]
 
 @dataclass(frozen=True, slots=True)
 class Dist:
-    """A distance used by a step: fixed (a body or a locked element) or an input's value."""
+    """A distance used by a step: fixed (a body or a locked element) or an input's value
+    (``scale·q``: the input itself for a cylinder; for a winch rope, its motor's angle times
+    the blocks' distance per motor angle)."""
 
     kind: Literal["fixed", "input"]
     value: float
@@ -34,6 +36,11 @@ class Dist:
     #: it: the two points (plan indices), and the body they are on ("" for a locked element)
     pair: tuple[int, int] = (-1, -1)
     body: str = ""
+    #: an input's distance is ``scale·q`` (m per input unit; one value per design where a
+    #: winch's drum radius or gear ratio varies)
+    scale: Any = 1.0
+    #: the winch rope whose motor's angle the input is ("" for a cylinder's length)
+    winch: str = ""
 
 
 def varies(value: Num) -> bool:
@@ -87,6 +94,12 @@ def vary_dist(d: Dist, geo: Geometry, names: tuple[str, ...]) -> Dist:
     Dist
         ``d`` with its value for the designs where it varies, else ``d`` itself.
     """
+    if d.winch:  # a winch: its distance per motor angle, R/(i·n) of each design
+        scale = geo.winch_ratio(d.winch)
+        if not varies(scale):
+            return d
+        # (its value varies alongside, so that a step takes the designs' scales with it)
+        return dataclasses.replace(d, scale=scale, value=d.value + 0.0 * scale)
     if d.kind != "fixed" or d.pair == (-1, -1):
         return d
     p, q = names[d.pair[0]], names[d.pair[1]]
@@ -114,7 +127,9 @@ def take_dist(d: Dist, index: Index) -> Dist:
     Dist
         ``d`` with ``value[index]``, or ``d`` itself when its value is one number.
     """
-    return dataclasses.replace(d, value=at(d.value, index)) if np.ndim(d.value) else d
+    if not np.ndim(d.value):
+        return d
+    return dataclasses.replace(d, value=at(d.value, index), scale=at(d.scale, index))
 
 
 def compiled_value(d: Dist) -> Any:
@@ -129,8 +144,10 @@ def compiled_value(d: Dist) -> Any:
     Returns
     -------
     float or ndarray
-        The table's entry.
+        The table's entry (a winch's: its distance per motor angle).
     """
+    if d.winch:
+        return d.scale
     return d.value if d.kind == "fixed" else 0.0
 
 

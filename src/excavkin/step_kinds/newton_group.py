@@ -15,9 +15,10 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
-from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, Constraint, GroupDyad
+from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, Constraint, CRope, GroupDyad
 from excavkin.step_kinds.dist import Index, at, dist_inputs, take_dist, varies, vary_dist
-from excavkin.step_kinds.newton_solve import newton_positions, newton_rates
+from excavkin.step_kinds.newton_solve import newton_positions, newton_rates, ropes_on_sheaves
+from excavkin.step_kinds.rope_path import rope_path
 from excavkin.step_kinds.state import Chunk
 
 
@@ -58,6 +59,13 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
         for con in st.constraints:
             if isinstance(con, CDist):
                 con = dataclasses.replace(con, dist=vary_dist(con.dist, geo, names))
+            elif isinstance(con, CRope) and con.dist.kind == "fixed":  # a locked rope's length
+                pts = [geo.sketch[names[p]] for p in con.points]
+                length = rope_path(pts, con.signed, con.wraps0).length
+                if varies(length):
+                    con = dataclasses.replace(con, dist=dataclasses.replace(con.dist, value=length))
+            elif isinstance(con, CRope):  # a winch's: its length per motor angle
+                con = dataclasses.replace(con, dist=vary_dist(con.dist, geo, names))
             elif isinstance(con, CFrame) and con.body:
                 s, t = geo.frame_coords(con.body, names[con.p], names[con.a], names[con.b])
                 if varies(s) or varies(t):
@@ -69,7 +77,7 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
         cons = []
         changed = False
         for con in st.constraints:
-            if isinstance(con, CDist) and np.ndim(con.dist.value):
+            if isinstance(con, CDist | CRope) and np.ndim(con.dist.value):
                 con = dataclasses.replace(con, dist=take_dist(con.dist, index))
                 changed = True
             elif isinstance(con, CFrame) and (np.ndim(con.s) or np.ndim(con.t)):
@@ -89,6 +97,7 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
         by one factorisation of the Jacobian; returns its determinant's sign (order 2)."""
         if newton:
             newton_positions(c, st, k, scale)
+            ropes_on_sheaves(c, st, k)
         if order:
             return newton_rates(c, st, k)
         return None
@@ -125,7 +134,7 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
     def role(self, st: NewtonGroup) -> Role:
         efforts: list[int] = []
         for con in st.constraints:
-            if isinstance(con, CDist):
+            if isinstance(con, CDist | CRope):
                 efforts += dist_inputs(con.dist)
             elif isinstance(con, CAngle):
                 efforts.append(con.input)
@@ -140,6 +149,12 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
                 out += [Primitive("link", (con.a, con.p)), Primitive("link", (con.b, con.p))]
             elif isinstance(con, CAngle):
                 out.append(Primitive("arc", (con.pivot, con.p), driven=True))
+            elif isinstance(con, CRope):
+                driven = con.dist.kind == "input"
+                out += [
+                    Primitive("link", (p, q), driven=driven)
+                    for p, q in zip(con.points, con.points[1:], strict=False)
+                ]
             else:
                 out.append(Primitive("slide", (con.l1, con.l2, con.p)))
         return tuple(out)

@@ -27,7 +27,16 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.step_kinds.base import kind_of
-from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
+from excavkin.step_kinds.constraints import (
+    CAngle,
+    CDist,
+    CFrame,
+    CLine,
+    Constraint,
+    CRope,
+    GroupDyad,
+)
+from excavkin.step_kinds.rope_path import rope_path
 from excavkin.step_kinds.small_systems import Factors
 from excavkin.step_kinds.state import Chunk, Code, dist, flag
 
@@ -112,8 +121,47 @@ def _equations(
                         + _cross(ux, uy, gax, gay)
                     )
             yield f, grad, f1, f2
+        elif isinstance(con, CRope):
+            yield _rope(c, con, x, v, a, want)
         else:
             yield _angle(c, con, x, v, a, want)
+
+
+def _rope(
+    c: Chunk, con: CRope, x: F, v: F | None, a: F | None, want: frozenset[int]
+) -> tuple[F, Grad, F | None, F | None]:
+    """``L² − d²`` of a rope over sheaves (`excavkin.step_kinds.rope_path`), its gradient
+    ``2L·(u_{k−1} − u_k)`` per path point, and its rates ``2L·L̇ − 2d·ḋ`` and
+    ``2L̇² + 2L·L̈ − 2(ḋ² + d·d̈)``, L̈ = Σ u_k·D̈_k + Σ (n_k·Ḋ_k)²/ℓ_k."""
+    d, dd, ddd = dist(c, con.dist)
+    pts = con.points
+    geo = rope_path([(x[p, 0], x[p, 1]) for p in pts], con.signed, con.wraps0)
+    length = geo.length
+    zero = np.zeros(x.shape[-1], dtype=x.dtype)
+    f = length * length - d * d + zero
+    if c.nudge is not None:  # the rounding of the difference, emulated
+        f = f + c.nudge * (length * length + d * d)
+    grad: Grad = []
+    if want:
+        acc: dict[int, tuple[Any, Any]] = {}
+        last = len(pts) - 1
+        for k, p in enumerate(pts):
+            if p not in want:
+                continue
+            gx = (geo.ux[k - 1] if k else 0.0) - (geo.ux[k] if k < last else 0.0)
+            gy = (geo.uy[k - 1] if k else 0.0) - (geo.uy[k] if k < last else 0.0)
+            ox, oy = acc.get(p, (0.0, 0.0))
+            acc[p] = (ox + 2 * length * gx, oy + 2 * length * gy)
+        grad = [(p, gx, gy) for p, (gx, gy) in acc.items()]
+    f1 = f2 = None
+    if v is not None:
+        vel = [(v[p, 0], v[p, 1]) for p in pts]
+        rate = geo.rate(vel)
+        f1 = 2 * length * rate - 2 * d * dd + zero
+        if a is not None:
+            accel = geo.rate([(a[p, 0], a[p, 1]) for p in pts]) + geo.curvature(vel)
+            f2 = 2 * rate * rate + 2 * length * accel - 2 * (dd * dd + d * ddd) + zero
+    return f, grad, f1, f2
 
 
 def _frame(arr: F, con: CFrame, comp: int) -> F:
@@ -205,8 +253,9 @@ def tangents(c: Chunk, g: NewtonGroup, values: tuple[F, F, F]) -> None:
     # the group's own constants at their values: its Jacobian is a plain one
     cons: list[Any] = []
     for con in g.constraints:
-        if isinstance(con, CDist):
-            con = replace(con, dist=replace(con.dist, value=val(con.dist.value)))
+        if isinstance(con, CDist | CRope):
+            d = con.dist
+            con = replace(con, dist=replace(d, value=val(d.value), scale=val(d.scale)))
         elif isinstance(con, CFrame):
             con = replace(con, s=val(con.s), t=val(con.t))
         cons.append(con)
@@ -443,6 +492,28 @@ def newton_rates(c: Chunk, g: NewtonGroup, k: int) -> F:
     return np.sign(ratio)  # type: ignore[no-any-return]
 
 
+def ropes_on_sheaves(c: Chunk, g: NewtonGroup, k: int) -> None:
+    """Flag the samples where a rope of the group would leave a sheave: a wrap below zero
+    (the rope would not touch it, and its length is not the one solved for) or a segment with
+    no tangent; their points are NaN."""
+    bad = np.zeros(c.x.shape[-1], dtype=bool)
+    for con in g.constraints:
+        if not isinstance(con, CRope):
+            continue
+        x = c.x
+        with np.errstate(invalid="ignore"):
+            geo = rope_path([(x[p, 0], x[p, 1]) for p in con.points], con.signed, con.wraps0)
+            for w in geo.wraps:
+                bad |= ~(np.asarray(w) >= -1e-12)
+            for ell in geo.ell:
+                bad |= ~np.isfinite(ell)
+    bad &= c.status == 0
+    if bad.any():
+        flag(c, bad, Code.ROPE_OFF_SHEAVE, k)
+        for p in g.points:
+            c.x[p][:, bad] = np.nan
+
+
 def rotary_branch_ok(c: Chunk, g: NewtonGroup) -> NDArray[np.bool_]:
     """True where every driver-angle constraint points its body the driven way (not θ + π)."""
     ok = np.ones(c.x.shape[-1], dtype=bool)
@@ -545,11 +616,11 @@ def _lengths(c: Chunk, g: NewtonGroup, *, jacobian: bool = True) -> tuple[F, F |
                             jac[row, col[p] + 1] += sign * hy
             row += 1
             continue
-        if isinstance(con, CDist):
-            r = np.hypot(x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1])
+        if isinstance(con, CDist | CRope):  # (L² − d²)/(L + d) = L − d, L = |p − q| or a rope's
+            r = _length(x, con)
             size = r + np.abs(dist(c, con.dist)[0])
             res[row] /= np.where(size > 0, size, 1.0)
-            if jac is not None:  # ∂|p − q| = ∂(|p − q|²) / (2·|p − q|)
+            if jac is not None:  # ∂L = ∂(L²) / (2·L)
                 jac[row] /= np.where(r > 0, 2.0 * r, 1.0)
         else:  # ρ = cross(u, g)/|u|: its ends' rows gain ∓ρ·û/|u| from |u|
             ux, uy = x[con.l2, 0] - x[con.l1, 0], x[con.l2, 1] - x[con.l1, 1]
@@ -564,6 +635,14 @@ def _lengths(c: Chunk, g: NewtonGroup, *, jacobian: bool = True) -> tuple[F, F |
                         jac[row, col[p] + 1] += sign * res[row] * uy / (u * u)
         row += 1
     return res, jac
+
+
+def _length(x: F, con: CDist | CRope) -> F:
+    """A distance constraint's |p − q|, or a rope's length over its sheaves, shape (n,)."""
+    if isinstance(con, CDist):
+        return np.hypot(x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1])  # type: ignore[no-any-return]
+    pts = [(x[p, 0], x[p, 1]) for p in con.points]
+    return np.asarray(rope_path(pts, con.signed, con.wraps0).length)
 
 
 def misses(c: Chunk, g: NewtonGroup) -> tuple[F, F]:
@@ -590,9 +669,8 @@ def misses(c: Chunk, g: NewtonGroup) -> tuple[F, F]:
     length = np.empty((len(g.constraints), n))
     amount = np.empty((len(g.constraints), n))
     for k, con in enumerate(g.constraints):
-        if isinstance(con, CDist):
-            r = np.hypot(x[con.p, 0] - x[con.q, 0], x[con.p, 1] - x[con.q, 1])
-            amount[k] = r - np.abs(dist(c, con.dist)[0])
+        if isinstance(con, CDist | CRope):  # a rope's: its length's error
+            amount[k] = _length(x, con) - np.abs(dist(c, con.dist)[0])
             length[k] = np.abs(amount[k])
         elif isinstance(con, CFrame):
             amount[k] = length[k] = np.hypot(_frame(x, con, 0), _frame(x, con, 1))
@@ -715,7 +793,7 @@ def _project(c: Chunk, g: NewtonGroup, keep: F, tol: float) -> None:
 
 def _driven(con: Constraint) -> bool:
     """Whether a group's constraint is a driver's: a driven length, or a driver's angle."""
-    return isinstance(con, CAngle) or (isinstance(con, CDist) and con.dist.kind == "input")
+    return isinstance(con, CAngle) or (isinstance(con, CDist | CRope) and con.dist.kind == "input")
 
 
 def out_of_reach(

@@ -33,6 +33,7 @@ class Code(IntEnum):
     IMPRECISE = 9
     BAD_DESIGN = 10
     OUT_OF_REACH = 11
+    ROPE_OFF_SHEAVE = 12
 
 
 @dataclass(slots=True)
@@ -97,6 +98,9 @@ def dist(c: Chunk, d: Dist) -> tuple[F | float, F | float, F | float]:
         if c.x.dtype != np.float64:  # a wider solve: products of lengths in its own precision
             return c.x.dtype.type(d.value), 0.0, 0.0
         return d.value, 0.0, 0.0
+    if d.winch:  # a winch: the blocks' distance from its motor's angle
+        k = d.scale
+        return k * c.q[d.input], k * c.qd[d.input], k * c.qdd[d.input]
     return c.q[d.input], c.qd[d.input], c.qdd[d.input]
 
 

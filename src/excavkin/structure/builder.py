@@ -27,7 +27,7 @@ from typing import ClassVar, Literal
 
 from excavkin.errors import AssemblyError, MobilityError
 from excavkin.model.cams import lift_law
-from excavkin.model.entities import Body, CamFollower, Model
+from excavkin.model.entities import Body, CamFollower, Model, Rope
 from excavkin.model.gears import gear_train, pivot_on
 from excavkin.model.validate import mobility
 from excavkin.step_kinds import (
@@ -44,6 +44,7 @@ from excavkin.step_kinds import (
     StepKind,
     registered,
 )
+from excavkin.step_kinds.rope_path import rope_path, sketch_wraps
 from excavkin.structure.group_dyads import group_dyads
 from excavkin.structure.plan import (
     CAngle,
@@ -51,6 +52,7 @@ from excavkin.structure.plan import (
     CFrame,
     CLine,
     Constraint,
+    CRope,
     Dist,
     Element,
     SolvePlan,
@@ -219,14 +221,46 @@ class PlanBuilder:
                     source=self.model.source,
                 )
             length = override or math.dist(sk[p], sk[q])
+            ratio = winch_ratio(self.model, ld.name)
             if ld.mode == "driven":
-                self.kinds.append("length")
-                self.input_sketch.append(length)
+                self.kinds.append("angle" if ratio else "length")
+                self.input_sketch.append(length / ratio if ratio else length)
             driven = ld.mode == "driven"
             index = self.in_idx.get(ld.name, -1) if driven else -1
             self.point_elements[p].append(len(self.elements))
             self.point_elements[q].append(len(self.elements))
-            self.elements.append(Element(ld.name, self.idx[p], self.idx[q], ld.mode, index, length))
+            self.elements.append(
+                Element(ld.name, self.idx[p], self.idx[q], ld.mode, index, length, ratio)
+            )
+        self.add_sheaved_ropes()
+
+    def add_sheaved_ropes(self) -> None:
+        """Each rope over sheaves as its constraint (`CRope`), for the Newton group; a winch's
+        input (its motor's angle, the rope's length over ``R/i``)."""
+        self.ropes: list[CRope] = []
+        self.used_rope: set[int] = set()
+        for rope in self.model.ropes:
+            if not rope.over_sheaves:
+                continue
+            signed = (0.0, *rope_signed_radii(rope), 0.0)
+            sketch = [self.sketch[n] for n in rope.path]
+            wraps0 = sketch_wraps(sketch, signed)
+            length = float(rope_path(sketch, signed, wraps0).length)
+            if rope.mode == "winch":
+                self.kinds.append("angle")
+                self.input_sketch.append(length / rope.ratio)
+                d = Dist(
+                    "input",
+                    length,
+                    self.in_idx[rope.name],
+                    label=rope.name,
+                    scale=rope.ratio,
+                    winch=rope.name,
+                )
+            else:
+                d = Dist("fixed", length, label=f"locked rope {rope.name!r}")
+            points = tuple(self.idx[n] for n in rope.path)
+            self.ropes.append(CRope(points, signed, wraps0, d, rope.name))
 
     def check_lengths_are_dimensions(self) -> None:
         """Every ``[lengths]`` pair is on a common body or joined by a cylinder."""
@@ -819,6 +853,10 @@ class PlanBuilder:
             if si not in self.used_slider and {sl.point, *sl.along} & unk:
                 cons.append(CLine(idx[sl.point], idx[sl.along[0]], idx[sl.along[1]]))
                 self.used_slider.add(si)
+        for k, con in enumerate(self.ropes):
+            if k not in self.used_rope and {self.names[p] for p in con.points} & unk:
+                cons.append(con)
+                self.used_rope.add(k)
         for ri, rd in enumerate(model.rotary):
             if ri in self.used_rotary:
                 continue
@@ -842,6 +880,14 @@ class PlanBuilder:
                     f"{kind} {el.name!r} is redundant: both its points are already fixed by the "
                     "rest of the mechanism (over-constrained; make it 'free' or remove a joint)",
                     table=f"drivers.{el.name}",
+                    source=src,
+                )
+        for k, con in enumerate(self.ropes):
+            if k not in self.used_rope:
+                raise MobilityError(
+                    f"rope {con.name!r} is redundant: every point of its path is already fixed "
+                    "by the rest of the mechanism (over-constrained)",
+                    table=f"ropes.{con.name}",
                     source=src,
                 )
         for si, s in enumerate(self.model.sliders):
@@ -941,8 +987,45 @@ class PlanBuilder:
         )
 
 
+def rope_signed_radii(rope: Rope) -> tuple[float, ...]:
+    """Each sheave's signed radius σ·r of a rope over sheaves (σ = +1 counter-clockwise).
+
+    Parameters
+    ----------
+    rope : Rope
+        A rope over sheaves.
+
+    Returns
+    -------
+    tuple of float
+        m, one per inner point of its path.
+    """
+    return tuple(r if w == "ccw" else -r for r, w in zip(rope.radii, rope.wraps, strict=True))
+
+
+def winch_ratio(model: Model, name: str) -> float:
+    """The blocks' distance per motor angle of the winch rope called ``name`` (m/rad).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    name : str
+        A linear element's name.
+
+    Returns
+    -------
+    float
+        ``R/(i·parts)`` of the winch rope of that name; 0.0 when it is no winch rope.
+    """
+    return next((r.ratio for r in model.ropes if r.name == name and not r.over_sheaves), 0.0)
+
+
 def _element_dist(el: Element) -> Dist:
-    """A driven element's distance is its input; a locked one's is its fixed length."""
+    """A driven element's distance is its input (a winch rope's: ``ratio`` times its motor's
+    angle); a locked one's is its fixed length."""
+    if el.mode == "driven" and el.ratio:
+        return Dist("input", el.length, el.input, label=el.name, scale=el.ratio, winch=el.name)
     if el.mode == "driven":
         return Dist("input", el.length, el.input, label=el.name)
     return Dist("fixed", el.length, label=f"locked {el.name!r}", pair=(el.p, el.q))

@@ -12,6 +12,8 @@ Every dimension of a model is a parameter with a name and a nominal SI value
 ``BODY.center_of_mass.x``  its centre of mass in sketch coordinates (and ``.y``), m
 ``LOAD.Fx``, ``LOAD.Fy``   a constant point force of the model's ``[loads]``, N
 ``LOAD.torque``            a constant couple of the model's ``[loads]``, N·m
+``ROPE.drum_radius``       a winch rope's drum radius, m
+``ROPE.gear_ratio``        its gear ratio (motor turns per drum turn)
 =========================  ==========================================================
 
 [`design_plan`][excavkin.structure.design.design_plan] recomputes the plan's constants (ground
@@ -37,6 +39,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.errors import unknown_name
 from excavkin.model.entities import Model
 from excavkin.step_kinds import kind_of
+from excavkin.step_kinds.rope_path import rope_path, sketch_wraps
 from excavkin.structure.plan import SolvePlan, Step
 from excavkin.structure.shapes import LocalFrame, com_coords, local_frame
 
@@ -51,6 +54,8 @@ KIND_OF = {
     "Fx": "force",
     "Fy": "force",
     "torque": "torque",
+    "drum_radius": "length",
+    "gear_ratio": "dimensionless",
 }
 
 
@@ -69,7 +74,8 @@ def parameters(model: Model) -> dict[str, float]:
         ``NAME`` of each design variable; ``P.x``, ``P.y`` of each point (m); ``P-Q`` of each
         fixed length (m); ``LOAD.Fx``, ``LOAD.Fy`` (N) or ``LOAD.torque`` (N·m) of each
         constant load; ``BODY.mass`` (kg), ``BODY.inertia`` (kg·m²) and
-        ``BODY.center_of_mass.x``, ``.y`` (m) where the body gives them.
+        ``BODY.center_of_mass.x``, ``.y`` (m) where the body gives them; ``ROPE.drum_radius``
+        (m) and ``ROPE.gear_ratio`` of each winch rope.
     """
     out: dict[str, float] = {v.name: float(v.value) for v in model.design}
     for name, (x, y) in model.points.items():
@@ -78,6 +84,10 @@ def parameters(model: Model) -> dict[str, float]:
         out[f"{p}-{q}"] = float(value)
     for name, value in load_parameters(model).items():
         out[name] = value
+    for rope in model.ropes:
+        if rope.mode == "winch" and rope.drum_radius is not None:
+            out[f"{rope.name}.drum_radius"] = float(rope.drum_radius)
+            out[f"{rope.name}.gear_ratio"] = float(rope.gear_ratio)
     for b in model.bodies:
         if b.mass is not None:
             out[f"{b.name}.mass"] = float(b.mass)
@@ -212,6 +222,13 @@ class _Geometry:
         self.lengths: dict[tuple[str, str], Num] = {
             (p, q): values.get(f"{p}-{q}", v) for (p, q), v in model.lengths.items()
         }
+        #: each winch rope's length per motor angle, R/(i·parts), with the values given
+        self.winch: dict[str, Num] = {
+            r.name: values.get(f"{r.name}.drum_radius", r.drum_radius)
+            / (values.get(f"{r.name}.gear_ratio", r.gear_ratio) * r.parts)
+            for r in model.ropes
+            if r.mode == "winch"
+        }
         self.frames: dict[str, LocalFrame] = {}
         self.bad: Num = False
         for b in model.bodies if frames else ():
@@ -231,7 +248,11 @@ class _Geometry:
                 fine = np.isfinite(value)
                 if kind == "inertia":
                     fine = fine & (value >= 0)
-                elif kind == "mass" or ("." not in name and "-" in name):  # a [lengths] entry
+                elif (
+                    kind == "mass"
+                    or ("." not in name and "-" in name)  # a [lengths] entry
+                    or name.endswith((".drum_radius", ".gear_ratio"))  # a winch's
+                ):
                     fine = fine & (value > 0)
             self.bad = self.bad | ~fine
         for name, value in values.items():  # pin offsets (clearances) in a body's frame
@@ -255,6 +276,9 @@ class _Geometry:
 
     def override(self, p: str, q: str) -> Num | None:
         return self.lengths.get((p, q), self.lengths.get((q, p)))
+
+    def winch_ratio(self, rope: str) -> Num:
+        return self.winch[rope]
 
     def unit(self, p: str, q: str) -> tuple[Num, Num]:
         (px, py), (qx, qy) = self.sketch[p], self.sketch[q]
@@ -371,6 +395,19 @@ def _input_sketch(plan: SolvePlan, geo: _Geometry) -> list[Num]:
             given = geo.override(p, q)
             (px, py), (qx, qy) = sk[p], sk[q]
             out[input_index[ld.name]] = given if given is not None else np.hypot(px - qx, py - qy)
+    for rope in model.ropes:  # a winch's input is its motor's angle: the length over R/(i·n)
+        if rope.mode != "winch":
+            continue
+        i = input_index[rope.name]
+        if rope.over_sheaves:
+            signed = (
+                0.0,
+                *(r if w == "ccw" else -r for r, w in zip(rope.radii, rope.wraps, strict=True)),
+                0.0,
+            )
+            wraps0 = sketch_wraps([model.points[p] for p in rope.path], signed)
+            out[i] = rope_path([sk[p] for p in rope.path], signed, wraps0).length
+        out[i] = out[i] / geo.winch[rope.name]
     return out
 
 

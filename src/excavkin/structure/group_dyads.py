@@ -22,7 +22,7 @@ from __future__ import annotations
 import heapq
 from collections.abc import Sequence
 
-from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, Constraint, GroupDyad
+from excavkin.structure.plan import CAngle, CDist, CFrame, CLine, Constraint, CRope, GroupDyad
 
 
 def _touches(con: Constraint) -> tuple[int, ...]:
@@ -33,6 +33,8 @@ def _touches(con: Constraint) -> tuple[int, ...]:
         return con.p, con.a, con.b
     if isinstance(con, CLine):
         return con.p, con.l1, con.l2
+    if isinstance(con, CRope):
+        return con.points
     assert isinstance(con, CAngle)
     return (con.p, con.pivot) + (() if con.ref is None else con.ref)
 

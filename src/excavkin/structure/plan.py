@@ -38,6 +38,7 @@ from excavkin.step_kinds import (
     CFrame,
     CLine,
     Constraint,
+    CRope,
     Dist,
     Dyad,
     Fixed,
@@ -58,6 +59,7 @@ __all__ = [
     "CFrame",
     "CLine",
     "Constraint",
+    "CRope",
     "Dist",
     "Dyad",
     "Element",
@@ -81,6 +83,9 @@ class Element:
     mode: Literal["driven", "locked", "free"]
     input: int
     length: float
+    #: a winch rope's blocks' distance per motor angle (m/rad): its distance is ``ratio·q``
+    #: (0: a cylinder's length is its input itself)
+    ratio: float = 0.0
 
 
 @dataclass(frozen=True, slots=True)

@@ -300,7 +300,7 @@ def solve_set(
     result : KinematicResult or ForceResult
         The d × p samples, design-major.
     ok : ndarray of bool, shape (d, p)
-        Whether each pose solved (and is not statically singular).
+        Whether each pose solved (and is not statically singular, and no rope is slack).
     """
     p = poses.count
     params = {k: np.repeat(np.asarray(v, dtype=np.float64), p) for k, v in designs.items()}
@@ -308,7 +308,11 @@ def solve_set(
     rates = {k: _tile(v, p, d) for k, v in poses.rates.items()}
     accels = {k: _tile(v, p, d) for k, v in poses.accels.items()}
     res: Any = mech.solve(values, rates, accels, params=params, loads=loads)
-    ok = res.status.solved if loads is None else res.kinematics.status.solved & ~res.singular
+    ok = (
+        res.status.solved
+        if loads is None
+        else res.kinematics.status.solved & ~res.singular & ~res.slack
+    )
     return res, np.broadcast_to(ok, (d * p,)).reshape(d, p)
 
 

@@ -846,7 +846,11 @@ class _MechanismProblem(Problem):
                 sensitivity_columns=wanted,
             )  # fmt: skip
             kin = res if self.loads is None else res.kinematics
-            ok = kin.status.solved if self.loads is None else kin.status.solved & ~res.singular
+            ok = (
+                kin.status.solved
+                if self.loads is None
+                else kin.status.solved & ~res.singular & ~res.slack
+            )
             solved = solved and bool(np.all(ok))
             for m in self.metrics:
                 if m.poses != name:

@@ -11,6 +11,7 @@ results are identical.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import itertools
 import json
@@ -23,6 +24,7 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 
 from excavkin.errors import InputError
+from excavkin.execution import Execution, current, settings, use
 from excavkin.studies.design_space import METHODS, sample_designs
 from excavkin.studies.metrics import (
     Constraint,
@@ -236,9 +238,13 @@ def chunks(study: Subject, chunk_samples: int = CHUNK_SAMPLES) -> list[tuple[int
     return [(s, min(s + per, n)) for s in range(0, n, per)]
 
 
-def evaluate_chunk(study: Subject, start: int, stop: int) -> pd.DataFrame:
-    """The designs ``start:stop`` of the study (module level, for a Dask task)."""
-    return study.evaluate_chunk(start, stop)
+def evaluate_chunk(
+    study: Subject, start: int, stop: int, execution: Execution | None = None
+) -> pd.DataFrame:
+    """The designs ``start:stop`` of the study (module level, for a Dask task), solved with
+    ``execution`` (default: the settings in use, `excavkin.execution.current`)."""
+    with use(execution or current()):
+        return study.evaluate_chunk(start, stop)
 
 
 def run_study(
@@ -250,6 +256,8 @@ def run_study(
     progress: Callable[[int, int], None] | None = None,
     scheduler: str | None = None,
     chunk_samples: int = CHUNK_SAMPLES,
+    backend: str | None = None,
+    execution: Execution | None = None,
 ) -> StudyResult:
     """Evaluate the study and write its table (Parquet) to ``out``.
 
@@ -270,6 +278,12 @@ def run_study(
         `SCHEDULER_TIMEOUT` seconds (`SchedulerError`).
     chunk_samples : int
         Designs × poses solved at once.
+    backend : {"auto", "numpy", "numba", "cuda"}, optional
+        Where every solve runs, here or on the Dask workers, as for
+        [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
+    execution : Execution, optional
+        Backend, threads and chunk size of every solve as one object
+        ([`Execution`][excavkin.execution.Execution]); ``backend`` replaces its own.
 
     Returns
     -------
@@ -281,8 +295,10 @@ def run_study(
 
     if scheduler is not None:
         check_scheduler(scheduler)
+    run = dataclasses.replace(settings(execution, backend=backend), progress=None)
     target = check_target(out, force=force, suffixes=(".parquet",))
-    kinds, name = study.prepare()
+    with use(run):  # (its probes too)
+        kinds, name = study.prepare()
     parts = target.parent / f".{target.name}.parts"
     fingerprint = study.fingerprint()
     stamp = parts / "study.json"
@@ -294,7 +310,7 @@ def run_study(
     done = study.designs - sum(e - s for s, e in todo)
     if progress is not None:
         progress(done, study.designs)
-    for (s, e), frame in _run(study, todo, scheduler):
+    for (s, e), frame in _run(study, todo, scheduler, run):
         _write_part(frame, _part(parts, s))
         done += e - s
         if progress is not None:
@@ -554,11 +570,11 @@ def check_scheduler(address: str) -> None:
 
 
 def _run(
-    study: Subject, todo: list[tuple[int, int]], scheduler: str | None
+    study: Subject, todo: list[tuple[int, int]], scheduler: str | None, execution: Execution
 ) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
     if scheduler is None:
         for s, e in todo:
-            yield (s, e), evaluate_chunk(study, s, e)
+            yield (s, e), evaluate_chunk(study, s, e, execution)
         return
     try:
         from distributed import Client, LocalCluster, as_completed
@@ -593,14 +609,14 @@ def _run(
             pending = iter(todo)
             futures = {}
             for s, e in itertools.islice(pending, window):
-                futures[client.submit(evaluate_chunk, study, s, e, pure=False)] = (s, e)
+                futures[client.submit(evaluate_chunk, study, s, e, execution, pure=False)] = (s, e)
             running = as_completed(list(futures))
             for future in running:
                 span = futures.pop(future)
                 frame = future.result()
                 future.release()
                 for s, e in itertools.islice(pending, 1):
-                    nxt = client.submit(evaluate_chunk, study, s, e, pure=False)
+                    nxt = client.submit(evaluate_chunk, study, s, e, execution, pure=False)
                     futures[nxt] = (s, e)
                     running.add(nxt)
                 yield span, frame

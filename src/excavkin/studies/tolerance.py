@@ -35,6 +35,7 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
+from excavkin.execution import Execution, settings
 from excavkin.mechanism import Mechanism, as_si
 from excavkin.structure.design import joint_offsets, parameter_kind
 
@@ -187,6 +188,8 @@ def tolerance_bands(
     distribution: str = "normal",
     loads: Any = None,
     progress: Callable[[int, int], None] | None = None,
+    backend: str | None = None,
+    execution: Execution | None = None,
 ) -> ToleranceBands:
     """Worst-case, root-sum-square and Monte Carlo bands of every kinematic column.
 
@@ -214,11 +217,18 @@ def tolerance_bands(
         [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
     progress : callable, optional
         ``progress(draws_done, draws)`` after each batch of Monte Carlo designs.
+    backend : {"auto", "numpy", "numba", "cuda"}, optional
+        Where the solves run, as for
+        [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
+    execution : Execution, optional
+        The solves' backend, threads and chunk size as one object
+        ([`Execution`][excavkin.execution.Execution]); ``backend`` replaces its own.
 
     Returns
     -------
     ToleranceBands
     """
+    run = settings(execution, backend=backend)
     tols = {
         name: parse_tolerance(t, _kind(mech, name), f"tolerance of {name!r}")
         for name, t in (tolerances or {}).items()
@@ -227,7 +237,9 @@ def tolerance_bands(
     names = list(tols) + [p for _, axes in pins for p in axes]
     if not names:
         raise InputError("nothing is toleranced: give tolerances or a clearance")
-    nominal: Any = mech.solve(values, rates, accels, sensitivities=names, loads=loads)
+    nominal: Any = mech.solve(
+        values, rates, accels, sensitivities=names, loads=loads, execution=run
+    )
     table = nominal.to_frame()
     every = [c.name for c in nominal.columns if c.owner_kind != "time"]
     every = [c for c in every if not c.startswith(("d(", "design."))]
@@ -252,7 +264,7 @@ def tolerance_bands(
         raise InputError(f"distribution must be 'normal' or 'uniform', got {distribution!r}")
     low, high, mean, std, failed = _monte_carlo(
         mech, values, rates, accels, tols, pins, cols, n, draws, seed, distribution, loads,
-        progress,
+        progress, run,
     )  # fmt: skip
     motion = nominal.motion_note if loads is not None or nominal.unit_rates else ""
     return ToleranceBands(
@@ -306,6 +318,7 @@ def _monte_carlo(
     distribution: str,
     loads: Any,
     progress: Callable[[int, int], None] | None = None,
+    execution: Execution | None = None,
 ) -> tuple[F, F, F, F, NDArray[np.int64]]:
     """Min, max, mean and standard deviation of every column over the draws, per sample, and
     the draws per sample that failed; the designs are solved ``BATCH`` samples at a time."""
@@ -338,6 +351,7 @@ def _monte_carlo(
             _tiled(mech, accels, n, d, 2),
             params=params,
             loads=loads,
+            execution=execution,
         )
         if loads is None:
             ok = res.status.ok.reshape(d, n)

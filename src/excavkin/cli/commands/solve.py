@@ -14,6 +14,7 @@ from excavkin.cli.common import (
     ACCEL_KIND,
     EXIT_SAMPLES,
     RATE_KIND,
+    backend_option,
     check_samples,
     fail,
     handle_errors,
@@ -24,7 +25,7 @@ from excavkin.cli.common import (
     units_row_option,
 )
 from excavkin.cli.input_table import InputTable
-from excavkin.cli.progress import MIN_SAMPLES_FOR_BAR, progress
+from excavkin.cli.progress import MIN_SAMPLES_FOR_BAR, compile_notes, progress
 from excavkin.cli.tally import Tally
 from excavkin.errors import InputError
 from excavkin.kinematics import KinematicResult
@@ -296,6 +297,7 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="Add the exact derivative of every column with respect to this parameter, "
     "d(<column>)/d(NAME).",
 )
+@backend_option
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @handle_errors
 def command(
@@ -315,6 +317,7 @@ def command(
     continuation: str,
     params: tuple[str, ...],
     sensitivities: tuple[str, ...],
+    backend: str,
     quiet: bool,
 ) -> None:
     """Solve MODEL.toml over driver sweeps and write one row per sample.
@@ -323,6 +326,9 @@ def command(
     <driver>.value .rate .accel, <point>.transmission, status; with --forces also (N, N·m)
     <point>.<body>.Fx .Fy, <driver>.force, <driver>.torque, <slider>.normal, <ground>.Rx .Ry.
     """
+    from excavkin.backends import require
+
+    require(backend, f"--backend {backend}")
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
     values, rate_v, accel_v = build_inputs(
@@ -360,7 +366,8 @@ def command(
 
     def frames() -> Iterator[pd.DataFrame]:
         """The table part by part; at its end, the checks that decide whether it is kept."""
-        with progress("solving", n, quiet=quiet or n < MIN_SAMPLES_FOR_BAR) as advance:
+        bar = progress("solving", n, quiet=quiet or n < MIN_SAMPLES_FOR_BAR)
+        with compile_notes(quiet), bar as advance:
             for part in mech.solve_stream(
                 values,
                 rate_v,
@@ -370,6 +377,7 @@ def command(
                 loads=loads,
                 params=designs or None,
                 sensitivities=list(sensitivities) or None,
+                backend=backend,  # type: ignore[arg-type]
             ):
                 tally.add(part.start, part.result)
                 motion[0] = motion[0] or _motion_note(part.result)
@@ -380,15 +388,15 @@ def command(
         for cp in tally.sorted_change_points():
             click.echo(f"excavkin: warning: {cp.describe()}", err=True)
         report_failures(tally, keep_going)  # stops here: the file is not kept
-        singular = tally.singular_text()
-        if singular and not keep_going:
-            fail(
-                f"{singular}. Nothing was written; pass --keep-going to write the table with "
-                "these rows marked.",
-                EXIT_SAMPLES,
-            )
-        if singular:
-            click.echo(f"excavkin: warning: {singular}", err=True)
+        for singular in (tally.singular_text(), tally.slack_text()):
+            if singular and not keep_going:
+                fail(
+                    f"{singular}. Nothing was written; pass --keep-going to write the table "
+                    "with these rows marked.",
+                    EXIT_SAMPLES,
+                )
+            if singular:
+                click.echo(f"excavkin: warning: {singular}", err=True)
 
     write_tables(frames(), target, force=force, units_row=units_row)
     click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from excavkin.cli.common import handle_errors
+from excavkin.cli.common import backend_option, handle_errors
 from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
@@ -19,9 +19,16 @@ if TYPE_CHECKING:
 @click.command("study")
 @click.argument("spec", metavar="STUDY")
 @study_options
+@backend_option
 @handle_errors
 def command(
-    spec: str, out: str | None, force: bool, restart: bool, scheduler: str | None, quiet: bool
+    spec: str,
+    out: str | None,
+    force: bool,
+    restart: bool,
+    scheduler: str | None,
+    quiet: bool,
+    backend: str,
 ) -> None:
     """Evaluate a design study: designs sampled in the box of STUDY.toml's parameter bounds
     (Sobol', Halton, Latin hypercube or a grid), each solved at every pose of its pose sets in
@@ -30,15 +37,17 @@ def command(
     """
     from pathlib import Path
 
+    from excavkin.backends import require
     from excavkin.cli.common import model_path
     from excavkin.studies.study_file import load_study
 
+    require(backend, f"--backend {backend}")
     path = model_path(spec, "study")
     study = load_study(path)
     # by default beside where the command runs (a built-in example's folder is not the user's)
     target = Path(out) if out else Path(path.stem + ".parquet")
     title = f"{study.model.stem} ({study.method}, seed {study.seed})"
-    run_with_progress(study, title, target, force, restart, scheduler, quiet)
+    run_with_progress(study, title, target, force, restart, scheduler, quiet, backend)
 
 
 def run_with_progress(
@@ -49,10 +58,12 @@ def run_with_progress(
     restart: bool,
     scheduler: str | None,
     quiet: bool,
+    backend: str = "auto",
 ) -> None:
     """Run a study (of a model, or of a machine) into ``target`` with a progress bar, and say
-    how many designs are feasible (``quiet``: no header, no bar; the closing line alone)."""
-    from excavkin.cli.progress import progress
+    how many designs are feasible (``quiet``: no header, no bar; the closing line alone);
+    every solve on ``backend``."""
+    from excavkin.cli.progress import compile_notes, progress
     from excavkin.errors import ExcavkinError
     from excavkin.studies.study import SchedulerError, check_scheduler, run_study
 
@@ -64,7 +75,7 @@ def run_with_progress(
     total = study.designs
     if not quiet:
         click.echo(f"{total:,} designs × {study.pose_count:,} poses of {title}", err=True)
-    with progress("designs", total, quiet=quiet) as advance:
+    with compile_notes(quiet), progress("designs", total, quiet=quiet) as advance:
         seen = [0]
 
         def report(done: int, _total: int) -> None:
@@ -74,7 +85,7 @@ def run_with_progress(
         try:
             result = run_study(
                 study, target, force=force, resume=not restart, progress=report,
-                scheduler=scheduler,
+                scheduler=scheduler, backend=backend,
             )  # fmt: skip
         except SchedulerError as exc:
             raise ExcavkinError(f"--scheduler {scheduler}: {exc}") from None

@@ -10,7 +10,7 @@ from typing import Any
 import click
 
 from excavkin.cli.commands.solve import build_inputs, with_sweep_options
-from excavkin.cli.common import handle_errors, model_path, parse_assignment
+from excavkin.cli.common import backend_option, handle_errors, model_path, parse_assignment
 from excavkin.errors import InputError
 
 TABLE_SUFFIXES = (".csv", ".parquet")
@@ -74,6 +74,7 @@ MAX_SOLVES = 10**9
     help="Plot the first column's bands (.png, .svg, .pdf).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
+@backend_option
 @click.option("-q", "--quiet", is_flag=True, help="No progress.")
 @handle_errors
 def command(
@@ -93,6 +94,7 @@ def command(
     out: str | None,
     plot_to: str | None,
     force: bool,
+    backend: str,
     quiet: bool,
 ) -> None:
     """Bands of MODEL's columns over a sweep when its dimensions are made within --tol and its
@@ -101,9 +103,11 @@ def command(
     over the geometry axis. Prints, per column, the largest half-width of each band and the
     dimension that matters most."""
     import excavkin
+    from excavkin.backends import require
     from excavkin.outputs.tables import check_target, write_atomic, write_table
     from excavkin.studies.tolerance import summary_rows, tolerance_bands
 
+    require(backend, f"--backend {backend}")
     table = check_target(out, force=force, suffixes=TABLE_SUFFIXES) if out else None
     figure = (
         check_target(plot_to, force=force, suffixes=(".png", ".svg", ".pdf")) if plot_to else None
@@ -130,9 +134,10 @@ def command(
             f"{draws * n:,} solves, more than {MAX_SOLVES:,} (about half an hour here); give "
             f"fewer --draws (at most {max(MAX_SOLVES // n, 0):,} for this sweep)"
         )
-    from excavkin.cli.progress import staged
+    from excavkin.cli.progress import compile_notes, staged
 
-    with staged("Monte Carlo draws", 1, quiet=quiet or draws == 0) as next_stage:
+    stages = staged("Monte Carlo draws", 1, quiet=quiet or draws == 0)
+    with compile_notes(quiet), stages as next_stage:
         bands = tolerance_bands(
             mech,
             values,
@@ -146,6 +151,7 @@ def command(
             distribution=distribution,
             loads="model" if with_forces else None,
             progress=next_stage(),
+            backend=backend,
         )
     shown = list(columns) or _widest(bands, 8)
     head = ["column (SI)", "worst case ±", "root-sum-square ±", "Monte Carlo ±", "matters most"]

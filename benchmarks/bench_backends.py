@@ -1,0 +1,97 @@
+"""The backends at small batches, and what a kernel's first compile and later load cost.
+
+Run: ``python benchmarks/bench_backends.py [N]`` (default N = 10 000 samples). Prints:
+
+- per model (the four-bar, the excavator), the full kinematic state of N samples with rates,
+  ``backend="numpy"`` against ``backend="numba"`` with the kernel cached (and what ``"auto"``
+  picks and takes): ns a sample, best of rounds taken in turn;
+- the first compile of each model's kinematic kernel, in a fresh cache folder (what a user
+  waits for once per model structure, announced by the CLI), and the load of that cached
+  kernel by a new process (numba's import included), which ``"auto"`` pays once per process.
+
+Not a test: machines differ; the ratios are what is tracked.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+import excavkin
+from excavkin import backends
+from excavkin.kinematics import compiled
+
+SRC = str(Path(__file__).resolve().parents[1] / "src")
+
+
+def inputs(mech: excavkin.Mechanism, n: int) -> dict[str, np.ndarray]:
+    """A sweep of every driver about its sketch value."""
+    out = {}
+    for k, v in mech.sketch_values().items():
+        span = 0.3 if mech.input_kind(k) == "angle" else 0.03 * v
+        out[k] = v + span * np.sin(np.linspace(0.0, 7.0, n) + len(k))
+    return out
+
+
+def per_sample(name: str, n: int, rounds: int = 15) -> None:
+    mech = excavkin.load(excavkin.example_path(name))
+    values = inputs(mech, n)
+    rates = {k: 0.5 for k in values}
+    mech.solve(values, rates, backend="numba")  # compiled before (or loaded from the cache)
+    picked = backends.choose("auto", compiled.job(mech.plan), n).name
+    times: dict[str, list[float]] = {"numpy": [], "numba": [], "auto": []}
+    for _ in range(rounds):
+        for backend in times:
+            t = time.perf_counter()
+            mech.solve(values, rates, backend=backend)  # type: ignore[arg-type]
+            times[backend].append(time.perf_counter() - t)
+    ns = {b: min(t) / n * 1e9 for b, t in times.items()}
+    print(
+        f"  {name:10s} N = {n:,}: NumPy {ns['numpy']:6.0f} ns/sample, numba (cached) "
+        f"{ns['numba']:6.0f}, auto ({picked}) {ns['auto']:6.0f}; NumPy / numba "
+        f"{ns['numpy'] / ns['numba']:.2f}×"
+    )
+
+
+FIRST = """
+import time, numpy as np, excavkin
+mech = excavkin.load(excavkin.example_path({name!r}))
+q = {{k: np.full(8, v) for k, v in mech.sketch_values().items()}}
+t = time.perf_counter()
+mech.solve(q, backend="numba")
+print(time.perf_counter() - t)
+"""
+
+
+def first_compile_and_load(name: str) -> None:
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "EXCAVKIN_CACHE_DIR": cache, "PYTHONPATH": SRC}
+        code = FIRST.format(name=name)
+        runs = [
+            float(subprocess.run([sys.executable, "-c", code], env=env, check=True,
+                                 capture_output=True, text=True).stdout)
+            for _ in range(3)
+        ]  # fmt: skip
+    print(
+        f"  {name:10s} first compile {runs[0]:5.1f} s (a fresh cache); a new process loading "
+        f"the cached kernel {min(runs[1:]):.2f} s"
+    )
+
+
+def main(n: int) -> None:
+    print(f"the kinematics at a small batch, {os.cpu_count()} cores")
+    for name in ("fourbar", "excavator"):
+        per_sample(name, n)
+    print("the kinematic kernel: compile once, then load")
+    for name in ("fourbar", "excavator"):
+        first_compile_and_load(name)
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 10_000)
