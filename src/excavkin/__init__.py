@@ -28,7 +28,16 @@ if TYPE_CHECKING:
     )
     from excavkin.kinematics import KinematicResult, Status, Tolerances
     from excavkin.mechanism import Mechanism
-    from excavkin.model import Body, LinearDriver, Model, RotaryDriver, Slider
+    from excavkin.model import (
+        Body,
+        CamFollower,
+        GearPair,
+        LinearDriver,
+        Model,
+        RackPinion,
+        RotaryDriver,
+        Slider,
+    )
     from excavkin.model.entities import Gravity, PointForce, Rope, Torque
     from excavkin.studies.optimize import Optimum, optimize_study
     from excavkin.studies.study import StudyResult, run_study
@@ -53,7 +62,19 @@ _LAZY = {
     ),
     **dict.fromkeys(("KinematicResult", "Status", "Tolerances"), "excavkin.kinematics"),
     "Mechanism": "excavkin.mechanism",
-    **dict.fromkeys(("Body", "LinearDriver", "Model", "RotaryDriver", "Slider"), "excavkin.model"),
+    **dict.fromkeys(
+        (
+            "Body",
+            "CamFollower",
+            "GearPair",
+            "LinearDriver",
+            "Model",
+            "RackPinion",
+            "RotaryDriver",
+            "Slider",
+        ),
+        "excavkin.model",
+    ),
     **dict.fromkeys(("Gravity", "PointForce", "Rope", "Torque"), "excavkin.model.entities"),
     **dict.fromkeys(("ToleranceBands", "tolerance_bands"), "excavkin.studies.tolerance"),
     **dict.fromkeys(("Optimum", "optimize_study"), "excavkin.studies.optimize"),
@@ -80,7 +101,9 @@ __version__ = "0.1.0"
 __all__ = [
     "AssemblyError",
     "Body",
+    "CamFollower",
     "ExcavkinError",
+    "GearPair",
     "Gravity",
     "InputError",
     "KinematicResult",
@@ -91,6 +114,7 @@ __all__ = [
     "Model",
     "ModelError",
     "PointForce",
+    "RackPinion",
     "Rope",
     "RotaryDriver",
     "SingularityWarning",

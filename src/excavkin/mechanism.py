@@ -23,6 +23,7 @@ from excavkin.execution import DEFAULT, Execution, settings
 from excavkin.kinematics import Assembly, KinematicResult, Tolerances, assemble
 from excavkin.kinematics.sweep import Part, solve_parts
 from excavkin.model.entities import Model, rope_line
+from excavkin.model.gears import describe_meshes
 from excavkin.model.validate import validate
 from excavkin.structure.builder import compile_plan
 from excavkin.structure.plan import SolvePlan
@@ -921,6 +922,7 @@ class Mechanism:
             )
         for s in m.sliders:
             lines.append(f"  slider  : {s.name} — {s.point} on {s.along[0]}→{s.along[1]}")
+        lines += describe_meshes(m)
         lines += [f"  rope    : {rope_line(r)}" for r in m.ropes]
         mob = self.plan.mobility
         lines.append(f"  mobility: {mob.describe()}; inputs: {', '.join(self.inputs) or 'none'}")

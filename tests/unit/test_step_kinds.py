@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import inspect
 import re
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -21,9 +22,13 @@ from excavkin.kinematics import compiled as compiled_plan
 from excavkin.step_kinds import (
     OPERATIONS,
     Attach,
+    CamRockerStep,
+    CamStep,
     Dyad,
     Fixed,
+    GearStep,
     NewtonGroup,
+    RackStep,
     Rotate,
     SliderStep,
     StepKind,
@@ -40,14 +45,24 @@ def _plans() -> dict[str, SolvePlan]:
     out = {name: excavkin.load(name).plan for name in excavkin.examples("model")}
     for name in excavkin.examples("machine"):
         out[name] = load_machine(name).mechanism.plan
+    # a gear train, a rack and a cam (no built-in example has them), from the tests' data
+    out["planetary"] = excavkin.load(DATA / "planetary_21_43_108.toml").plan
+    out["rack on an arm"] = excavkin.load(DATA / "rack_on_arm.toml").plan
+    out["disc cam"] = excavkin.load(DATA / "disc_cam.toml").plan
+    out["cam rocker"] = excavkin.load(DATA / "cam_rocker.toml").plan
     return out
+
+
+DATA = Path(__file__).parents[1] / "reference" / "data"
 
 
 PLANS = _plans()
 
 
-def test_the_six_kinds_are_registered() -> None:
-    assert set(registered()) == {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup}
+def test_the_ten_kinds_are_registered() -> None:
+    kinds = {Fixed, Rotate, Attach, Dyad, SliderStep, NewtonGroup, GearStep, RackStep, CamStep}
+    kinds.add(CamRockerStep)
+    assert set(registered()) == kinds
     names = [kind.name for kind in registered().values()]
     assert len(set(names)) == len(names)
 

@@ -16,11 +16,14 @@ from excavkin.errors import ModelError, UnitError, did_you_mean
 from excavkin.model.entities import (
     STANDARD_GRAVITY,
     Body,
+    CamFollower,
     DesignVariable,
+    GearPair,
     Gravity,
     LinearDriver,
     Model,
     PointForce,
+    RackPinion,
     Rope,
     RotaryDriver,
     Slider,
@@ -44,6 +47,9 @@ _TOP = {
     "loads",
     "gravity",
     "design",
+    "gears",
+    "racks",
+    "cams",
     "ropes",
 }
 
@@ -301,6 +307,9 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
     lengths = _lengths(r)
     loads = _loads(r, {b.name for b in bodies}, {b.name: b.points for b in bodies})
     gravity = _gravity(r)
+    gears = _gears(r, bodies)
+    racks = _racks(r, bodies)
+    cams = _cams(r, bodies)
     ropes = _ropes(r)
 
     model = Model(
@@ -315,6 +324,9 @@ def build_model(data: dict[str, Any], source: str | None = None) -> Model:
         loads,
         gravity,
         _design(r),
+        gears,
+        racks,
+        cams,
         ropes=ropes,
     )
     validate(model)
@@ -520,6 +532,177 @@ def _sliders(r: TomlReader) -> list[Slider]:
             raise r.err('needs point = "P" and along = ["L1", "L2"]', f"sliders.{sname}")
         sliders.append(Slider(sname, str(spec["point"]), (str(along[0]), str(along[1]))))
     return sliders
+
+
+def _gears(r: TomlReader, bodies: list[Body]) -> tuple[GearPair, ...]:
+    """The ``[gears.NAME]`` tables: ``gears = ["B1", "B2"]``, ``carrier`` (default the
+    ground), exactly one of ``ratio`` (r2/r1), ``teeth = [z1, z2]`` or ``radii = [r1, r2]``,
+    ``internal`` (default false) and ``pressure_angle`` (default 20 deg)."""
+    out = []
+    for gname, spec in r.table("gears").items():
+        r.name(gname, "gears")
+        table = f"gears.{gname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", table)
+        r.keys(
+            spec,
+            {"gears", "carrier", "ratio", "teeth", "radii", "internal", "pressure_angle"},
+            "gears",
+            gname,
+        )
+        pair = spec.get("gears")
+        if not (
+            isinstance(pair, list) and len(pair) == 2 and all(isinstance(b, str) for b in pair)
+        ):
+            raise r.err('gears must name two bodies, gears = ["B1", "B2"]', table, "gears")
+        given = [k for k in ("ratio", "teeth", "radii") if k in spec]
+        if len(given) != 1:
+            raise r.err(
+                "give exactly one of ratio (r2/r1), teeth = [z1, z2] or radii = [r1, r2]"
+                + (f" (found {', '.join(given)})" if given else ""),
+                table,
+            )
+        radii = None
+        if "ratio" in spec:
+            ratio = spec["ratio"]
+            if isinstance(ratio, bool) or not isinstance(ratio, int | float):
+                raise r.err("ratio must be a number (r2/r1)", table, "ratio")
+            ratio = float(ratio)
+        elif "teeth" in spec:
+            teeth = spec["teeth"]
+            if not (
+                isinstance(teeth, list)
+                and len(teeth) == 2
+                and all(type(z) is int and z > 0 for z in teeth)
+            ):
+                raise r.err("teeth must be two positive whole numbers [z1, z2]", table, "teeth")
+            ratio = teeth[1] / teeth[0]
+        else:
+            given_radii = spec["radii"]
+            if not isinstance(given_radii, list) or len(given_radii) != 2:
+                raise r.err("radii must be the two pitch radii [r1, r2]", table, "radii")
+            r1 = r.qty(given_radii[0], "length", table, "radii")
+            r2 = r.qty(given_radii[1], "length", table, "radii")
+            if not (r1 > 0 and r2 > 0):
+                raise r.err("pitch radii must be positive", table, "radii")
+            radii, ratio = (r1, r2), r2 / r1
+        internal = spec.get("internal", False)
+        if not isinstance(internal, bool):
+            raise r.err("internal must be true or false", table, "internal")
+        phi = (
+            r.qty(spec["pressure_angle"], "angle", table, "pressure_angle")
+            if "pressure_angle" in spec
+            else math.radians(20.0)
+        )
+        carrier = spec.get("carrier", _ground_name(bodies))
+        if not isinstance(carrier, str):
+            raise r.err("carrier must name a body", table, "carrier")
+        out.append(GearPair(gname, (pair[0], pair[1]), carrier, ratio, internal, phi, radii))
+    return tuple(out)
+
+
+def _racks(r: TomlReader, bodies: list[Body]) -> tuple[RackPinion, ...]:
+    """The ``[racks.NAME]`` tables: ``rack``, ``pinion``, ``carrier`` (default the ground),
+    ``along = ["L1", "L2"]``, the pinion's pitch ``radius`` and ``pressure_angle`` (default
+    20 deg)."""
+    out = []
+    for rname, spec in r.table("racks").items():
+        r.name(rname, "racks")
+        table = f"racks.{rname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", table)
+        r.keys(
+            spec,
+            {"rack", "pinion", "carrier", "along", "radius", "pressure_angle"},
+            "racks",
+            rname,
+        )
+        for key in ("rack", "pinion", "radius", "along"):
+            if key not in spec:
+                raise r.err(f"a rack and pinion needs {key!r}", table)
+        along = spec["along"]
+        if not (
+            isinstance(along, list) and len(along) == 2 and all(isinstance(p, str) for p in along)
+        ):
+            raise r.err(
+                'along must name two points of the carrier, along = ["L1", "L2"]', table, "along"
+            )
+        names = {}
+        for key in ("rack", "pinion", "carrier"):
+            value = spec.get(key, _ground_name(bodies))
+            if not isinstance(value, str):
+                raise r.err(f"{key} must name a body", table, key)
+            names[key] = value
+        phi = (
+            r.qty(spec["pressure_angle"], "angle", table, "pressure_angle")
+            if "pressure_angle" in spec
+            else math.radians(20.0)
+        )
+        out.append(
+            RackPinion(
+                rname,
+                names["rack"],
+                names["pinion"],
+                names["carrier"],
+                (along[0], along[1]),
+                r.qty(spec["radius"], "length", table, "radius"),
+                phi,
+            )
+        )
+    return tuple(out)
+
+
+def _cams(r: TomlReader, bodies: list[Body]) -> tuple[CamFollower, ...]:
+    """The ``[cams.NAME]`` tables: ``cam``, ``follower``, ``carrier`` (default the ground),
+    ``along = ["L1", "L2"]`` (a translating follower's guide; without it the follower
+    oscillates about the point it shares with the carrier), ``face`` ("roller", the default, or
+    "flat") and ``lift``, rows of [turn, lift] from 0 to 360 deg (the lift an angle for an
+    oscillating follower)."""
+    out = []
+    for cname, spec in r.table("cams").items():
+        r.name(cname, "cams")
+        table = f"cams.{cname}"
+        if not isinstance(spec, dict):
+            raise r.err("must be a table", table)
+        r.keys(spec, {"cam", "follower", "carrier", "along", "face", "lift"}, "cams", cname)
+        for key in ("cam", "follower", "lift"):
+            if key not in spec:
+                raise r.err(f"a cam and follower needs {key!r}", table)
+        along = spec.get("along")
+        if along is not None and not (
+            isinstance(along, list) and len(along) == 2 and all(isinstance(p, str) for p in along)
+        ):
+            raise r.err('along must name two points of the carrier, along = ["L1", "L2"]', table)
+        names = {}
+        for key in ("cam", "follower", "carrier"):
+            value = spec.get(key, _ground_name(bodies))
+            if not isinstance(value, str):
+                raise r.err(f"{key} must name a body", table, key)
+            names[key] = value
+        rows = spec["lift"]
+        if not isinstance(rows, list) or not all(
+            isinstance(row, list) and len(row) == 2 for row in rows
+        ):
+            raise r.err('lift must be rows of [turn, lift], e.g. [["0 deg", "0 mm"], …]', table)
+        kind = "length" if along is not None else "angle"
+        lift = tuple(
+            (r.qty(a, "angle", table, "lift"), r.qty(b, kind, table, "lift")) for a, b in rows
+        )
+        face = spec.get("face", "roller")
+        if face not in ("roller", "flat"):
+            raise r.err(f"face must be 'roller' or 'flat', not {face!r}", table, "face")
+        out.append(
+            CamFollower(
+                cname,
+                names["cam"],
+                names["follower"],
+                names["carrier"],
+                None if along is None else (along[0], along[1]),
+                lift,
+                face,
+            )
+        )
+    return tuple(out)
 
 
 def _lengths(r: TomlReader) -> dict[tuple[str, str], float]:

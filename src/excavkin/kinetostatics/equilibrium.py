@@ -8,6 +8,17 @@ Unknowns (DESIGN.md §5)::
     N[s]                the normal force of each slider, along perp(l2 − l1), on the slider's
                         point (its reaction −N acts on the body that carries the line)
     τ[d]                the torque of each rotary driver on its body (−τ on its reference body)
+    W[k], N[k], M[k]    each rack's tooth force along its guide, its guide's normal force
+                        (both at the pitch point) and couple, on the rack (the carrier takes
+                        −N, −M, the pinion −W)
+    W[c], N[c], M[c]    each cam's contact force on its follower along the common normal
+                        (through the instant centre of the cam and the follower; −W on the
+                        cam), and its follower's guide force at the follower's first point and
+                        couple (as a rack's; the carrier takes −N, −M)
+    W[g]                the tangential tooth force of each gear pair: +W·t on gear 2 and −W·t
+                        on gear 1 at the pitch point, t = perp(O2 − O1)/|O2 − O1| (its
+                        radial part, |W|·tan φ along the line of centres, is added to the
+                        pivots' pin forces afterwards: `excavkin.kinetostatics.gears`)
     T[r]                the tension of each rope over sheaves: it pulls the pin at path point
                         k with T·(u_k − u_{k−1}), u_k its free segments' directions
                         (`excavkin.step_kinds.rope_path`)
@@ -35,17 +46,21 @@ These equations, with the unknowns named as above, define the forces and their c
 `excavkin.kinetostatics.structured` solves them along the solve plan, step by step from the
 last, in time linear in the model's size. Here they are assembled as a matrix
 (`dense_matrix`) for the check that a model is statically determinate and for the dense
-per-sample solve kept for cross-checks (``solve_forces(method="dense")``).
+per-sample solve kept for cross-checks (``solve_forces(method="dense")``), and for a model
+with gear pairs, racks or cams whose meshes the plan cannot take
+(`excavkin.kinetostatics.structured.along_plan`; `dense_solve` on dual numbers).
 
 A model whose solve plan builds (`excavkin.structure.builder.compile_plan`) is statically
 determinate: each constraint is used by exactly one step, so the equilibrium's matrix is
 block-triangular with one generically regular block per step; only a Newton group's block is
-checked, at random positions. A model without a plan (redundant joints, an undriven freedom)
-gets the rank check of the whole matrix, whose message names the joints involved.
+checked, at random positions. A model without a plan (redundant joints, an undriven freedom),
+or with gear pairs, racks or cams, gets the rank check of the whole matrix, whose message
+names the joints involved.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Literal, TypeAlias, cast
 
@@ -53,19 +68,23 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import ExcavkinError, MobilityError
+from excavkin.model.cams import Law, evaluate, lift_law
 from excavkin.model.entities import Model
+from excavkin.model.gears import gear_pivots, pivot_on, rack_side
 from excavkin.model.validate import validate
 from excavkin.step_kinds.rope_path import segment_directions
 from excavkin.structure.builder import compile_plan
 from excavkin.structure.plan import SolvePlan
 
 __all__ = [
+    "CamContact",
     "StaticallyIndeterminateError",
     "StaticsSystem",
     "Unknown",
     "compile_statics",
     "dense_block_solve",
     "dense_matrix",
+    "dense_solve",
 ]
 
 
@@ -95,7 +114,7 @@ class Unknown:
 
     Attributes
     ----------
-    kind : {"pin", "element", "slider", "torque", "rope"}
+    kind : {"pin", "element", "slider", "torque", "rope", "gear", "rack", "cam"}
     index : int
         Pin slot, element, slider or rotary-driver index in the system's lists.
     comp : int
@@ -104,10 +123,59 @@ class Unknown:
         For messages: ``"pin B on body 'rocker'"``.
     """
 
-    kind: Literal["pin", "element", "slider", "torque", "rope"]
+    kind: Literal["pin", "element", "slider", "torque", "rope", "gear", "rack", "cam"]
     index: int
     comp: int
     label: str
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class CamContact:
+    """A cam and follower in the equilibrium (point and body indices).
+
+    Attributes
+    ----------
+    name : str
+    cam, follower, carrier : int
+        Bodies.
+    pivot, l1, l2, trace : int
+        The cam's pivot, the guide's points (−1 for an oscillating follower) and the roller's
+        centre (the follower's first point; an oscillating one's first point other than its
+        pivot).
+    cam_base : (int, int)
+        The cam's first two points (its orientation).
+    carrier_base : (int, int) or None
+        The carrier's (None: the ground).
+    sketch_turn : float
+        The cam's angle from the carrier's orientation in the sketch (rad).
+    face : float
+        0 for a roller follower, else ±1: the flat face's normal is ``face·ê``.
+    law : callable
+        The lift law (`excavkin.model.cams.lift_law`).
+    rocker : int
+        An oscillating follower's pivot, −1 for a translating one.
+    """
+
+    name: str
+    cam: int
+    follower: int
+    carrier: int
+    pivot: int
+    l1: int
+    l2: int
+    trace: int
+    cam_base: tuple[int, int]
+    carrier_base: tuple[int, int] | None
+    sketch_turn: float
+    face: float
+    law: Law
+    rocker: int = -1
+
+    @property
+    def unknowns(self) -> int:
+        """3 (contact, guide force, guide couple) for a translating follower; 1 (contact)
+        for an oscillating one, whose pivot is a pin."""
+        return 3 if self.rocker < 0 else 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -138,6 +206,18 @@ class StaticsSystem:
     unknowns : tuple of Unknown
     rows : tuple of str
         Equation labels.
+    gears : tuple of (str, int, int, int, int, float, float, float)
+        Name, gear 1 and gear 2 (body indices), their pivots (point indices), the pitch
+        point's fraction λ (at ``O1 + λ·(O2 − O1)``), tan φ and the radial part's sense σ (+1
+        external, −1 internal) of each gear pair.
+    carriers : tuple of int
+        The carrier body of each gear pair.
+    racks : tuple of (str, int, int, int, int, int, int, float, float, float)
+        Name, rack, pinion and carrier (body indices), the pinion's pivot and the guide's two
+        points (point indices), the side σ, the pitch radius and tan φ of each rack; its
+        unknowns are W (comp 0), N (1) and M (2).
+    cams : tuple of CamContact
+        Each cam and follower; its unknowns are W (comp 0), N (1) and M (2).
     """
 
     points: tuple[str, ...]
@@ -153,11 +233,22 @@ class StaticsSystem:
     unknowns: tuple[Unknown, ...]
     rows: tuple[str, ...]
     ropes: tuple[tuple[str, tuple[int, ...], tuple[float, ...]], ...] = ()
+    gears: tuple[tuple[str, int, int, int, int, float, float, float], ...] = ()
+    carriers: tuple[int, ...] = ()
+    racks: tuple[tuple[str, int, int, int, int, int, int, float, float, float], ...] = ()
+    cams: tuple[CamContact, ...] = ()
 
     @property
     def size(self) -> int:
         """Number of unknowns (and equations)."""
         return len(self.unknowns)
+
+    @property
+    def meshes(self) -> bool:
+        """Whether the model has gear pairs, racks or cams (their tooth, contact and guide
+        forces are unknowns of the dense blocks of their steps:
+        `excavkin.kinetostatics.structured`)."""
+        return bool(self.gears or self.racks or self.cams)
 
     def slot_cols(self) -> tuple[int, ...]:
         """Column of the x component of each pin slot (y is the next one)."""
@@ -182,6 +273,33 @@ class StaticsSystem:
     def rope_col0(self) -> int:
         """Column of the first tension of a rope over sheaves."""
         return self.torque_col0 + len(self.rotary)
+
+    @property
+    def gear_col0(self) -> int:
+        """Column of the first gear pair's tooth force."""
+        return self.rope_col0 + len(self.ropes)
+
+    @property
+    def cam_col0(self) -> int:
+        """Column of the first cam's contact force (then its guide's normal force and couple
+        for a translating follower: `cam_cols`)."""
+        return self.rack_col0 + 3 * len(self.racks)
+
+    @property
+    def cam_cols(self) -> tuple[int, ...]:
+        """The column of each cam's contact force (a translating follower's guide force and
+        couple follow it)."""
+        out, col = [], self.cam_col0
+        for cm in self.cams:
+            out.append(col)
+            col += cm.unknowns
+        return tuple(out)
+
+    @property
+    def rack_col0(self) -> int:
+        """Column of the first rack's tooth force (then its guide's normal force and couple,
+        three columns a rack)."""
+        return self.gear_col0 + len(self.gears)
 
 
 def _structure(model: Model) -> StaticsSystem:
@@ -230,6 +348,20 @@ def _structure(model: Model) -> StaticsSystem:
     unknowns += [Unknown("slider", k, 0, f"slider {s[0]!r}") for k, s in enumerate(sliders)]
     unknowns += [Unknown("torque", k, 0, f"rotary driver {d[0]!r}") for k, d in enumerate(rotary)]
     unknowns += [Unknown("rope", k, 0, f"rope {r[0]!r}") for k, r in enumerate(ropes)]
+    gears, gear_carriers = _gear_pairs(model, pidx, bidx)
+    unknowns += [Unknown("gear", k, 0, f"gear pair {g[0]!r}") for k, g in enumerate(gears)]
+    racks = _racks(model, pidx, bidx)
+    unknowns += [
+        Unknown("rack", k, c, f"rack {rk[0]!r} ({what})")
+        for k, rk in enumerate(racks)
+        for c, what in enumerate(("tooth", "guide", "guide couple"))
+    ]
+    cams = _cams(model, pidx, bidx)
+    unknowns += [
+        Unknown("cam", k, c, f"cam {cm.name!r} ({what})")
+        for k, cm in enumerate(cams)
+        for c, what in enumerate(("contact", "guide", "guide couple")[: cm.unknowns])
+    ]
     rows = [f"pin {points[i]} ({'xy'[c]})" for i in nodes for c in (0, 1)]
     for j in moving:
         rows += [
@@ -251,7 +383,156 @@ def _structure(model: Model) -> StaticsSystem:
         tuple(unknowns),
         tuple(rows),
         ropes=ropes,
+        gears=gears,
+        carriers=gear_carriers,
+        racks=racks,
+        cams=cams,
     )
+
+
+def _gear_pairs(
+    model: Model, pidx: dict[str, int], bidx: dict[str, int]
+) -> tuple[tuple[tuple[str, int, int, int, int, float, float, float], ...], tuple[int, ...]]:
+    """Each gear pair's bodies, pivots, pitch fraction, tan φ and radial sense; its carrier."""
+    out = []
+    for g in model.gears:
+        p1, p2 = gear_pivots(model, g)
+        out.append(
+            (
+                g.name,
+                bidx[g.gears[0]],
+                bidx[g.gears[1]],
+                pidx[p1],
+                pidx[p2],
+                g.pitch_fraction,
+                math.tan(g.pressure_angle),
+                -1.0 if g.internal else 1.0,
+            )
+        )
+    return tuple(out), tuple(bidx[g.carrier] for g in model.gears)
+
+
+def _racks(
+    model: Model, pidx: dict[str, int], bidx: dict[str, int]
+) -> tuple[tuple[str, int, int, int, int, int, int, float, float, float], ...]:
+    """Each rack's bodies, pivot, guide, side, pitch radius and tan φ."""
+    out = []
+    for rk in model.racks:
+        pivot = pivot_on(model, rk.pinion, rk.carrier, f"racks.{rk.name}", "pinion")
+        out.append(
+            (
+                rk.name,
+                bidx[rk.rack],
+                bidx[rk.pinion],
+                bidx[rk.carrier],
+                pidx[pivot],
+                pidx[rk.along[0]],
+                pidx[rk.along[1]],
+                rack_side(model, rk),
+                rk.radius,
+                math.tan(rk.pressure_angle),
+            )
+        )
+    return tuple(out)
+
+
+def _cams(model: Model, pidx: dict[str, int], bidx: dict[str, int]) -> tuple[CamContact, ...]:
+    """Each cam's bodies, points, sketch turn, face and lift law."""
+    out = []
+    sk = model.points
+    for cm in model.cams:
+        pivot = pivot_on(model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
+        cam, carrier = model.body(cm.cam), model.body(cm.carrier)
+        follower = model.body(cm.follower)
+        rocker = -1
+        if cm.along is None:
+            swing = pivot_on(model, cm.follower, cm.carrier, f"cams.{cm.name}", "follower")
+            rocker = pidx[swing]
+            trace = next(n for n in follower.points if n != swing)
+            guide = (-1, -1)
+        else:
+            trace = follower.points[0]
+            guide = (pidx[cm.along[0]], pidx[cm.along[1]])
+        (c0x, c0y), (c1x, c1y) = sk[cam.points[0]], sk[cam.points[1]]
+        kx, ky = 1.0, 0.0
+        if not carrier.ground:
+            (k0x, k0y), (k1x, k1y) = sk[carrier.points[0]], sk[carrier.points[1]]
+            kx, ky = k1x - k0x, k1y - k0y
+        cx, cy = c1x - c0x, c1y - c0y
+        face = 0.0
+        if cm.face == "flat" and cm.along is not None:
+            (ax, ay), (bx, by) = sk[cm.along[0]], sk[cm.along[1]]
+            dot = (sk[trace][0] - sk[pivot][0]) * (bx - ax)
+            face = math.copysign(1.0, dot + (sk[trace][1] - sk[pivot][1]) * (by - ay))
+        out.append(
+            CamContact(
+                cm.name,
+                bidx[cm.cam],
+                bidx[cm.follower],
+                bidx[cm.carrier],
+                pidx[pivot],
+                guide[0],
+                guide[1],
+                pidx[trace],
+                (pidx[cam.points[0]], pidx[cam.points[1]]),
+                None if carrier.ground else (pidx[carrier.points[0]], pidx[carrier.points[1]]),
+                math.atan2(kx * cy - ky * cx, kx * cx + ky * cy),
+                face,
+                lift_law(cm.lift),
+                rocker,
+            )
+        )
+    return tuple(out)
+
+
+def cam_normal(cm: CamContact, x: Any) -> tuple[Any, Any, Any, Any, Any, Any, Any, Any]:
+    """A cam's contact geometry at positions ``x``: the guide's unit vector ê, the contact
+    normal n (on the follower) and the instant centre I of the cam and the follower, through
+    which the contact force acts: ``I = O − s'(θ)·perp(ê)``, with θ the cam's turn from the
+    sketch (from the positions, modulo a turn: the law is periodic) and, for a roller, ``n``
+    from I to the roller's centre, for a flat face ``n = ±ê``. For an oscillating follower (ê
+    is returned as 0) I is ``(Oc − ψ'·Of)/(1 − ψ')`` and the force acts at the roller's centre
+    B along ``(B − Oc) − ψ'·(B − Of)`` (I is returned as B: a point of the line).
+
+    Parameters
+    ----------
+    cm : CamContact
+        The cam.
+    x : ndarray or dual number, shape (n_points, 2, c)
+        Positions.
+
+    Returns
+    -------
+    tuple
+        ``ex, ey, nx, ny, ix, iy, bx, by``: ê, n, I and the follower's first point.
+    """
+    c0, c1 = cm.cam_base
+    cx, cy = x[c1, 0] - x[c0, 0], x[c1, 1] - x[c0, 1]
+    if cm.carrier_base is None:
+        turn = np.arctan2(cy, cx)
+    else:
+        k0, k1 = cm.carrier_base
+        kx, ky = x[k1, 0] - x[k0, 0], x[k1, 1] - x[k0, 1]
+        turn = np.arctan2(kx * cy - ky * cx, kx * cx + ky * cy)
+    _, s1, _ = evaluate(cm.law, turn - cm.sketch_turn, cm.name)
+    bx, by = x[cm.trace, 0], x[cm.trace, 1]
+    if cm.rocker >= 0:  # n along (B − Oc) − ψ'·(B − Of): from I, (Oc − ψ'·Of)/(1 − ψ'), to B
+        f = cm.rocker
+        nx = bx - x[cm.pivot, 0] - s1 * (bx - x[f, 0])
+        ny = by - x[cm.pivot, 1] - s1 * (by - x[f, 1])
+        inv = 1.0 / np.sqrt(nx * nx + ny * ny)
+        return 0.0, 0.0, nx * inv, ny * inv, bx, by, bx, by
+    ex, ey = x[cm.l2, 0] - x[cm.l1, 0], x[cm.l2, 1] - x[cm.l1, 1]
+    inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+    ex, ey = ex * inv, ey * inv
+    ix, iy = x[cm.pivot, 0] + s1 * ey, x[cm.pivot, 1] - s1 * ex
+    if cm.face:
+        nx, ny = cm.face * ex, cm.face * ey
+    else:
+        nx, ny = bx - ix, by - iy
+        inv = 1.0 / np.sqrt(nx * nx + ny * ny)
+        nx, ny = nx * inv, ny * inv
+    return ex, ey, nx, ny, ix, iy, bx, by
 
 
 def sheaved_ropes(
@@ -373,7 +654,111 @@ def assemble_rows(sy: StaticsSystem, x: F | None) -> list[dict[int, Entry]]:
                 entry: Any = -u[j] if j == 0 else u[j - 1] if j == last else u[j - 1] - u[j]
                 old: Any = rows[r + c].get(col + k)
                 rows[r + c][col + k] = entry if old is None else old + entry
+    _gear_rows(sy, x, rows, body_row)
+    _rack_rows(sy, x, rows, body_row)
+    _cam_rows(sy, x, rows, body_row)
     return rows
+
+
+def _cam_rows(
+    sy: StaticsSystem, x: F | None, rows: list[dict[int, Entry]], body_row: dict[int, int]
+) -> None:
+    """Each cam's contact force W·n through the instant centre I (on the follower; −W·n on
+    the cam), its guide's force N·perp(ê) at the follower's first point (on the follower;
+    the opposite on the carrier) and its guide's couple M."""
+    for cm, w in zip(sy.cams, sy.cam_cols, strict=True):
+        n, m = w + 1, w + 2
+        geo = None if x is None else cam_normal(cm, x)
+        forces = ((cm.follower, w, 1.0), (cm.cam, w, -1.0), (cm.follower, n, 1.0),
+                  (cm.carrier, n, -1.0))[: 2 if cm.rocker >= 0 else 4]  # fmt: skip
+        for body, c, sign in forces:
+            if body not in body_row:
+                continue
+            rb = body_row[body]
+            if geo is None:
+                for row in (rb, rb + 1, rb + 2):
+                    rows[row][c] = VAR
+                continue
+            ex, ey, nx, ny, ix, iy, bx, by = geo
+            assert x is not None
+            if c == w:
+                ux, uy, px, py = sign * nx, sign * ny, ix, iy
+            else:
+                ux, uy, px, py = -sign * ey, sign * ex, bx, by
+            i0 = sy.base[body][0]
+            dx, dy = px - x[i0, 0], py - x[i0, 1]
+            rows[rb][c] = ux
+            rows[rb + 1][c] = uy
+            rows[rb + 2][c] = dx * uy - dy * ux
+        if cm.rocker >= 0:
+            continue
+        if cm.follower in body_row:
+            rows[body_row[cm.follower] + 2][m] = 1.0
+        if cm.carrier in body_row:
+            rows[body_row[cm.carrier] + 2][m] = -1.0
+
+
+def _rack_rows(
+    sy: StaticsSystem, x: F | None, rows: list[dict[int, Entry]], body_row: dict[int, int]
+) -> None:
+    """Each rack's tooth force W·ê (on the rack; −W·ê on the pinion) and guide force N·n̂
+    (on the rack; −N·n̂ on the carrier), both at the pitch point P = O + σ·r·n̂, and its
+    guide's couple M (on the rack; −M on the carrier): ê along the guide, n̂ = perp(ê)."""
+    col = sy.rack_col0
+    for k, (_, rack, pinion, carrier, o, l1, l2, side, r, _) in enumerate(sy.racks):
+        w, n, m = col + 3 * k, col + 3 * k + 1, col + 3 * k + 2
+        # (body, column, sign, along the guide?) of each force; then the couples
+        forces = ((rack, w, 1.0, True), (pinion, w, -1.0, True), (rack, n, 1.0, False),
+                  (carrier, n, -1.0, False))  # fmt: skip
+        for body, c, sign, along in forces:
+            if body not in body_row:
+                continue
+            rb = body_row[body]
+            if x is None:
+                for row in (rb, rb + 1, rb + 2):
+                    rows[row][c] = VAR
+                continue
+            ex, ey = x[l2, 0] - x[l1, 0], x[l2, 1] - x[l1, 1]
+            inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+            ex, ey = ex * inv, ey * inv
+            ux, uy = (ex, ey) if along else (-ey, ex)
+            ux, uy = sign * ux, sign * uy
+            i0 = sy.base[body][0]
+            dx = x[o, 0] - (side * r) * ey - x[i0, 0]
+            dy = x[o, 1] + (side * r) * ex - x[i0, 1]
+            rows[rb][c] = ux
+            rows[rb + 1][c] = uy
+            rows[rb + 2][c] = dx * uy - dy * ux
+        if rack in body_row:
+            rows[body_row[rack] + 2][m] = 1.0
+        if carrier in body_row:
+            rows[body_row[carrier] + 2][m] = -1.0
+
+
+def _gear_rows(
+    sy: StaticsSystem, x: F | None, rows: list[dict[int, Entry]], body_row: dict[int, int]
+) -> None:
+    """Each gear pair's tooth force in the force and moment rows of its two gears: +W·t on
+    gear 2, −W·t on gear 1, at the pitch point P = O1 + λ·(O2 − O1)."""
+    col = sy.gear_col0
+    for k, (_, b1, b2, o1, o2, lam, _, _) in enumerate(sy.gears):
+        for body, sign in ((b1, -1.0), (b2, 1.0)):
+            if body not in body_row:
+                continue
+            rb = body_row[body]
+            if x is None:
+                for r in (rb, rb + 1, rb + 2):
+                    rows[r][col + k] = VAR
+                continue
+            ex, ey = x[o2, 0] - x[o1, 0], x[o2, 1] - x[o1, 1]
+            inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+            tx, ty = sign * (-ey * inv), sign * (ex * inv)
+            i0 = sy.base[body][0]
+            dx = x[o1, 0] + lam * ex - x[i0, 0]
+            dy = x[o1, 1] + lam * ey - x[i0, 1]
+            rows[rb][col + k] = tx
+            rows[rb + 1][col + k] = ty
+            rows[rb + 2][col + k] = dx * ty - dy * tx
 
 
 def compile_statics(
@@ -413,7 +798,7 @@ def compile_statics(
             plan = compile_plan(model)
         except ExcavkinError:
             plan = None
-    if plan is None or not determinate(plan, sy, seed):
+    if plan is None or sy.meshes or not determinate(plan, sy, seed):
         _check_rank(sy, model, seed)
     return sy
 
@@ -433,6 +818,45 @@ def dense_matrix(sy: StaticsSystem, x: F) -> F:
         for c, v in row.items():
             out[:, r, c] = v  # type: ignore[assignment]
     return out
+
+
+def dense_solve(
+    sy: StaticsSystem,
+    x: F,
+    rhs_body: list[tuple[Value, Value, Value]],
+    *,
+    rel_tol: float = 1e-12,
+) -> tuple[list[F], np.ndarray]:
+    """The whole equilibrium of a chunk of samples by Gaussian elimination (`dense_block_solve`).
+
+    The sensitivities' path (on dual numbers, which LAPACK cannot take) for a model with gear
+    pairs, racks or cams whose meshes the plan cannot take
+    (`excavkin.kinetostatics.structured.along_plan`).
+
+    Parameters
+    ----------
+    sy : StaticsSystem
+        The equilibrium system.
+    x : ndarray or dual number, shape (n_points, 2, c)
+        Point positions of the chunk.
+    rhs_body : list of (float or ndarray, ...)
+        Per moving body (in ``sy.moving`` order), the known force x, y and moment about its
+        first point (`excavkin.kinetostatics.body_loads.body_loads`).
+    rel_tol : float
+        A sample is singular where a pivot is below ``rel_tol`` times the largest entry.
+
+    Returns
+    -------
+    solution : list of ndarray or dual number, shape (c,)
+        One entry per unknown, in the system's order.
+    singular : ndarray of bool, shape (c,)
+    """
+    rows = assemble_rows(sy, x)
+    a: list[list[Entry]] = [[row.get(col, 0.0) for col in range(sy.size)] for row in rows]
+    b: list[Entry] = [0.0] * (2 * len(sy.nodes))
+    for fx, fy, mz in rhs_body:
+        b += [-fx, -fy, -mz]
+    return _dense_solve(a, b, x.shape[-1], rel_tol)
 
 
 def _check_rank(sy: StaticsSystem, model: Model, seed: int) -> None:

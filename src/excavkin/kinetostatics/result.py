@@ -34,6 +34,7 @@ from excavkin.kinematics import summary
 from excavkin.kinematics.columns import Column, column, derivative_column, table_attrs
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import StaticsSystem
+from excavkin.kinetostatics.gears import CAM_COLUMNS, RACK_COLUMNS, RACK_KINDS
 from excavkin.kinetostatics.inertia import MassProperties, centre_of_mass, kinetic_energy_rate
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load
 from excavkin.model.entities import Rope
@@ -158,6 +159,18 @@ class ForceResult:
         Normal force of each slider on its point, N, along perp(l2 − l1).
     driver_torque : ndarray, shape (n, n_rotary)
         Torque of each rotary driver on its body, N·m.
+    gear_force : ndarray, shape (n, n_gears)
+        The tangential tooth force of each gear pair on its gear 2, N, along
+        perp(O2 − O1) at the pitch point (gear 1 gets the opposite; the radial part,
+        ``|W|·tan φ``, is in the pivots' pin forces).
+    rack_force : ndarray, shape (n, n_racks, 3)
+        Each rack's tooth force along its guide (N, on the rack; the radial part is in its
+        guide's force), its guide's normal force along perp(guide) at the pitch point (N) and
+        its guide's couple (N·m), on the rack.
+    cam_force : ndarray, shape (n, n_cams, 3)
+        Each cam's contact force on its follower along the common normal (N; < 0: the
+        follower would leave the cam), its guide's normal force at the follower's first point
+        (N) and couple (N·m), on the follower.
     singular : ndarray of bool, shape (n,)
         Samples whose equilibrium equations are singular although the kinematics solved
         (their forces are NaN).
@@ -183,6 +196,9 @@ class ForceResult:
     element_force: F
     slider_force: F
     driver_torque: F
+    gear_force: F
+    rack_force: F
+    cam_force: F
     singular: np.ndarray
     loads: tuple[Load, ...]
     evaluated: EvaluatedLoads
@@ -506,6 +522,15 @@ class ForceResult:
             cols.append((column(d[0], "driver", "torque", "torque"), self.driver_torque[:, k]))
         for k, s in enumerate(sy.sliders):
             cols.append((column(s[0], "slider", "normal", "force"), self.slider_force[:, k]))
+        for k, g in enumerate(sy.gears):
+            cols.append((column(g[0], "other", "tooth", "force"), self.gear_force[:, k]))
+        for k, rk in enumerate(sy.racks):
+            for c, (qty, kind) in enumerate(zip(RACK_COLUMNS, RACK_KINDS, strict=True)):
+                cols.append((column(rk[0], "other", qty, kind), self.rack_force[:, k, c]))
+        for k, cm in enumerate(sy.cams):
+            kinds = zip(CAM_COLUMNS[: cm.unknowns], RACK_KINDS[: cm.unknowns], strict=True)
+            for c, (qty, kind) in enumerate(kinds):
+                cols.append((column(cm.name, "other", qty, kind), self.cam_force[:, k, c]))
         for rope, tension in self._ropes():
             cols.append((column(rope.name, "driver", "tension", "force"), tension))
             if rope.mode == "winch":
@@ -613,7 +638,9 @@ class ForceResult:
         -------
         pandas.DataFrame
             Columns ``<point>.<body>.Fx .Fy``, ``<driver>.force`` (linear), ``<driver>.torque``
-            (rotary), ``<slider>.normal``, ``<body>.Rx .Ry`` — after the kinematic ones.
+            (rotary), ``<slider>.normal``, ``<gear pair>.tooth`` (the tangential tooth force),
+            ``<rack>.tooth .guide .couple``, ``<cam>.contact .guide .couple``,
+            ``<body>.Rx .Ry`` — after the kinematic ones.
         """
         import pandas as pd
 

@@ -5,7 +5,10 @@ The positions, accelerations and angular accelerations carry their tangents from
 sensitivities (`excavkin.kinematics.sensitivity`); the masses, moments of inertia and
 centres of mass carry theirs from the parameters. The equilibrium's own back-substitution
 along the plan (`excavkin.kinetostatics.structured`) and its dense blocks run on them
-unchanged, so each force's tangent is the exact derivative of the solved forces. A load given
+unchanged, and so do the gear pairs' radial tooth forces (`excavkin.kinetostatics.gears`; a
+model whose meshes the plan cannot take runs the elimination of the whole system,
+`excavkin.kinetostatics.equilibrium.dense_solve`), so each force's tangent is the exact
+derivative of the solved forces. A load given
 as a function of the result (a spring, a damper) is evaluated once more on a result whose
 arrays are dual numbers, so that its own dependence on the dimensions is differentiated too; a
 function that cannot take them (it converts the arrays, or uses a function the duals do not
@@ -23,8 +26,10 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinetostatics.body_loads import body_loads
+from excavkin.kinetostatics.equilibrium import dense_solve
+from excavkin.kinetostatics.gears import CAM_COLUMNS, RACK_COLUMNS, pin_updates, tooth_forces
 from excavkin.kinetostatics.result import winch_drive
-from excavkin.kinetostatics.structured import Arithmetic, back_substitute, compile_structured
+from excavkin.kinetostatics.structured import Arithmetic, along_plan, back_substitute
 from excavkin.structure.design import mass_items
 
 if TYPE_CHECKING:
@@ -77,7 +82,7 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
     eps_t = np.stack([np.moveaxis(t.body_epsilon, 0, -1) for t in tangents])
     masses = _dual_masses(forces, names, n)
     ev = _dual_loads(forces, names, n)
-    structured = compile_structured(kin.plan, sy)
+    structured = along_plan(kin.plan, sy)
     out = np.zeros((m, sy.size, n))
     for s in range(0, n, CHUNK):
         part = slice(s, min(s + CHUNK, n))
@@ -92,11 +97,17 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
                 Dual(eps[..., part], eps_t[..., part]),  # type: ignore[arg-type]
                 part,
             )
-            ops = Arithmetic(part.stop - part.start)
-            sol = back_substitute(structured, xd, rhs, ops)  # type: ignore[arg-type]
+            if structured is None:  # meshes the plan cannot take: the whole system, densely
+                sol: list[Any] = dense_solve(sy, xd, rhs)[0]  # type: ignore[arg-type]
+            else:
+                ops = Arithmetic(part.stop - part.start)
+                sol = back_substitute(structured, xd, rhs, ops)  # type: ignore[arg-type]
         for col, val in enumerate(sol):
             if isinstance(val, Dual) and val.tan.ndim:
                 out[:, col, part] = val.tan
+        for col, val in pin_updates(sy, xd, tooth_forces(sy, sol)):
+            if isinstance(val, Dual) and val.tan.ndim:
+                out[:, col, part] += val.tan
     bad = ~(kin.status.solved & ~forces.singular)
     out[:, :, bad] = np.nan
     return {name: _columns(forces, out[j], x, x_t[j], name) for j, name in enumerate(names)}
@@ -232,6 +243,14 @@ def _columns(forces: ForceResult, tan: F, x: F, x_t: F, parameter: str) -> dict[
         out[f"{e[0]}.force"] = tan[e0 + k]
     for k, d in enumerate(sy.rotary):
         out[f"{d[0]}.torque"] = tan[t0 + k]
+    for k, g in enumerate(sy.gears):
+        out[f"{g[0]}.tooth"] = tan[sy.gear_col0 + k]
+    for k, rk in enumerate(sy.racks):
+        for c, qty in enumerate(RACK_COLUMNS):
+            out[f"{rk[0]}.{qty}"] = tan[sy.rack_col0 + 3 * k + c]
+    for cm, col in zip(sy.cams, sy.cam_cols, strict=True):
+        for c, qty in enumerate(CAM_COLUMNS[: cm.unknowns]):
+            out[f"{cm.name}.{qty}"] = tan[col + c]
     for k, s in enumerate(sy.sliders):
         out[f"{s[0]}.normal"] = tan[s0 + k]
     elements = [e[0] for e in sy.elements]

@@ -4,8 +4,11 @@ For each cache-sized chunk of samples: the known load of every moving body (its 
 and couples, its weight and its d'Alembert inertia, reduced to a force and a moment about the
 body's first point), then the back-substitution along the solve plan of
 `excavkin.kinetostatics.structured` (linear in the model's size), in NumPy or compiled as one
-machine-code loop (`excavkin.kinetostatics.compiled`). Samples whose kinematics failed stay
-NaN.
+machine-code loop (`excavkin.kinetostatics.compiled`; in NumPy for a model with cams). Each
+gear pair's radial tooth force is added afterwards (`excavkin.kinetostatics.gears`). A model
+whose gear pairs, racks or cams the plan cannot take
+(`excavkin.kinetostatics.structured.along_plan`) is solved with the whole matrix per sample
+(LAPACK). Samples whose kinematics failed stay NaN.
 """
 
 from __future__ import annotations
@@ -27,12 +30,13 @@ from excavkin.kinetostatics.equilibrium import (
     compile_statics,
     dense_matrix,
 )
+from excavkin.kinetostatics.gears import add_radial, mesh_forces
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, evaluate_loads
 from excavkin.kinetostatics.result import ForceResult
 from excavkin.kinetostatics.structured import (
     StructuredSystem,
-    compile_structured,
+    along_plan,
     solve_structured,
 )
 
@@ -110,14 +114,18 @@ def solve_forces(
     x = np.moveaxis(result.positions, 0, -1)
     a = np.moveaxis(result.accelerations, 0, -1) if inertia else None
     eps = np.moveaxis(result.body_epsilon, 0, -1) if inertia else None
-    structured = compile_structured(plan, sy)
     out = np.empty((sy.size, n))
     singular = np.zeros(n, dtype=bool)
     with np.errstate(divide="ignore", invalid="ignore"):
         if method == "dense":
-            _solve_dense(sy, mp, ev, x, a, eps, out, singular)
+            _solve_dense(sy, mp, ev, (x, a, eps), out, singular, slice(None))
+        elif (structured := along_plan(plan, sy)) is None:  # meshes the plan cannot take
+            for s in range(0, n, chunk):
+                part = slice(s, min(s + chunk, n))
+                _solve_dense(sy, mp, ev, (x, a, eps), out, singular, part, fast=True)
         else:
             _solve_chosen((structured, mp, ev), (x, a, eps), out, singular, chunk, execution)
+    add_radial(sy, x, out)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
     bad = singular | ~result.status.solved
@@ -126,6 +134,7 @@ def solve_forces(
     singular &= result.status.solved
     ns = len(sy.slots)
     e0, s0, t0, r0 = sy.element_col0, sy.slider_col0, sy.torque_col0, sy.rope_col0
+    gears, racks, cams = mesh_forces(sy, out)
     return ForceResult(
         kinematics=result,
         system=sy,
@@ -133,11 +142,14 @@ def solve_forces(
         element_force=out[e0:s0].T,
         slider_force=out[s0:t0].T,
         driver_torque=out[t0:r0].T,
+        gear_force=gears,
+        rack_force=racks,
+        cam_force=cams,
         singular=singular,
         loads=checked,
         evaluated=ev,
         mass=mp,
-        rope_tension=out[r0:].T,
+        rope_tension=out[r0 : sy.gear_col0].T,
     )
 
 
@@ -202,6 +214,8 @@ def _solve_chosen(
         source,
         numpy=lambda: _solve_sparse(known, motion, out, singular, chunk),
         compiled=compiled,
+        # a cam's lift law is a spline evaluated in NumPy: not traced
+        unsupported="of a model with cams, solved in NumPy" if known[0].system.cams else None,
         unasked=not big,
         scalar=source,  # (a plain loop already)
         device=lambda k: compiled(k, 1),  # the chunks one after another
@@ -213,26 +227,45 @@ def _solve_dense(
     sy: StaticsSystem,
     mp: MassProperties,
     ev: EvaluatedLoads,
-    x: F,
-    a: F | None,
-    eps: F | None,
+    motion: tuple[F, F | None, F | None],
     out: F,
     singular: np.ndarray,
+    sl: slice,
+    *,
+    fast: bool = False,
 ) -> None:
+    """The whole matrix per sample with LAPACK, for the samples ``sl``; a sample is singular
+    where the matrix's condition number is 1e12 or more (2-norm, by SVD; ``fast``: 1-norm, from
+    the LU inverse, a quarter of the time)."""
+    x, a, eps = (None if v is None else v[..., sl] for v in motion)
+    assert x is not None
     n = x.shape[-1]
     mat = dense_matrix(sy, x)
     rhs = np.zeros((n, len(sy.rows)))
     r0 = 2 * len(sy.nodes)
-    for m, (fx, fy, mz) in enumerate(body_loads(sy, mp, ev, x, a, eps, slice(None))):
+    for m, (fx, fy, mz) in enumerate(body_loads(sy, mp.at(sl), ev, x, a, eps, sl)):
         rhs[:, r0 + 3 * m] = -np.asarray(fx)
         rhs[:, r0 + 3 * m + 1] = -np.asarray(fy)
         rhs[:, r0 + 3 * m + 2] = -np.asarray(mz)
     finite = np.isfinite(mat).all(axis=(1, 2)) & np.isfinite(rhs).all(axis=1)
     cond = np.full(n, np.inf)
     if finite.any():
-        cond[finite] = np.linalg.cond(mat[finite])
+        cond[finite] = _condition_1(mat[finite]) if fast else np.linalg.cond(mat[finite])
     good = cond < 1e12
-    singular |= finite & ~good
-    out[:] = np.nan
+    singular[sl] |= finite & ~good
+    part = np.full((out.shape[0], n), np.nan)
     if good.any():
-        out[:, good] = np.linalg.solve(mat[good], rhs[good][:, :, None])[:, :, 0].T
+        part[:, good] = np.linalg.solve(mat[good], rhs[good][:, :, None])[:, :, 0].T
+    out[:, sl] = part
+
+
+def _condition_1(mat: F) -> F:
+    """Each matrix's 1-norm condition number, ``‖A‖₁·‖A⁻¹‖₁`` (by SVD, the 2-norm's, where
+    one of them is exactly singular: LAPACK's inverse refuses the whole batch)."""
+    try:
+        inv = np.linalg.inv(mat)
+    except np.linalg.LinAlgError:
+        return np.asarray(np.linalg.cond(mat))
+    norm_a = np.abs(mat).sum(axis=-2).max(axis=-1)
+    norm_inv = np.abs(inv).sum(axis=-2).max(axis=-1)
+    return np.asarray(norm_a * norm_inv)

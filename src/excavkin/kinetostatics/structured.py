@@ -45,18 +45,43 @@ everything that acts on b at p,
 reactions of the sliders it carries), and the ground's share follows from the pin's balance,
 ``Σ_b F[p, b] = the forces of the elements and sliders on the pin``. The results equal the
 pin equations' solution to round-off (a statically determinate model has one).
+
+Gear, rack and cam steps place a point as a function of the rotary inputs, so their constraints
+would hand the meshes' forces to the drivers, not to the bodies across the mesh. Their blocks
+are written with the meshes' own unknowns instead: the bodies these steps
+place are grouped — one gear train's (its steps share a mesh), two a gear pair joins, a rack, a
+cam's follower — and each group's block holds its points' balance with the internal forces
+that keep each body it places rigid (the distance to a known point of the body, or between its
+first two placed points; a frame for the others) and its meshes' unknowns: each gear pair's
+tangential tooth force W, each rack's tooth force, guide force and couple, each cam's contact
+force (and a translating follower's guide force and couple). A unit of each acts on every body
+of its mesh as the pin equations put it (at the pitch point, through the instant centre, at the
+follower's point), written as forces at two points of the body placed by then (the force at
+the first, its moment a couple of forces at both): statically equivalent, so the pin forces
+follow as above. The block is dense (a planetary train's carrier and planet share one; two
+points and four unknowns for a rack or a follower), and spans every step from the group's
+first to its last. A model where a mesh acts on a body placed after the group, or whose blocks
+are not square, is not taken along the plan (`along_plan`: None) and is solved densely.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
-from excavkin.kinetostatics.equilibrium import StaticsSystem, Value, dense_block_solve
+from excavkin.kinetostatics.equilibrium import (
+    CamContact,
+    StaticsSystem,
+    Value,
+    cam_normal,
+    dense_block_solve,
+)
+from excavkin.step_kinds import CamRockerStep, CamStep, GearStep, RackStep
 from excavkin.step_kinds.rope_path import segment_directions
 from excavkin.structure.plan import (
     Attach,
@@ -80,6 +105,7 @@ __all__ = [
     "StructuredSystem",
     "back_substitute",
     "compile_structured",
+    "along_plan",
     "solve_structured",
 ]
 
@@ -97,14 +123,21 @@ class Scalar:
 
     Attributes
     ----------
-    kind : {"dist", "frame_x", "frame_y", "angle", "line", "rope"}
+    kind : {"dist", "frame_x", "frame_y", "angle", "line", "rope", "gear", "rack", "cam"}
     points : tuple of int
-        The points it touches (see the module docstring for each kind's order).
+        The points it touches (see the module docstring for each kind's order; a mesh's: two
+        points of each body it acts on).
     owners : tuple of int
         Per touched point, the body its force there acts on, or PIN.
     column : int
         The unknown of the equilibrium system it gives (an element's force, a slider's normal
-        force, a driver's torque, a rope's tension), or −1 (a body's internal force).
+        force, a driver's torque, a rope's tension, a tooth, contact or guide force or
+        couple), or −1 (a body's internal force).
+    mesh : tuple or CamContact, optional
+        A mesh's entry of the system (``gears``, ``racks``, ``cams``).
+    part : int
+        Which of a rack's or cam's unknowns: 0 tooth or contact force, 1 guide force, 2
+        guide couple.
     signed : tuple of float
         A rope's signed sheave radius at each of its points (0 at its ends); empty otherwise.
     """
@@ -113,6 +146,8 @@ class Scalar:
     points: tuple[int, ...]
     owners: tuple[int, ...]
     column: int
+    mesh: Any = None
+    part: int = 0
     signed: tuple[float, ...] = ()
 
 
@@ -123,6 +158,7 @@ class Block:
     points: tuple[int, ...]
     scalars: tuple[Scalar, ...]
     can_be_singular: bool
+    dense: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -161,7 +197,8 @@ def compile_structured(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem:
     Raises
     ------
     InputError
-        The system is of another model than the plan.
+        The system is of another model than the plan, or its gear pairs', racks' or cams'
+        forces cannot be solved along it (`along_plan`).
     """
     if plan.points != sy.points or plan.bodies != sy.bodies:
         raise InputError("the equilibrium system belongs to another model than the solve plan")
@@ -199,23 +236,28 @@ def compile_structured(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem:
         col, carrier = sliders[(p, l1, l2)]
         return Scalar("line", (p, l1, l2), (PIN, carrier, carrier), col)
 
-    blocks: list[Block] = []
+    pieces: list[Block | None] = []
     for st in plan.steps:
-        if isinstance(st, Fixed):
-            continue
-        if isinstance(st, Rotate):
+        if isinstance(st, Fixed | GearStep | RackStep | CamStep | CamRockerStep):
+            pieces.append(None)  # (a mesh's steps: `_mesh_blocks`)
+        elif isinstance(st, Rotate):
             col, driven, _ = rotary[st.driver]
             radius = Scalar("dist", (st.point, st.pivot), (driven, driven), -1)
-            blocks.append(
+            pieces.append(
                 Block((st.point,), (radius, angle(st.point, st.pivot, st.ref, st.driver)), False)
             )
         elif isinstance(st, Attach):
-            blocks.append(Block((st.point,), frame(st.point, st.a, st.b, st.body), False))
+            pieces.append(Block((st.point,), frame(st.point, st.a, st.b, st.body), False))
         elif isinstance(st, Dyad):
-            pair = (dist(st.point, st.a, st.da), dist(st.point, st.b, st.db))
-            blocks.append(Block((st.point,), pair, True))
+            pieces.append(
+                Block(
+                    (st.point,),
+                    (dist(st.point, st.a, st.da), dist(st.point, st.b, st.db)),
+                    True,
+                )
+            )
         elif isinstance(st, SliderStep):
-            blocks.append(
+            pieces.append(
                 Block(
                     (st.point,),
                     (dist(st.point, st.a, st.da), line(st.point, st.l1, st.l2)),
@@ -238,15 +280,268 @@ def compile_structured(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem:
                     assert isinstance(c, CAngle)
                     driver = plan.inputs[c.input]
                     scalars.append(angle(c.p, c.pivot, c.ref, driver))
-            blocks.append(Block(st.points, tuple(scalars), True))
+            pieces.append(Block(st.points, tuple(scalars), True))
+    blocks = _mesh_blocks(plan, sy, pieces) if sy.meshes else [b for b in pieces if b]
     slot_of = {s: k for k, s in enumerate(sy.slots)}
     return StructuredSystem(sy, tuple(blocks), slot_of)
+
+
+def along_plan(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem | None:
+    """`compile_structured`, or None where a model's gear pairs', racks' or cams' forces
+    cannot be solved along its plan (a body a mesh acts on is placed after the mesh's steps,
+    or the steps' blocks are not square): such a model is solved densely.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        The kinematic plan.
+    sy : StaticsSystem
+        The equilibrium system of the plan's model.
+
+    Returns
+    -------
+    StructuredSystem or None
+    """
+    try:
+        return compile_structured(plan, sy)
+    except _NotAlongPlan:
+        return None
+
+
+class _NotAlongPlan(InputError):
+    """A mesh's forces cannot be solved along the plan (see `along_plan`)."""
+
+
+def _step_points(st: Any) -> tuple[int, ...]:
+    """The points a step places."""
+    if isinstance(st, Fixed | NewtonGroup):
+        return tuple(st.points)
+    return (st.point,)
+
+
+def _mesh_blocks(plan: SolvePlan, sy: StaticsSystem, pieces: list[Block | None]) -> list[Block]:
+    """The blocks of a plan with gear, rack or cam steps.
+
+    The bodies those steps place are grouped: the bodies of one gear train (steps sharing a
+    mesh), those a gear pair joins, each rack and each cam follower. A group's block holds
+    every step from its first to its last (with any other step between them, as a Newton
+    group's): its points' balance, the internal forces that keep each body it places rigid,
+    and the unknowns of its meshes — each gear pair's tooth force, each rack's and cam's
+    contact, guide force and guide couple — whose forces act on two points of each body
+    (statically equivalent to the force at the pitch or contact point): points of the block,
+    or placed before it.
+    """
+    body = {name: j for j, name in enumerate(sy.bodies)}
+    placed: dict[int, int] = {}
+    for i, st in enumerate(plan.steps):
+        for q in _step_points(st):
+            placed[q] = i
+    mesh_steps = [
+        (i, st)
+        for i, st in enumerate(plan.steps)
+        if isinstance(st, GearStep | RackStep | CamStep | CamRockerStep)
+    ]
+    # groups of the bodies the mesh steps place (union–find)
+    parent = {body[st.body]: body[st.body] for _, st in mesh_steps}
+
+    def root(j: int) -> int:
+        while parent[j] != j:
+            j = parent[j]
+        return j
+
+    def union(a: int, b: int) -> None:
+        parent[root(a)] = root(b)
+
+    by_mesh: dict[str, int] = {}
+    for _, st in mesh_steps:
+        if isinstance(st, GearStep):
+            for name in st.meshes:
+                if name in by_mesh:
+                    union(body[st.body], by_mesh[name])
+                by_mesh[name] = body[st.body]
+    for g in sy.gears:
+        if g[1] in parent and g[2] in parent:
+            union(g[1], g[2])
+    # each mesh's unknowns: (the body whose group solves them, scalar kind, columns, entry)
+    meshes: list[tuple[int, str, tuple[int, ...], Any]] = []
+    for k, g in enumerate(sy.gears):
+        owner = g[2] if g[2] in parent else g[1]
+        meshes.append((owner, "gear", (sy.gear_col0 + k,), g))
+    for k, rk in enumerate(sy.racks):
+        col = sy.rack_col0 + 3 * k
+        meshes.append((rk[1], "rack", (col, col + 1, col + 2), rk))
+    for cm, col in zip(sy.cams, sy.cam_cols, strict=True):
+        meshes.append((cm.follower, "cam", tuple(range(col, col + cm.unknowns)), cm))
+    if any(owner not in parent for owner, *_ in meshes):
+        raise _NotAlongPlan("a gear pair, rack or cam acts on no body its steps place")
+    # each group's steps, then ranges of steps merged where they overlap
+    span: dict[int, list[int]] = {}
+    for i, st in mesh_steps:
+        r = root(body[st.body])
+        lo, hi = span.get(r, [i, i])
+        span[r] = [min(lo, i), max(hi, i)]
+    ranges: list[list[int]] = []
+    for lo, hi in sorted(span.values()):
+        if ranges and lo <= ranges[-1][1]:
+            ranges[-1][1] = max(ranges[-1][1], hi)
+        else:
+            ranges.append([lo, hi])
+    start = {lo: hi for lo, hi in ranges}
+    blocks: list[Block] = []
+    i = 0
+    while i < len(pieces):
+        if i not in start:
+            piece = pieces[i]
+            if piece is not None:
+                blocks.append(piece)
+            i += 1
+            continue
+        lo, hi = i, start[i]
+        blocks.append(_group_block(sy, plan, (lo, hi), pieces, placed, meshes, root))
+        i = hi + 1
+    return blocks
+
+
+def _group_block(
+    sy: StaticsSystem,
+    plan: SolvePlan,
+    steps: tuple[int, int],
+    pieces: list[Block | None],
+    placed: dict[int, int],
+    meshes: list[tuple[int, str, tuple[int, ...], Any]],
+    root: Any,
+) -> Block:
+    """The dense block of the steps ``lo..hi``: see `_mesh_blocks`."""
+    lo, hi = steps
+    points: list[int] = []
+    scalars: list[Scalar] = []
+    own: dict[int, list[int]] = {}  # a mesh-placed body's points placed here, in order
+    for i in range(lo, hi + 1):
+        st = plan.steps[i]
+        piece = pieces[i]
+        if piece is not None:
+            points.extend(piece.points)
+            scalars.extend(piece.scalars)
+        elif isinstance(st, GearStep | RackStep | CamStep | CamRockerStep):
+            points.append(st.point)
+            own.setdefault(sy.bodies.index(st.body), []).append(st.point)
+    model_points = {j: [sy.points.index(q) for q in pts] for j, pts in _body_points(plan)}
+    for j, mine in own.items():
+        first = min(placed[q] for q in mine)
+        known = [q for q in model_points[j] if placed.get(q, len(plan.steps)) < first]
+        if known:  # turning about a known point: its distance to the first, the rest a frame
+            a, b = known[0], mine[0]
+            scalars.append(Scalar("dist", (b, a), (j, j), -1))
+            rest = mine[1:]
+        else:  # free in the plane: the first two's distance, the rest a frame
+            if len(mine) < 2:
+                raise _NotAlongPlan(f"body {sy.bodies[j]!r} has one point on its own")
+            a, b = mine[0], mine[1]
+            scalars.append(Scalar("dist", (b, a), (j, j), -1))
+            rest = mine[2:]
+        for q in rest:
+            scalars += [
+                Scalar("frame_x", (q, a, b), (j, j, j), -1),
+                Scalar("frame_y", (q, a, b), (j, j, j), -1),
+            ]
+    groups = {root(j) for j in own}
+    for owner, kind, cols, entry in meshes:
+        if root(owner) not in groups:
+            continue
+        acting = _acting(kind, entry)
+        pts: list[int] = []
+        owners: list[int] = []
+        for j in acting:
+            if j == sy.ground:
+                continue  # (its equilibrium is not written)
+            two = [q for q in model_points[j] if placed.get(q, len(plan.steps)) <= hi][:2]
+            if len(two) < 2:
+                raise _NotAlongPlan(f"body {sy.bodies[j]!r} is placed after a mesh on it")
+            pts += two
+            owners += [j, j]
+        for part, col in enumerate(cols):
+            scalars.append(Scalar(kind, tuple(pts), tuple(owners), col, entry, part))
+    if len(scalars) != 2 * len(points):
+        raise _NotAlongPlan(f"a block of {len(points)} points has {len(scalars)} unknowns")
+    return Block(tuple(points), tuple(scalars), True, True)
+
+
+def _body_points(plan: SolvePlan) -> list[tuple[int, tuple[str, ...]]]:
+    """Each body's index and its points' names."""
+    return [(j, tuple(b.points)) for j, b in enumerate(plan.model.bodies)]
+
+
+def _acting(kind: str, entry: Any) -> tuple[int, ...]:
+    """The bodies a mesh's unknowns act on, in the order of `_mesh_actions`."""
+    if kind == "gear":
+        return (entry[1], entry[2])
+    if kind == "rack":
+        return (entry[1], entry[2], entry[3])  # rack, pinion, carrier
+    assert isinstance(entry, CamContact)
+    return (entry.follower, entry.cam, entry.carrier)
+
+
+def _mesh_actions(sc: Scalar, x: Any) -> list[tuple[Value, Value, Value, Value, Value]]:
+    """Per body of `_acting` (the ground's included), what a unit of the mesh's unknown puts on
+    it: a force (fx, fy) at (qx, qy) and a couple (the conventions of
+    `excavkin.kinetostatics.equilibrium`)."""
+    e = sc.mesh
+    if sc.kind == "gear":
+        _, _, _, o1, o2, lam, _, _ = e
+        ex, ey = x[o2, 0] - x[o1, 0], x[o2, 1] - x[o1, 1]
+        inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+        tx, ty = -ey * inv, ex * inv
+        qx, qy = x[o1, 0] + lam * ex, x[o1, 1] + lam * ey
+        return [(_neg(tx), _neg(ty), qx, qy, 0.0), (tx, ty, qx, qy, 0.0)]
+    if sc.kind == "rack":
+        _, _, _, _, o, l1, l2, side, r, _ = e
+        ex, ey = x[l2, 0] - x[l1, 0], x[l2, 1] - x[l1, 1]
+        inv = 1.0 / np.sqrt(ex * ex + ey * ey)
+        ex, ey = ex * inv, ey * inv
+        px, py = x[o, 0] - (side * r) * ey, x[o, 1] + (side * r) * ex
+        if sc.part == 0:  # the tooth force along the guide: rack, pinion
+            return [(ex, ey, px, py, 0.0), (-ex, -ey, px, py, 0.0), (0.0, 0.0, px, py, 0.0)]
+        if sc.part == 1:  # the guide's force: rack, carrier
+            return [(-ey, ex, px, py, 0.0), (0.0, 0.0, px, py, 0.0), (ey, -ex, px, py, 0.0)]
+        return [(0.0, 0.0, px, py, 1.0), (0.0, 0.0, px, py, 0.0), (0.0, 0.0, px, py, -1.0)]
+    ex, ey, nx, ny, ix, iy, bx, by = cam_normal(e, x)
+    if sc.part == 0:  # the contact force through the instant centre: follower, cam
+        return [(nx, ny, ix, iy, 0.0), (-nx, -ny, ix, iy, 0.0), (0.0, 0.0, ix, iy, 0.0)]
+    if sc.part == 1:  # the guide's force at the follower's first point: follower, carrier
+        return [(-ey, ex, bx, by, 0.0), (0.0, 0.0, bx, by, 0.0), (ey, -ex, bx, by, 0.0)]
+    return [(0.0, 0.0, bx, by, 1.0), (0.0, 0.0, bx, by, 0.0), (0.0, 0.0, bx, by, -1.0)]
+
+
+def _mesh_gradients(sc: Scalar, x: Any) -> list[tuple[Value, Value]]:
+    """A mesh unknown's forces at two points (p, p') of each body it acts on: the force at p,
+    its moment about p (and the couple) as a couple of forces at p and p'."""
+    out: list[tuple[Value, Value]] = []
+    actions = _mesh_actions(sc, x)
+    acting = _acting(sc.kind, sc.mesh)
+    k = 0
+    for j, (fx, fy, qx, qy, couple) in zip(acting, actions, strict=True):
+        if k >= len(sc.owners) or sc.owners[k] != j:
+            continue  # the ground
+        p, q = sc.points[k], sc.points[k + 1]
+        dx, dy = x[q, 0] - x[p, 0], x[q, 1] - x[p, 1]
+        moment = couple
+        if not (_zero(fx) and _zero(fy)):
+            rx, ry = qx - x[p, 0], qy - x[p, 1]
+            moment = _add(moment, _add(_mul(rx, fy), _neg(_mul(ry, fx))))
+        cx: Value = 0.0
+        cy: Value = 0.0
+        if not _zero(moment):
+            inv = moment / (dx * dx + dy * dy)
+            cx, cy = -dy * inv, dx * inv
+        out += [(_add(fx, _neg(cx)), _add(fy, _neg(cy))), (cx, cy)]
+        k += 2
+    return out
 
 
 def _rope(sy: StaticsSystem, c: CRope) -> Scalar:
     """A rope's constraint: its tension (its column of the system) acts on its path's pins."""
     col = sy.rope_col0 + [r[0] for r in sy.ropes].index(c.name)
-    return Scalar("rope", c.points, (PIN,) * len(c.points), col, c.signed)
+    return Scalar("rope", c.points, (PIN,) * len(c.points), col, signed=c.signed)
 
 
 def determinate(plan: SolvePlan, sy: StaticsSystem, seed: int = 20240601) -> bool:
@@ -328,6 +623,8 @@ def _gradients(sc: Scalar, x: F) -> list[tuple[Value, Value]]:
     """∇g of one scalar constraint at each of its points (in ``sc.points`` order)."""
     k = sc.kind
     p = sc.points
+    if sc.mesh is not None:
+        return _mesh_gradients(sc, x)
     if k == "dist":
         dx, dy = x[p[0], 0] - x[p[1], 0], x[p[0], 1] - x[p[1], 1]
         inv = 1.0 / np.sqrt(dx * dx + dy * dy)
@@ -512,7 +809,7 @@ class _Forces:
 def _solve_block(block: Block, x: F, f: _Forces, ops: Arithmetic, out: list[Value]) -> None:
     """One step's multipliers from its points' balance; their forces added to ``f``, the
     unknowns they are put in ``out``."""
-    if len(block.points) == 1:
+    if len(block.points) == 1 and not block.dense:
         p = block.points[0]
         known = f.acc.get(p)
         if known is None:

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal, TypeAlias
+from typing import TYPE_CHECKING, Any, Literal, TypeAlias
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -294,6 +294,139 @@ Load: TypeAlias = PointForce | Torque | Gravity
 
 
 @dataclass(frozen=True, slots=True)
+class GearPair:
+    """Two bodies whose rotations are coupled by meshing gears, about pivots on a carrier.
+
+    With each body's angle measured from the carrier's orientation, their changes from the
+    sketch keep ``Δ(θ2 − θc) = e·Δ(θ1 − θc)``: the train value ``e = −1/ratio`` for an external
+    pair (they turn opposite ways), ``+1/ratio`` for an internal one (a pinion in a ring gear).
+    A rack is not a gear pair (see the docs).
+
+    Attributes
+    ----------
+    name : str
+        The mesh's name.
+    gears : (str, str)
+        The two gear bodies; each shares exactly one point with ``carrier``, its pivot (the
+        pitch circle's centre).
+    carrier : str
+        The body that carries both pivots: the ground, or a moving arm (a planet carrier).
+    ratio : float
+        ``r2 / r1`` (= z2 / z1), the speed ratio ``|ω1 − ωc| / |ω2 − ωc|``, > 0.
+    internal : bool
+        ``True``: one gear is a ring with internal teeth (the larger radius) and the other runs
+        inside it.
+    pressure_angle : float
+        rad, in [0, π/2): the line of action's angle to the common tangent of the pitch
+        circles (default 20°).
+    radii : (float, float) or None
+        The pitch radii r1, r2 (m), when given: the sketch's distance of the pivots must be
+        ``r1 + r2`` (external) or ``|r1 − r2|`` (internal).
+    """
+
+    name: str
+    gears: tuple[str, str]
+    carrier: str
+    ratio: float
+    internal: bool = False
+    pressure_angle: float = 0.3490658503988659
+    radii: tuple[float, float] | None = None
+
+    @property
+    def train_value(self) -> float:
+        """``e``: the change of gear 2's angle per change of gear 1's, relative to the
+        carrier (−1/ratio external, +1/ratio internal)."""
+        return (1.0 if self.internal else -1.0) / self.ratio
+
+    @property
+    def pitch_fraction(self) -> float:
+        """``λ``: the pitch point is ``O1 + λ·(O2 − O1)`` (1/(1 + ratio) external,
+        1/(1 − ratio) internal)."""
+        return 1.0 / (1.0 - self.ratio if self.internal else 1.0 + self.ratio)
+
+
+@dataclass(frozen=True, slots=True)
+class RackPinion:
+    """A rack that translates along a guide on ``carrier``, driven by a pinion pivoted on it.
+
+    The rack is a prismatic pair with the carrier (its guide runs along ``along``) and meshes
+    with the pinion: its travel along the guide is ``Δs = −σ·r·Δ(θp − θc)``, σ = +1 when the
+    rack lies to the left of the guide's direction from the pinion's pivot, −1 to the right
+    (the pinion turning counter-clockwise moves a rack below it forwards).
+
+    Attributes
+    ----------
+    name : str
+        The mesh's name.
+    rack : str
+        The rack body (it shares no point with the carrier).
+    pinion : str
+        The pinion body; it shares exactly one point with the carrier, its pivot.
+    carrier : str
+        The body that carries the pinion's pivot and the rack's guide (the ground, or a
+        moving body).
+    along : (str, str)
+        Two points of the carrier: the guide's direction.
+    radius : float
+        The pinion's pitch radius, m (> 0).
+    pressure_angle : float
+        rad, in [0, π/2) (default 20°).
+    """
+
+    name: str
+    rack: str
+    pinion: str
+    carrier: str
+    along: tuple[str, str]
+    radius: float
+    pressure_angle: float = 0.3490658503988659
+
+
+@dataclass(frozen=True, slots=True)
+class CamFollower:
+    """A disc cam turning on ``carrier`` and a follower translating in a guide on it, or
+    oscillating about a pivot on it.
+
+    The follower's travel along its guide (its angle about its pivot, counter-clockwise, for an
+    oscillating one) is the lift law ``s(θ)`` of the cam's turn θ from its sketch, relative to
+    the carrier and counter-clockwise (a table over one turn, interpolated by a periodic cubic
+    spline; see `excavkin.model.cams`). At the sketch the follower is where it is drawn, at
+    the lift ``s(0)``.
+
+    Attributes
+    ----------
+    name : str
+        The pair's name.
+    cam : str
+        The cam body; it shares exactly one point with the carrier, its pivot.
+    follower : str
+        The translating body (it shares no point with the carrier), or the oscillating one (it
+        shares one, its pivot). With ``face = "roller"`` its first point other than a pivot is
+        the roller's centre (a knife edge: a roller of radius 0), whose motion the law gives.
+    carrier : str
+        The body that carries the cam's pivot and the follower's guide.
+    along : (str, str) or None
+        Two points of the carrier: the guide's direction; None for an oscillating follower.
+    lift : tuple of (float, float), or callable
+        (turn in rad, lift in m, or in rad for an oscillating follower) from 0 to 2π, strictly
+        increasing, the last lift equal to the first; or (in Python) a function of the turn
+        (rad, any number of turns) returning ``(s, ds/dθ, d²s/dθ²)``, written in NumPy
+        operations.
+    face : {"roller", "flat"}
+        A roller (or knife-edge) follower, or a flat face square to the guide (translating
+        followers only).
+    """
+
+    name: str
+    cam: str
+    follower: str
+    carrier: str
+    along: tuple[str, str] | None
+    lift: tuple[tuple[float, float], ...] | Callable[[Any], tuple[Any, Any, Any]]
+    face: Literal["roller", "flat"] = "roller"
+
+
+@dataclass(frozen=True, slots=True)
 class DesignVariable:
     """A named design variable of a model file: one value that several entries refer to.
 
@@ -340,6 +473,12 @@ class Model:
         Gravity, when the model enables it (``None``: off).
     design : tuple of DesignVariable
         The file's named design variables and the entries that refer to them.
+    gears : tuple of GearPair
+        Meshing gear pairs: higher pairs, one freedom each.
+    racks : tuple of RackPinion
+        Racks and pinions: a prismatic pair and a mesh each.
+    cams : tuple of CamFollower
+        Disc cams and translating followers: a prismatic pair and a contact each.
     ropes : tuple of Rope
         Ropes between blocks; each is also in ``linear`` (added when absent), as the element
         of its name between its blocks.
@@ -356,6 +495,9 @@ class Model:
     loads: tuple[PointForce | Torque, ...] = ()
     gravity: Gravity | None = None
     design: tuple[DesignVariable, ...] = ()
+    gears: tuple[GearPair, ...] = ()
+    racks: tuple[RackPinion, ...] = ()
+    cams: tuple[CamFollower, ...] = ()
     ropes: tuple[Rope, ...] = ()
 
     def __post_init__(self) -> None:

@@ -7,9 +7,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
 
 from excavkin.errors import MobilityError, ModelError, did_you_mean
 from excavkin.model.entities import Model, Rope
+from excavkin.model.gears import gear_pivots, gear_train, pivot_on, rack_side
 
 
 def validate(model: Model) -> None:
@@ -25,7 +29,11 @@ def validate(model: Model) -> None:
     _check_linear(model)
     _check_sliders(model)
     _check_lengths(model)
+    _check_gears(model)
+    _check_racks(model)
+    _check_cams(model)
     mobility_check(model)
+    gear_train(model)
 
 
 def _check_points(model: Model) -> None:
@@ -49,6 +57,9 @@ def _check_names(model: Model) -> None:
     _unique([b.name for b in model.bodies], "bodies", src)
     _unique([d.name for d in model.rotary] + [d.name for d in model.linear], "drivers", src)
     _unique([s.name for s in model.sliders], "sliders", src)
+    _unique([g.name for g in model.gears], "gears", src)
+    _unique([r.name for r in model.racks], "racks", src)
+    _unique([c.name for c in model.cams], "cams", src)
 
 
 def _check_bodies(model: Model) -> None:
@@ -358,6 +369,224 @@ def _check_lengths(model: Model) -> None:
             )
 
 
+def _check_gears(model: Model) -> None:
+    """``[gears]``: two distinct known bodies on a known carrier, each sharing one point (its
+    pivot) with it, pivots apart; a positive ratio (not 1 for an internal pair), a pressure
+    angle in [0, 90°), and pitch radii, where given, that fit the pivots' distance."""
+    src = model.source
+    names = {b.name for b in model.bodies}
+    for g in model.gears:
+        table = f"gears.{g.name}"
+        for body in (*g.gears, g.carrier):
+            if body not in names:
+                raise ModelError(
+                    f"unknown body {body!r}{did_you_mean(body, names)}",
+                    table=table,
+                    entry="carrier" if body == g.carrier else "gears",
+                    source=src,
+                )
+        if len({*g.gears, g.carrier}) != 3:
+            raise ModelError(
+                "the two gears and the carrier must be three different bodies",
+                table=table,
+                entry="gears",
+                source=src,
+            )
+        if not (math.isfinite(g.ratio) and g.ratio > 0):
+            raise ModelError(
+                f"the ratio must be positive, got {g.ratio}", table=table, entry="ratio", source=src
+            )
+        if g.internal and g.ratio == 1.0:
+            raise ModelError(
+                "an internal pair needs a ring larger than its pinion (ratio ≠ 1)",
+                table=table,
+                entry="ratio",
+                source=src,
+            )
+        if not 0.0 <= g.pressure_angle < math.pi / 2:
+            raise ModelError(
+                f"the pressure angle must be in [0, 90) deg, got {math.degrees(g.pressure_angle)}",
+                table=table,
+                entry="pressure_angle",
+                source=src,
+            )
+        p1, p2 = gear_pivots(model, g)
+        d = model.lengths.get((p1, p2), model.lengths.get((p2, p1)))
+        d = math.dist(model.points[p1], model.points[p2]) if d is None else d
+        if not d > 0:
+            raise ModelError(
+                f"the pivots {p1} and {p2} coincide, so the gears have no centre distance",
+                table=table,
+                entry="gears",
+                source=src,
+            )
+        if g.radii is not None:
+            r1, r2 = g.radii
+            want = abs(r1 - r2) if g.internal else r1 + r2
+            if not math.isclose(d, want, rel_tol=1e-6):
+                raise ModelError(
+                    f"the pitch radii {r1:.6g} m and {r2:.6g} m need a centre distance of "
+                    f"{want:.6g} m, but the pivots {p1} and {p2} are {d:.6g} m apart",
+                    table=table,
+                    entry="radii",
+                    source=src,
+                )
+
+
+def _check_racks(model: Model) -> None:
+    """``[racks]``: a rack, a pinion and a carrier, three different known bodies, the rack and
+    the pinion not the ground; the guide two carrier points apart; the pinion pivoted on the
+    carrier, the rack sharing no point with it and drawn to one side of the pinion; a positive
+    pitch radius and a pressure angle in [0, 90°)."""
+    src = model.source
+    names = {b.name for b in model.bodies}
+    for rk in model.racks:
+        table = f"racks.{rk.name}"
+        for key, body in (("rack", rk.rack), ("pinion", rk.pinion), ("carrier", rk.carrier)):
+            if body not in names:
+                raise ModelError(
+                    f"unknown body {body!r}{did_you_mean(body, names)}",
+                    table=table,
+                    entry=key,
+                    source=src,
+                )
+        if len({rk.rack, rk.pinion, rk.carrier}) != 3:
+            raise ModelError(
+                "the rack, the pinion and the carrier must be three different bodies",
+                table=table,
+                entry="rack",
+                source=src,
+            )
+        if model.body(rk.rack).ground or model.body(rk.pinion).ground:
+            raise ModelError(
+                "the rack and the pinion move: neither can be the ground (make the frame the "
+                "carrier)",
+                table=table,
+                entry="rack",
+                source=src,
+            )
+        carrier = model.body(rk.carrier)
+        if not all(p in carrier.points for p in rk.along) or rk.along[0] == rk.along[1]:
+            raise ModelError(
+                f"along must name two different points of the carrier {rk.carrier!r}",
+                table=table,
+                entry="along",
+                source=src,
+            )
+        if math.dist(model.points[rk.along[0]], model.points[rk.along[1]]) == 0.0:
+            raise ModelError(
+                "the guide's two points coincide in the sketch, so they set no direction",
+                table=table,
+                entry="along",
+                source=src,
+            )
+        shared = [p for p in model.body(rk.rack).points if p in carrier.points]
+        if shared:
+            raise ModelError(
+                f"the rack shares {', '.join(shared)} with its carrier; it slides in its guide "
+                "and is joined to the carrier by nothing else",
+                table=table,
+                entry="rack",
+                source=src,
+            )
+        if not (math.isfinite(rk.radius) and rk.radius > 0):
+            raise ModelError(
+                f"the pitch radius must be positive, got {rk.radius} m",
+                table=table,
+                entry="radius",
+                source=src,
+            )
+        if not 0.0 <= rk.pressure_angle < math.pi / 2:
+            raise ModelError(
+                f"the pressure angle must be in [0, 90) deg, got {math.degrees(rk.pressure_angle)}",
+                table=table,
+                entry="pressure_angle",
+                source=src,
+            )
+        pivot_on(model, rk.pinion, rk.carrier, table, "pinion")
+        rack_side(model, rk)
+
+
+def _check_cams(model: Model) -> None:
+    """``[cams]``: a cam, a follower and a carrier, three different known bodies, neither the
+    cam nor the follower the ground; the guide two carrier points apart; the cam pivoted on the
+    carrier, the follower sharing no point with it; a lift table from 0 to 360° (at least four
+    rows, turns strictly increasing, the same lift at both ends, finite)."""
+    src = model.source
+    names = {b.name for b in model.bodies}
+    for cm in model.cams:
+        table = f"cams.{cm.name}"
+
+        def bad(problem: str, entry: str, table: str = table) -> ModelError:
+            return ModelError(problem, table=table, entry=entry, source=src)
+
+        for key, body in (("cam", cm.cam), ("follower", cm.follower), ("carrier", cm.carrier)):
+            if body not in names:
+                raise bad(f"unknown body {body!r}{did_you_mean(body, names)}", key)
+        if len({cm.cam, cm.follower, cm.carrier}) != 3:
+            raise bad("the cam, the follower and the carrier must be three different bodies", "cam")
+        if model.body(cm.cam).ground or model.body(cm.follower).ground:
+            raise bad("the cam and the follower move: neither can be the ground", "cam")
+        carrier = model.body(cm.carrier)
+        if cm.face not in ("roller", "flat"):
+            raise bad(f"face must be 'roller' or 'flat', not {cm.face!r}", "face")
+        if cm.along is None:
+            pivot_on(model, cm.follower, cm.carrier, table, "follower")
+            if cm.face != "roller":
+                raise bad("an oscillating follower is a roller (face = 'roller')", "face")
+        else:
+            if not all(p in carrier.points for p in cm.along) or cm.along[0] == cm.along[1]:
+                raise bad(
+                    f"along must name two different points of the carrier {cm.carrier!r}",
+                    "along",
+                )
+            if math.dist(model.points[cm.along[0]], model.points[cm.along[1]]) == 0.0:
+                raise bad("the guide's two points coincide in the sketch", "along")
+            shared = [p for p in model.body(cm.follower).points if p in carrier.points]
+            if shared:
+                raise bad(
+                    f"the follower shares {', '.join(shared)} with its carrier; a translating "
+                    "follower slides in its guide (leave out along for one pivoted there)",
+                    "follower",
+                )
+        pivot_on(model, cm.cam, cm.carrier, table, "cam")
+        if callable(cm.lift):
+            _check_lift_function(cm.lift, bad)
+            continue
+        lift = cm.lift
+        if len(lift) < 4 or not all(
+            len(row) == 2 and all(math.isfinite(v) for v in row) for row in lift
+        ):
+            raise bad("the lift table needs at least four finite rows [turn, lift]", "lift")
+        turns = [a for a, _ in lift]
+        if turns[0] != 0.0 or not math.isclose(turns[-1], 2 * math.pi, abs_tol=1e-12):
+            raise bad("the lift table runs from 0 to 360 deg", "lift")
+        if any(b <= a for a, b in zip(turns, turns[1:], strict=False)):
+            raise bad("the lift table's turns must increase strictly", "lift")
+        if lift[-1][1] != lift[0][1]:
+            raise bad(
+                f"the lift at 360 deg ({lift[-1][1]:.6g} m) must equal the lift at 0 "
+                f"({lift[0][1]:.6g} m): the cam turns round",
+                "lift",
+            )
+
+
+def _check_lift_function(law: Any, bad: Any) -> None:
+    """A lift function returns three finite values, the same at 0 and 2π (periodic)."""
+    try:
+        at = [[float(np.asarray(v)) for v in law(np.float64(t))] for t in (0.0, 2 * math.pi)]
+    except Exception as exc:  # a user's function: any failure is reported, named
+        problem = f"the lift function failed at the turn 0: {type(exc).__name__}: {exc}"
+        raise bad(problem, "lift") from None
+    if not all(len(row) == 3 and all(math.isfinite(v) for v in row) for row in at):
+        raise bad("the lift function must return three finite values (s, ds/dθ, d²s/dθ²)", "lift")
+    scale = max(abs(at[0][0]), 1e-3)
+    if any(abs(a - b) > 1e-9 * scale for a, b in zip(at[0], at[1], strict=True)):
+        raise bad(
+            "the lift function must be periodic: the same (s, s', s'') at 0 and 360 deg", "lift"
+        )
+
+
 def _unique(names: list[str], table: str, src: str | None) -> None:
     seen: set[str] = set()
     for n in names:
@@ -384,7 +613,8 @@ class Mobility:
 
     ``M = 3 (n − 1) − 2 p1 − p2`` with n links (each cylinder or rope counted as two links,
     barrel and rod, joined by a prismatic pair), p1 lower pairs (revolute and prismatic) and p2
-    two-freedom pairs (a point sliding in a slot); locked cylinders then take one freedom each.
+    two-freedom pairs (a point sliding in a slot, a gear or rack mesh: ``gear_pairs``); a rack's
+    guide is a prismatic pair; locked cylinders then take one freedom each.
     """
 
     links: int
@@ -392,16 +622,25 @@ class Mobility:
     slot_pairs: int
     locked: int
     inputs: int
+    gear_pairs: int = 0
 
     @property
     def mobility(self) -> int:
         """Freedoms of the mechanism with its locked elements locked."""
-        return 3 * (self.links - 1) - 2 * self.lower_pairs - self.slot_pairs - self.locked
+        return (
+            3 * (self.links - 1)
+            - 2 * self.lower_pairs
+            - self.slot_pairs
+            - self.gear_pairs
+            - self.locked
+        )
 
     def describe(self) -> str:
         """The count written out."""
         n, p1, p2 = self.links, self.lower_pairs, self.slot_pairs
         text = f"M = 3·({n} − 1) − 2·{p1} − {p2}"
+        if self.gear_pairs:
+            text += f" − {self.gear_pairs} higher pair{'s' if self.gear_pairs > 1 else ''}"
         if self.locked:
             text += f" − {self.locked} locked"
         return f"{text} = {self.mobility}"
@@ -424,7 +663,10 @@ def mobility(model: Model) -> Mobility:
     links += 2 * len(sheaved)
     lower += 3 * len(sheaved)
     locked += sum(1 for r in sheaved if r.mode == "locked")
-    return Mobility(links, lower, len(model.sliders), locked, len(model.inputs))
+    # a rack (a cam's follower): a prismatic pair with its carrier and a mesh (a contact)
+    lower += len(model.racks) + sum(1 for cm in model.cams if cm.along is not None)
+    higher = len(model.gears) + len(model.racks) + len(model.cams)
+    return Mobility(links, lower, len(model.sliders), locked, len(model.inputs), higher)
 
 
 def mobility_check(model: Model) -> None:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from excavkin.outputs.events import as_table
+from excavkin.outputs.meshes import add_pitch_circles, move_pitch_circles
 from excavkin.outputs.scene import Scene, overlays, scene_of, source
 from excavkin.outputs.style import (
     CYLINDER_COLOR,
@@ -63,6 +64,8 @@ class MechanismDrawing:
         Pivot triangles and hatching.
     sliders : dict of str to (Polygon, Line2D)
         Block and guide of each slider.
+    circles : list of (int, Circle)
+        The pitch circles of the gears and pinions, with their centres' point indices.
     ghosts : list of MechanismDrawing
         Fainter drawings of the other samples asked for.
     """
@@ -102,6 +105,7 @@ class MechanismDrawing:
             self.ground: tuple[Line2D, ...] = (t, h)
         else:
             self.ground = ()
+        self.circles = add_pitch_circles(ax, scene, sample, z, alpha)
         for sl in scene.sliders:
             guide = scene.slider_guide(sl, sample)
             (g,) = ax.plot(
@@ -242,6 +246,7 @@ class MechanismDrawing:
             out += [b, r] if b is not r else [b]
         for block, g in self.sliders.values():
             out += [block, g]
+        out += [c for _, c in self.circles]
         out += [self.pins, self.dots, *self.labels.values()]
         return out
 
@@ -280,6 +285,7 @@ class MechanismDrawing:
             block.set_xy(sc.slider_block(sl, sample)[:-1])
             guide = sc.slider_guide(sl, sample)
             g.set_data(guide[:, 0], guide[:, 1])
+        move_pitch_circles(self.circles, sc, sample)
         xy = sc.xy[sample]
         self.pins.set_data(xy[sc.pins, 0], xy[sc.pins, 1])
         self.dots.set_data(xy[sc.dots, 0], xy[sc.dots, 1])

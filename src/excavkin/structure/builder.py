@@ -26,13 +26,19 @@ from collections.abc import Callable
 from typing import ClassVar, Literal
 
 from excavkin.errors import AssemblyError, MobilityError
-from excavkin.model.entities import Body, Model, Rope
+from excavkin.model.cams import lift_law
+from excavkin.model.entities import Body, CamFollower, Model, Rope
+from excavkin.model.gears import gear_train, pivot_on
 from excavkin.model.validate import mobility
 from excavkin.step_kinds import (
     Attach,
+    CamRockerStep,
+    CamStep,
     Dyad,
     Fixed,
+    GearStep,
     NewtonGroup,
+    RackStep,
     Rotate,
     SliderStep,
     StepKind,
@@ -109,7 +115,15 @@ class PlanBuilder:
     """
 
     #: The closed-form step kinds, in the order they are tried after each step added.
-    ORDER: ClassVar[tuple[str, ...]] = ("attach", "rotate", "dyad", "slider")
+    ORDER: ClassVar[tuple[str, ...]] = (
+        "attach",
+        "rotate",
+        "gear",
+        "rack",
+        "cam",
+        "dyad",
+        "slider",
+    )
 
     def __init__(self, model: Model, method: Literal["closed-form", "newton"]) -> None:
         self.model = model
@@ -165,6 +179,7 @@ class PlanBuilder:
         self.kinds: list[str] = []
         self.input_sketch: list[float] = []
         self.elements: list[Element] = []
+        self.add_gear_train()
 
     # ---- geometry read from the model (one place each, so that it can be re-evaluated)
     def length_override(self, p: str, q: str) -> float | None:
@@ -464,6 +479,7 @@ class PlanBuilder:
 
     def newton_group(self, unknown: list[str]) -> None:
         """What no closed-form step reaches, solved together by Newton–Raphson."""
+        self.check_no_meshes(unknown)
         cons = self._body_constraints(unknown) + self._other_constraints(unknown)
         n_eq = sum(2 if isinstance(c, CFrame) else 1 for c in cons)
         if n_eq != 2 * len(unknown):
@@ -478,6 +494,246 @@ class PlanBuilder:
         sketch = [self.sketch[n] for n in self.names]
         dyads = group_dyads(pts, cons, sketch, self.scale)
         self.steps.append(_kind(NewtonGroup).build(pts, tuple(cons), dyads))
+
+    def add_gear_train(self) -> None:
+        """The bodies the gear trains turn (`excavkin.model.gears`), each waiting for a known
+        point (see `learn`)."""
+        self.train = gear_train(self.model)
+        self.gear_body = {self.body_index[b] for b in self.train.placed}
+        self.gear_next: list[int] = []
+        self.used_gear: set[int] = set()
+        # each rack waits for its pinion's pivot and its guide's points
+        self.rack_next: list[int] = []
+        self.rack_at: dict[str, list[int]] = {}
+        self.rack_placed = [0] * len(self.model.racks)
+        for k, rk in enumerate(self.model.racks):
+            pivot = pivot_on(self.model, rk.pinion, rk.carrier, f"racks.{rk.name}", "pinion")
+            for n in {pivot, *rk.along}:
+                self.rack_at.setdefault(n, []).append(k)
+        # each cam's follower likewise waits for the cam's pivot and its guide's points
+        self.cam_next: list[int] = []
+        self.cam_at: dict[str, list[int]] = {}
+        self.cam_placed = [0] * len(self.model.cams)
+        for k, cm in enumerate(self.model.cams):
+            pivot = pivot_on(self.model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
+            for n in {pivot, *self.cam_guide(cm)}:
+                self.cam_at.setdefault(n, []).append(k)
+
+    def check_no_meshes(self, unknown: list[str]) -> None:
+        """Refuse a Newton group that holds a body a gear or a rack moves: its mesh is a
+        relation of the inputs (`excavkin.model.gears`), which only the closed-form steps
+        place."""
+        moved = set(self.train.placed) | {rk.rack for rk in self.model.racks}
+        moved |= {cm.follower for cm in self.model.cams}
+        caught = [b.name for b in self.bodies if b.name in moved and set(b.points) & set(unknown)]
+        if caught:
+            raise MobilityError(
+                f"bodies {', '.join(caught)} are moved by gears or racks, which the generic "
+                "solver does not hold: place them in closed form (method 'closed-form'; each "
+                "needs a point placed before it, its pivot or its guide)",
+                table="gears" if self.model.gears else "racks",
+                source=self.model.source,
+            )
+
+    def gear(self) -> bool:
+        """The first body a gear train turns with a known point and an unknown one: its first
+        unknown point about its first known one, at the angle the train gives."""
+        sk = self.sketch
+        while self.gear_next:
+            bi = heapq.heappop(self.gear_next)
+            b = self.bodies[bi]
+            if bi in self.used_gear:
+                continue
+            anchor = next((n for n in b.points if n in self.known), None)
+            point = next((n for n in b.points if n not in self.known), None)
+            if anchor is None or point is None:
+                continue
+            terms = self.train.placed[b.name]
+            offset = math.atan2(sk[point][1] - sk[anchor][1], sk[point][0] - sk[anchor][0])
+            inputs, coef = [], []
+            for ri, c in terms:
+                if c == 0.0:
+                    continue
+                i = self.in_idx[self.model.rotary[ri].name]
+                offset -= c * self.input_sketch[i]
+                inputs.append(i)
+                coef.append(c)
+            self.steps.append(
+                _kind(GearStep).build(
+                    self.idx[point],
+                    self.idx[anchor],
+                    self.shapes[b.name].distance(point, anchor),
+                    offset,
+                    tuple(inputs),
+                    tuple(coef),
+                    b.name,
+                    self.train.meshes[b.name],
+                )
+            )
+            self.used_gear.add(bi)
+            self.body_used[bi] += 1
+            self.learn(point)
+            return True
+        return False
+
+    def rack(self) -> bool:
+        """The first rack whose pinion's pivot and guide are known: its first two points, at
+        the travel the gear train gives (`excavkin.model.gears.GearTrain.travel`)."""
+        model = self.model
+        while self.rack_next:
+            k = heapq.heappop(self.rack_next)
+            rk = model.racks[k]
+            pivot = pivot_on(model, rk.pinion, rk.carrier, f"racks.{rk.name}", "pinion")
+            if self.rack_placed[k] or not all(n in self.known for n in (pivot, *rk.along)):
+                continue
+            body = self.body_named[rk.rack]
+            if any(n in self.known for n in body.points[:2]):
+                continue  # fixed otherwise: refused as over-constrained after the steps
+            sk = self.sketch
+            (ax, ay), (bx, by) = sk[rk.along[0]], sk[rk.along[1]]
+            dx, dy = bx - ax, by - ay
+            d = math.hypot(dx, dy)
+            terms = self.train.travel(model, rk)
+            for n in body.points[:2]:
+                px, py = sk[n][0] - sk[pivot][0], sk[n][1] - sk[pivot][1]
+                offset = (px * dx + py * dy) / d
+                inputs, coef = [], []
+                for ri, c in terms:
+                    if c == 0.0:
+                        continue
+                    i = self.in_idx[model.rotary[ri].name]
+                    offset -= c * self.input_sketch[i]
+                    inputs.append(i)
+                    coef.append(c)
+                self.steps.append(
+                    _kind(RackStep).build(
+                        self.idx[n],
+                        self.idx[pivot],
+                        self.idx[rk.along[0]],
+                        self.idx[rk.along[1]],
+                        offset,
+                        (dx * py - dy * px) / d,
+                        tuple(inputs),
+                        tuple(coef),
+                        rk.name,
+                        rk.rack,
+                    )
+                )
+                self.learn(n)
+            # the rack's first two points: one distance of its body, the guide and the mesh
+            self.body_used[self.body_index[rk.rack]] += 1
+            self.rack_placed[k] = 1
+            return True
+        return False
+
+    def cam(self) -> bool:
+        """The first cam whose pivot and follower's guide are known: the follower's first two
+        points, at the lift of the cam's turn (`excavkin.model.cams`)."""
+        model = self.model
+        while self.cam_next:
+            k = heapq.heappop(self.cam_next)
+            cm = model.cams[k]
+            pivot = pivot_on(model, cm.cam, cm.carrier, f"cams.{cm.name}", "cam")
+            if self.cam_placed[k] or not all(n in self.known for n in (pivot, *self.cam_guide(cm))):
+                continue
+            if cm.along is None:
+                if not self.cam_rocker(cm):
+                    continue
+                self.cam_placed[k] = 1
+                return True
+            body = self.body_named[cm.follower]
+            if any(n in self.known for n in body.points[:2]):
+                continue  # fixed otherwise: refused as over-constrained after the steps
+            law = lift_law(cm.lift)
+            s0 = float(law(0.0)[0])
+            sk = self.sketch
+            l1, l2 = self.cam_guide(cm)
+            (ax, ay), (bx, by) = sk[l1], sk[l2]
+            dx, dy = bx - ax, by - ay
+            d = math.hypot(dx, dy)
+            offset, inputs, coef = 0.0, [], []
+            for ri, c in self.train.turn(cm.cam, cm.carrier):
+                if c == 0.0:
+                    continue
+                i = self.in_idx[model.rotary[ri].name]
+                offset -= c * self.input_sketch[i]
+                inputs.append(i)
+                coef.append(c)
+            for n in body.points[:2]:
+                px, py = sk[n][0] - sk[pivot][0], sk[n][1] - sk[pivot][1]
+                self.steps.append(
+                    _kind(CamStep).build(
+                        self.idx[n],
+                        self.idx[pivot],
+                        self.idx[l1],
+                        self.idx[l2],
+                        (px * dx + py * dy) / d - s0,
+                        (dx * py - dy * px) / d,
+                        offset,
+                        tuple(inputs),
+                        tuple(coef),
+                        law,
+                        cm.name,
+                        cm.follower,
+                    )
+                )
+                self.learn(n)
+            self.body_used[self.body_index[cm.follower]] += 1
+            self.cam_placed[k] = 1
+            return True
+        return False
+
+    def cam_guide(self, cm: CamFollower) -> tuple[str, ...]:
+        """What places a cam's follower besides the cam's pivot: its guide's two points, or
+        the oscillating follower's pivot."""
+        if cm.along is not None:
+            return cm.along
+        return (pivot_on(self.model, cm.follower, cm.carrier, f"cams.{cm.name}", "follower"),)
+
+    def cam_rocker(self, cm: CamFollower) -> bool:
+        """An oscillating follower: its first point other than its pivot, about the pivot at
+        the carrier's angle plus the lift law's (`excavkin.step_kinds.cam_rocker`); whether it
+        was placed."""
+        model, sk = self.model, self.sketch
+        (pivot,) = self.cam_guide(cm)
+        body = self.body_named[cm.follower]
+        point = next(n for n in body.points if n != pivot)
+        if point in self.known:
+            return False  # fixed otherwise: refused as over-constrained after the steps
+        law = lift_law(cm.lift)
+        offset = math.atan2(sk[point][1] - sk[pivot][1], sk[point][0] - sk[pivot][0])
+        offset -= float(law(0.0)[0])
+        carrier = dict(self.train.angles[cm.carrier])
+        turn = dict(self.train.turn(cm.cam, cm.carrier))
+        turn0, inputs, a, c = 0.0, [], [], []
+        for ri in sorted(carrier | turn):
+            ca, ct = carrier.get(ri, 0.0), turn.get(ri, 0.0)
+            if ca == 0.0 and ct == 0.0:
+                continue
+            i = self.in_idx[model.rotary[ri].name]
+            offset -= ca * self.input_sketch[i]
+            turn0 -= ct * self.input_sketch[i]
+            inputs.append(i)
+            a.append(ca)
+            c.append(ct)
+        self.steps.append(
+            _kind(CamRockerStep).build(
+                self.idx[point],
+                self.idx[pivot],
+                self.shapes[body.name].distance(point, pivot),
+                offset,
+                turn0,
+                tuple(inputs),
+                tuple(a),
+                tuple(c),
+                law,
+                cm.name,
+                cm.follower,
+            )
+        )
+        self.body_used[self.body_index[cm.follower]] += 1
+        self.learn(point)
+        return True
 
     # ---- helpers of the step kinds
     def distance_options(self, p: str) -> list[Option]:
@@ -541,6 +797,13 @@ class PlanBuilder:
                 heapq.heappush(self.slider_next, si)
         for ri in self.rotary_at[n]:
             heapq.heappush(self.rotate_next, ri)
+        for bi in self.point_bodies[n]:
+            if bi in self.gear_body:
+                heapq.heappush(self.gear_next, bi)
+        for k in self.rack_at.get(n, ()):
+            heapq.heappush(self.rack_next, k)
+        for k in self.cam_at.get(n, ()):
+            heapq.heappush(self.cam_next, k)
         for si in self.slider_along[n]:
             heapq.heappush(self.slider_next, si)
 
@@ -641,6 +904,33 @@ class PlanBuilder:
                     f"rotary driver {d.name!r} is redundant: body {d.body!r} is already fixed by "
                     "the rest of the mechanism (over-constrained)",
                     table=f"drivers.{d.name}",
+                    source=src,
+                )
+        for bi in sorted(self.gear_body - self.used_gear):
+            name = self.bodies[bi].name
+            raise MobilityError(
+                f"body {name!r} is turned by its gears ({', '.join(self.train.meshes[name])}) "
+                "but also fixed by the rest of the mechanism (over-constrained), or none of its "
+                "points is placed before it",
+                table="gears",
+                source=src,
+            )
+        for k, rk in enumerate(self.model.racks):
+            if not self.rack_placed[k]:
+                raise MobilityError(
+                    f"rack {rk.name!r}: body {rk.rack!r} is fixed by the rest of the mechanism "
+                    "as well as by its guide and pinion (over-constrained), or its pinion's "
+                    "pivot or guide is not placed before it",
+                    table=f"racks.{rk.name}",
+                    source=src,
+                )
+        for k, cm in enumerate(self.model.cams):
+            if not self.cam_placed[k]:
+                raise MobilityError(
+                    f"cam {cm.name!r}: follower {cm.follower!r} is fixed by the rest of the "
+                    "mechanism as well as by its guide and cam (over-constrained), or the cam's "
+                    "pivot or the guide is not placed before it",
+                    table=f"cams.{cm.name}",
                     source=src,
                 )
         for bi, b in enumerate(self.bodies):

@@ -13,6 +13,10 @@ Attach     two known points of the same body                   any other point o
 Dyad       A, B and distances |PA|, |PB| (body, cylinder,      P, on the sketch's side of AB
            rope; fixed or driven)                              (RRR dyad, internal driving link)
 Slider     A, |PA|, a line through two known points            P on the line (RRP)
+Gear       a known point of a body a gear train turns          another, at θ = θ0 + Σ c_i q_i
+Rack       the pinion's pivot and the rack's guide             the rack's first two points
+Cam        the cam's pivot and the follower's guide            the follower's first two points
+CamRocker  the cam's and the follower's pivots                 the follower's roller centre
 Newton     what is left: a higher-class group                  all its points, by Newton–Raphson
 =========  ==================================================  ================================
 

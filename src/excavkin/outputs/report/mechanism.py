@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from excavkin.outputs.display_units import pretty_unit
+from excavkin.outputs.meshes import circle_paths
 from excavkin.outputs.protocols import Solved
 from excavkin.outputs.report.data import ReportData, thin
 from excavkin.outputs.scene import Overlays, Scene, overlays, source
@@ -186,11 +187,27 @@ def _static_traces(scene: Scene, over: Overlays) -> list[Any]:
 def _dynamic_traces(scene: Scene, i: int) -> list[Any]:
     """Everything that moves, at sample ``i``: sliders, bodies, cylinders, pins and labels."""
     return (
-        _slider_traces(scene, i)
+        _circle_traces(scene, i)
+        + _slider_traces(scene, i)
         + _body_traces(scene, i)
         + _element_traces(scene, i)
         + _point_traces(scene, i)
     )
+
+
+def _circle_traces(scene: Scene, i: int) -> list[Any]:
+    """The pitch circles of the gears and pinions (`excavkin.outputs.meshes`)."""
+    return [
+        _scatter(
+            path,
+            mode="lines",
+            showlegend=False,
+            name="pitch circle",
+            hoverinfo="skip",
+            line={"color": "#595959", "width": 1, "dash": "dashdot"},
+        )
+        for path in circle_paths(scene, i)
+    ]
 
 
 def _slider_traces(scene: Scene, i: int) -> list[Any]:

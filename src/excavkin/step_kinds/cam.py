@@ -1,0 +1,181 @@
+"""A point of a cam's follower along its guide: ``s = s(θ)``, θ the cam's turn.
+
+The follower translates in a guide on its carrier (points ``l1 → l2``, ``D = l2 − l1``, of
+constant length ``d``) and the cam turns on the carrier about ``o``; the cam's turn relative to
+the carrier is a linear function of the rotary inputs, ``θ = θ0 + Σ c_i q_i``
+(`excavkin.model.gears.GearTrain.turn`), and the lift law ``s(θ)`` (`excavkin.model.cams`)
+gives the follower's travel. A point of the follower is, in the guide's frame at ``o``::
+
+    X = o + ((a + s(θ))·D + b·perp(D)) / d
+
+and, with ``ṡ = s'·θ̇`` and ``s̈ = s''·θ̇² + s'·θ̈``, its rates are those of a rack
+(`excavkin.step_kinds.rack`). The law is a table's spline, evaluated in NumPy: the step does
+not compile, and a plan with it runs in NumPy.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from excavkin.arrays import FloatArray as F
+from excavkin.model.cams import Law, LiftLaw, evaluate
+from excavkin.model.entities import Model
+from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
+from excavkin.step_kinds.dist import Index, at, varies
+from excavkin.step_kinds.gear import sketch_input_angle
+from excavkin.step_kinds.state import Chunk, round_output
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class CamStep:
+    """``X = o + ((a + s(θ))·D + b·perp(D))/d``, ``θ = offset + Σ coef[k]·q[inputs[k]]``.
+
+    ``along`` is ``a`` (the sketch's along-guide coordinate less ``s(0)``), ``across`` is
+    ``b``; ``cam`` names the pair, ``body`` the follower."""
+
+    point: int
+    origin: int
+    l1: int
+    l2: int
+    along: float
+    across: float
+    offset: float
+    inputs: tuple[int, ...]
+    coef: tuple[float, ...]
+    law: Law
+    cam: str
+    body: str
+
+
+@register
+class CamKind(StepKind[CamStep]):
+    """A follower moved by its cam along its guide."""
+
+    name = "cam"
+    record = CamStep
+    compiles = False
+    iterative = False
+
+    def build(
+        self,
+        point: int,
+        origin: int,
+        l1: int,
+        l2: int,
+        along: float,
+        across: float,
+        offset: float,
+        inputs: tuple[int, ...],
+        coef: tuple[float, ...],
+        law: Law,
+        cam: str,
+        body: str,
+    ) -> CamStep:
+        return CamStep(point, origin, l1, l2, along, across, offset, inputs, coef, law, cam, body)
+
+    def vary(self, st: CamStep, geo: Geometry, names: tuple[str, ...], model: Model) -> CamStep:
+        sk = geo.sketch
+        (ax, ay), (bx, by) = sk[names[st.l1]], sk[names[st.l2]]
+        dx, dy = bx - ax, by - ay
+        d = np.hypot(dx, dy)
+        px = sk[names[st.point]][0] - sk[names[st.origin]][0]
+        py = sk[names[st.point]][1] - sk[names[st.origin]][1]
+        along = (px * dx + py * dy) / d - evaluate(st.law, 0.0, st.cam)[0]
+        across = (dx * py - dy * px) / d
+        offset: Any = 0.0
+        rotary = {dr.name: k for k, dr in enumerate(model.rotary)}
+        for i, c in zip(st.inputs, st.coef, strict=True):
+            offset = offset - c * sketch_input_angle(sk, model, rotary[model.inputs[i]])
+        if not (varies(along) or varies(across) or varies(offset)):
+            return st
+        return dataclasses.replace(st, along=along, across=across, offset=offset)
+
+    def take(self, st: CamStep, index: Index) -> CamStep:
+        if not (np.ndim(st.along) or np.ndim(st.across) or np.ndim(st.offset)):
+            return st
+        return dataclasses.replace(
+            st,
+            along=at(st.along, index),
+            across=at(st.across, index),
+            offset=at(st.offset, index),
+        )
+
+    def solve(
+        self, c: Chunk, st: CamStep, k: int, order: int, scale: float, newton: bool = True
+    ) -> F | None:
+        """A point of a cam's follower along its guide: s = s(θ)."""
+        x, v, a = c.x, c.v, c.a
+        th: Any = st.offset
+        for i, co in zip(st.inputs, st.coef, strict=True):
+            th = th + co * c.q[i]
+        lift, s1, s2 = evaluate(st.law, th, st.cam)
+        s = st.along + lift
+        b = st.across
+        dx, dy = x[st.l2, 0] - x[st.l1, 0], x[st.l2, 1] - x[st.l1, 1]
+        inv = 1.0 / np.hypot(dx, dy)
+        o = st.origin
+        x[st.point, 0] = x[o, 0] + (s * dx - b * dy) * inv
+        x[st.point, 1] = x[o, 1] + (s * dy + b * dx) * inv
+        if not order:
+            return None
+        thd: Any = 0.0
+        thdd: Any = 0.0
+        for i, co in zip(st.inputs, st.coef, strict=True):
+            thd = thd + co * c.qd[i]
+            thdd = thdd + co * c.qdd[i]
+        sd = s1 * thd
+        sdd = s2 * thd * thd + s1 * thdd
+        vx, vy = v[st.l2, 0] - v[st.l1, 0], v[st.l2, 1] - v[st.l1, 1]
+        ax, ay = a[st.l2, 0] - a[st.l1, 0], a[st.l2, 1] - a[st.l1, 1]
+        v[st.point, 0] = v[o, 0] + (sd * dx + s * vx - b * vy) * inv
+        v[st.point, 1] = v[o, 1] + (sd * dy + s * vy + b * vx) * inv
+        a[st.point, 0] = a[o, 0] + (sdd * dx + 2.0 * sd * vx + s * ax - b * ay) * inv
+        a[st.point, 1] = a[o, 1] + (sdd * dy + 2.0 * sd * vy + s * ay + b * ax) * inv
+        return None
+
+    def nudge(self, c: Chunk, st: CamStep, order: int) -> None:
+        round_output(c, st.point, order)
+
+    def transmission(self, st: CamStep) -> int | None:
+        return None
+
+    def constants(self, st: CamStep) -> list[Any]:
+        return []
+
+    def emit(self, g: Emitter, st: CamStep, k: int) -> None:
+        raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled")
+
+    def describe(self, st: CamStep, names: tuple[str, ...]) -> str:
+        terms = " ".join(
+            f"{'+' if co >= 0 else '−'} {abs(co):.6g}·q{i}"
+            for i, co in zip(st.inputs, st.coef, strict=True)
+        )
+        return (
+            f"cam      {names[st.point]} along {names[st.l1]}→{names[st.l2]} from "
+            f"{names[st.origin]}: body {st.body!r} lifted by {st.cam!r} "
+            f"(s = s(θ), θ = θ0 {terms}, "
+            + (
+                f"{st.law.coef.shape[1]} spline pieces)"
+                if isinstance(st.law, LiftLaw)
+                else "a function)"
+            )
+        )
+
+    def label(self, st: CamStep, names: tuple[str, ...], k: int) -> str:
+        return f"step {k + 1} (cam {st.cam})"
+
+    def folding(self, st: CamStep) -> list[tuple[int, Any]]:
+        return []
+
+    def turn(self, st: CamStep, place: int, turn: Any) -> CamStep:
+        raise TypeError("a cam's step has no dyad to turn")
+
+    def role(self, st: CamStep) -> Role:
+        return Role(places=(st.point,), efforts=())
+
+    def drawing(self, st: CamStep) -> tuple[Primitive, ...]:
+        return (Primitive("slide", (st.point, st.l1, st.l2)),)

@@ -1,0 +1,278 @@
+"""Gear pairs: the ``[gears]`` table, the gear step's closed forms (NumPy and compiled), the
+tooth force along the line of action, the power balance, and exact sensitivities."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import excavkin
+from excavkin.errors import MobilityError, ModelError
+from excavkin.kinetostatics.solve import solve_forces
+from excavkin.model.entities import Torque
+
+PAIR = """
+schema_version = 1
+name = "gear pair"
+[units]
+length = "mm"
+[points]
+O1 = [0, 0]
+O2 = [300, 0]
+A = [0, 100]
+B = [300, 200]
+C = [250, 60]
+[bodies]
+frame = { points = ["O1", "O2"], ground = true }
+pinion = { points = ["O1", "A"], mass = "1 kg", inertia = "0.01 kg*m^2", center_of_mass = [5, 3] }
+wheel = { points = ["O2", "B", "C"], mass = "2 kg", inertia = "0.05 kg*m^2", \
+center_of_mass = [320, 10] }
+[drivers.motor]
+type = "rotary"
+body = "pinion"
+pivot = "O1"
+[gears.mesh]
+gears = ["pinion", "wheel"]
+GEAR_KEYS
+[loads.brake]
+type = "torque"
+body = "wheel"
+value = "10 N*m"
+[gravity]
+"""
+
+EXTERNAL = 'radii = [100, 200]\npressure_angle = "25 deg"'
+
+
+def pair(keys: str = EXTERNAL, points: str = "") -> excavkin.Mechanism:
+    text = PAIR.replace("GEAR_KEYS", keys)
+    if points:
+        text = text.replace("O2 = [300, 0]", points)
+    return excavkin.loads(text, "pair.toml")
+
+
+def test_an_external_pair_turns_the_other_way_by_the_ratio_at_every_turn() -> None:
+    mech = pair()
+    assert "− 1 higher pair = 1" in mech.plan.mobility.describe()
+    q = np.linspace(-60.0, 60.0, 241)  # about ten turns each way
+    res = mech.solve({"motor": q}, rates={"motor": 2.0}, accels={"motor": 0.5})
+    assert res.status.all_ok
+    # independently: the wheel's mark B turns by −(q − q0)/2 about O2 from its sketch angle
+    th = math.pi / 2 - (q - math.pi / 2) / 2
+    b = res.point("B")
+    assert_allclose(b[0][:, 0], 0.3 + 0.2 * np.cos(th), atol=1e-15)
+    assert_allclose(b[0][:, 1], 0.2 * np.sin(th), atol=1e-15)
+    assert_allclose(res.body("wheel")[1], -1.0, rtol=1e-15)
+    assert_allclose(res.body("wheel")[2], -0.25, rtol=1e-15)
+
+
+def test_an_internal_pair_turns_the_same_way() -> None:
+    mech = pair("ratio = 3\ninternal = true", points="O2 = [-200, 0]")
+    res = mech.solve({"motor": np.linspace(0.0, 10.0, 5)}, rates={"motor": 3.0})
+    assert_allclose(res.body("wheel")[1], 1.0, rtol=1e-15)
+
+
+def test_teeth_and_ratio_give_the_same_motion() -> None:
+    q = {"motor": np.linspace(-3.0, 3.0, 7)}
+    a = pair("teeth = [20, 40]").solve(q).positions
+    b = pair("ratio = 2.0").solve(q).positions
+    assert_allclose(a, b, rtol=0, atol=0)
+
+
+def test_compiled_and_numpy_agree() -> None:
+    mech = pair()
+    q = np.linspace(-30.0, 30.0, 4001)
+    kw = {"rates": {"motor": np.cos(q)}, "accels": {"motor": np.sin(q)}}
+    r0 = mech.solve({"motor": q}, backend="numpy", **kw)
+    r1 = mech.solve({"motor": q}, backend="numba", **kw)
+    for name in ("positions", "velocities", "accelerations"):
+        assert_allclose(getattr(r1, name), getattr(r0, name), rtol=0, atol=1e-14)
+    loads = mech.model.loads
+    f0 = mech.forces(r0, loads=loads, backend="numpy")
+    f1 = mech.forces(r0, loads=loads, backend="numba")
+    assert_allclose(f1.pin_force, f0.pin_force, rtol=1e-13, atol=1e-12)
+    assert_allclose(f1.gear_force, f0.gear_force, rtol=1e-13, atol=1e-12)
+    fd = solve_forces(r0, loads, method="dense")
+    assert_allclose(fd.gear_force, f0.gear_force, rtol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "keys",
+    [EXTERNAL, "ratio = 3\ninternal = true", "ratio = 0.5\ninternal = true"],
+    ids=["external", "internal ring is gear 2", "internal ring is gear 1"],
+)
+def test_power_balances_and_the_tooth_force_is_on_the_line_of_action(keys: str) -> None:
+    points = {EXTERNAL: "", "ratio = 3\ninternal = true": "O2 = [-200, 0]"}.get(
+        keys, "O2 = [100, 0]"
+    )
+    mech = pair(keys, points)
+    rng = np.random.default_rng(3)
+    q = rng.uniform(-20, 20, 200)
+    res = mech.solve(
+        {"motor": q},
+        rates={"motor": rng.uniform(-5, 5, 200)},
+        accels={"motor": rng.uniform(-9, 9, 200)},
+    )
+    f = mech.forces(res, loads=mech.model.loads)
+    pb = f.power_balance()
+    assert np.abs(pb.relative).max() < 1e-9
+    # the wheel's pin takes the tooth force: tangential W and radial |W|·tan φ, so its
+    # component along the line of centres is |W| tan φ (the gear's weight and inertia aside)
+    g = mech.model.gears[0]
+    w = f.gear_force[:, 0]
+    x = res.positions
+    u = x[:, 1] - x[:, 0]  # O1 → O2
+    u /= np.hypot(u[:, 0], u[:, 1])[:, None]
+    pin = f.pin_force[:, f.pins.index(("O1", "frame"))]
+    pinion = f.pin_force[:, f.pins.index(("O1", "pinion"))]
+    assert_allclose(pin, -pinion, atol=1e-9)
+    static = pair(keys, points)
+    fs = static.forces(static.solve({"motor": q}), loads=[ld for ld in static.model.loads])
+    p = fs.pin_force[:, fs.pins.index(("O1", "pinion"))]
+    # the static pinion: weight −m g at its centre of mass, the pin and the tooth force
+    sense = -1.0 if g.internal else 1.0
+    radial = np.einsum("ij,ij->i", p, u) * sense
+    assert_allclose(radial, np.abs(fs.gear_force[:, 0]) * math.tan(g.pressure_angle), rtol=1e-9)
+    assert np.all(np.isfinite(w))
+
+
+def test_the_tooth_force_is_the_torque_over_the_pitch_radius() -> None:
+    mech = pair()
+    res = mech.solve({"motor": np.linspace(0.0, 7.0, 8)})
+    load = [Torque("brake", "wheel", 10.0)]
+    f = mech.forces(res, loads=load)
+    # no gravity passed: the wheel holds 10 N·m by the tooth force at 0.2 m, the pinion needs 5
+    assert_allclose(f.gear_force[:, 0], 10.0 / 0.2, rtol=1e-14)
+    assert_allclose(f.torque("motor"), 5.0, rtol=1e-14)
+    o2 = f.pin_force[:, f.pins.index(("O2", "wheel"))]
+    assert_allclose(np.hypot(o2[:, 0], o2[:, 1]), 50.0 / math.cos(math.radians(25.0)), rtol=1e-13)
+
+
+def test_sensitivities_equal_8th_order_differences() -> None:
+    sys.path.insert(0, str(Path(__file__).parents[1] / "property"))
+    from test_sensitivities import differences
+
+    mech = pair()
+    values = {"motor": np.array([0.3, 1.0, 7.0, -12.0])}
+    rates = {"motor": 0.07}
+    names = ["O2.x", "O1.y", "C.y", "wheel.mass", "A.x", "wheel.center_of_mass.x"]
+    res = mech.solve(values, rates=rates, sensitivities=names, loads="model")
+    table = res.to_frame()
+    forces = [c for c in table.columns if c.endswith((".Fx", ".Fy", ".torque", ".tooth"))]
+    force_scale = max(np.abs(table[c].to_numpy()).max() for c in forces)
+    for name in names:
+        step = 3e-4 * (2.0 if name == "wheel.mass" else mech.plan.scale)
+        for col, ref in differences(mech, values, rates, {}, name, step).items():
+            exact = res.sensitivity(col, name)
+            own = force_scale if col in forces or col.endswith((".Rx", ".Ry")) else 0.0
+            scale = max(np.abs(ref).max(), 1e-3 * max(np.abs(table[col]).max(), own, 1e-3))
+            assert np.abs(exact - ref).max() / scale < 1e-8, (name, col)
+
+
+@pytest.mark.parametrize(
+    ("keys", "message"),
+    [
+        ("ratio = 2\nteeth = [1, 2]", "exactly one of ratio"),
+        ("", "exactly one of ratio"),
+        ("ratio = -2", "ratio must be positive"),
+        ("ratio = 1\ninternal = true", "ring larger than its pinion"),
+        (
+            "radii = [100, 100]",
+            r"need a centre distance of 0.2 m, but the pivots O1 and O2 are 0.3",
+        ),
+        ("teeth = [20.5, 40]", "two positive whole numbers"),
+        ('ratio = 2\npressure_angle = "95 deg"', "pressure angle must be in"),
+        ('ratio = 2\ncarrier = "wheel"', "three different bodies"),
+        ('ratio = 2\ncarrier = "frme"', "did you mean 'frame'"),
+        ("ratio = 2\nbacklash = 1", "unknown key backlash"),
+    ],
+)
+def test_bad_gear_entries_are_refused_by_name(keys: str, message: str) -> None:
+    with pytest.raises(ModelError, match=message) as info:
+        pair(keys)
+    assert "gears" in str(info.value) and "mesh" in str(info.value)
+
+
+def test_a_gear_that_shares_no_pivot_with_its_carrier_is_refused() -> None:
+    text = (
+        PAIR.replace("GEAR_KEYS", "ratio = 2")
+        .replace('wheel = { points = ["O2"', 'wheel = { points = ["W"')
+        .replace("C = [250, 60]", "C = [250, 60]\nW = [300, 0]")
+    )
+    with pytest.raises(ModelError, match="shares 0 points with its carrier"):
+        excavkin.loads(text, "pair.toml")
+
+
+def test_a_redundant_mesh_is_refused() -> None:
+    # the wheel driven by its own motor and by the mesh: one freedom too few
+    text = PAIR.replace("GEAR_KEYS", "ratio = 2") + (
+        '[drivers.second]\ntype = "rotary"\nbody = "wheel"\npivot = "O2"\n'
+    )
+    with pytest.raises(MobilityError):
+        excavkin.loads(text, "pair.toml")
+
+
+def test_the_generic_solver_refuses_geared_bodies_by_name() -> None:
+    from excavkin.structure.builder import compile_plan
+
+    with pytest.raises(MobilityError, match="bodies wheel are moved by gears or racks"):
+        compile_plan(pair().model, method="newton")
+
+
+def test_a_geared_body_fixed_otherwise_too_is_refused() -> None:
+    # a link from the frame to the wheel fixes its angle twice: by the mesh and by the link
+    text = (
+        PAIR.replace("GEAR_KEYS", "ratio = 2")
+        .replace("[bodies]", '[bodies]\nlink = { points = ["C", "D"] }')
+        .replace("C = [250, 60]", "C = [250, 60]\nD = [600, 60]")
+        .replace('frame = { points = ["O1", "O2"]', 'frame = { points = ["O1", "O2", "D"]')
+    )
+    with pytest.raises(MobilityError):
+        excavkin.loads(text, "pair.toml")
+
+
+def test_drawings_show_the_pitch_circles_moving_with_their_centres() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from excavkin.outputs.drawing import draw_mechanism
+
+    data = Path(__file__).parents[1] / "reference" / "data"
+    mech = excavkin.load(data / "planetary_21_43_108.toml")
+    res = mech.solve({"input": np.linspace(0.0, 3.0, 10)})
+    fig, ax = plt.subplots()
+    try:
+        drawing = draw_mechanism(res, ax=ax, sample=0)
+        radii = sorted(c.radius for _, c in drawing.circles)
+        a = 56.8  # mm
+        want = sorted([a * 21 / 64, a * 43 / 64, a * 43 / 65, a * 108 / 65])
+        assert_allclose(radii, want, rtol=1e-12)
+        drawing.set_sample(7)
+        planet = mech.plan.points.index("P")
+        for centre, circle in drawing.circles:
+            assert_allclose(circle.center, res.positions[7, centre] * 1000, rtol=1e-12)
+        assert any(centre == planet for centre, _ in drawing.circles)
+    finally:
+        plt.close(fig)
+
+
+def test_the_report_figure_draws_the_pitch_circles() -> None:
+    from excavkin.outputs.meshes import circle_paths
+    from excavkin.outputs.scene import scene_of
+
+    data = Path(__file__).parents[1] / "reference" / "data"
+    mech = excavkin.load(data / "planetary_21_43_108.toml")
+    res = mech.solve({"input": np.linspace(0.0, 3.0, 5)})
+    scene, _ = scene_of(res, (), "mm")
+    paths = circle_paths(scene, 3)
+    assert len(paths) == 4
+    centre = res.positions[3, mech.plan.points.index("P")] * 1000
+    radius = np.hypot(*(paths[1] - centre).T)
+    assert_allclose(radius, 56.8 * 43 / 64, rtol=1e-12)
