@@ -297,6 +297,13 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="Add the exact derivative of every column with respect to this parameter, "
     "d(<column>)/d(NAME).",
 )
+@click.option(
+    "--columns",
+    "columns_text",
+    metavar="NAMES",
+    help="Write only these columns, comma-separated names or patterns, e.g. "
+    "'B.*,*.x,crank.value' (in the model's column order; status always).",
+)
 @backend_option
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @handle_errors
@@ -317,6 +324,7 @@ def command(
     continuation: str,
     params: tuple[str, ...],
     sensitivities: tuple[str, ...],
+    columns_text: str | None,
     backend: str,
     quiet: bool,
 ) -> None:
@@ -329,6 +337,7 @@ def command(
     from excavkin.backends import require
 
     require(backend, f"--backend {backend}")
+    selection = parse_columns(columns_text)
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
     values, rate_v, accel_v = build_inputs(
@@ -378,10 +387,11 @@ def command(
                 params=designs or None,
                 sensitivities=list(sensitivities) or None,
                 backend=backend,  # type: ignore[arg-type]
+                columns=selection,
             ):
                 tally.add(part.start, part.result)
                 motion[0] = motion[0] or _motion_note(part.result)
-                frame = part.result.to_frame()
+                frame = part.to_frame()
                 shape[0] = frame.shape[1]
                 advance(len(frame))
                 yield frame
@@ -402,6 +412,31 @@ def command(
     click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")
     if motion[0] and not quiet:
         click.echo(f"excavkin: note: {motion[0]}", err=True)
+
+
+def parse_columns(text: str | None) -> list[str] | None:
+    """``--columns`` as a list of names and patterns (None when not given).
+
+    Parameters
+    ----------
+    text : str or None
+        Comma-separated column names or glob patterns.
+
+    Returns
+    -------
+    list of str or None
+
+    Raises
+    ------
+    InputError
+        An empty list or an empty name between commas.
+    """
+    if text is None:
+        return None
+    names = [t.strip() for t in text.split(",")]
+    if not any(names) or not all(names):
+        raise InputError(f"--columns {text!r}: name columns or patterns separated by commas")
+    return names
 
 
 def _motion_note(result: KinematicResult | ForceResult) -> str:
