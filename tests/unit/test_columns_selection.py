@@ -155,9 +155,9 @@ def test_solve_columns_on_the_command_line(tmp_path: Path, suffix: str) -> None:
 @pytest.mark.parametrize(
     ("asked", "message"),
     [
-        ("B.xx", "no column 'B.xx'; did you mean 'B.x'"),
+        ("B.xx", "error: --columns: no column 'B.xx'; did you mean 'B.x'"),
         ("B.x,,A.x", "--columns 'B.x,,A.x': name columns"),
-        ("Z*", "no column 'Z*'"),
+        ("Z*", "error: --columns: no column 'Z*'"),
     ],
 )
 def test_solve_refuses_an_unknown_column_and_writes_nothing(

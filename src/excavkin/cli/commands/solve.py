@@ -333,6 +333,7 @@ def command(
     Columns (SI: m, rad, s): <point>.x .y .vx .vy .ax .ay, <body>.angle .omega .epsilon,
     <driver>.value .rate .accel, <point>.transmission, status; with --forces also (N, N·m)
     <point>.<body>.Fx .Fy, <driver>.force, <driver>.torque, <slider>.normal, <ground>.Rx .Ry.
+    --columns keeps only the columns named (names or patterns such as 'B.*').
     """
     from excavkin.backends import require
 
@@ -377,7 +378,7 @@ def command(
         """The table part by part; at its end, the checks that decide whether it is kept."""
         bar = progress("solving", n, quiet=quiet or n < MIN_SAMPLES_FOR_BAR)
         with compile_notes(quiet), bar as advance:
-            for part in mech.solve_stream(
+            parts = mech.solve_stream(
                 values,
                 rate_v,
                 accel_v,
@@ -388,7 +389,8 @@ def command(
                 sensitivities=list(sensitivities) or None,
                 backend=backend,  # type: ignore[arg-type]
                 columns=selection,
-            ):
+            )
+            for part in _named_columns(parts, selection is not None):
                 tally.add(part.start, part.result)
                 motion[0] = motion[0] or _motion_note(part.result)
                 frame = part.to_frame()
@@ -412,6 +414,24 @@ def command(
     click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")
     if motion[0] and not quiet:
         click.echo(f"excavkin: note: {motion[0]}", err=True)
+
+
+def _named_columns(parts: Iterator[Any], selecting: bool) -> Iterator[Any]:
+    """The parts of a stream; a column the first does not have is named as ``--columns``'."""
+    from excavkin.errors import UnknownNameError
+
+    it = iter(parts)
+    try:
+        first = next(it)
+    except StopIteration:
+        return
+    except UnknownNameError as e:
+        text = str(e.args[0]) if e.args else ""
+        if selecting and text.startswith("no column "):
+            raise InputError(f"--columns: {text}") from None
+        raise
+    yield first
+    yield from it
 
 
 def parse_columns(text: str | None) -> list[str] | None:
