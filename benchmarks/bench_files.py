@@ -6,6 +6,8 @@ Run: ``python benchmarks/bench_files.py [--large]``. On ``examples/fourbar.toml`
   table of 2·10⁵ samples, in rows/s, against pandas' own ``to_csv`` and ``to_parquet`` of the
   same frame. Target for CSV: ≥ 10× pandas.
 * **to_frame** of 10⁶ samples against their solve. Target: ≤ 1× (no copies).
+* **columns=**: writing 10⁶ samples' whole table against 3 columns of it (``columns=``), CSV
+  and Parquet, as the ratio of their times.
 * **excavkin solve** of 10⁶ samples to CSV and to Parquet, end to end (a process each).
 * with ``--large`` (about 4 GB of memory and 20 GB of disk for a while): the in-memory solve's
   time per sample at 10⁷ against 10⁶ (target ≤ 1.3×; beside it, for reference, the same with
@@ -69,6 +71,22 @@ def frames(n: int) -> None:
     print(
         f"  forces     {t_forces * 1e3:7.1f} ms = {t_forces / t_solve:5.3f} × the kinematic solve"
     )
+
+
+def selected(n: int, folder: Path) -> None:
+    """Writing the whole table against three of its columns (and status)."""
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    frame = mech.solve({"crank": np.linspace(0.0, 6.0 * np.pi, n)}, {"crank": 31.416}).to_frame()
+    asked = ["B.x", "B.y", "rocker.angle"]
+    print(f"writing {n:,} samples: all {frame.shape[1]} columns against {len(asked)} (columns=)")
+    for suffix in (".csv", ".parquet"):
+        target = folder / f"cols{suffix}"
+        t_all = best_of(lambda t=target: write_table(frame, t, force=True), repeat=2)
+        t_some = best_of(
+            lambda t=target: write_table(frame, t, force=True, columns=asked), repeat=3
+        )
+        print(f"  {suffix[1:]:8} all {t_all * 1e3:8.0f} ms   3 columns {t_some * 1e3:7.0f} ms"
+              f"   ratio {t_all / t_some:5.1f}")  # fmt: skip
 
 
 def command(args: list[str], suffix: str, folder: Path) -> tuple[float, int, int]:
@@ -146,6 +164,7 @@ def main() -> None:
         folder = Path(tmp)
         writing(200_000, folder)
         frames(1_000_000)
+        selected(1_000_000, folder)
         end_to_end(1_000_000, folder)
         if big:
             large(folder)

@@ -30,6 +30,8 @@ from excavkin.structure.plan import SolvePlan
 from excavkin.sweeps import Lazy, part_of
 
 if TYPE_CHECKING:
+    import pandas as pd
+
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
 
 
@@ -139,16 +141,37 @@ class SolvedPart:
         samples lie in two parts is the later part's).
     total : int
         The number of samples in the whole sweep.
+    columns : tuple of str, optional
+        The columns `to_frame` keeps (``solve_stream(columns=...)``); None: every one.
     """
 
     start: int
     result: KinematicResult | ForceResult
     total: int
+    columns: tuple[str, ...] | None = None
+
+    def to_frame(self) -> pd.DataFrame:
+        """The part's table: its result's ``to_frame``, only the columns asked of the stream.
+
+        Returns
+        -------
+        pandas.DataFrame
+            One row per sample of the part, SI.
+        """
+        return self.result.to_frame(columns=self.columns)
 
     @property
     def stop(self) -> int:
         """One past the part's last sample."""
         return self.start + len(self.result)
+
+
+def _selected(parts: Iterator[SolvedPart], columns: tuple[str, ...]) -> Iterator[SolvedPart]:
+    """The parts, each to make a table of only ``columns``; the names checked on the first."""
+    for i, part in enumerate(parts):
+        if i == 0:
+            part.result.to_frame(columns=columns)  # views only: raises on a name unknown
+        yield dataclasses.replace(part, columns=columns)
 
 
 @dataclass(frozen=True, slots=True)
@@ -567,6 +590,7 @@ class Mechanism:
         params: Mapping[str, Any] | None = None,
         sensitivities: Sequence[str] | None = None,
         size: int | None = None,
+        columns: Sequence[str] | None = None,
     ) -> Iterator[SolvedPart]:
         """`solve`, part by part: consecutive samples at a time, so that memory is
         bounded by a part whatever the sample count.
@@ -589,6 +613,11 @@ class Mechanism:
             Samples per part at most (default: as many as keep a part's result near
             `PART_BYTES`). A part never spans two blocks of
             `BLOCK` samples unless it holds whole ones.
+        columns : sequence of str, optional
+            The columns each part's ``to_frame()`` keeps: names or glob patterns (``"B.*"``,
+            ``"*.x"``, ``"crank.*"``), in the table's order, ``status`` always. A name or
+            pattern that matches no column raises
+            [`UnknownNameError`][excavkin.errors.UnknownNameError] when the first part comes.
 
         Yields
         ------
@@ -635,7 +664,10 @@ class Mechanism:
         )  # fmt: skip
         given = None if loads is None or loads == "model" else list(loads)  # type: ignore[arg-type]
         # the inputs are checked above, at the call; the parts come as they are asked for
-        return self._stream(kinematics, batch, span, size, sensitivities, loads, given, run)
+        stream = self._stream(kinematics, batch, span, size, sensitivities, loads, given, run)
+        if columns is None:
+            return stream
+        return _selected(stream, (columns,) if isinstance(columns, str) else tuple(columns))
 
     def _stream(
         self,

@@ -67,7 +67,7 @@ BASE: dict[str, list[str]] = {
     "simulate": ["fourbar", "--drive", "crank=crank:31.416rad/s", "--duration", "0.1s",
                  "--samples", "5", "-o", "{d}/s.csv", "--force"],
     "solve": ["fourbar", "--sweep", "crank=0:1:5", "-o", "{d}/o.csv", "--force", "-q",
-              "--backend", "auto"],
+              "--backend", "auto", "--columns", "B.*,crank.value"],
     "study": ["{study}", "-o", "{d}/s.parquet", "--force", "-q", "--backend", "auto"],
     "tolerance": ["fourbar", "--sweep", "crank=0:1:3", "--tol", "A-B=0.1mm", "--draws", "20",
                   "--backend", "auto"],

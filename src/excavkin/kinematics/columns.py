@@ -10,7 +10,7 @@ one place that parses names.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
 
@@ -220,3 +220,50 @@ def kinds_frame(
     frame = pd.DataFrame(list(rows))
     frame.attrs.update(kinds_attrs(model, {c: k for c, k in kinds.items() if c in frame}))
     return frame
+
+
+#: columns a selection keeps whatever it asks: each row's status
+ALWAYS_KEPT = ("status",)
+
+
+def select_columns(names: Sequence[str], asked: Iterable[str]) -> list[str]:
+    """The names of a table that a selection asks for, in the table's order.
+
+    Parameters
+    ----------
+    names : sequence of str
+        The table's columns, in order.
+    asked : iterable of str
+        Column names or glob patterns (``"B.*"``, ``"*.x"``, ``"crank.*"``): a name of the
+        table is taken as itself, anything else as a pattern (``*``, ``?``, ``[...]``).
+        ``status`` is kept whether asked or not.
+
+    Returns
+    -------
+    list of str
+        The columns asked, each once, in the order of ``names``.
+
+    Raises
+    ------
+    UnknownNameError
+        A name or pattern that matches no column, with the nearest column's name.
+    """
+    from fnmatch import fnmatchcase
+
+    from excavkin.errors import InputError, unknown_name
+
+    present = set(names)
+    wanted: set[str] = {n for n in ALWAYS_KEPT if n in present}
+    given = [asked] if isinstance(asked, str) else list(asked)
+    if not given:
+        raise InputError("columns: name at least one column")
+    for pattern in given:
+        pattern = str(pattern).strip()
+        if pattern in present:
+            wanted.add(pattern)
+            continue
+        matched = [n for n in names if fnmatchcase(n, pattern)]
+        if not matched:
+            raise unknown_name("column", pattern, [n for n in names if n not in ALWAYS_KEPT])
+        wanted.update(matched)
+    return [n for n in names if n in wanted]

@@ -22,6 +22,7 @@ from excavkin.kinematics.columns import (
     derivative_column,
     design_column,
     driver_columns,
+    select_columns,
     table_attrs,
 )
 from excavkin.kinematics.kernels import Code
@@ -801,7 +802,7 @@ class KinematicResult:
                     cols.append((derivative_column(c, name, kind), arr))
         return cols
 
-    def to_frame(self) -> pd.DataFrame:
+    def to_frame(self, columns: Sequence[str] | None = None) -> pd.DataFrame:
         """A table with one row per sample, SI units (m, rad, s).
 
         Columns: ``t`` (when solved in time), ``<point>.x .y .vx .vy .ax .ay``,
@@ -811,14 +812,28 @@ class KinematicResult:
         ``frame.attrs`` holds the model's name and each column's kind
         (``"excavkin.kinds"``), so that a table keeps its meaning apart from its result.
 
+        Parameters
+        ----------
+        columns : sequence of str, optional
+            Only these columns (names or glob patterns such as ``"B.*"`` or ``"*.x"``), in the
+            table's order, ``status`` always (`select_columns`). Default: every column.
+
         Returns
         -------
         pandas.DataFrame
             n rows; the numeric columns are views of the result's arrays, not copies.
+
+        Raises
+        ------
+        UnknownNameError
+            A name or pattern in ``columns`` that matches no column.
         """
         import pandas as pd
 
         cols = self._columns()
+        if columns is not None:
+            kept = set(select_columns([*(c.name for c, _ in cols), "status"], columns))
+            cols = [(c, arr) for c, arr in cols if c.name in kept]
         data: dict[str, Any] = {c.name: arr for c, arr in cols}
         data["status"] = self.status.categorical()
         # the columns are views of the solver's arrays: no copy

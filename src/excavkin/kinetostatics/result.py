@@ -31,7 +31,13 @@ import numpy as np
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import unknown_name
 from excavkin.kinematics import summary
-from excavkin.kinematics.columns import Column, column, derivative_column, table_attrs
+from excavkin.kinematics.columns import (
+    Column,
+    column,
+    derivative_column,
+    select_columns,
+    table_attrs,
+)
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.equilibrium import StaticsSystem
 from excavkin.kinetostatics.gears import CAM_COLUMNS, RACK_COLUMNS, RACK_KINDS
@@ -621,7 +627,11 @@ class ForceResult:
         return labels
 
     def to_frame(
-        self, *, kinematics: bool = True, resultants: Sequence[str] | None = None
+        self,
+        *,
+        kinematics: bool = True,
+        resultants: Sequence[str] | None = None,
+        columns: Sequence[str] | None = None,
     ) -> pd.DataFrame:
         """A table with one row per sample, SI units (N, N·m).
 
@@ -633,6 +643,11 @@ class ForceResult:
         resultants : sequence of str, optional
             Bodies whose joint-force resultant ``<body>.Rx .Ry`` is added (default: the
             ground, under its own name).
+        columns : sequence of str, optional
+            Only these columns (names or glob patterns such as ``"B.*"``, ``"*.Fx"``), in the
+            table's order, ``status`` always
+            ([`select_columns`][excavkin.kinematics.columns.select_columns]). Default: every
+            column.
 
         Returns
         -------
@@ -641,6 +656,11 @@ class ForceResult:
             (rotary), ``<slider>.normal``, ``<gear pair>.tooth`` (the tangential tooth force),
             ``<rack>.tooth .guide .couple``, ``<cam>.contact .guide .couple``,
             ``<body>.Rx .Ry`` — after the kinematic ones.
+
+        Raises
+        ------
+        UnknownNameError
+            A name or pattern in ``columns`` that matches no column.
         """
         import pandas as pd
 
@@ -654,6 +674,12 @@ class ForceResult:
                 for c, _ in self._columns(resultants)
                 if c.name in tangent
             ]
+        kin = self.kinematics._columns() if kinematics else []
+        if columns is not None:
+            names = [c.name for c, _ in [*kin, *described]]
+            kept = set(select_columns([*names, *(["status"] if kinematics else [])], columns))
+            kin = [(c, arr) for c, arr in kin if c.name in kept]
+            described = [(c, arr) for c, arr in described if c.name in kept]
         force_cols = [c for c, _ in described]
         model = self.kinematics.plan.model.name
         if not kinematics:
@@ -661,7 +687,6 @@ class ForceResult:
             forces.attrs.update(table_attrs(model, force_cols))
             forces.attrs["excavkin.motion"] = self.motion_note
             return forces
-        kin = self.kinematics._columns()
         # one frame from all the columns at once, each a view of its result's array: no
         # copies, no insertions
         data: dict[str, Any] = {c.name: arr for c, arr in [*kin, *described]}

@@ -7,7 +7,7 @@ file is replaced only when asked (``force``).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -24,6 +24,7 @@ __all__ = [
     "OutputError",
     "check_target",
     "remove_leftovers",
+    "select_frame",
     "units_of",
     "write_atomic",
     "write_table",
@@ -38,8 +39,50 @@ def units_of(frame: pd.DataFrame) -> dict[str, str]:
     return {str(c): si_unit(kinds.get(str(c), "")) for c in frame.columns}
 
 
+def select_frame(frame: pd.DataFrame, columns: Sequence[str] | None) -> pd.DataFrame:
+    """Only the columns of ``frame`` that ``columns`` asks for, in the frame's order, with
+    ``status`` always, their kinds kept in ``attrs``.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        A result's table (``to_frame()``).
+    columns : sequence of str or None
+        Column names or glob patterns (``"B.*"``, ``"*.x"``); None keeps every column.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The selected columns (views, not copies); ``frame`` itself when ``columns`` is None.
+
+    Raises
+    ------
+    UnknownNameError
+        A name or pattern that matches no column, with the nearest column's name.
+    """
+    from excavkin.kinematics.columns import select_columns
+
+    if columns is None:
+        return frame
+    kept = select_columns([str(c) for c in frame.columns], columns)
+    attrs = dict(frame.attrs)
+    bare = frame.copy(deep=False)
+    bare.attrs = {}  # (else pandas deep-copies them into the selection, column by column)
+    out = bare[kept]
+    kinds = attrs.get("excavkin.kinds")
+    if isinstance(kinds, dict):
+        attrs["excavkin.kinds"] = {c: k for c, k in kinds.items() if c in set(kept)}
+    out.attrs.update(attrs)
+    return out
+
+
 def write_table(
-    frame: pd.DataFrame, path: str | Path, *, force: bool = False, units_row: bool = False
+    frame: pd.DataFrame,
+    path: str | Path,
+    *,
+    force: bool = False,
+    units_row: bool = False,
+    columns: Sequence[str] | None = None,
 ) -> Path:
     """Write ``frame`` as CSV or Parquet (by suffix), atomically.
 
@@ -61,6 +104,9 @@ def write_table(
         Replace the file if it exists.
     units_row : bool, default False
         CSV: a second header row with each column's SI unit.
+    columns : sequence of str, optional
+        Write only these columns (names or glob patterns such as ``"B.*"`` or ``"*.x"``), in
+        the table's order, ``status`` always (`select_frame`). Default: every column.
 
     Returns
     -------
@@ -72,8 +118,10 @@ def write_table(
     OutputError
         Another suffix, an existing file without ``force``, a missing folder, or a folder
         in the file's place.
+    UnknownNameError
+        A name or pattern in ``columns`` that matches no column (nothing is written).
     """
-    return write_tables([frame], path, force=force, units_row=units_row)
+    return write_tables([frame], path, force=force, units_row=units_row, columns=columns)
 
 
 def write_tables(
@@ -82,6 +130,7 @@ def write_tables(
     *,
     force: bool = False,
     units_row: bool = False,
+    columns: Sequence[str] | None = None,
 ) -> Path:
     """Write frames one after another as one table
     ([`write_table`][excavkin.outputs.tables.write_table]), atomically: the
@@ -89,7 +138,8 @@ def write_tables(
 
     Memory is bounded by a frame: a table of any length is written part by part, each
     frame as the next rows (Parquet: its row groups; CSV: its lines). Every frame has the
-    first one's columns; the first's ``attrs`` give the units and kinds.
+    first one's columns; the first's ``attrs`` give the units and kinds. ``columns``, as for
+    `write_table`, selects the columns of every frame.
     """
     p = check_target(path, force=force, suffixes=TABLE_SUFFIXES)
     parquet = p.suffix.lower() == ".parquet"
@@ -105,7 +155,7 @@ def write_tables(
             for frame in frames:
                 if pending is not None:
                     pending.result()
-                pending = writer.submit(out.write, frame)
+                pending = writer.submit(out.write, select_frame(frame, columns))
             if pending is not None:
                 pending.result()
 

@@ -297,6 +297,13 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="Add the exact derivative of every column with respect to this parameter, "
     "d(<column>)/d(NAME).",
 )
+@click.option(
+    "--columns",
+    "columns_text",
+    metavar="NAMES",
+    help="Write only these columns, comma-separated names or patterns, e.g. "
+    "'B.*,*.x,crank.value' (in the model's column order; status always).",
+)
 @backend_option
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @handle_errors
@@ -317,6 +324,7 @@ def command(
     continuation: str,
     params: tuple[str, ...],
     sensitivities: tuple[str, ...],
+    columns_text: str | None,
     backend: str,
     quiet: bool,
 ) -> None:
@@ -325,10 +333,12 @@ def command(
     Columns (SI: m, rad, s): <point>.x .y .vx .vy .ax .ay, <body>.angle .omega .epsilon,
     <driver>.value .rate .accel, <point>.transmission, status; with --forces also (N, N·m)
     <point>.<body>.Fx .Fy, <driver>.force, <driver>.torque, <slider>.normal, <ground>.Rx .Ry.
+    --columns keeps only the columns named (names or patterns such as 'B.*').
     """
     from excavkin.backends import require
 
     require(backend, f"--backend {backend}")
+    selection = parse_columns(columns_text)
     target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
     values, rate_v, accel_v = build_inputs(
@@ -368,7 +378,7 @@ def command(
         """The table part by part; at its end, the checks that decide whether it is kept."""
         bar = progress("solving", n, quiet=quiet or n < MIN_SAMPLES_FOR_BAR)
         with compile_notes(quiet), bar as advance:
-            for part in mech.solve_stream(
+            parts = mech.solve_stream(
                 values,
                 rate_v,
                 accel_v,
@@ -378,10 +388,12 @@ def command(
                 params=designs or None,
                 sensitivities=list(sensitivities) or None,
                 backend=backend,  # type: ignore[arg-type]
-            ):
+                columns=selection,
+            )
+            for part in _named_columns(parts, selection is not None):
                 tally.add(part.start, part.result)
                 motion[0] = motion[0] or _motion_note(part.result)
-                frame = part.result.to_frame()
+                frame = part.to_frame()
                 shape[0] = frame.shape[1]
                 advance(len(frame))
                 yield frame
@@ -402,6 +414,49 @@ def command(
     click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")
     if motion[0] and not quiet:
         click.echo(f"excavkin: note: {motion[0]}", err=True)
+
+
+def _named_columns(parts: Iterator[Any], selecting: bool) -> Iterator[Any]:
+    """The parts of a stream; a column the first does not have is named as ``--columns``'."""
+    from excavkin.errors import UnknownNameError
+
+    it = iter(parts)
+    try:
+        first = next(it)
+    except StopIteration:
+        return
+    except UnknownNameError as e:
+        text = str(e.args[0]) if e.args else ""
+        if selecting and text.startswith("no column "):
+            raise InputError(f"--columns: {text}") from None
+        raise
+    yield first
+    yield from it
+
+
+def parse_columns(text: str | None) -> list[str] | None:
+    """``--columns`` as a list of names and patterns (None when not given).
+
+    Parameters
+    ----------
+    text : str or None
+        Comma-separated column names or glob patterns.
+
+    Returns
+    -------
+    list of str or None
+
+    Raises
+    ------
+    InputError
+        An empty list or an empty name between commas.
+    """
+    if text is None:
+        return None
+    names = [t.strip() for t in text.split(",")]
+    if not any(names) or not all(names):
+        raise InputError(f"--columns {text!r}: name columns or patterns separated by commas")
+    return names
 
 
 def _motion_note(result: KinematicResult | ForceResult) -> str:
