@@ -193,6 +193,16 @@ def _entry(data: dict[str, Any], name: str, source: str) -> tuple[Any, Any, str]
             rope.setdefault("gear_ratio", 1.0)  # (a winch's default, written out)
         if last in rope:
             return rope, last, "length" if last == "drum_radius" else "dimensionless"
+    gear = table("gears").get(base)
+    if last == "ratio" and isinstance(gear, dict):
+        if "ratio" not in gear:  # given by teeth or pitch radii: the ratio written instead
+            gear.pop("teeth", None)
+            gear.pop("radii", None)
+            gear["ratio"] = 1.0
+        return gear, "ratio", "dimensionless"
+    rack = table("racks").get(base)
+    if last == "radius" and isinstance(rack, dict) and "radius" in rack:
+        return rack, "radius", "length"
     raise missing()
 
 
