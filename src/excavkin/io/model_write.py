@@ -200,6 +200,12 @@ def _entry(data: dict[str, Any], name: str, source: str) -> tuple[Any, Any, str]
             gear.pop("radii", None)
             gear["ratio"] = 1.0
         return gear, "ratio", "dimensionless"
+    owner, _, mid = base.rpartition(".")
+    sheaved = table("ropes").get(owner)
+    if mid == "radius" and isinstance(sheaved, dict):
+        path, radii = sheaved.get("path"), sheaved.get("radii")
+        if isinstance(path, list) and isinstance(radii, list) and last in path[1:-1]:
+            return radii, path[1:-1].index(last), "length"
     rack = table("racks").get(base)
     if last == "radius" and isinstance(rack, dict) and "radius" in rack:
         return rack, "radius", "length"

@@ -164,9 +164,10 @@ def mesh_forces(sy: StaticsSystem, out: F) -> tuple[F, F, F]:
 
 
 def pitch_fractions(model: Model, values: Mapping[str, Any]) -> dict[tuple[str, int], Any]:
-    """Each gear pair's pitch fraction λ (`GearPair.pitch_fraction`) and each rack's pitch
-    radius with the values that ``values`` give (``GEAR.ratio``, ``RACK.radius``: arrays of one
-    value per design, or dual numbers).
+    """Each gear pair's pitch fraction λ (`GearPair.pitch_fraction`), each rack's pitch
+    radius and each rope's signed sheave radii with the values that ``values`` give
+    (``GEAR.ratio``, ``RACK.radius``, ``ROPE.radius.S``: arrays of one value per design, or
+    dual numbers).
 
     Parameters
     ----------
@@ -178,7 +179,8 @@ def pitch_fractions(model: Model, values: Mapping[str, Any]) -> dict[tuple[str, 
     Returns
     -------
     dict
-        ``("gear", k)`` → λ of gear pair k, ``("rack", k)`` → r of rack k, for those given.
+        ``("gear", k)`` → λ of gear pair k, ``("rack", k)`` → r of rack k, ``("rope", k)`` →
+        the signed radii (0 at the ends) of the k-th rope over sheaves, for those given.
     """
     out: dict[tuple[str, int], Any] = {}
     for k, g in enumerate(model.gears):
@@ -189,6 +191,15 @@ def pitch_fractions(model: Model, values: Mapping[str, Any]) -> dict[tuple[str, 
         radius = values.get(f"{rk.name}.radius")
         if radius is not None:
             out["rack", k] = radius
+    sheaved = [r for r in model.ropes if r.over_sheaves]
+    for k, rope in enumerate(sheaved):
+        names = [f"{rope.name}.radius.{p}" for p in rope.path[1:-1]]
+        if any(n in values for n in names):
+            signed = (
+                values.get(n, r) * (1.0 if w == "ccw" else -1.0)
+                for n, r, w in zip(names, rope.radii, rope.wraps, strict=True)
+            )
+            out["rope", k] = (0.0, *signed, 0.0)
     return out
 
 
@@ -196,14 +207,15 @@ def with_pitch(
     sy: StaticsSystem, given: Mapping[tuple[str, int], Any], part: slice
 ) -> StaticsSystem:
     """The system with the pitch fractions and radii ``given`` (`pitch_fractions`) of the
-    samples ``part`` in its gear pairs' and racks' entries.
+    samples ``part`` in its gear pairs', racks' and ropes' entries.
 
     Parameters
     ----------
     sy : StaticsSystem
         The model's equilibrium system.
     given : mapping
-        ``("gear", k)`` → λ, ``("rack", k)`` → r per sample.
+        ``("gear", k)`` → λ, ``("rack", k)`` → r, ``("rope", k)`` → signed radii, per
+        sample.
     part : slice
         The samples.
 
@@ -226,4 +238,8 @@ def with_pitch(
         (*e[:8], cut(given["rack", k]), *e[9:]) if ("rack", k) in given else e
         for k, e in enumerate(sy.racks)
     )
-    return dataclasses.replace(sy, gears=gears, racks=racks)  # type: ignore[arg-type]
+    ropes = tuple(
+        (e[0], e[1], tuple(cut(v) for v in given["rope", k])) if ("rope", k) in given else e
+        for k, e in enumerate(sy.ropes)
+    )
+    return dataclasses.replace(sy, gears=gears, racks=racks, ropes=ropes)  # type: ignore[arg-type]

@@ -110,6 +110,10 @@ class Geometry(Protocol):
         """A winch rope's length (between blocks: its blocks' distance) per motor angle."""
         ...
 
+    def rope_signed(self, rope: str) -> tuple[Any, ...] | None:
+        """A rope's signed sheave radii σ·r (0 at its ends), or None where none is given."""
+        ...
+
     def rack_radius(self, rack: str) -> Any:
         """A rack's pinion pitch radius."""
         ...

@@ -16,6 +16,7 @@ Every dimension of a model is a parameter with a name and a nominal SI value
 ``ROPE.gear_ratio``        its gear ratio (motor turns per drum turn)
 ``GEAR.ratio``             a gear pair's ratio r2/r1
 ``RACK.radius``            a rack's pinion pitch radius, m
+``ROPE.radius.S``          the radius of a rope's sheave at its path point S, m
 =========================  ==========================================================
 
 [`design_plan`][excavkin.structure.design.design_plan] recomputes the plan's constants (ground
@@ -81,7 +82,8 @@ def parameters(model: Model) -> dict[str, float]:
         constant load; ``BODY.mass`` (kg), ``BODY.inertia`` (kg·m²) and
         ``BODY.center_of_mass.x``, ``.y`` (m) where the body gives them; ``ROPE.drum_radius``
         (m) and ``ROPE.gear_ratio`` of each winch rope; ``GEAR.ratio`` of each gear pair;
-        ``RACK.radius`` (m), the pinion pitch radius of each rack.
+        ``RACK.radius`` (m), the pinion pitch radius of each rack; ``ROPE.radius.S`` (m), the
+        radius of each sheave S of a rope over sheaves.
     """
     out: dict[str, float] = {v.name: float(v.value) for v in model.design}
     for name, (x, y) in model.points.items():
@@ -98,6 +100,8 @@ def parameters(model: Model) -> dict[str, float]:
         out[f"{g.name}.ratio"] = float(g.ratio)
     for rk in model.racks:
         out[f"{rk.name}.radius"] = float(rk.radius)
+    for name, value in sheave_parameters(model).items():
+        out[name] = value
     for b in model.bodies:
         if b.mass is not None:
             out[f"{b.name}.mass"] = float(b.mass)
@@ -106,6 +110,28 @@ def parameters(model: Model) -> dict[str, float]:
         if b.center_of_mass is not None:
             out[f"{b.name}.center_of_mass.x"] = float(b.center_of_mass[0])
             out[f"{b.name}.center_of_mass.y"] = float(b.center_of_mass[1])
+    return out
+
+
+def sheave_parameters(model: Model) -> dict[str, float]:
+    """The sheave radii of the model's ropes over sheaves: ``ROPE.radius.S`` of the sheave at
+    path point S (m).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+
+    Returns
+    -------
+    dict of str to float
+        In each rope's path order.
+    """
+    out: dict[str, float] = {}
+    for rope in model.ropes:
+        if rope.over_sheaves:
+            for p, r in zip(rope.path[1:-1], rope.radii, strict=True):
+                out[f"{rope.name}.radius.{p}"] = float(r)
     return out
 
 
@@ -248,6 +274,19 @@ class _Geometry:
         self.rack_radii: dict[str, Num] = {
             r.name: values.get(f"{r.name}.radius", r.radius) for r in model.racks
         }
+        #: each rope's signed sheave radii (0 at its ends), where one of its radii is given
+        self.sheaves: dict[str, tuple[Num, ...]] = {
+            r.name: (
+                0.0,
+                *(
+                    values.get(f"{r.name}.radius.{p}", rad) * (1.0 if w == "ccw" else -1.0)
+                    for p, rad, w in zip(r.path[1:-1], r.radii, r.wraps, strict=True)
+                ),
+                0.0,
+            )
+            for r in model.ropes
+            if r.over_sheaves and any(f"{r.name}.radius.{p}" in values for p in r.path[1:-1])
+        }
         self.frames: dict[str, LocalFrame] = {}
         self.bad: Num = False
         for b in model.bodies if frames else ():
@@ -273,6 +312,7 @@ class _Geometry:
                     or name.endswith((".drum_radius", ".gear_ratio"))  # a winch's
                     or name in {f"{g.name}.ratio" for g in model.gears}
                     or name in {f"{r.name}.radius" for r in model.racks}
+                    or name in sheave_parameters(model)
                 ):
                     fine = fine & (value > 0)
             self.bad = self.bad | ~fine
@@ -300,6 +340,9 @@ class _Geometry:
 
     def winch_ratio(self, rope: str) -> Num:
         return self.winch[rope]
+
+    def rope_signed(self, rope: str) -> tuple[Num, ...] | None:
+        return self.sheaves.get(rope)
 
     def rack_radius(self, rack: str) -> Num:
         return self.rack_radii[rack]
@@ -437,7 +480,8 @@ def _input_sketch(plan: SolvePlan, geo: _Geometry) -> list[Num]:
                 0.0,
             )
             wraps0 = sketch_wraps([model.points[p] for p in rope.path], signed)
-            out[i] = rope_path([sk[p] for p in rope.path], signed, wraps0).length
+            own = geo.rope_signed(rope.name) or signed
+            out[i] = rope_path([sk[p] for p in rope.path], own, wraps0).length
         out[i] = out[i] / geo.winch[rope.name]
     return out
 
