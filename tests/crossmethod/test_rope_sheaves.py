@@ -352,3 +352,70 @@ def test_a_rope_too_short_for_any_pose_is_out_of_reach_by_its_shortfall() -> Non
         "out of reach at group S, S2: rope 'hoist' A–S–E (driven) is 0.05 m too long"
     )
     assert res.status.labels()[1] == "ok"
+
+
+def test_sheave_radius_sensitivities_against_8th_order_differences() -> None:
+    """The sheave's radius as a design parameter: the motion, the tension, the winch's torque
+    and the pins' forces differentiated by it equal 8th-order differences of families of
+    designs, which equal each design built as its own model (the next test)."""
+    mech = Mechanism(boom())
+    assert mech.parameters["hoist.radius.S"] == 0.3
+    values = {"hoist": mech.plan.input_sketch[0] + np.linspace(-50.0, 50.0, 4)}
+    rates = {"hoist": 2.0}
+    name = "hoist.radius.S"
+    res = mech.solve(values, rates=rates, sensitivities=[name], loads="model")
+    table = res.to_frame()
+    step = 1e-3
+    tables = []
+    for k in range(-4, 5):
+        moved = {name: 0.3 + k * step}
+        tables.append(mech.solve(values, rates=rates, params=moved, loads="model").to_frame())
+    for col in ("hoist.tension", "hoist.torque", "S.boom.Fx", "O.boom.Fy", "S.x", "S.vy"):
+        fd = sum(w * t[col].to_numpy() for w, t in zip(WEIGHTS, tables, strict=True)) / step
+        exact = res.sensitivity(col, name)
+        assert np.abs(fd).max() > 1e-3 * np.abs(table[col].to_numpy()).max()  # it moves
+        scale = max(np.abs(fd).max(), 1e-3 * max(np.abs(table[col].to_numpy()).max(), 1e-3))
+        assert np.abs(exact - fd).max() / scale < 1e-8, col
+
+
+@pytest.mark.parametrize("locked", [False, True], ids=["winch", "locked"])
+def test_sheave_radii_in_a_family_equal_each_design_as_its_own_model(locked: bool) -> None:
+    import dataclasses
+
+    radii = np.array([0.3, 0.25, 0.35])
+    if locked:
+        mech = Mechanism(guyed((-2.0, 0.5)))
+        q = np.radians([80.0, 90.0, 100.0])
+        values, rates, name = {"crank": q}, {"crank": 0.4}, "guy.radius.S"
+    else:
+        mech = Mechanism(boom())
+        q = mech.plan.input_sketch[0] + np.array([-30.0, 10.0, 40.0])
+        values, rates, name = {"hoist": q}, {"hoist": 2.0}, "hoist.radius.S"
+    family = mech.solve(values, rates=rates, params={name: radii}, loads="model").to_frame()
+    for k, r in enumerate(radii):
+        model = mech.model
+        rope = dataclasses.replace(model.ropes[0], radii=(float(r),))
+        alone = Mechanism(dataclasses.replace(model, ropes=(rope,)))
+        own = alone.solve({n: v[k : k + 1] for n, v in values.items()}, rates=rates,
+                          loads="model").to_frame()  # fmt: skip
+        for col in own.columns:
+            if own[col].dtype.kind == "f" and np.isfinite(own[col].iloc[0]):
+                ref = own[col].iloc[0]
+                assert abs(family[col].iloc[k] - ref) <= 1e-11 * max(1.0, abs(ref)), col
+
+
+def test_a_sheave_radius_is_written_back(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from excavkin.io.model_write import model_text_with
+    from excavkin.io.toml_model import loads_model
+
+    src = tmp_path / "boom.toml"
+    src.write_text(
+        'schema_version = 1\nname = "boom"\n[units]\nlength = "m"\n'
+        "[points]\nO = [0, 0]\nA = [-1, 3]\nE = [-2, 0.5]\n"
+        'S = [1.5, 2]\n[bodies]\nground = { points = ["O", "A", "E"], ground = true }\n'
+        'boom = { points = ["O", "S"] }\n[ropes.hoist]\npath = ["A", "S", "E"]\n'
+        'radii = ["300 mm"]\nwraps = ["cw"]\nmode = "winch"\ndrum_radius = 0.25\ngear_ratio = 20\n'
+    )
+    text = model_text_with(src, {"hoist.radius.S": 0.32})
+    (rope,) = loads_model(text).ropes
+    assert rope.radii == pytest.approx((0.32,), rel=1e-15)

@@ -4,6 +4,7 @@ solved as its own model, kinematics and forces, for every example model."""
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pint
@@ -19,10 +20,16 @@ from excavkin.kinematics.kernels import Code
 def as_own_model(model: excavkin.Model, params: dict[str, float]) -> excavkin.Model:
     """The model with the parameters set, built the plain way (one design)."""
     pts, lengths, bodies = dict(model.points), dict(model.lengths), list(model.bodies)
+    gears = {g.name: g for g in model.gears}
+    racks = {r.name: r for r in model.racks}
     names = [b.name for b in bodies]
     for key, v in params.items():
         head, _, tail = key.rpartition(".")
-        if ".center_of_mass." in key:
+        if tail == "ratio" and head in gears:
+            gears[head] = dataclasses.replace(gears[head], ratio=v)
+        elif tail == "radius" and head in racks:
+            racks[head] = dataclasses.replace(racks[head], radius=v)
+        elif ".center_of_mass." in key:
             body, _, axis = key.split(".")
             j = names.index(body)
             com = list(bodies[j].center_of_mass or (0.0, 0.0))
@@ -38,7 +45,14 @@ def as_own_model(model: excavkin.Model, params: dict[str, float]) -> excavkin.Mo
         else:
             p, q = key.split("-")
             lengths[(p, q)] = v
-    return dataclasses.replace(model, points=pts, lengths=lengths, bodies=tuple(bodies))
+    return dataclasses.replace(
+        model,
+        points=pts,
+        lengths=lengths,
+        bodies=tuple(bodies),
+        gears=tuple(gears.values()),
+        racks=tuple(racks.values()),
+    )
 
 
 def compare_with_own_models(
@@ -97,6 +111,23 @@ def test_each_example_as_a_family_of_designs(name: str) -> None:
     n = 24
     values, params = random_designs(mech, rng, n)
     assert compare_with_own_models(mech, values, params, n, chunk=5) <= 1e-12
+
+
+def test_gear_ratios_as_a_family_of_designs() -> None:
+    """A planetary train's two ratios per design (the train's coefficients and the pitch
+    points of its tooth forces) equal each design solved as its own model."""
+    path = Path(__file__).parents[1] / "reference" / "data" / "planetary_21_43_108.toml"
+    text = path.read_text() + '[loads.out]\ntype = "torque"\nbody = "carrier"\n'
+    mech = excavkin.loads(text + 'value = "-20 N*m"\n[gravity]\n', "planetary.toml")
+    rng = np.random.default_rng(7)
+    n = 9
+    values = {"input": rng.uniform(-8.0, 8.0, n)}
+    params = {
+        "sun_planet.ratio": 43 / 21 * (1 + rng.uniform(-0.1, 0.1, n)),
+        "planet_ring.ratio": 108 / 43 * (1 + rng.uniform(-0.1, 0.1, n)),
+        "planet.mass": 0.9 * (1 + rng.uniform(-0.2, 0.2, n)),
+    }
+    assert compare_with_own_models(mech, values, params, n, chunk=4) <= 1e-12
 
 
 def test_the_generic_solver_takes_designs_too() -> None:

@@ -12,7 +12,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import excavkin
-from excavkin.errors import MobilityError, ModelError
+from excavkin.errors import InputError, MobilityError, ModelError
 from excavkin.kinetostatics.solve import solve_forces
 from excavkin.model.entities import Torque
 
@@ -276,3 +276,82 @@ def test_the_report_figure_draws_the_pitch_circles() -> None:
     centre = res.positions[3, mech.plan.points.index("P")] * 1000
     radius = np.hypot(*(paths[1] - centre).T)
     assert_allclose(radius, 56.8 * 43 / 64, rtol=1e-12)
+
+
+PLANETARY = Path(__file__).parents[1] / "reference" / "data" / "planetary_21_43_108.toml"
+
+
+def _check_ratio_sensitivities(mech: excavkin.Mechanism, names: list[str], values: dict) -> None:
+    """Positions, rates, accelerations and forces (the tooth force too) differentiated by the
+    ratios equal 8th-order central differences of models solved with moved ratios, on both
+    backends."""
+    sys.path.insert(0, str(Path(__file__).parents[1] / "property"))
+    from test_sensitivities import differences
+
+    rates = {k: 0.07 for k in values}
+    for backend in ("numpy", "numba"):
+        res = mech.solve(values, rates=rates, sensitivities=names, loads="model", backend=backend)
+        table = res.to_frame()
+        forces = [c for c in table.columns if c.endswith((".Fx", ".Fy", ".torque", ".tooth"))]
+        force_scale = max(np.abs(table[c].to_numpy()).max() for c in forces)
+        for name in names:
+            seen = 0
+            for col, ref in differences(mech, values, rates, {}, name, 1e-3).items():
+                exact = res.sensitivity(col, name)
+                own = force_scale if col in forces or col.endswith((".Rx", ".Ry")) else 0.0
+                scale = max(np.abs(ref).max(), 1e-3 * max(np.abs(table[col]).max(), own, 1e-3))
+                assert np.abs(exact - ref).max() / scale < 1e-8, (backend, name, col)
+                seen += col.endswith(".tooth") and np.abs(ref).max() > 1e-3
+            assert seen  # the tooth forces move with the ratio, and were checked
+
+
+@pytest.mark.parametrize(
+    ("keys", "points"),
+    [("ratio = 2", ""), ("ratio = 3\ninternal = true", "O2 = [-200, 0]")],
+    ids=["external", "internal"],
+)
+def test_a_pair_ratio_sensitivities_equal_8th_order_differences(keys: str, points: str) -> None:
+    mech = pair(keys, points)
+    assert mech.parameters["mesh.ratio"] == float(keys.split()[2])
+    _check_ratio_sensitivities(mech, ["mesh.ratio"], {"motor": np.array([0.3, 1.0, 7.0, -12.0])})
+
+
+def test_planetary_ratio_sensitivities_equal_8th_order_differences() -> None:
+    text = PLANETARY.read_text() + '[loads.out]\ntype = "torque"\nbody = "carrier"\n'
+    text += 'value = "-20 N*m"\n[gravity]\n'
+    mech = excavkin.loads(text, "planetary.toml")
+    names = ["sun_planet.ratio", "planet_ring.ratio"]
+    _check_ratio_sensitivities(mech, names, {"input": np.array([0.3, 1.0, 7.0, -12.0])})
+
+
+def test_a_family_of_ratios_turns_each_wheel_by_its_own_ratio() -> None:
+    mech = pair("ratio = 2")
+    ratios = np.array([1.5, 2.0, 4.0, -1.0])
+    res = mech.solve({"motor": np.full(4, 2.0)}, params={"mesh.ratio": ratios})
+    # independently: the wheel turns by −(q − q0)/ratio; a ratio not positive builds nothing
+    assert res.status.ok.tolist() == [True, True, True, False]
+    assert_allclose(res.body("wheel")[0][:3], math.pi / 2 - (2.0 - math.pi / 2) / ratios[:3])
+
+
+def test_a_gear_ratio_of_a_model_with_a_cam_is_refused_by_name() -> None:
+    text = (Path(PLANETARY).parent / "disc_cam.toml").read_text()
+    text = text.replace("F2 = [0, 160]", "F2 = [0, 160]\nD = [-150, 0]\nE = [-150, 20]")
+    text = text.replace("[drivers.shaft]", 'idler = { points = ["D", "E"] }\n[drivers.shaft]')
+    text = text.replace('G2"], ground', 'G2", "D"], ground')
+    text += '[gears.drive]\ngears = ["disc", "idler"]\nratio = 2\n'
+    mech = excavkin.loads(text, "cam.toml")
+    with pytest.raises(InputError, match=r"parameter drive.ratio: .* a cam \('lift'\)"):
+        mech.solve({"shaft": [0.1, 0.2]}, params={"drive.ratio": [2.0, 2.5]})
+
+
+def test_a_ratio_given_by_teeth_is_written_back_as_a_ratio(tmp_path: Path) -> None:
+    from excavkin.io.model_write import model_text_with
+
+    src = tmp_path / "pair.toml"
+    src.write_text(PAIR.replace("GEAR_KEYS", "teeth = [20, 40]"))
+    text = model_text_with(src, {"mesh.ratio": 2.5})
+    (g,) = excavkin.loads(text, "pair.toml").model.gears
+    assert g.ratio == 2.5 and "teeth" not in text
+    src.write_text(PAIR.replace("GEAR_KEYS", "ratio = 2"))
+    (g,) = excavkin.loads(model_text_with(src, {"mesh.ratio": 3.0}), "p.toml").model.gears
+    assert g.ratio == 3.0

@@ -163,3 +163,113 @@ def test_compiled_sensitivities_equal_numpy_ones(name: str) -> None:
     for k in names:
         for arr in ("positions", "velocities", "accelerations"):
             assert_allclose(getattr(b[k], arr), getattr(a[k], arr), rtol=1e-12, atol=1e-12)
+
+
+GEARED = """
+schema_version = 1
+name = "rack driven through a gear pair"
+[units]
+length = "mm"
+[points]
+M = [0, 0]
+MA = [0, 30]
+O = [150, 0]
+A = [150, 40]
+G1 = [0, -100]
+G2 = [400, -100]
+R1 = [100, -60]
+R2 = [300, -60]
+[bodies]
+frame = { points = ["M", "O", "G1", "G2"], ground = true }
+motor_gear = { points = ["M", "MA"], mass = "0.5 kg", inertia = "2e-4 kg*m^2" }
+pinion = { points = ["O", "A"], mass = "1 kg", inertia = "0.001 kg*m^2", center_of_mass = [150, 0] }
+bar = { points = ["R1", "R2"], mass = "3 kg", inertia = "0.05 kg*m^2" }
+[drivers.motor]
+type = "rotary"
+body = "motor_gear"
+pivot = "M"
+[gears.drive]
+gears = ["motor_gear", "pinion"]
+ratio = 2
+[racks.crowd]
+rack = "bar"
+pinion = "pinion"
+along = ["G1", "G2"]
+radius = "40 mm"
+[loads.push]
+type = "force"
+body = "bar"
+point = "R2"
+value = ["-300 N", "0 N"]
+[gravity]
+"""
+
+
+def test_a_pinion_radius_and_a_gear_ratio_move_the_rack_by_their_own_values() -> None:
+    mech = excavkin.loads(GEARED, "geared.toml")
+    assert mech.parameters["crowd.radius"] == 0.04 and mech.parameters["drive.ratio"] == 2.0
+    radius, ratio = np.array([0.04, 0.05, 0.03, -0.01]), np.array([2.0, 1.5, 3.0, 2.0])
+    q = np.full(4, 3.0)
+    res = mech.solve({"motor": q}, params={"crowd.radius": radius, "drive.ratio": ratio})
+    # independently: from the sketch (q0 = π/2) the pinion turns −Δq/ratio, and the rack, to
+    # the right of the guide's direction from the pinion (σ = −1), by −r·Δq/ratio along it
+    assert res.status.ok.tolist() == [True, True, True, False]
+    travel = res.point("R1")[0][:3, 0] - 0.1
+    assert_allclose(travel, -radius[:3] * (q[:3] - math.pi / 2) / ratio[:3], rtol=1e-13)
+
+
+@pytest.mark.parametrize("name", ["crowd.radius", "drive.ratio"])
+def test_radius_and_ratio_sensitivities_equal_8th_order_differences(name: str) -> None:
+    sys.path.insert(0, str(Path(__file__).parents[1] / "property"))
+    from test_sensitivities import differences
+
+    mech = excavkin.loads(GEARED, "geared.toml")
+    values = {"motor": np.array([0.3, 1.0, 7.0, -6.0])}
+    rates = {"motor": 0.07}
+    for backend in ("numpy", "numba"):
+        res = mech.solve(values, rates=rates, sensitivities=[name], loads="model", backend=backend)
+        table = res.to_frame()
+        forces = [c for c in table.columns if c.endswith((".Fx", ".Fy", ".torque", ".tooth"))]
+        force_scale = max(np.abs(table[c].to_numpy()).max() for c in forces)
+        step = 1e-4 if name == "crowd.radius" else 1e-3
+        moved = 0
+        for col, ref in differences(mech, values, rates, {}, name, step).items():
+            exact = res.sensitivity(col, name)
+            own = force_scale if col in forces or col.startswith(("crowd.", "drive.")) else 0.0
+            scale = max(np.abs(ref).max(), 1e-3 * max(np.abs(table[col]).max(), own, 1e-3))
+            assert np.abs(exact - ref).max() / scale < 1e-8, (backend, col)
+            moved += col == "motor.torque" and np.abs(ref).max() > 1.0
+        assert moved  # the motor's torque moves with the radius and the ratio, and was checked
+
+
+def test_a_pinion_radius_family_equals_each_design_as_its_own_model() -> None:
+    import dataclasses
+
+    mech = excavkin.loads(GEARED, "geared.toml")
+    radius, ratio = np.array([0.04, 0.05, 0.03]), np.array([2.0, 1.5, 3.0])
+    q = np.array([3.0, -2.0, 5.0])
+    fam = mech.solve({"motor": q}, rates={"motor": 0.3}, loads="model",
+                     params={"crowd.radius": radius, "drive.ratio": ratio}).to_frame()  # fmt: skip
+    for k in range(3):
+        model = mech.model
+        model = dataclasses.replace(
+            model,
+            racks=(dataclasses.replace(model.racks[0], radius=float(radius[k])),),
+            gears=(dataclasses.replace(model.gears[0], ratio=float(ratio[k])),),
+        )
+        own = excavkin.Mechanism(model).solve({"motor": q[k : k + 1]}, rates={"motor": 0.3},
+                                               loads="model").to_frame()  # fmt: skip
+        for col in own.columns:
+            if own[col].dtype.kind == "f":
+                ref = own[col].iloc[0]
+                assert abs(fam[col].iloc[k] - ref) <= 1e-12 * max(1.0, abs(ref)), col
+
+
+def test_a_pinion_radius_is_written_back(tmp_path: Path) -> None:
+    from excavkin.io.model_write import model_text_with
+
+    src = tmp_path / "geared.toml"
+    src.write_text(GEARED)
+    text = model_text_with(src, {"crowd.radius": 0.045})
+    (rk,) = excavkin.loads(text, "geared.toml").model.racks
+    assert rk.radius == pytest.approx(0.045, rel=1e-15) and 'radius = "45' in text

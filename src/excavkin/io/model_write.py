@@ -193,6 +193,22 @@ def _entry(data: dict[str, Any], name: str, source: str) -> tuple[Any, Any, str]
             rope.setdefault("gear_ratio", 1.0)  # (a winch's default, written out)
         if last in rope:
             return rope, last, "length" if last == "drum_radius" else "dimensionless"
+    gear = table("gears").get(base)
+    if last == "ratio" and isinstance(gear, dict):
+        if "ratio" not in gear:  # given by teeth or pitch radii: the ratio written instead
+            gear.pop("teeth", None)
+            gear.pop("radii", None)
+            gear["ratio"] = 1.0
+        return gear, "ratio", "dimensionless"
+    owner, _, mid = base.rpartition(".")
+    sheaved = table("ropes").get(owner)
+    if mid == "radius" and isinstance(sheaved, dict):
+        path, radii = sheaved.get("path"), sheaved.get("radii")
+        if isinstance(path, list) and isinstance(radii, list) and last in path[1:-1]:
+            return radii, path[1:-1].index(last), "length"
+    rack = table("racks").get(base)
+    if last == "radius" and isinstance(rack, dict) and "radius" in rack:
+        return rack, "radius", "length"
     raise missing()
 
 

@@ -21,13 +21,15 @@ hold), and the power balance is untouched.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import dataclasses
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.kinetostatics.equilibrium import StaticsSystem
+from excavkin.model.entities import Model
 
 __all__ = [
     "CAM_COLUMNS",
@@ -159,3 +161,85 @@ def mesh_forces(sy: StaticsSystem, out: F) -> tuple[F, F, F]:
         np.moveaxis(out[r0:c0].reshape(len(sy.racks), 3, n), -1, 0),
         cams,
     )
+
+
+def pitch_fractions(model: Model, values: Mapping[str, Any]) -> dict[tuple[str, int], Any]:
+    """Each gear pair's pitch fraction λ (`GearPair.pitch_fraction`), each rack's pitch
+    radius and each rope's signed sheave radii with the values that ``values`` give
+    (``GEAR.ratio``, ``RACK.radius``, ``ROPE.radius.S``: arrays of one value per design, or
+    dual numbers).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+    values : mapping
+        Parameter name → value, design variables expanded.
+
+    Returns
+    -------
+    dict
+        ``("gear", k)`` → λ of gear pair k, ``("rack", k)`` → r of rack k, ``("rope", k)`` →
+        the signed radii (0 at the ends) of the k-th rope over sheaves, for those given.
+    """
+    out: dict[tuple[str, int], Any] = {}
+    for k, g in enumerate(model.gears):
+        ratio = values.get(f"{g.name}.ratio")
+        if ratio is not None:
+            out["gear", k] = 1.0 / (1.0 - ratio if g.internal else 1.0 + ratio)
+    for k, rk in enumerate(model.racks):
+        radius = values.get(f"{rk.name}.radius")
+        if radius is not None:
+            out["rack", k] = radius
+    sheaved = [r for r in model.ropes if r.over_sheaves]
+    for k, rope in enumerate(sheaved):
+        names = [f"{rope.name}.radius.{p}" for p in rope.path[1:-1]]
+        if any(n in values for n in names):
+            signed = (
+                values.get(n, r) * (1.0 if w == "ccw" else -1.0)
+                for n, r, w in zip(names, rope.radii, rope.wraps, strict=True)
+            )
+            out["rope", k] = (0.0, *signed, 0.0)
+    return out
+
+
+def with_pitch(
+    sy: StaticsSystem, given: Mapping[tuple[str, int], Any], part: slice
+) -> StaticsSystem:
+    """The system with the pitch fractions and radii ``given`` (`pitch_fractions`) of the
+    samples ``part`` in its gear pairs', racks' and ropes' entries.
+
+    Parameters
+    ----------
+    sy : StaticsSystem
+        The model's equilibrium system.
+    given : mapping
+        ``("gear", k)`` → λ, ``("rack", k)`` → r, ``("rope", k)`` → signed radii, per
+        sample.
+    part : slice
+        The samples.
+
+    Returns
+    -------
+    StaticsSystem
+        ``sy`` itself where ``given`` is empty.
+    """
+    if not given:
+        return sy
+
+    def cut(v: Any) -> Any:
+        return v[part] if np.ndim(v) else v
+
+    gears = tuple(
+        (*e[:5], cut(given["gear", k]), *e[6:]) if ("gear", k) in given else e
+        for k, e in enumerate(sy.gears)
+    )
+    racks = tuple(
+        (*e[:8], cut(given["rack", k]), *e[9:]) if ("rack", k) in given else e
+        for k, e in enumerate(sy.racks)
+    )
+    ropes = tuple(
+        (e[0], e[1], tuple(cut(v) for v in given["rope", k])) if ("rope", k) in given else e
+        for k, e in enumerate(sy.ropes)
+    )
+    return dataclasses.replace(sy, gears=gears, racks=racks, ropes=ropes)  # type: ignore[arg-type]

@@ -27,10 +27,17 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics.dual import Dual, seed
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import dense_solve
-from excavkin.kinetostatics.gears import CAM_COLUMNS, RACK_COLUMNS, pin_updates, tooth_forces
+from excavkin.kinetostatics.gears import (
+    CAM_COLUMNS,
+    RACK_COLUMNS,
+    pin_updates,
+    pitch_fractions,
+    tooth_forces,
+    with_pitch,
+)
 from excavkin.kinetostatics.result import winch_drive
 from excavkin.kinetostatics.structured import Arithmetic, along_plan, back_substitute
-from excavkin.structure.design import mass_items
+from excavkin.structure.design import expand, mass_items
 
 if TYPE_CHECKING:
     from excavkin.kinematics.result import KinematicResult
@@ -82,10 +89,14 @@ def force_tangents(forces: ForceResult, names: Sequence[str]) -> dict[str, dict[
     eps_t = np.stack([np.moveaxis(t.body_epsilon, 0, -1) for t in tangents])
     masses = _dual_masses(forces, names, n)
     ev = _dual_loads(forces, names, n)
+    lam = pitch_fractions(kin.plan.model, _dual_values(forces, names, n))
     structured = along_plan(kin.plan, sy)
     out = np.zeros((m, sy.size, n))
     for s in range(0, n, CHUNK):
         part = slice(s, min(s + CHUNK, n))
+        if lam:  # gear ratios per design or differentiated: each chunk's pitch points
+            sy = with_pitch(forces.system, lam, part)
+            structured = along_plan(kin.plan, sy)
         xd = Dual(x[..., part], x_t[..., part])
         with np.errstate(divide="ignore", invalid="ignore"):
             rhs = body_loads(
@@ -208,8 +219,9 @@ def _function_tangent(
     return result
 
 
-def _dual_masses(forces: ForceResult, names: Sequence[str], n: int) -> _Masses:
-    """The mass properties with the tangents of the parameters ``names``."""
+def _dual_values(forces: ForceResult, names: Sequence[str], n: int) -> dict[str, Any]:
+    """The parameters given, with the tangents of ``names`` seeded, design variables
+    expanded."""
     kin = forces.kinematics
     model = kin.plan.model
     from excavkin.structure.design import joint_offsets, parameters
@@ -217,8 +229,13 @@ def _dual_masses(forces: ForceResult, names: Sequence[str], n: int) -> _Masses:
     known = {**parameters(model), **joint_offsets(model)}
     given = dict(kin.parameters or {})
     base = {k: given.get(k, known[k]) for k in names}
-    values: dict[str, Any] = {**given, **seed(base, list(names), n)}
-    items = mass_items(model, values)
+    return expand(model, {**given, **seed(base, list(names), n)})
+
+
+def _dual_masses(forces: ForceResult, names: Sequence[str], n: int) -> _Masses:
+    """The mass properties with the tangents of the parameters ``names``."""
+    model = forces.kinematics.plan.model
+    items = mass_items(model, _dual_values(forces, names, n))
     massive = forces.mass.massive
     return _Masses(
         [it[0] for it in items],

@@ -30,7 +30,7 @@ from excavkin.kinetostatics.equilibrium import (
     compile_statics,
     dense_matrix,
 )
-from excavkin.kinetostatics.gears import add_radial, mesh_forces
+from excavkin.kinetostatics.gears import add_radial, mesh_forces, pitch_fractions, with_pitch
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads, Load, check_loads, evaluate_loads
 from excavkin.kinetostatics.result import ForceResult
@@ -39,6 +39,7 @@ from excavkin.kinetostatics.structured import (
     along_plan,
     solve_structured,
 )
+from excavkin.structure.design import expand
 
 __all__ = ["solve_forces"]
 
@@ -116,8 +117,18 @@ def solve_forces(
     eps = np.moveaxis(result.body_epsilon, 0, -1) if inertia else None
     out = np.empty((sy.size, n))
     singular = np.zeros(n, dtype=bool)
+    lam = pitch_fractions(model, expand(model, result.parameters or {}))
     with np.errstate(divide="ignore", invalid="ignore"):
-        if method == "dense":
+        if lam:  # gear ratios per design: each chunk's pitch points, in NumPy
+            for s in range(0, n, chunk):
+                part = slice(s, min(s + chunk, n))
+                own = with_pitch(sy, lam, part)
+                structured_part = None if method == "dense" else along_plan(plan, own)
+                if structured_part is None:
+                    _solve_dense(own, mp, ev, (x, a, eps), out, singular, part, fast=True)
+                    continue
+                _solve_sparse((structured_part, mp, ev), (x, a, eps), out, singular, chunk, part)
+        elif method == "dense":
             _solve_dense(sy, mp, ev, (x, a, eps), out, singular, slice(None))
         elif (structured := along_plan(plan, sy)) is None:  # meshes the plan cannot take
             for s in range(0, n, chunk):
@@ -159,13 +170,16 @@ def _solve_sparse(
     out: F,
     singular: np.ndarray,
     chunk: int,
+    samples: slice | None = None,
 ) -> None:
-    """The back-substitution along the plan in NumPy, chunk by chunk."""
+    """The back-substitution along the plan in NumPy, chunk by chunk (of ``samples``: all of
+    them unless given)."""
     structured, mp, ev = known
     sy = structured.system
     x, a, eps = motion
-    for s in range(0, out.shape[1], chunk):
-        sl = slice(s, min(s + chunk, out.shape[1]))
+    lo, hi, _ = (samples or slice(None)).indices(out.shape[1])
+    for s in range(lo, hi, chunk):
+        sl = slice(s, min(s + chunk, hi))
         xc = np.ascontiguousarray(x[:, :, sl])
         rhs = body_loads(
             sy,

@@ -540,8 +540,8 @@ def _mesh_gradients(sc: Scalar, x: Any) -> list[tuple[Value, Value]]:
 
 def _rope(sy: StaticsSystem, c: CRope) -> Scalar:
     """A rope's constraint: its tension (its column of the system) acts on its path's pins."""
-    col = sy.rope_col0 + [r[0] for r in sy.ropes].index(c.name)
-    return Scalar("rope", c.points, (PIN,) * len(c.points), col, signed=c.signed)
+    k = [r[0] for r in sy.ropes].index(c.name)
+    return Scalar("rope", c.points, (PIN,) * len(c.points), sy.rope_col0 + k, signed=sy.ropes[k][2])
 
 
 def determinate(plan: SolvePlan, sy: StaticsSystem, seed: int = 20240601) -> bool:

@@ -14,14 +14,24 @@ or fix twice is refused, naming its bodies.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from excavkin.errors import MobilityError, ModelError
 from excavkin.model.entities import GearPair, Model, RackPinion
 
-__all__ = ["GearTrain", "describe_meshes", "gear_pivots", "gear_train", "pivot_on", "rack_side"]
+__all__ = [
+    "GearTrain",
+    "describe_meshes",
+    "gear_pivots",
+    "gear_train",
+    "pivot_on",
+    "rack_side",
+    "train_angles",
+]
 
 
 def describe_meshes(model: Model) -> list[str]:
@@ -319,3 +329,78 @@ def gear_train(model: Model) -> GearTrain:
     angles = {body: tuple((ri, float(c[col[body], ri])) for ri in drivers) for body in order}
     angles[ground] = ()
     return GearTrain(placed, meshes, angles)
+
+
+def train_angles(model: Model, ratios: Mapping[str, Any]) -> dict[str, dict[int, Any]]:
+    """Every train body's angle coefficients with the gear pairs' ratios ``ratios`` (floats,
+    arrays of one value per design, or dual numbers): the linear system of `gear_train`
+    solved by elimination in the arithmetic of the values given, its pivots chosen on the
+    nominal ratios (so a family of designs and the derivatives follow one elimination).
+
+    Parameters
+    ----------
+    model : Model
+        A model with gears (its train builds: see `gear_train`).
+    ratios : mapping
+        Gear pair name → its ratio; a pair not named keeps its own.
+
+    Returns
+    -------
+    dict
+        Body name → {rotary driver index: coefficient}, ``Δθ = Σ c·Δq``, for every body of a
+        train (the ground has none).
+    """
+    nominal = gear_train(model)
+    ground = model.ground.name
+    order = [b for b in nominal.angles if b != ground]
+    col = {b: k for k, b in enumerate(order)}
+    drivers = sorted({ri for terms in nominal.angles.values() for ri, _ in terms})
+    n = len(order)
+    a: list[list[Any]] = [[0.0] * n for _ in range(n)]
+    a0 = np.zeros((n, n))
+    b: list[list[Any]] = [[0.0] * len(drivers) for _ in range(n)]
+
+    def put(row: int, body: str, value: Any, value0: float) -> None:
+        if body != ground:
+            a[row][col[body]] = a[row][col[body]] + value
+            a0[row, col[body]] += value0
+
+    for row, ri in enumerate(drivers):
+        d = model.rotary[ri]
+        put(row, d.body, 1.0, 1.0)
+        put(row, d.reference, -1.0, -1.0)
+        b[row][drivers.index(ri)] = 1.0
+    for k, g in enumerate(model.gears):
+        row = len(drivers) + k
+        sign = 1.0 if g.internal else -1.0
+        e = sign / ratios.get(g.name, g.ratio)
+        e0 = g.train_value
+        put(row, g.gears[1], 1.0, 1.0)
+        put(row, g.gears[0], -e, -e0)
+        put(row, g.carrier, e - 1.0, e0 - 1.0)
+    # Gaussian elimination with the nominal system's partial pivoting
+    for k in range(n):
+        p = k + int(np.argmax(np.abs(a0[k:, k])))
+        a[k], a[p] = a[p], a[k]
+        b[k], b[p] = b[p], b[k]
+        a0[[k, p]] = a0[[p, k]]
+        for r in range(k + 1, n):
+            if isinstance(a[r][k], float) and a[r][k] == 0.0:
+                continue
+            f = a[r][k] / a[k][k]
+            f0 = a0[r, k] / a0[k, k]
+            for j in range(k, n):
+                a[r][j] = a[r][j] - f * a[k][j]
+            a0[r, k:] -= f0 * a0[k, k:]
+            b[r] = [br - f * bk for br, bk in zip(b[r], b[k], strict=True)]
+    x: list[list[Any]] = [[0.0] * len(drivers) for _ in range(n)]
+    for k in reversed(range(n)):
+        rhs = list(b[k])
+        for j in range(k + 1, n):
+            rhs = [v - a[k][j] * xj for v, xj in zip(rhs, x[j], strict=True)]
+        x[k] = [v / a[k][k] for v in rhs]
+    out: dict[str, dict[int, Any]] = {
+        body: {ri: x[col[body]][m] for m, ri in enumerate(drivers)} for body in order
+    }
+    out[ground] = {}
+    return out

@@ -110,6 +110,24 @@ class Geometry(Protocol):
         """A winch rope's length (between blocks: its blocks' distance) per motor angle."""
         ...
 
+    def rope_signed(self, rope: str) -> tuple[Any, ...] | None:
+        """A rope's signed sheave radii σ·r (0 at its ends), or None where none is given."""
+        ...
+
+    def rack_radius(self, rack: str) -> Any:
+        """A rack's pinion pitch radius."""
+        ...
+
+    @property
+    def ratios(self) -> Mapping[str, Any]:
+        """Gear pair name → its ratio, for each pair whose ratio is given."""
+        ...
+
+    def train(self) -> Mapping[str, Mapping[int, Any]] | None:
+        """Each gear train body's angle coefficients (rotary driver index → coefficient)
+        with the gear ratios given, or None where no ratio is given (the plan's own hold)."""
+        ...
+
 
 class Emitter(Protocol):
     """The compiled plan's source being written (`excavkin.kinematics.compiled`): the

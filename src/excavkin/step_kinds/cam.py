@@ -26,7 +26,7 @@ from excavkin.model.cams import Law, LiftLaw, evaluate
 from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
 from excavkin.step_kinds.dist import Index, at, varies
-from excavkin.step_kinds.gear import sketch_input_angle
+from excavkin.step_kinds.gear import refuse_ratios, sketch_input_angle
 from excavkin.step_kinds.state import Chunk, round_output
 
 
@@ -78,6 +78,7 @@ class CamKind(StepKind[CamStep]):
         return CamStep(point, origin, l1, l2, along, across, offset, inputs, coef, law, cam, body)
 
     def vary(self, st: CamStep, geo: Geometry, names: tuple[str, ...], model: Model) -> CamStep:
+        refuse_ratios(geo, st.cam)
         sk = geo.sketch
         (ax, ay), (bx, by) = sk[names[st.l1]], sk[names[st.l2]]
         dx, dy = bx - ax, by - ay

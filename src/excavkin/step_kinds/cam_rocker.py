@@ -24,7 +24,7 @@ from excavkin.model.cams import Law, LiftLaw, evaluate
 from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
 from excavkin.step_kinds.dist import Index, at, varies
-from excavkin.step_kinds.gear import sketch_input_angle
+from excavkin.step_kinds.gear import refuse_ratios, sketch_input_angle
 from excavkin.step_kinds.state import Chunk, round_output
 
 
@@ -77,6 +77,7 @@ class CamRockerKind(StepKind[CamRockerStep]):
     def vary(
         self, st: CamRockerStep, geo: Geometry, names: tuple[str, ...], model: Model
     ) -> CamRockerStep:
+        refuse_ratios(geo, st.cam)
         p, o = names[st.point], names[st.pivot]
         radius = geo.distance(st.body, p, o)
         sk = geo.sketch

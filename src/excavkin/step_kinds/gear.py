@@ -36,7 +36,7 @@ class GearStep:
     radius: float
     offset: float
     inputs: tuple[int, ...]
-    coef: tuple[float, ...]
+    coef: tuple[Any, ...]
     body: str
     meshes: tuple[str, ...]
 
@@ -72,6 +72,84 @@ def sketch_input_angle(geo_sketch: Any, model: Model, ri: int) -> Any:
     return np.arctan2(ex * dy - ey * dx, ex * dx + ey * dy)
 
 
+def train_coefficients(
+    geo: Geometry,
+    model: Model,
+    body: str,
+    carrier: str | None,
+    inputs: tuple[int, ...],
+    coef: tuple[Any, ...],
+    scale: Any = 1.0,
+) -> tuple[Any, ...]:
+    """A step's coefficients of its inputs with the gear ratios of ``geo``: ``scale`` times
+    the turn of ``body`` (less that of ``carrier``, when given) per input, or ``coef`` where
+    no ratio is given.
+
+    Parameters
+    ----------
+    geo : Geometry
+        The designs' geometry (`Geometry.train`).
+    model : Model
+        The model.
+    body, carrier : str
+        The body whose turn sets the step, and the body it is counted from (None: the
+        ground).
+    inputs : tuple of int
+        The step's inputs (indices among the model's inputs).
+    coef : tuple
+        The plan's own coefficients.
+    scale : float or ndarray
+        A factor of each coefficient (a rack's −σ·r).
+
+    Returns
+    -------
+    tuple
+        One coefficient per input: floats, arrays of one per design, or dual numbers.
+    """
+    angles = geo.train()
+    if angles is None:
+        return coef
+    rotary = {d.name: k for k, d in enumerate(model.rotary)}
+    out = []
+    for i in inputs:
+        ri = rotary[model.inputs[i]]
+        c = angles[body].get(ri, 0.0)
+        if carrier is not None:
+            c = c - angles[carrier].get(ri, 0.0)
+        out.append(scale * c)
+    return tuple(out)
+
+
+def refuse_ratios(geo: Geometry, cam: str) -> None:
+    """Refuse a gear ratio given as a design parameter of a model with a cam (its follower's
+    turn is the plan's own).
+
+    Parameters
+    ----------
+    geo : Geometry
+        The designs' geometry.
+    cam : str
+        The cam's name, for the message.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    InputError
+        A gear ratio is given.
+    """
+    if geo.ratios:
+        from excavkin.errors import InputError
+
+        names = ", ".join(f"{g}.ratio" for g in geo.ratios)
+        raise InputError(
+            f"parameter {names}: a gear ratio is not a design parameter of a model with a cam "
+            f"({cam!r}); vary it in a model without cams, or solve each ratio as its own model"
+        )
+
+
 @register
 class GearKind(StepKind[GearStep]):
     """A body turned by its gear train."""
@@ -99,21 +177,23 @@ class GearKind(StepKind[GearStep]):
         radius = geo.distance(st.body, p, o)
         sk = geo.sketch
         offset = np.arctan2(sk[p][1] - sk[o][1], sk[p][0] - sk[o][0])
+        coef = train_coefficients(geo, model, st.body, None, st.inputs, st.coef)
         rotary = {d.name: k for k, d in enumerate(model.rotary)}
-        for i, c in zip(st.inputs, st.coef, strict=True):
+        for i, c in zip(st.inputs, coef, strict=True):
             ri = rotary[model.inputs[i]]
             offset = offset - c * sketch_input_angle(sk, model, ri)
-        if not (varies(radius) or varies(offset)):
+        if not (varies(radius) or varies(offset) or any(varies(c) for c in coef)):
             return st
-        return dataclasses.replace(st, radius=radius, offset=offset)
+        return dataclasses.replace(st, radius=radius, offset=offset, coef=coef)
 
     def take(self, st: GearStep, index: Index) -> GearStep:
-        if not (np.ndim(st.radius) or np.ndim(st.offset)):
+        if not (np.ndim(st.radius) or np.ndim(st.offset) or any(np.ndim(c) for c in st.coef)):
             return st
         return dataclasses.replace(
             st,
             radius=at(st.radius, index) if np.ndim(st.radius) else st.radius,
             offset=at(st.offset, index) if np.ndim(st.offset) else st.offset,
+            coef=tuple(at(c, index) if np.ndim(c) else c for c in st.coef),
         )
 
     def solve(
@@ -148,17 +228,17 @@ class GearKind(StepKind[GearStep]):
         return None
 
     def constants(self, st: GearStep) -> list[Any]:
-        return [st.radius, st.offset]
+        return [st.radius, st.offset, *st.coef]
 
     def emit(self, g: Emitter, st: GearStep, k: int) -> None:
         p, o = st.point, st.anchor
         g.emit(f"r = {g.const()}", f"th = {g.const()}", "thd = 0.0", "thdd = 0.0")
-        for i, co in zip(st.inputs, st.coef, strict=True):
-            c = repr(float(co))
+        for i in st.inputs:
             g.emit(
-                f"th = th + {c} * q[{i}, i]",
-                f"thd = thd + {c} * qd[{i}, i]",
-                f"thdd = thdd + {c} * qdd[{i}, i]",
+                f"mesh_c = {g.const()}",
+                f"th = th + mesh_c * q[{i}, i]",
+                f"thd = thd + mesh_c * qd[{i}, i]",
+                f"thdd = thdd + mesh_c * qdd[{i}, i]",
             )
         g.emit(
             "cs = math.cos(th)", "sn = math.sin(th)",
@@ -171,7 +251,7 @@ class GearKind(StepKind[GearStep]):
     def describe(self, st: GearStep, names: tuple[str, ...]) -> str:
         terms = " ".join(
             f"{'+' if co >= 0 else '−'} {abs(co):.6g}·q{i}"
-            for i, co in zip(st.inputs, st.coef, strict=True)
+            for i, co in zip(st.inputs, (float(np.max(c)) for c in st.coef), strict=True)
         )
         return (
             f"gear     {names[st.point]} about {names[st.anchor]}: body {st.body!r} turned by "

@@ -57,6 +57,8 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
     ) -> NewtonGroup:
         cons = []
         for con in st.constraints:
+            if isinstance(con, CRope) and (signed := geo.rope_signed(con.name)) is not None:
+                con = dataclasses.replace(con, signed=signed)  # its sheave radii given
             if isinstance(con, CDist):
                 con = dataclasses.replace(con, dist=vary_dist(con.dist, geo, names))
             elif isinstance(con, CRope) and con.dist.kind == "fixed":  # a locked rope's length
@@ -77,6 +79,10 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
         cons = []
         changed = False
         for con in st.constraints:
+            if isinstance(con, CRope) and any(np.ndim(r) for r in con.signed):
+                cut = tuple(at(r, index) if np.ndim(r) else r for r in con.signed)
+                con = dataclasses.replace(con, signed=cut)
+                changed = True
             if isinstance(con, CDist | CRope) and np.ndim(con.dist.value):
                 con = dataclasses.replace(con, dist=take_dist(con.dist, index))
                 changed = True

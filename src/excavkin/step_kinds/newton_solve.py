@@ -256,6 +256,8 @@ def tangents(c: Chunk, g: NewtonGroup, values: tuple[F, F, F]) -> None:
         if isinstance(con, CDist | CRope):
             d = con.dist
             con = replace(con, dist=replace(d, value=val(d.value), scale=val(d.scale)))
+            if isinstance(con, CRope):  # its sheave radii, where they are parameters
+                con = replace(con, signed=tuple(val(r) for r in con.signed))
         elif isinstance(con, CFrame):
             con = replace(con, s=val(con.s), t=val(con.t))
         cons.append(con)

@@ -25,9 +25,10 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.model.entities import Model
+from excavkin.model.gears import rack_side
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
 from excavkin.step_kinds.dist import Index, at, varies
-from excavkin.step_kinds.gear import sketch_input_angle
+from excavkin.step_kinds.gear import sketch_input_angle, train_coefficients
 from excavkin.step_kinds.state import Chunk, round_output
 
 
@@ -43,7 +44,7 @@ class RackStep:
     offset: float
     across: float
     inputs: tuple[int, ...]
-    coef: tuple[float, ...]
+    coef: tuple[Any, ...]
     rack: str
     body: str
 
@@ -85,17 +86,30 @@ class RackKind(StepKind[RackStep]):
     def vary(self, st: RackStep, geo: Geometry, names: tuple[str, ...], model: Model) -> RackStep:
         sk = geo.sketch
         offset, across = _frame(sk, names, st)
+        rk = next(r for r in model.racks if r.name == st.rack)
+        radius = geo.rack_radius(rk.name)
+        if geo.train() is None:  # the plan's own turns, at the pitch radius given
+            given = radius is not rk.radius
+            coef = tuple(c * (radius / rk.radius) for c in st.coef) if given else st.coef
+        else:
+            scale = -rack_side(model, rk) * radius
+            coef = train_coefficients(geo, model, rk.pinion, rk.carrier, st.inputs, st.coef, scale)
         rotary = {d.name: k for k, d in enumerate(model.rotary)}
-        for i, c in zip(st.inputs, st.coef, strict=True):
+        for i, c in zip(st.inputs, coef, strict=True):
             offset = offset - c * sketch_input_angle(sk, model, rotary[model.inputs[i]])
-        if not (varies(offset) or varies(across)):
+        if not (varies(offset) or varies(across) or any(varies(c) for c in coef)):
             return st
-        return dataclasses.replace(st, offset=offset, across=across)
+        return dataclasses.replace(st, offset=offset, across=across, coef=coef)
 
     def take(self, st: RackStep, index: Index) -> RackStep:
-        if not (np.ndim(st.offset) or np.ndim(st.across)):
+        if not (np.ndim(st.offset) or np.ndim(st.across) or any(np.ndim(c) for c in st.coef)):
             return st
-        return dataclasses.replace(st, offset=at(st.offset, index), across=at(st.across, index))
+        return dataclasses.replace(
+            st,
+            offset=at(st.offset, index) if np.ndim(st.offset) else st.offset,
+            across=at(st.across, index) if np.ndim(st.across) else st.across,
+            coef=tuple(at(c, index) if np.ndim(c) else c for c in st.coef),
+        )
 
     def solve(
         self, c: Chunk, st: RackStep, k: int, order: int, scale: float, newton: bool = True
@@ -133,17 +147,17 @@ class RackKind(StepKind[RackStep]):
         return None
 
     def constants(self, st: RackStep) -> list[Any]:
-        return [st.offset, st.across]
+        return [st.offset, st.across, *st.coef]
 
     def emit(self, g: Emitter, st: RackStep, k: int) -> None:
         p, o, l1, l2 = st.point, st.origin, st.l1, st.l2
         g.emit(f"s = {g.const()}", f"b = {g.const()}", "sd = 0.0", "sdd = 0.0")
-        for i, co in zip(st.inputs, st.coef, strict=True):
-            c = repr(float(co))
+        for i in st.inputs:
             g.emit(
-                f"s = s + {c} * q[{i}, i]",
-                f"sd = sd + {c} * qd[{i}, i]",
-                f"sdd = sdd + {c} * qdd[{i}, i]",
+                f"mesh_c = {g.const()}",
+                f"s = s + mesh_c * q[{i}, i]",
+                f"sd = sd + mesh_c * qd[{i}, i]",
+                f"sdd = sdd + mesh_c * qdd[{i}, i]",
             )
         g.emit(
             f"dx = X{l2} - X{l1}", f"dy = Y{l2} - Y{l1}",
@@ -161,7 +175,7 @@ class RackKind(StepKind[RackStep]):
     def describe(self, st: RackStep, names: tuple[str, ...]) -> str:
         terms = " ".join(
             f"{'+' if co >= 0 else '−'} {abs(co):.6g}·q{i}"
-            for i, co in zip(st.inputs, st.coef, strict=True)
+            for i, co in zip(st.inputs, (float(np.max(c)) for c in st.coef), strict=True)
         )
         return (
             f"rack     {names[st.point]} along {names[st.l1]}→{names[st.l2]} from "

@@ -121,7 +121,7 @@ def segment_directions(
         rho = signed[k] - signed[k + 1]
         d2 = dx * dx + dy * dy
         inv = 1.0 / d2
-        if rho == 0.0:
+        if isinstance(rho, float) and rho == 0.0:
             length = np.sqrt(d2)
             ux.append(length * dx * inv)
             uy.append(length * dy * inv)
@@ -171,7 +171,8 @@ def rope_path(
     for k in range(1, len(pts) - 1):
         cross = ux[k - 1] * uy[k] - uy[k - 1] * ux[k]
         dot = ux[k - 1] * ux[k] + uy[k - 1] * uy[k]
-        sigma = 1.0 if signed[k] > 0 else -1.0
+        own = np.asarray(getattr(signed[k], "val", signed[k]), dtype=np.float64)
+        sigma = np.where(own > 0, 1.0, -1.0)  # (per design where the radii are)
         phi = sigma * np.arctan2(cross, dot)
         plain = np.asarray(getattr(phi, "val", phi), dtype=np.float64)
         with np.errstate(invalid="ignore"):

@@ -14,6 +14,9 @@ Every dimension of a model is a parameter with a name and a nominal SI value
 ``LOAD.torque``            a constant couple of the model's ``[loads]``, N·m
 ``ROPE.drum_radius``       a winch rope's drum radius, m
 ``ROPE.gear_ratio``        its gear ratio (motor turns per drum turn)
+``GEAR.ratio``             a gear pair's ratio r2/r1
+``RACK.radius``            a rack's pinion pitch radius, m
+``ROPE.radius.S``          the radius of a rope's sheave at its path point S, m
 =========================  ==========================================================
 
 [`design_plan`][excavkin.structure.design.design_plan] recomputes the plan's constants (ground
@@ -38,6 +41,7 @@ from numpy.typing import NDArray
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import unknown_name
 from excavkin.model.entities import Model
+from excavkin.model.gears import train_angles
 from excavkin.step_kinds import kind_of
 from excavkin.step_kinds.rope_path import rope_path, sketch_wraps
 from excavkin.structure.plan import SolvePlan, Step
@@ -56,6 +60,8 @@ KIND_OF = {
     "torque": "torque",
     "drum_radius": "length",
     "gear_ratio": "dimensionless",
+    "ratio": "dimensionless",
+    "radius": "length",
 }
 
 
@@ -75,7 +81,9 @@ def parameters(model: Model) -> dict[str, float]:
         fixed length (m); ``LOAD.Fx``, ``LOAD.Fy`` (N) or ``LOAD.torque`` (N·m) of each
         constant load; ``BODY.mass`` (kg), ``BODY.inertia`` (kg·m²) and
         ``BODY.center_of_mass.x``, ``.y`` (m) where the body gives them; ``ROPE.drum_radius``
-        (m) and ``ROPE.gear_ratio`` of each winch rope.
+        (m) and ``ROPE.gear_ratio`` of each winch rope; ``GEAR.ratio`` of each gear pair;
+        ``RACK.radius`` (m), the pinion pitch radius of each rack; ``ROPE.radius.S`` (m), the
+        radius of each sheave S of a rope over sheaves.
     """
     out: dict[str, float] = {v.name: float(v.value) for v in model.design}
     for name, (x, y) in model.points.items():
@@ -88,6 +96,12 @@ def parameters(model: Model) -> dict[str, float]:
         if rope.mode == "winch" and rope.drum_radius is not None:
             out[f"{rope.name}.drum_radius"] = float(rope.drum_radius)
             out[f"{rope.name}.gear_ratio"] = float(rope.gear_ratio)
+    for g in model.gears:
+        out[f"{g.name}.ratio"] = float(g.ratio)
+    for rk in model.racks:
+        out[f"{rk.name}.radius"] = float(rk.radius)
+    for name, value in sheave_parameters(model).items():
+        out[name] = value
     for b in model.bodies:
         if b.mass is not None:
             out[f"{b.name}.mass"] = float(b.mass)
@@ -96,6 +110,28 @@ def parameters(model: Model) -> dict[str, float]:
         if b.center_of_mass is not None:
             out[f"{b.name}.center_of_mass.x"] = float(b.center_of_mass[0])
             out[f"{b.name}.center_of_mass.y"] = float(b.center_of_mass[1])
+    return out
+
+
+def sheave_parameters(model: Model) -> dict[str, float]:
+    """The sheave radii of the model's ropes over sheaves: ``ROPE.radius.S`` of the sheave at
+    path point S (m).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+
+    Returns
+    -------
+    dict of str to float
+        In each rope's path order.
+    """
+    out: dict[str, float] = {}
+    for rope in model.ropes:
+        if rope.over_sheaves:
+            for p, r in zip(rope.path[1:-1], rope.radii, strict=True):
+                out[f"{rope.name}.radius.{p}"] = float(r)
     return out
 
 
@@ -229,6 +265,28 @@ class _Geometry:
             for r in model.ropes
             if r.mode == "winch"
         }
+        #: the gear pairs' ratios given (the others keep their own)
+        self.ratios: dict[str, Num] = {
+            g.name: values[f"{g.name}.ratio"] for g in model.gears if f"{g.name}.ratio" in values
+        }
+        self.angles: dict[str, dict[int, Num]] | None = None
+        #: each rack's pinion pitch radius
+        self.rack_radii: dict[str, Num] = {
+            r.name: values.get(f"{r.name}.radius", r.radius) for r in model.racks
+        }
+        #: each rope's signed sheave radii (0 at its ends), where one of its radii is given
+        self.sheaves: dict[str, tuple[Num, ...]] = {
+            r.name: (
+                0.0,
+                *(
+                    values.get(f"{r.name}.radius.{p}", rad) * (1.0 if w == "ccw" else -1.0)
+                    for p, rad, w in zip(r.path[1:-1], r.radii, r.wraps, strict=True)
+                ),
+                0.0,
+            )
+            for r in model.ropes
+            if r.over_sheaves and any(f"{r.name}.radius.{p}" in values for p in r.path[1:-1])
+        }
         self.frames: dict[str, LocalFrame] = {}
         self.bad: Num = False
         for b in model.bodies if frames else ():
@@ -252,6 +310,9 @@ class _Geometry:
                     kind == "mass"
                     or ("." not in name and "-" in name)  # a [lengths] entry
                     or name.endswith((".drum_radius", ".gear_ratio"))  # a winch's
+                    or name in {f"{g.name}.ratio" for g in model.gears}
+                    or name in {f"{r.name}.radius" for r in model.racks}
+                    or name in sheave_parameters(model)
                 ):
                     fine = fine & (value > 0)
             self.bad = self.bad | ~fine
@@ -279,6 +340,19 @@ class _Geometry:
 
     def winch_ratio(self, rope: str) -> Num:
         return self.winch[rope]
+
+    def rope_signed(self, rope: str) -> tuple[Num, ...] | None:
+        return self.sheaves.get(rope)
+
+    def rack_radius(self, rack: str) -> Num:
+        return self.rack_radii[rack]
+
+    def train(self) -> dict[str, dict[int, Num]] | None:
+        if not self.ratios:
+            return None
+        if self.angles is None:
+            self.angles = train_angles(self.model, self.ratios)
+        return self.angles
 
     def unit(self, p: str, q: str) -> tuple[Num, Num]:
         (px, py), (qx, qy) = self.sketch[p], self.sketch[q]
@@ -406,7 +480,8 @@ def _input_sketch(plan: SolvePlan, geo: _Geometry) -> list[Num]:
                 0.0,
             )
             wraps0 = sketch_wraps([model.points[p] for p in rope.path], signed)
-            out[i] = rope_path([sk[p] for p in rope.path], signed, wraps0).length
+            own = geo.rope_signed(rope.name) or signed
+            out[i] = rope_path([sk[p] for p in rope.path], own, wraps0).length
         out[i] = out[i] / geo.winch[rope.name]
     return out
 
