@@ -13,7 +13,8 @@ whose gear pairs, racks or cams the plan cannot take
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
+from typing import Any
 
 import numpy as np
 
@@ -40,6 +41,7 @@ from excavkin.kinetostatics.structured import (
     solve_structured,
 )
 from excavkin.structure.design import expand
+from excavkin.structure.plan import SolvePlan
 
 __all__ = ["solve_forces"]
 
@@ -119,23 +121,9 @@ def solve_forces(
     singular = np.zeros(n, dtype=bool)
     lam = pitch_fractions(model, expand(model, result.parameters or {}))
     with np.errstate(divide="ignore", invalid="ignore"):
-        if lam:  # gear ratios per design: each chunk's pitch points, in NumPy
-            for s in range(0, n, chunk):
-                part = slice(s, min(s + chunk, n))
-                own = with_pitch(sy, lam, part)
-                structured_part = None if method == "dense" else along_plan(plan, own)
-                if structured_part is None:
-                    _solve_dense(own, mp, ev, (x, a, eps), out, singular, part, fast=True)
-                    continue
-                _solve_sparse((structured_part, mp, ev), (x, a, eps), out, singular, chunk, part)
-        elif method == "dense":
-            _solve_dense(sy, mp, ev, (x, a, eps), out, singular, slice(None))
-        elif (structured := along_plan(plan, sy)) is None:  # meshes the plan cannot take
-            for s in range(0, n, chunk):
-                part = slice(s, min(s + chunk, n))
-                _solve_dense(sy, mp, ev, (x, a, eps), out, singular, part, fast=True)
-        else:
-            _solve_chosen((structured, mp, ev), (x, a, eps), out, singular, chunk, execution)
+        _solve_by_method(
+            plan, (sy, mp, ev), (x, a, eps), (out, singular), lam, method, chunk, execution
+        )
     add_radial(sy, x, out)
     # a row whose rates lose precision near a dead position keeps its forces (its status says
     # how far to trust them)
@@ -143,6 +131,20 @@ def solve_forces(
     if bad.any():
         out[:, bad] = np.nan
     singular &= result.status.solved
+    return _force_result(result, sy, (out, singular), checked, ev, mp)
+
+
+def _force_result(
+    result: KinematicResult,
+    sy: StaticsSystem,
+    solved: tuple[F, np.ndarray],
+    checked: tuple[Load, ...],
+    ev: EvaluatedLoads,
+    mp: MassProperties,
+) -> ForceResult:
+    """The solved unknowns (one row an unknown, a column a sample) as a `ForceResult`."""
+    out, singular = solved
+    n = out.shape[1]
     ns = len(sy.slots)
     e0, s0, t0, r0 = sy.element_col0, sy.slider_col0, sy.torque_col0, sy.rope_col0
     gears, racks, cams = mesh_forces(sy, out)
@@ -162,6 +164,42 @@ def solve_forces(
         mass=mp,
         rope_tension=out[r0 : sy.gear_col0].T,
     )
+
+
+def _solve_by_method(
+    plan: SolvePlan,
+    known: tuple[StaticsSystem, MassProperties, EvaluatedLoads],
+    motion: tuple[F, F | None, F | None],
+    into: tuple[F, np.ndarray],
+    lam: Mapping[tuple[str, int], Any],
+    method: str,
+    chunk: int,
+    execution: Execution,
+) -> None:
+    """Fill ``out`` and ``singular`` by the method asked: along the plan (on the backend
+    chosen), or with the whole matrix — for a method ``"dense"``, for meshes the plan cannot
+    take, and per chunk where gear ratios vary by design (``lam``: each chunk's pitch points)."""
+    sy, mp, ev = known
+    x, a, eps = motion
+    out, singular = into
+    n = out.shape[1]
+    if lam:  # gear ratios per design: each chunk's pitch points, in NumPy
+        for s in range(0, n, chunk):
+            part = slice(s, min(s + chunk, n))
+            own = with_pitch(sy, lam, part)
+            structured_part = None if method == "dense" else along_plan(plan, own)
+            if structured_part is None:
+                _solve_dense(own, mp, ev, (x, a, eps), out, singular, part, fast=True)
+                continue
+            _solve_sparse((structured_part, mp, ev), (x, a, eps), out, singular, chunk, part)
+    elif method == "dense":
+        _solve_dense(sy, mp, ev, (x, a, eps), out, singular, slice(None))
+    elif (structured := along_plan(plan, sy)) is None:  # meshes the plan cannot take
+        for s in range(0, n, chunk):
+            part = slice(s, min(s + chunk, n))
+            _solve_dense(sy, mp, ev, (x, a, eps), out, singular, part, fast=True)
+    else:
+        _solve_chosen((structured, mp, ev), (x, a, eps), out, singular, chunk, execution)
 
 
 def _solve_sparse(

@@ -202,88 +202,88 @@ def compile_structured(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem:
     """
     if plan.points != sy.points or plan.bodies != sy.bodies:
         raise InputError("the equilibrium system belongs to another model than the solve plan")
-    body = {name: j for j, name in enumerate(sy.bodies)}
-    element_col = {e[3]: sy.element_col0 + k for k, e in enumerate(sy.elements)}
-    by_pair = {frozenset((el.p, el.q)): k for k, el in enumerate(plan.elements)}
-    by_input = {el.input: k for k, el in enumerate(plan.elements) if el.mode == "driven"}
-    rotary = {name: (sy.torque_col0 + k, b, r) for k, (name, b, r) in enumerate(sy.rotary)}
-    sliders = {
-        (pt, l1, l2): (sy.slider_col0 + k, carrier)
-        for k, (_, pt, l1, l2, carrier) in enumerate(sy.sliders)
-    }
+    make = _Scalars(plan, sy)
+    pieces = [make.block(st) for st in plan.steps]
+    blocks = _mesh_blocks(plan, sy, pieces) if sy.meshes else [b for b in pieces if b]
+    slot_of = {s: k for k, s in enumerate(sy.slots)}
+    return StructuredSystem(sy, tuple(blocks), slot_of)
 
-    def dist(p: int, q: int, d: Dist) -> Scalar:
+
+class _Scalars:
+    """The constraint scalars of a plan's steps, with the unknowns' columns they carry."""
+
+    def __init__(self, plan: SolvePlan, sy: StaticsSystem) -> None:
+        self.plan, self.sy = plan, sy
+        self.body = {name: j for j, name in enumerate(sy.bodies)}
+        self.element_col = {e[3]: sy.element_col0 + k for k, e in enumerate(sy.elements)}
+        self.by_pair = {frozenset((el.p, el.q)): k for k, el in enumerate(plan.elements)}
+        self.by_input = {el.input: k for k, el in enumerate(plan.elements) if el.mode == "driven"}
+        self.rotary = {name: (sy.torque_col0 + k, b, r) for k, (name, b, r) in enumerate(sy.rotary)}
+        self.sliders = {
+            (pt, l1, l2): (sy.slider_col0 + k, carrier)
+            for k, (_, pt, l1, l2, carrier) in enumerate(sy.sliders)
+        }
+
+    def dist(self, p: int, q: int, d: Dist) -> Scalar:
         if d.body:
-            j = body[d.body]
+            j = self.body[d.body]
             return Scalar("dist", (p, q), (j, j), -1)
-        k = by_input[d.input] if d.kind == "input" else by_pair[frozenset((p, q))]
-        return Scalar("dist", (p, q), (PIN, PIN), element_col[k])
+        k = self.by_input[d.input] if d.kind == "input" else self.by_pair[frozenset((p, q))]
+        return Scalar("dist", (p, q), (PIN, PIN), self.element_col[k])
 
-    def frame(p: int, a: int, b: int, name: str) -> tuple[Scalar, Scalar]:
-        j = body[name]
+    def frame(self, p: int, a: int, b: int, name: str) -> tuple[Scalar, Scalar]:
+        j = self.body[name]
         return (
             Scalar("frame_x", (p, a, b), (j, j, j), -1),
             Scalar("frame_y", (p, a, b), (j, j, j), -1),
         )
 
-    def angle(p: int, pivot: int, ref: tuple[int, int] | None, driver: str) -> Scalar:
-        col, driven, reference = rotary[driver]
+    def angle(self, p: int, pivot: int, ref: tuple[int, int] | None, driver: str) -> Scalar:
+        col, driven, reference = self.rotary[driver]
         if ref is None:
             return Scalar("angle", (p, pivot), (driven, driven), col)
         return Scalar("angle", (p, pivot, *ref), (driven, driven, reference, reference), col)
 
-    def line(p: int, l1: int, l2: int) -> Scalar:
-        col, carrier = sliders[(p, l1, l2)]
+    def line(self, p: int, l1: int, l2: int) -> Scalar:
+        col, carrier = self.sliders[(p, l1, l2)]
         return Scalar("line", (p, l1, l2), (PIN, carrier, carrier), col)
 
-    pieces: list[Block | None] = []
-    for st in plan.steps:
+    def block(self, st: object) -> Block | None:
+        """The step's block (None: a ground step, or a mesh's, which `_mesh_blocks` makes)."""
         if isinstance(st, Fixed | GearStep | RackStep | CamStep | CamRockerStep):
-            pieces.append(None)  # (a mesh's steps: `_mesh_blocks`)
-        elif isinstance(st, Rotate):
-            col, driven, _ = rotary[st.driver]
+            return None
+        if isinstance(st, Rotate):
+            _, driven, _ = self.rotary[st.driver]
             radius = Scalar("dist", (st.point, st.pivot), (driven, driven), -1)
-            pieces.append(
-                Block((st.point,), (radius, angle(st.point, st.pivot, st.ref, st.driver)), False)
+            return Block(
+                (st.point,), (radius, self.angle(st.point, st.pivot, st.ref, st.driver)), False
             )
-        elif isinstance(st, Attach):
-            pieces.append(Block((st.point,), frame(st.point, st.a, st.b, st.body), False))
-        elif isinstance(st, Dyad):
-            pieces.append(
-                Block(
-                    (st.point,),
-                    (dist(st.point, st.a, st.da), dist(st.point, st.b, st.db)),
-                    True,
-                )
-            )
-        elif isinstance(st, SliderStep):
-            pieces.append(
-                Block(
-                    (st.point,),
-                    (dist(st.point, st.a, st.da), line(st.point, st.l1, st.l2)),
-                    True,
-                )
-            )
-        else:
-            assert isinstance(st, NewtonGroup)
-            scalars: list[Scalar] = []
-            for c in st.constraints:
-                if isinstance(c, CDist):
-                    scalars.append(dist(c.p, c.q, c.dist))
-                elif isinstance(c, CFrame):
-                    scalars.extend(frame(c.p, c.a, c.b, c.body))
-                elif isinstance(c, CLine):
-                    scalars.append(line(c.p, c.l1, c.l2))
-                elif isinstance(c, CRope):
-                    scalars.append(_rope(sy, c))
-                else:
-                    assert isinstance(c, CAngle)
-                    driver = plan.inputs[c.input]
-                    scalars.append(angle(c.p, c.pivot, c.ref, driver))
-            pieces.append(Block(st.points, tuple(scalars), True))
-    blocks = _mesh_blocks(plan, sy, pieces) if sy.meshes else [b for b in pieces if b]
-    slot_of = {s: k for k, s in enumerate(sy.slots)}
-    return StructuredSystem(sy, tuple(blocks), slot_of)
+        if isinstance(st, Attach):
+            return Block((st.point,), self.frame(st.point, st.a, st.b, st.body), False)
+        if isinstance(st, Dyad):
+            pair = (self.dist(st.point, st.a, st.da), self.dist(st.point, st.b, st.db))
+            return Block((st.point,), pair, True)
+        if isinstance(st, SliderStep):
+            pair = (self.dist(st.point, st.a, st.da), self.line(st.point, st.l1, st.l2))
+            return Block((st.point,), pair, True)
+        assert isinstance(st, NewtonGroup)
+        return Block(st.points, tuple(self.group_scalars(st)), True)
+
+    def group_scalars(self, st: NewtonGroup) -> list[Scalar]:
+        scalars: list[Scalar] = []
+        for c in st.constraints:
+            if isinstance(c, CDist):
+                scalars.append(self.dist(c.p, c.q, c.dist))
+            elif isinstance(c, CFrame):
+                scalars.extend(self.frame(c.p, c.a, c.b, c.body))
+            elif isinstance(c, CLine):
+                scalars.append(self.line(c.p, c.l1, c.l2))
+            elif isinstance(c, CRope):
+                scalars.append(_rope(self.sy, c))
+            else:
+                assert isinstance(c, CAngle)
+                scalars.append(self.angle(c.p, c.pivot, c.ref, self.plan.inputs[c.input]))
+        return scalars
 
 
 def along_plan(plan: SolvePlan, sy: StaticsSystem) -> StructuredSystem | None:
