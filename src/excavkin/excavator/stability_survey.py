@@ -189,6 +189,7 @@ class StabilitySurvey:
                 f"{pin[k, 0] * 1e3:.0f}, y {pin[k, 1] * 1e3:.0f}; unloaded, the centre of mass "
                 f"stays {st.margin[j] * 1e3:.0f} or more inside the support"
             )
+            lines.append(f"    line of least margin: {st.margin_line[j]}")
         for cylinder, c in self.capped.items():
             kinds = np.array([s.split(" ")[0] for s in c.limiting.astype(str)])
             share = ", ".join(
