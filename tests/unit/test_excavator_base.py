@@ -190,7 +190,7 @@ def test_cli_stability(tmp_path: Path) -> None:
     r = CliRunner().invoke(main, [*args, "--map", str(tmp_path / "m"), "--swing", "side"])
     assert r.exit_code == 0, r.output
     assert "tipping lines" in r.output and "front 1825" in r.output and "least tipping" in r.output
-    for name in ("tipping-front", "tipping-side", "limits-arm", "limits-bucket"):
+    for name in ("tipping-front", "tipping-side", "limits-arm", "limits-bucket", "support"):
         assert (tmp_path / f"m-{name}.png").is_file()
     table = pd.read_csv(out)
     assert list(table["cylinder"]) == ["arm", "bucket"] * 2

@@ -110,7 +110,13 @@ def test_the_stability_survey_is_the_stability_modules_own(machine) -> None:  # 
     assert pin_grid(3) == (9, 9, 5) and len(survey.pin) == len(survey.tipping["front"].margin)
     text = survey.summary()
     assert "Rated tool forces over the side" in text and "9² × 5 for the bucket pin" in text
-    assert tuple(MAPS) == ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
+    assert tuple(MAPS) == (
+        "tipping-front",
+        "tipping-side",
+        "limits-arm",
+        "limits-bucket",
+        "support",
+    )
     with pytest.raises(InputError, match="at least 2"):
         stability_survey(machine, 1)
 

@@ -216,7 +216,8 @@ def _swing_option(text: str) -> float | str:
     "map_prefix",
     type=click.Path(dir_okay=False),
     help="Write PREFIX-tipping-front.png, PREFIX-tipping-side.png (tipping load at the bucket "
-    "pin) and PREFIX-limits-arm.png, PREFIX-limits-bucket.png (which limit binds).",
+    "pin), PREFIX-limits-arm.png, PREFIX-limits-bucket.png (which limit binds) and "
+    "PREFIX-support.png (the support in plan and its tipping lines).",
 )
 @click.option("--force", is_flag=True, help="Replace output files that exist.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress.")

@@ -138,29 +138,150 @@ def plot_lift_chart(machine: Machine, table: LiftTable, *, ax: Axes | None = Non
 
 
 def _draw_base(machine: Machine, ax: Axes) -> None:
-    """The undercarriage and the counterweight, schematically, in the chart's frame."""
+    """The support's contact elements over the front (swing 0), seen from the side, and the
+    counterweight, schematically, in the chart's frame."""
     from matplotlib.patches import Rectangle
 
     base = machine.base
     if base is None:
         return
+    draw_support_side(machine, ax)
     x0 = machine.swing_axis
-    uc = base.track_centre - x0
-    ax.add_patch(
-        Rectangle(
-            (uc - 0.5 * base.track_length, 0.0),
-            base.track_length,
-            0.9,
-            fc="0.85",
-            ec="0.5",
-            lw=0.8,
-            zorder=1,
-        )
-    )
     cw = base.counterweight
     ax.add_patch(
         Rectangle((cw.x - x0 - 0.45, 1.0), 0.9, 1.3, fc="0.75", ec="0.5", lw=0.8, zorder=1)
     )
+
+
+def draw_support_side(machine: Machine, ax: Axes) -> list[Any]:
+    """The support's contact elements over the front (swing 0), seen from the side, in a lift
+    chart's frame (radius from the swing axis, height above the ground line).
+
+    Tracks are drawn as their length on the ground (one box for tracks side by side), tyres
+    as circles and an oscillating axle's pivot as a triangle on the ground, a blade as its
+    edge and outrigger pads as squares, all at the abscissae of the support's contact points
+    (`Support.contact_points`).
+
+    Parameters
+    ----------
+    machine : Machine
+        With a ``[base]``.
+    ax : matplotlib Axes
+
+    Returns
+    -------
+    list
+        The artists drawn, one per contact element (a track hidden behind another's box
+        draws none).
+    """
+    from excavkin.excavator.stability import need_base
+
+    support = need_base(machine).support
+    pts, owners = support.contact_points(machine.swing_axis, 0.0)
+    artists: list[Any] = []
+    spans: set[tuple[float, float]] = set()
+    for e, ct in enumerate(support.contacts):
+        u = pts[[k for k, (o, _) in enumerate(owners) if o == e], 0]
+        artist = _side_artist(ax, ct.kind, u, spans)
+        if artist is not None:
+            artists.append(artist)
+    return artists
+
+
+def _side_artist(ax: Axes, kind: str, u: F, spans: set[tuple[float, float]]) -> Any:
+    from matplotlib.patches import Rectangle
+
+    if kind == "track":
+        span = (float(u.min()), float(u.max()))
+        if span in spans:
+            return None
+        spans.add(span)
+        return ax.add_patch(
+            Rectangle((span[0], 0.0), span[1] - span[0], 0.9, fc="0.85", ec="0.5", lw=0.8, zorder=1)
+        )
+    if kind == "blade":
+        return ax.plot([u[0], u[0]], [0.0, 0.6], color="0.35", lw=3.0, zorder=2)[0]
+    marker, size = {"tyres": ("o", 14), "pivot": ("^", 9), "outriggers": ("s", 7)}.get(
+        kind, ("x", 7)
+    )
+    return ax.plot(u, 0.0 * u, marker, ms=size, mfc="0.75", mec="0.35", ls="", zorder=2)[0]
+
+
+def plot_support(machine: Machine, *, swing: float = 0.0, ax: Axes | None = None) -> ExcavatorPlot:
+    """The support in plan about the swing axis with the upper structure swung ``swing``:
+    each contact element as the model has it (`Support.contacts`: tracks' footprints, tyres,
+    an oscillating axle's pivot, a blade's edge, outrigger pads), the support polygon and
+    its tipping lines named as the model names them, and the front's direction.
+
+    Parameters
+    ----------
+    machine : Machine
+        With a ``[base]``.
+    swing : float, default 0
+        The upper structure's swing (rad; 0 over the front of the undercarriage).
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    ExcavatorPlot
+        Its ``artists``: ``"contacts"`` (contact name → artist), ``"points"`` (every contact
+        point, `Support.contact_points`' order), ``"polygon"`` (the support polygon's patch),
+        ``"lines"`` (tipping-line name → its label).
+    """
+    from matplotlib.patches import Polygon
+
+    from excavkin.excavator.stability import need_base
+
+    fig, ax = figure_axes(ax, (7.0, 6.5))
+    support = need_base(machine).support
+    axis = machine.swing_axis
+    pts, owners = support.contact_points(axis, swing)
+    contacts: dict[str, Any] = {}
+    for e, ct in enumerate(support.contacts):
+        p = pts[[k for k, (o, _) in enumerate(owners) if o == e]]
+        contacts[ct.name] = _plan_artist(ax, ct.kind, p)
+    (points,) = ax.plot(pts[:, 0], pts[:, 1], ".", color="k", ms=3, zorder=4)
+    vertices, _ = support.support_polygon(axis, swing)
+    polygon = ax.add_patch(
+        Polygon(vertices, closed=True, fill=False, ec="tab:red", lw=1.2, ls="--", zorder=3)
+    )
+    labels = {}
+    for ln in support.tipping_lines(axis, swing):
+        mid = ln.ends.mean(axis=0) + 0.25 * np.asarray(ln.normal)
+        labels[ln.name] = ax.text(
+            mid[0], mid[1], ln.name, color="tab:red", fontsize=8, ha="center", va="center"
+        )
+    reach = float(np.abs(pts).max()) + 0.8
+    head = 0.7 * reach * np.array([np.cos(swing), np.sin(swing)])
+    ax.annotate(
+        "", xy=tuple(head), xytext=(0.0, 0.0), arrowprops={"arrowstyle": "->", "color": "0.4"}
+    )
+    tx, ty = 0.5 * head + 0.15 * np.array([-np.sin(swing), np.cos(swing)])
+    ax.text(tx, ty, "the front", color="0.4", fontsize=8, ha="center", va="center")
+    ax.plot(0.0, 0.0, "+", color="0.4", ms=10)
+    ax.set_xlim(-reach, reach)
+    ax.set_ylim(-reach, reach)
+    ax.set_aspect("equal")
+    ax.set_xlabel("along the undercarriage from the swing axis u (m)")
+    ax.set_ylabel("to the left v (m)")
+    ax.set_title(f"{machine.name}: support and tipping lines, swung {np.degrees(swing):.0f}°")
+    return ExcavatorPlot(
+        fig, ax, {"contacts": contacts, "points": points, "polygon": polygon, "lines": labels}
+    )
+
+
+def _plan_artist(ax: Axes, kind: str, p: F) -> Any:
+    from matplotlib.patches import Polygon
+
+    if kind == "track":
+        hull = p[[0, 2, 3, 1]]  # rear-right, front-right, front-left, rear-left
+        return ax.add_patch(Polygon(hull, closed=True, fc="0.85", ec="0.5", lw=0.8, zorder=1))
+    if kind == "blade":
+        return ax.plot(p[:, 0], p[:, 1], color="0.35", lw=4.0, zorder=2)[0]
+    marker, size = {"tyres": ("o", 14), "pivot": ("^", 9), "outriggers": ("s", 8)}.get(
+        kind, ("x", 7)
+    )
+    return ax.plot(p[:, 0], p[:, 1], marker, ms=size, mfc="0.75", mec="0.35", ls="", zorder=2)[0]
 
 
 def map_cells(points: F, cell: float) -> tuple[F, F, Any, Any, int, int]:

@@ -38,7 +38,13 @@ STANDARDS: tuple[tuple[At, str], ...] = (("lip", "ISO 6015"), ("tip", "SAE J1179
 #: the working cylinders, in the order of every table
 WORKING: tuple[Working, ...] = ("arm", "bucket")
 #: the maps `StabilitySurvey.plot_maps` draws
-MAPS: tuple[str, ...] = ("tipping-front", "tipping-side", "limits-arm", "limits-bucket")
+MAPS: tuple[str, ...] = (
+    "tipping-front",
+    "tipping-side",
+    "limits-arm",
+    "limits-bucket",
+    "support",
+)
 #: the kinds of `StabilitySurvey.to_frame`'s columns
 FRAME_KINDS: dict[str, str] = {
     **dict.fromkeys(("x", "y", "boom", "arm", "bucket"), "length"),
@@ -189,6 +195,7 @@ class StabilitySurvey:
                 f"{pin[k, 0] * 1e3:.0f}, y {pin[k, 1] * 1e3:.0f}; unloaded, the centre of mass "
                 f"stays {st.margin[j] * 1e3:.0f} or more inside the support"
             )
+            lines.append(f"    line of least margin: {st.margin_line[j]}")
         for cylinder, c in self.capped.items():
             kinds = np.array([s.split(" ")[0] for s in c.limiting.astype(str)])
             share = ", ".join(
@@ -203,14 +210,20 @@ class StabilitySurvey:
 
     def plot_maps(self) -> dict[str, ExcavatorPlot]:
         """The tipping load at the bucket pin over the front and over the side, and the
-        binding limit of the lip's tool force of each working cylinder, as maps.
+        binding limit of the lip's tool force of each working cylinder, as maps, and the
+        support in plan with its tipping lines, swung as the rated forces are.
 
         Returns
         -------
         dict of str to ExcavatorPlot
             `MAPS` → its figure.
         """
-        from excavkin.excavator.stability_plots import plot_limit_map, plot_value_map
+        from excavkin.excavator.stability import SWING
+        from excavkin.excavator.stability_plots import (
+            plot_limit_map,
+            plot_support,
+            plot_value_map,
+        )
 
         m = self.machine
         out = {}
@@ -231,6 +244,8 @@ class StabilitySurvey:
                 c.limiting,
                 title=f"{working}-cylinder tool force (ISO 6015, lip): the binding limit",
             )
+        sw = self.swing
+        out["support"] = plot_support(m, swing=SWING[sw] if isinstance(sw, str) else sw)
         return out
 
 
