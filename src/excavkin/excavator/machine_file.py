@@ -273,5 +273,3 @@ def _machine(data: dict[str, Any], source: str | None) -> Machine:
 
 #: the most cylinders acting together in one role
 MAX_COUNT = 16
-
-

@@ -199,8 +199,7 @@ def check_head(r: MachineReader, version: int, allowed: set[str], example: str) 
     ver = data.get("schema_version")
     if type(ver) is not int or ver != version:
         raise r.err(
-            f"schema_version = {ver!r} is not supported (this version of excavkin reads "
-            f"{version})"
+            f"schema_version = {ver!r} is not supported (this version of excavkin reads {version})"
             if ver is not None
             else f"schema_version is missing (this version reads {version})",
             entry="schema_version",
