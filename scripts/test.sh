@@ -29,7 +29,7 @@ if ! command -v chromium >/dev/null 2>&1; then
   fi
 fi
 
-echo "== ruff";        ruff check src tests benchmarks
+echo "== ruff";        ruff check src tests benchmarks && ruff format --check src tests benchmarks scripts
 echo "== mypy";        mypy
 echo "== import-linter"; lint-imports
 echo "== docs";        NO_MKDOCS_2_WARNING=1 mkdocs build --strict --quiet -d "$(mktemp -d)/site"
