@@ -2,7 +2,9 @@
 
 Run: ``python benchmarks/bench_newton.py [N]``. Default N = 10⁶ samples over a full turn of
 the crank, full kinematic state (positions, velocities, accelerations, body and driver
-columns, the precision and change-point checks), all cores:
+columns, the precision and change-point checks), all cores. The baseline is the four-bar's
+closed form compiled (``backend="numba"``, the default path at this size); its NumPy path is
+printed beside it:
 
 * **triad**: the class-III Assur group of the tests (``triad(TRIAD)`` in
   ``tests/property/test_random_linkages.py``: three points that only Newton closes, a 6×6
@@ -18,6 +20,7 @@ is tracked.
 from __future__ import annotations
 
 import sys
+from typing import Literal
 
 import numpy as np
 from timing import best_of
@@ -64,8 +67,10 @@ def main(n: int = 1_000_000) -> tuple[float, float]:
     q_triad = group.sketch_values()["crank"] - np.pi + turn
     rates, accels = {"crank": 31.416}, {"crank": 0.0}
 
-    def solve(mech: Mechanism, q: np.ndarray) -> excavkin.KinematicResult:
-        return mech.solve({"crank": q}, rates=rates, accels=accels)
+    def solve(
+        mech: Mechanism, q: np.ndarray, backend: Literal["auto", "numpy", "numba"] = "auto"
+    ) -> excavkin.KinematicResult:
+        return mech.solve({"crank": q}, rates=rates, accels=accels, backend=backend)
 
     # what is timed is right: every sample solved, the generic four-bar equal to the closed one
     a, b, c = solve(closed, turn), solve(newton, turn), solve(group, q_triad)
@@ -73,16 +78,23 @@ def main(n: int = 1_000_000) -> tuple[float, float]:
     np.testing.assert_allclose(b.positions, a.positions, rtol=0, atol=1e-14)
     np.testing.assert_allclose(b.accelerations, a.accelerations, rtol=1e-9, atol=1e-9)
 
-    t_closed = best_of(lambda: solve(closed, turn))
+    solve(closed, turn, "numba")  # its kernel compiled (or loaded) before it is timed
+    t_closed = best_of(lambda: solve(closed, turn, "numba"))
+    t_numpy = best_of(lambda: solve(closed, turn, "numpy"), 3)
     t_triad = best_of(lambda: solve(group, q_triad), 3)
     t_newton = best_of(lambda: solve(newton, turn), 3)
     r_triad, r_newton = t_triad / t_closed, t_newton / t_closed
     print(f"Newton groups against the closed form, full kinematic state, N = {n:,}")
-    print(f"  four-bar, closed form          : {n / t_closed / 1e6:6.3f} M samples/s")
+    print(f"  four-bar, closed form, compiled: {n / t_closed / 1e6:6.3f} M samples/s")
+    print(f"  four-bar, closed form, NumPy   : {n / t_numpy / 1e6:6.3f} M samples/s")
     print(f"  triad (6×6 Newton group)       : {n / t_triad / 1e6:6.3f} M samples/s")
     print(f"  four-bar, method='newton' (4×4): {n / t_newton / 1e6:6.3f} M samples/s")
     print(f"  triad / closed form, per sample: {r_triad:6.1f}×  (target ≤ 20)")
     print(f"  four-bar newton / closed form  : {r_newton:6.1f}×")
+    print(
+        f"  against the NumPy closed form  : triad {t_triad / t_numpy:.1f}×, "
+        f"four-bar newton {t_newton / t_numpy:.1f}×"
+    )
     return r_triad, r_newton
 
 
