@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 from excavkin.excavator.cycle_power import CyclePower
 from excavkin.excavator.forces import Working
 from excavkin.excavator.hydraulics import Buckling, Cycle, Stroke
-from excavkin.excavator.machine import Machine
+from excavkin.excavator.machine import Machine, mm_field
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -41,10 +41,6 @@ FRAME_KINDS: dict[str, str] = {
     "peak_pressure": "pressure",
     "work": "energy",
 }
-
-
-def _mm(v: float) -> str:
-    return f"{round(v * 1000) + 0.0:8.0f}"
 
 
 @dataclass(frozen=True)
@@ -195,7 +191,7 @@ class CycleSheet:
             for b in checks:
                 safety = float(b.safety[0])
                 buckling.append(
-                    f"{case:<26} {b.role:<8} {_mm(float(b.length[0]))} "
+                    f"{case:<26} {b.role:<8} {mm_field(float(b.length[0]))} "
                     f"{float(b.force[0]) / 1e3:8.1f} {float(b.slenderness[0]):6.1f} "
                     f"{float(b.critical[0]) / 1e3:8.1f} {str(b.formula[0]):<8} "
                     + (f"{safety:6.2f}" if math.isfinite(safety) else f"{'pulls':>6}")

@@ -32,7 +32,14 @@ from numpy.typing import ArrayLike, NDArray
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError
 from excavkin.excavator.forces import At, directed_force
-from excavkin.excavator.machine import FrontPose, Machine, as_lengths, pose_of, transfer
+from excavkin.excavator.machine import (
+    FrontPose,
+    Machine,
+    as_lengths,
+    mm_field,
+    pose_of,
+    transfer,
+)
 from excavkin.excavator.stability import SWING, Over
 from excavkin.kinematics.summary import batch_repr
 from excavkin.machinery.equilibrium import equilibrium
@@ -157,9 +164,6 @@ class Dig:
         str
         """
 
-        def mm(v: float) -> str:
-            return f"{round(v * 1000) + 0.0:8.0f}"
-
         s, d = self.soil, self
         lines = [
             f"{self.machine} — {self.model} resistance along a dig in {s.name}, "
@@ -170,8 +174,8 @@ class Dig:
         for i in range(len(self.lengths)):
             flag = "  ← stalls" if i == d.stall else ""
             lines.append(
-                f"{i:3d} {mm(d.point[i, 0]):>7} {mm(d.point[i, 1]):>7} "
-                f"{mm(max(d.depth[i], 0.0)).strip():>6} {np.degrees(d.rake[i]):5.1f} "
+                f"{i:3d} {mm_field(d.point[i, 0]):>7} {mm_field(d.point[i, 1]):>7} "
+                f"{mm_field(max(d.depth[i], 0.0)).strip():>6} {np.degrees(d.rake[i]):5.1f} "
                 f"{d.resistance.along[i] / 1e3:7.1f} {d.resistance.normal[i] / 1e3:7.1f} "
                 f"{d.required[i] / 1e3:7.1f} {d.available[i] / 1e3:7.1f} "
                 f"{d.margin[i] / 1e3:7.1f}  {d.limiting[i]}{flag}"

@@ -65,6 +65,7 @@ if TYPE_CHECKING:
 ROLES: tuple[str, str, str] = ("boom", "arm", "bucket")
 
 __all__ = [
+    "mm_field",
     "BRANCHES",
     "ROLES",
     "Circuit",
@@ -421,6 +422,22 @@ def _mass_points(machine: Machine) -> MassPoints:
 def as_lengths(lengths: ArrayLike) -> F:
     """Cylinder lengths as an array of shape (n, 3), boom, arm, bucket; refuses other shapes."""
     return cylinder_lengths(lengths, ROLES)
+
+
+def mm_field(v: float) -> str:
+    """A length in metres as whole millimetres in a field of 8, as the printed sheets show it
+    (``-0`` printed as ``0``).
+
+    Parameters
+    ----------
+    v : float
+        Length (m).
+
+    Returns
+    -------
+    str
+    """
+    return f"{round(v * 1000) + 0.0:8.0f}"
 
 
 def length_columns(lengths: Sequence[float] | F) -> dict[str, Any]:

@@ -48,6 +48,7 @@ from excavkin.excavator.machine import (
     forward,
     inverse,
     length_columns,
+    mm_field,
     wrap_angle,
 )
 from excavkin.machinery.search import Evaluate, Progress, maximize_strokes, part
@@ -166,16 +167,14 @@ class WorkingRanges:
         str
         """
 
-        def mm(v: float) -> str:
-            return f"{round(v * 1000) + 0.0:8.0f}"
-
         lines = [
             f"{self.machine} — working ranges (tooth tip; mm)",
             f"{'':4} {'figure':<38} {'value':>8}  {'x':>8} {'y':>8}  "
             f"{'boom':>7} {'arm':>7} {'bucket':>7}  bucket orientation",
         ]
         lines += [
-            f"{f.code:4} {f.label:<38} {mm(f.value)}  {mm(f.tip[0])} {mm(f.tip[1])}  "
+            f"{f.code:4} {f.label:<38} {mm_field(f.value)}  "
+            f"{mm_field(f.tip[0])} {mm_field(f.tip[1])}  "
             f"{f.lengths[0] * 1e3:7.0f} {f.lengths[1] * 1e3:7.0f} "
             f"{f.lengths[2] * 1e3:7.0f}  {f.orientation}"
             for f in self.figures
