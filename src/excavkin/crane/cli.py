@@ -1,0 +1,185 @@
+"""``excavkin crane chart|range|supports MACHINE``: a crane's load chart, working range and
+support reactions.
+
+The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
+the machine, pint) are imported inside the commands. Each command parses, calls the library
+and writes: the result's ``summary()`` on the terminal, its ``to_frame()`` to a table.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import click
+
+from excavkin.cli.common import handle_errors, model_path
+
+if TYPE_CHECKING:
+    from excavkin.crane.machine import Crane
+
+
+def _machine(path: str) -> Crane:
+    from excavkin.crane.machine_file import load_machine
+
+    return load_machine(model_path(path, "machine"))
+
+
+def _write(result: Any, output: str | None, force: bool) -> None:
+    """Print the result's summary and write its table."""
+    from excavkin.outputs.tables import write_table
+
+    click.echo(result.summary())
+    if output:
+        click.echo(f"wrote {write_table(result.to_frame(), output, force=force)}")
+
+
+def _check(output: str | None, force: bool) -> None:
+    from excavkin.outputs.tables import check_target
+
+    if output:
+        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+
+
+_MACHINE = click.argument("machine", type=click.Path(dir_okay=False))
+_OUTPUT = click.option(
+    "-o", "--output", type=click.Path(dir_okay=False), help="The table (.csv or .parquet), SI."
+)
+_FORCE = click.option("--force", is_flag=True, help="Replace an output file that exists.")
+
+
+@click.group("crane", context_settings={"help_option_names": ["-h", "--help"]})
+def command() -> None:
+    """Load chart, working range and outrigger reactions of a crane MACHINE."""
+
+
+@command.command("chart")
+@_MACHINE
+@click.option("--step", default="1m", show_default=True, help="Radius step of the chart.")
+@click.option(
+    "--second",
+    multiple=True,
+    help="A length of the knuckle or telescoping cylinder (a boom configuration), e.g. "
+    "1800mm; repeat for more; default its two ends and its middle.",
+)
+@click.option(
+    "--sectors",
+    default=4,
+    show_default=True,
+    type=click.IntRange(min=1, max=36),
+    help="Equal slew sectors over 360° (4: front, left, rear, right).",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def chart(
+    machine: str,
+    step: str,
+    second: tuple[str, ...],
+    sectors: int,
+    output: str | None,
+    force: bool,
+) -> None:
+    """Print the load chart (t at the hook) over radius × boom configuration × slew sector:
+    the least of the cylinders at relief, the hoist and stability (85 % of tipping on
+    outriggers, 75 % on crawlers, ASME B30.5 5-1.1.1), with the limit that binds."""
+    import numpy as np
+
+    from excavkin.cli.common import si_value
+    from excavkin.crane.chart import load_chart
+    from excavkin.crane.reach import reach
+
+    dr = si_value(step, "length", "--step")
+    if not 0.1 <= dr <= 10.0:
+        raise click.BadParameter("between 0.1 m and 10 m", param_hint="--step")
+    lengths = [si_value(k, "length", "--second") for k in second]
+    _check(output, force)
+    crane = _machine(machine)
+    x = reach(crane).tip[..., 0]
+    radii = np.arange(np.ceil(x.min() / dr) * dr, x.max() + 1e-9, dr)
+    if radii.size == 0:
+        radii = np.array([x.min()])
+    result = load_chart(crane, radii, np.array(lengths) if lengths else None, sectors)
+    if np.isnan(result.capacity).all():
+        from excavkin.errors import InputError
+
+        shown = ", ".join(result.config_label(j) for j in range(result.second.size))
+        raise InputError(
+            f"no radius is in reach at {shown}; `excavkin crane range` gives the radius range"
+        )
+    _write(result, output, force)
+
+
+@command.command("range")
+@_MACHINE
+@click.option(
+    "--samples",
+    default=21,
+    show_default=True,
+    type=click.IntRange(min=2, max=1000),
+    help="Lengths over each cylinder's stroke.",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def working_range(machine: str, samples: int, output: str | None, force: bool) -> None:
+    """Print the working range: the boom's angle and the configuration over the cylinders'
+    strokes, the radius range and the highest tip; the table has the tip at every pair of
+    lengths."""
+    from excavkin.crane.reach import reach
+
+    _check(output, force)
+    _write(reach(_machine(machine), samples), output, force)
+
+
+@command.command("supports")
+@_MACHINE
+@click.option("--radius", required=True, help="Hook radius, e.g. 6m.")
+@click.option(
+    "--second",
+    default=None,
+    help="The knuckle or telescoping cylinder's length, e.g. 1800mm; default mid-stroke.",
+)
+@click.option("--load", default="0kg", show_default=True, help="Hook load, hook block included.")
+@click.option(
+    "--samples",
+    default=73,
+    show_default=True,
+    type=click.IntRange(min=2, max=100_000),
+    help="Slew angles over 360°.",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def supports(
+    machine: str,
+    radius: str,
+    second: str | None,
+    load: str,
+    samples: int,
+    output: str | None,
+    force: bool,
+) -> None:
+    """Print each outrigger pad's (or track corner's) largest and least ground reaction (kN)
+    over a 360° slew; the table has every reaction at every slew angle."""
+    from excavkin.cli.common import si_value
+    from excavkin.crane.supports import support_reactions
+
+    r = si_value(radius, "length", "--radius")
+    m = si_value(load, "mass", "--load")
+    if m < 0 or m > 1e6:
+        raise click.BadParameter("between 0 and 1000 t", param_hint="--load")
+    if not 0 <= r <= 1000:
+        raise click.BadParameter("a radius of 0 to 1000 m", param_hint="--radius")
+    _check(output, force)
+    crane = _machine(machine)
+    cyl = crane.second
+    k = 0.5 * (cyl.retracted + cyl.extended)
+    if second is not None:
+        k = si_value(second, "length", "--second")
+        if not cyl.retracted - 1e-9 <= k <= cyl.extended + 1e-9:
+            raise click.BadParameter(
+                f"within the {cyl.role} cylinder's stroke ({cyl.retracted * 1e3:.0f} to "
+                f"{cyl.extended * 1e3:.0f} mm)",
+                param_hint="--second",
+            )
+    _write(support_reactions(crane, r, k, m, samples), output, force)
