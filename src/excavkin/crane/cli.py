@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from excavkin.cli.common import handle_errors, model_path
+from excavkin.cli.study_options import machine_optimize_options, study_options
 
 if TYPE_CHECKING:
     from excavkin.crane.machine import Crane
@@ -49,7 +50,8 @@ _FORCE = click.option("--force", is_flag=True, help="Replace an output file that
 
 @click.group("crane", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Load chart, working range and outrigger reactions of a crane MACHINE."""
+    """Load chart, working range and outrigger reactions of a crane MACHINE; studies and
+    optimisation of its design."""
 
 
 @command.command("chart")
@@ -183,3 +185,30 @@ def supports(
                 param_hint="--second",
             )
     _write(support_reactions(crane, r, k, m, samples), output, force)
+
+
+@command.command("study")
+@click.argument("spec", metavar="STUDY")
+@study_options
+@handle_errors
+def study(spec: str, **options: Any) -> None:
+    """A design study of a crane: designs sampled in the box of STUDY.toml's parameter bounds
+    (its [study] names a crane machine), each rated by its working range and load chart; one
+    row per design."""
+    from excavkin.cli.commands.study import run_machine_study
+    from excavkin.crane.study import load_crane_study
+
+    run_machine_study(load_crane_study, spec, **options)
+
+
+@command.command("optimize")
+@click.argument("study", type=click.Path(dir_okay=False))
+@machine_optimize_options
+@handle_errors
+def optimize(study: str, **options: Any) -> None:
+    """The best design of a crane study (STUDY.toml with a crane machine in its [study]): its
+    [optimize] objective over its parameter box under its constraints."""
+    from excavkin.cli.commands.optimize import optimize_machine_study
+    from excavkin.crane.study import load_crane_study
+
+    optimize_machine_study(load_crane_study(model_path(study, "study")), **options)
