@@ -35,6 +35,9 @@ class Reach:
     config_name : str
     tip : ndarray, shape (n, n, 2)
         The jib's tip (radius, height) (m).
+    booms : ndarray, shape (n, n, k, 2)
+        The booms' line at each pair of lengths: the boom pin, the knuckle pin (a knuckle
+        crane) and the tip (m).
     """
 
     machine: str
@@ -44,6 +47,7 @@ class Reach:
     config: F
     config_name: str
     tip: F
+    booms: F
 
     def to_frame(self) -> pd.DataFrame:
         """One row per pair of lengths.
@@ -99,7 +103,9 @@ class Reach:
         return f"{v:7.2f} m"
 
     def plot(self, *, ax: Axes | None = None) -> MachinePlot:
-        """The tip's positions over the strokes, one curve per length of each cylinder.
+        """The working-range diagram: the tip over the strokes (one curve per length of each
+        cylinder), the envelope's outline, the booms at the strokes' four corners, the ground
+        and the slew axis.
 
         Parameters
         ----------
@@ -112,14 +118,27 @@ class Reach:
         """
         from excavkin.outputs.machine_plot import MachinePlot, figure_axes
 
-        fig, ax = figure_axes(ax, (6.0, 5.0))
-        (grid,) = ax.plot(self.tip[..., 0], self.tip[..., 1], color="0.6", lw=0.6)[:1]
-        ax.plot(self.tip[..., 0].T, self.tip[..., 1].T, color="0.6", lw=0.6)
+        fig, ax = figure_axes(ax, (6.5, 5.5))
+        t = self.tip
+        (grid,) = ax.plot(t[..., 0], t[..., 1], color="0.8", lw=0.5)[:1]
+        ax.plot(t[..., 0].T, t[..., 1].T, color="0.8", lw=0.5)
+        edge = np.concatenate([t[0, :], t[:, -1], t[-1, ::-1], t[::-1, 0]])
+        (outline,) = ax.plot(edge[:, 0], edge[:, 1], color="C0", lw=1.8, label="tip's envelope")
+        for i, j in ((0, 0), (0, -1), (-1, 0), (-1, -1)):
+            b = self.booms[i, j]
+            (boom,) = ax.plot(b[:, 0], b[:, 1], color="C1", lw=1.2, marker="o", ms=3)
+        boom.set_label("booms at the strokes' ends")
+        ax.axhline(0.0, color="0.3", lw=1.0)
+        ax.axvline(0.0, color="0.3", lw=0.8, ls="--")
+        ax.annotate("slew axis", (0.0, 0.02), xycoords=("data", "axes fraction"), rotation=90,
+                    ha="right", va="bottom", fontsize=8, color="0.3")  # fmt: skip
         ax.set_aspect("equal")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best", fontsize=8)
         ax.set_xlabel("radius (m)")
         ax.set_ylabel("height (m)")
         ax.set_title(self.machine)
-        return MachinePlot(fig, ax, {"grid": grid})
+        return MachinePlot(fig, ax, {"grid": grid, "outline": outline, "boom": boom})
 
 
 def reach(crane: Crane, samples: int = 21) -> Reach:
@@ -148,6 +167,8 @@ def reach(crane: Crane, samples: int = 21) -> Reach:
     p = kin.positions
     a = p[:, crane.index(crane.boom_pin)]
     far = p[:, crane.index(crane.knuckle_pin or crane.linkage.tip)]
+    line = [crane.boom_pin, crane.knuckle_pin, crane.linkage.tip]
+    booms = p[:, [crane.index(n) for n in line if n is not None]]
     angle = np.arctan2(far[:, 1] - a[:, 1], far[:, 0] - a[:, 0])
     shape = ll.shape
     return Reach(
@@ -158,4 +179,5 @@ def reach(crane: Crane, samples: int = 21) -> Reach:
         crane.configuration(kin).reshape(shape),
         crane.configuration_name,
         crane.tip(kin).reshape(*shape, 2),
+        booms.reshape(*shape, -1, 2),
     )
