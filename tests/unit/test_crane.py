@@ -415,8 +415,9 @@ def test_the_working_range_against_the_closed_form(telescopic) -> None:
     assert_allclose(rg.config[:, 0], rg.config[0, 0], rtol=1e-12)  # boom length: the fly alone
     assert np.array_equal(rg.booms[..., -1, :], rg.tip)  # the boom's line ends at the tip
     drawn = rg.plot()
-    edge = drawn.lines["outline"].get_xydata()
-    assert_allclose(edge[0], rg.tip[0, 0]) and len(edge) == 4 * 7
+    edge = drawn.artists["outline"].get_xydata()
+    assert_allclose(edge[0], rg.tip[0, 0])
+    assert len(edge) == 4 * 7
 
 
 @pytest.mark.parametrize(
