@@ -22,6 +22,7 @@ def test_examples_are_listed_by_kind_and_found_by_name() -> None:
     assert machines == [
         "excavator_machine",
         "knuckle_crane_machine",
+        "synchronised_crane_machine",
         "telescopic_crane_machine",
         "wheel_loader_machine",
         "wheel_loader_tp_machine",

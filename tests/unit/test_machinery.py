@@ -176,6 +176,7 @@ def test_the_excavator_registers_its_family() -> None:
     assert excavkin.examples("machine") == [
         "excavator_machine",
         "knuckle_crane_machine",
+        "synchronised_crane_machine",
         "telescopic_crane_machine",
         "wheel_loader_machine",
         "wheel_loader_tp_machine",

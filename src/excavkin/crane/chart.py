@@ -16,9 +16,10 @@ from excavkin.arrays import FloatArray as F
 from excavkin.crane.limits import (
     STABILITY_SHARE,
     Sector,
-    cylinder_force_terms,
     cylinder_limit,
+    force_terms,
     hoist_limit,
+    rope_limit,
     sector_candidates,
     sectors,
     support_kind,
@@ -34,8 +35,9 @@ if TYPE_CHECKING:
     from excavkin.outputs.machine_plot import MachinePlot
 
 
-def limit_names(crane: Crane) -> tuple[str, str, str, str]:
-    """The names of a crane's four limits, in the order of `LoadChart.limits`.
+def limit_names(crane: Crane) -> tuple[str, ...]:
+    """The names of a crane's limits, in the order of `LoadChart.limits`: the two cylinders,
+    the hoist, stability, then each rope of its booms (``"rope 'sync' slack"``).
 
     Parameters
     ----------
@@ -45,7 +47,8 @@ def limit_names(crane: Crane) -> tuple[str, str, str, str]:
     -------
     tuple of str
     """
-    return ("luffing cylinder", f"{crane.second.role} cylinder", "hoist", "stability")
+    ropes = tuple(f"rope {r.name!r} slack" for r in crane.mechanism.model.ropes)
+    return ("luffing cylinder", f"{crane.second.role} cylinder", "hoist", "stability", *ropes)
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,15 +68,17 @@ class LoadChart:
         ``"knuckle angle"`` or ``"boom length"``.
     sectors : tuple of Sector
     limit_names : tuple of str
-        The four limits' names (`limit_names`).
-    limits : ndarray, shape (4, r, k, s)
+        The limits' names (`limit_names`): the cylinders, the hoist, stability (index 3), the
+        booms' ropes.
+    limits : ndarray, shape (m, r, k, s)
         Each limit (kg); NaN where the radius is out of reach.
     capacity : ndarray, shape (r, k, s)
         The least of them (kg).
     binding : ndarray of str, shape (r, k, s)
         The limit that binds: ``"luffing cylinder"``, ``"knuckle cylinder"`` or
-        ``"telescope cylinder"``, ``"hoist"``, ``"stability, LINE"`` (the tipping line);
-        ``"out of reach"`` where NaN.
+        ``"telescope cylinder"``, ``"hoist"``, ``"stability, LINE"`` (the tipping line),
+        ``"rope 'NAME' slack"`` (a rope of the booms would have to push); ``"out of reach"``
+        where NaN.
     slew : ndarray, shape (r, k, s)
         The slew angle of the sector's least tipping load (rad).
     share : float
@@ -243,9 +248,10 @@ def load_chart(
     rr, kk = np.meshgrid(radius, second, indexing="ij")
     pose = crane.pose(rr.ravel(), kk.ravel())
     n = rr.size
-    f0, f1 = cylinder_force_terms(crane, pose)
+    f0, f1, ropes = force_terms(crane, pose)
     luff = cylinder_limit(crane, crane.cylinders[0], f0[:, 0], f1[:, 0])
     other = cylinder_limit(crane, cyl, f0[:, 1], f1[:, 1])
+    slack = [rope_limit(*terms) for terms in ropes.values()]
     hoist = np.where(pose.reached, hoist_limit(crane), np.nan)
     share = STABILITY_SHARE[support_kind(crane)]
     lines = crane.support.tipping_lines(crane.swing_axis, 0.0)
@@ -263,7 +269,8 @@ def load_chart(
         stab_name[:, k] = line[rows, j]
     shape = (radius.size, second.size, len(secs))
     per = [np.broadcast_to(x[:, None], (n, len(secs))) for x in (luff, other, hoist)]
-    limits = np.stack([*per, stab]) / crane.gravity
+    tied = [np.broadcast_to(x[:, None], (n, len(secs))) for x in slack]
+    limits = np.stack([*per, stab, *tied]) / crane.gravity
     reach = pose.reached[:, None] & np.ones((1, len(secs)), dtype=bool)
     which = np.argmin(np.where(np.isnan(limits), np.inf, limits), axis=0)
     capacity = np.where(reach, np.min(limits, axis=0), np.nan)
@@ -284,7 +291,7 @@ def load_chart(
         config_name=crane.configuration_name,
         sectors=secs,
         limit_names=names_all,
-        limits=limits.reshape(4, *shape),
+        limits=limits.reshape(len(names_all), *shape),
         capacity=capacity.reshape(shape),
         binding=binding.reshape(shape),
         slew=slew.reshape(shape),

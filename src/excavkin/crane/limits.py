@@ -10,6 +10,10 @@ the tip sheave and its lead line), ``F1``; the force is linear in W, ``F = F0 + 
 holds while ``−p·A_rod ≤ F ≤ p·A_bore`` at its circuit's port relief pressure p. The largest
 W ≥ 0 that keeps it so is the cylinder's limit (0 where the booms alone exceed it).
 
+**Ropes.** A rope of the booms (a telescopic boom's synchronising rope) pulls and never
+pushes: its tension ``T0 + W·T1`` must stay ≥ 0, which bounds W where the load slackens it
+(`rope_limit`).
+
 **Hoist.** The winch's single-line pull on ``parts`` falls: ``W ≤ line_pull·parts``.
 
 **Stability.** The machinery layer's whole-machine equilibrium
@@ -27,6 +31,7 @@ in the least stable direction relative to the mounting").
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,12 +42,16 @@ from excavkin.machinery.base import TippingLine
 from excavkin.machinery.cylinders import Cylinder
 from excavkin.machinery.equilibrium import equilibrium
 
+if TYPE_CHECKING:
+    from excavkin.kinetostatics import ForceResult
+
 #: the share of the tipping load a rating may reach (ASME B30.5 para. 5-1.1.1, Table 1)
 STABILITY_SHARE = {"outriggers": 0.85, "crawlers": 0.75}
 
 
-def cylinder_force_terms(crane: Crane, pose: Pose) -> tuple[F, F]:
-    """Each cylinder's push force as ``F0 + W·F1`` from the general kinetostatics.
+def force_terms(crane: Crane, pose: Pose) -> tuple[F, F, dict[str, tuple[F, F]]]:
+    """Each cylinder's push force and each rope's tension as ``F0 + W·F1`` from the general
+    kinetostatics (module docstring).
 
     Parameters
     ----------
@@ -52,17 +61,48 @@ def cylinder_force_terms(crane: Crane, pose: Pose) -> tuple[F, F]:
     Returns
     -------
     F0, F1 : ndarray, shape (n, 2)
-        N under the booms' weight, and N per N of hook load, in role order; NaN where the
-        pose is out of reach.
+        The cylinders' forces (N) under the booms' weight, and per N of hook load, in role
+        order; NaN where the pose is out of reach.
+    ropes : dict of str to (ndarray, ndarray)
+        Each rope of the model (a telescopic boom's synchronising rope): its tension's two
+        terms, the same way.
     """
     kin = pose.kinematics
     mech = crane.mechanism
     own = mech.forces(kin, crane.weight_loads())
     unit = mech.forces(kin, crane.hook_loads(kin, 1.0))
-    f0 = np.column_stack([own.force(d) for d in crane.drivers])
-    f1 = np.column_stack([unit.force(d) for d in crane.drivers])
-    off = ~pose.reached[:, None]
-    return np.where(off, np.nan, f0), np.where(off, np.nan, f1)
+    off = ~pose.reached
+
+    def terms(what: str, name: str) -> tuple[F, F]:
+        def get(r: ForceResult) -> F:
+            return r.force(name) if what == "force" else r.tension(name)
+
+        return np.where(off, np.nan, get(own)), np.where(off, np.nan, get(unit))
+
+    f0, f1 = zip(*(terms("force", d) for d in crane.drivers), strict=True)
+    ropes = {r.name: terms("tension", r.name) for r in mech.model.ropes}
+    return np.column_stack(f0), np.column_stack(f1), ropes
+
+
+def rope_limit(t0: F, t1: F) -> F:
+    """The largest hook load at which a rope still pulls (N): a rope never pushes, so the
+    load is held only while its tension ``T0 + W·T1`` stays ≥ 0 from 0 to W.
+
+    Parameters
+    ----------
+    t0, t1 : ndarray
+        Its tension's terms (`force_terms`).
+
+    Returns
+    -------
+    ndarray
+        0 where it would push under the booms' weight alone, ``−T0/T1`` where the load slackens
+        it, inf where the load only tightens it; NaN out of reach.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(t0 < 0.0, 0.0, np.where(t1 < 0.0, -t0 / t1, np.inf))
+    out: F = np.where(np.isnan(t0) | np.isnan(t1), np.nan, w)
+    return out
 
 
 def cylinder_limit(crane: Crane, cylinder: Cylinder, f0: F, f1: F) -> F:
@@ -73,7 +113,7 @@ def cylinder_limit(crane: Crane, cylinder: Cylinder, f0: F, f1: F) -> F:
     crane : Crane
     cylinder : Cylinder
     f0, f1 : ndarray
-        Its force terms (`cylinder_force_terms`).
+        Its force terms (`force_terms`).
 
     Returns
     -------
