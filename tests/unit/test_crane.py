@@ -30,6 +30,7 @@ TEXT = {n: excavkin.example_path(n).read_text(encoding="utf-8") for n in CRANES}
 #: head to the second fly, draws the second out of the first by as much as the first moves
 SLIDES = {TELESCOPIC: {"fly": 1.0}, SYNCHRONISED: {"fly1": 1.0, "fly2": 2.0}}
 PADS = 'kind = "outriggers"\npads = [[2000, 2300], [2000, -2300], [-4000, 2300], [-4000, -2300]]'
+PADS_T = 'kind = "outriggers"\npads = [[2600, 2900], [2600, -2900], [-3600, 2900], [-3600, -2900]]'
 CRAWLERS = 'kind = "crawlers"\ngauge = 2000\nlength = 2600\nshoe_width = 500\ncentre = -1000'
 
 
@@ -391,6 +392,25 @@ def test_a_rope_that_would_push_is_a_named_limit() -> None:
     assert np.all(ch.capacity[reached, 0, 0] == 0.0)
 
 
+def test_on_its_tyres_85_percent_of_tipping_about_the_tyres(telescopic) -> None:
+    tyres = variant(TELESCOPIC, PADS_T, 'kind = "tyres"\naxles = [[1800, 2000], [-2200, 2000]]')
+    ch = load_chart(tyres, np.array([8.0, 10.0]), np.array([tyres.second.extended]), 4)
+    assert ch.share == 0.85 and tyres.mounting == "tyres"
+    ref = reference(tyres)
+    for i, r in enumerate((8.0, 10.0)):
+        theta, q = ref.invert(*tyres.pose(r, tyres.second.extended).lengths[0])
+        for k in range(4):
+            at = tipping_load_direct(ref, theta, q, ch.slew[i, 0, k])
+            assert ch.limits[3, i, 0, k] == pytest.approx(0.85 * at, rel=1e-9)
+    # on its tyres the crane is less stable than on its outriggers, most over the side
+    pads = load_chart(telescopic, np.array([8.0, 10.0]), np.array([telescopic.second.extended]))
+    assert np.all(ch.limits[3] < pads.limits[3])
+    rs = support_reactions(tyres, 6.0, tyres.second.extended, 1000.0, 9)
+    assert rs.labels == ["axle 1-left tyre", "axle 1-right tyre", "axle 2-left tyre",
+                         "axle 2-right tyre"]  # fmt: skip
+    assert_allclose(rs.reaction.sum(axis=1), rs.weight, rtol=1e-12)
+
+
 def test_a_crane_that_tips_unloaded_rates_zero() -> None:
     light = variant(KNUCKLE, "mass = 9500", "mass = 10", "mass = 1400", "mass = 10")
     ch = load_chart(light, np.array([8.0]), np.array([light.second.extended]), 4)
@@ -481,7 +501,8 @@ def test_the_working_range_against_the_closed_form(telescopic) -> None:
         ("parts = 2", "parts = 0", r"\[hoist\].*parts"),
         ('tip = "T"', 'tip = "C"', r"not a point of the jib"),
         ("stroke = 1279", "stroke = 5000", r"cylinders.luff.*stroke"),
-        ('kind = "outriggers"', 'kind = "tyres"', r"kind must be 'outriggers' or 'crawlers'"),
+        ('kind = "outriggers"', 'kind = "wheels"', r"kind must be 'outriggers', 'crawlers' or"),
+        (PADS, 'kind = "tyres"\naxles = [[1000, 2000]]', r"axles must list 2 to 8"),
         ("[hoist]", "[hoist]\nspeed = 1", r"unknown key"),
         ('circuit = "crane"', 'circuit = "main"', r"circuit 'main'"),
         ('kind = "knuckle"', 'kind = "tower"', r"kind must be 'knuckle' or 'telescopic'"),

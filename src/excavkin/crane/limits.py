@@ -22,10 +22,10 @@ angle α: the hook load straight down at the hook that brings the crane onto a t
 With the booms slewed by α, about a line of outward normal at angle β, the tipping moment is
 ``M0 + W·M1`` with both affine in cos(α − β) alone, so over a slew sector the least tipping
 load lies at a sector end or where the booms stand square to a line (α = β or β + π):
-`sector_candidates`. The stability limit is 85 % of that least tipping load on outriggers and
-75 % on crawlers (ASME B30.5 para. 5-1.1.1(a) and its Table 1: "the load ratings shall not
-exceed" those percentages of the loads that "produce a condition of tipping ... with the boom
-in the least stable direction relative to the mounting").
+`sector_candidates`. The stability limit is 85 % of that least tipping load on outriggers or
+tyres and 75 % on crawlers (ASME B30.5 para. 5-1.1.1(a) and its Table 1: "the load ratings
+shall not exceed" those percentages of the loads that "produce a condition of tipping ... with
+the boom in the least stable direction relative to the mounting").
 """
 
 from __future__ import annotations
@@ -45,8 +45,10 @@ from excavkin.machinery.equilibrium import equilibrium
 if TYPE_CHECKING:
     from excavkin.kinetostatics import ForceResult
 
-#: the share of the tipping load a rating may reach (ASME B30.5 para. 5-1.1.1, Table 1)
-STABILITY_SHARE = {"outriggers": 0.85, "crawlers": 0.75}
+#: the share of the tipping load a rating may reach (ASME B30.5 para. 5-1.1.1, Table 1: truck
+#: and wheel mounted, without outriggers or on outriggers fully extended, 85 %; crawler without
+#: outriggers, 75 %)
+STABILITY_SHARE = {"outriggers": 0.85, "tyres": 0.85, "crawlers": 0.75}
 
 
 def force_terms(crane: Crane, pose: Pose) -> tuple[F, F, dict[str, tuple[F, F]]]:
@@ -143,7 +145,8 @@ def hoist_limit(crane: Crane) -> float:
 
 
 def support_kind(crane: Crane) -> str:
-    """``"outriggers"`` or ``"crawlers"``: which share of the tipping load rates it.
+    """``"outriggers"``, ``"tyres"`` or ``"crawlers"``: which share of the tipping load rates
+    it.
 
     Parameters
     ----------
@@ -153,7 +156,7 @@ def support_kind(crane: Crane) -> str:
     -------
     str
     """
-    return "outriggers" if crane.on_outriggers else "crawlers"
+    return crane.mounting
 
 
 def tipping_loads(crane: Crane, pose: Pose, alpha: F) -> tuple[F, NDArray[np.str_]]:

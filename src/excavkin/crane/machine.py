@@ -280,8 +280,15 @@ class Crane(CylinderMachine):
 
     @property
     def on_outriggers(self) -> bool:
-        """Whether it stands on outriggers (else on crawlers)."""
+        """Whether it stands on outriggers."""
         return any(c.kind == "outriggers" for c in self.support.contacts)
+
+    @property
+    def mounting(self) -> str:
+        """``"outriggers"``, ``"tyres"`` or ``"crawlers"``: what it stands on."""
+        if self.on_outriggers:
+            return "outriggers"
+        return "tyres" if any(c.kind == "tyres" for c in self.support.contacts) else "crawlers"
 
     @property
     def second(self) -> Cylinder:

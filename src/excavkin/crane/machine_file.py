@@ -30,6 +30,7 @@ slew plane (x the radius from the slew axis, y the height above the ground)::
     kind = "outriggers"              # pads = [[x, v], ...] (v to the left)
     pads = [[2000, 2300], [2000, -2300], [-4000, 2300], [-4000, -2300]]
     # kind = "crawlers": gauge, length, shoe_width, centre (the tracks' midpoint's x)
+    # kind = "tyres": axles = [[x, tread], ...] (on its wheels, no outriggers)
     [gravity]
     g = "9.80665 m/s^2"
 
@@ -44,7 +45,7 @@ from typing import Any
 from excavkin.crane.family import NAME
 from excavkin.crane.machine import SECOND, Crane, Hoist, Linkage
 from excavkin.io.toml_model import read_text_file, read_toml
-from excavkin.machinery.base import Contact, Mass, Support, outriggers, track
+from excavkin.machinery.base import Contact, Mass, Support, axle, outriggers, track
 from excavkin.machinery.cylinders import Circuit, Cylinder
 from excavkin.machinery.file_fields import MachineReader, check_head, read_model
 from excavkin.mechanism import Mechanism
@@ -269,4 +270,18 @@ def _support(r: MachineReader, data: dict[str, Any]) -> tuple[Contact, ...]:
             track("left track", centre, gauge / 2, length, width),
             track("right track", centre, -gauge / 2, length, width),
         )
-    raise r.err(f"kind must be 'outriggers' or 'crawlers', not {kind!r}"[:120], "support", "kind")
+    if kind == "tyres":
+        r.keys(t, {"kind", "axles"}, "support")
+        axles = t.get("axles")
+        if not isinstance(axles, list) or not 2 <= len(axles) <= 8:
+            raise r.err("axles must list 2 to 8 [x, tread] axles", "support", "axles")
+        out = []
+        for k, spec in enumerate(axles):
+            x, tread = _xy(r, spec, "support", "axles")
+            if not tread > 0.0:
+                raise r.err(f"axle {k + 1}'s tread must be positive", "support", "axles")
+            out.append(axle(f"axle {k + 1}", x, tread))
+        return tuple(out)
+    raise r.err(
+        f"kind must be 'outriggers', 'crawlers' or 'tyres', not {kind!r}"[:120], "support", "kind"
+    )

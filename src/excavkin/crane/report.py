@@ -64,7 +64,7 @@ def identity(machine: Crane) -> tuple[tuple[str, Cell], ...]:
         ("hoist line pull", kn_value(h.line_pull, "hoist.line_pull")),
         ("parts of line", Value(float(h.parts), key="hoist.parts")),
         ("hook block", kg_value(h.hook_mass, "hoist.hook_mass")),
-        ("support", "outriggers" if machine.on_outriggers else "crawlers"),
+        ("support", machine.mounting),
     ]
     return tuple(rows)
 

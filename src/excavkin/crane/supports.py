@@ -186,10 +186,11 @@ def support_reactions(
     centre = (s * d + load * r * d) / total
     centre[:, 0] += sum(m.mass * m.x for m in sup.fixed) / total
     pts, owners = sup.contact_points(crane.swing_axis, 0.0)
+    kinds = {"outriggers": "pad {k}", "tyres": "{label}"}
     labels = [
-        f"pad {k + 1}"
-        if sup.contacts[e].kind == "outriggers"
-        else f"{sup.contacts[e].labels[i]} {i + 1}"
+        kinds.get(sup.contacts[e].kind, "{label} {i}").format(
+            k=k + 1, i=i + 1, label=sup.contacts[e].labels[i]
+        )
         for k, (e, i) in enumerate(owners)
     ]
     weight = crane.gravity * total
