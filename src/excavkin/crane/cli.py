@@ -14,6 +14,13 @@ import click
 
 from excavkin.cli.common import handle_errors, model_path
 from excavkin.cli.machine_report import machine_report_options
+from excavkin.cli.result_output import (
+    FORCE_OPTION,
+    MACHINE_ARGUMENT,
+    OUTPUT_OPTION,
+    check_output,
+    print_result,
+)
 from excavkin.cli.study_options import machine_optimize_options, study_options
 
 if TYPE_CHECKING:
@@ -26,29 +33,6 @@ def _machine(path: str) -> Crane:
     return load_machine(model_path(path, "machine"))
 
 
-def _write(result: Any, output: str | None, force: bool) -> None:
-    """Print the result's summary and write its table."""
-    from excavkin.outputs.tables import write_table
-
-    click.echo(result.summary())
-    if output:
-        click.echo(f"wrote {write_table(result.to_frame(), output, force=force)}")
-
-
-def _check(output: str | None, force: bool) -> None:
-    from excavkin.outputs.tables import check_target
-
-    if output:
-        check_target(output, force=force, suffixes=(".csv", ".parquet"))
-
-
-_MACHINE = click.argument("machine", type=click.Path(dir_okay=False))
-_OUTPUT = click.option(
-    "-o", "--output", type=click.Path(dir_okay=False), help="The table (.csv or .parquet), SI."
-)
-_FORCE = click.option("--force", is_flag=True, help="Replace an output file that exists.")
-
-
 @click.group("crane", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
     """Load chart, working range and outrigger reactions of a crane MACHINE, its spec sheet;
@@ -56,7 +40,7 @@ def command() -> None:
 
 
 @command.command("chart")
-@_MACHINE
+@MACHINE_ARGUMENT
 @click.option("--step", default="1m", show_default=True, help="Radius step of the chart.")
 @click.option(
     "--second",
@@ -71,8 +55,8 @@ def command() -> None:
     type=click.IntRange(min=1, max=36),
     help="Equal slew sectors over 360° (4: front, left, rear, right).",
 )
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def chart(
     machine: str,
@@ -95,7 +79,7 @@ def chart(
     if not 0.1 <= dr <= 10.0:
         raise click.BadParameter("between 0.1 m and 10 m", param_hint="--step")
     lengths = [si_value(k, "length", "--second") for k in second]
-    _check(output, force)
+    check_output(output, force)
     crane = _machine(machine)
     x = reach(crane).tip[..., 0]
     radii = np.arange(np.ceil(x.min() / dr) * dr, x.max() + 1e-9, dr)
@@ -109,11 +93,11 @@ def chart(
         raise InputError(
             f"no radius is in reach at {shown}; `excavkin crane range` gives the radius range"
         )
-    _write(result, output, force)
+    print_result(result, output, force)
 
 
 @command.command("range")
-@_MACHINE
+@MACHINE_ARGUMENT
 @click.option(
     "--samples",
     default=21,
@@ -121,8 +105,8 @@ def chart(
     type=click.IntRange(min=2, max=1000),
     help="Lengths over each cylinder's stroke.",
 )
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def working_range(machine: str, samples: int, output: str | None, force: bool) -> None:
     """Print the working range: the boom's angle and the configuration over the cylinders'
@@ -130,12 +114,12 @@ def working_range(machine: str, samples: int, output: str | None, force: bool) -
     lengths."""
     from excavkin.crane.reach import reach
 
-    _check(output, force)
-    _write(reach(_machine(machine), samples), output, force)
+    check_output(output, force)
+    print_result(reach(_machine(machine), samples), output, force)
 
 
 @command.command("supports")
-@_MACHINE
+@MACHINE_ARGUMENT
 @click.option("--radius", required=True, help="Hook radius, e.g. 6m.")
 @click.option(
     "--second",
@@ -150,8 +134,8 @@ def working_range(machine: str, samples: int, output: str | None, force: bool) -
     type=click.IntRange(min=2, max=100_000),
     help="Slew angles over 360°.",
 )
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def supports(
     machine: str,
@@ -173,7 +157,7 @@ def supports(
         raise click.BadParameter("between 0 and 1000 t", param_hint="--load")
     if not 0 <= r <= 1000:
         raise click.BadParameter("a radius of 0 to 1000 m", param_hint="--radius")
-    _check(output, force)
+    check_output(output, force)
     crane = _machine(machine)
     cyl = crane.second
     k = 0.5 * (cyl.retracted + cyl.extended)
@@ -185,7 +169,7 @@ def supports(
                 f"{cyl.extended * 1e3:.0f} mm)",
                 param_hint="--second",
             )
-    _write(support_reactions(crane, r, k, m, samples), output, force)
+    print_result(support_reactions(crane, r, k, m, samples), output, force)
 
 
 @command.command("study")

@@ -46,7 +46,7 @@ from excavkin.crane.family import NAME
 from excavkin.crane.machine import SECOND, Crane, Hoist, Linkage
 from excavkin.io.toml_model import read_text_file, read_toml
 from excavkin.machinery.base import Contact, Mass, Support, axle, outriggers, track
-from excavkin.machinery.cylinders import Circuit, Cylinder
+from excavkin.machinery.cylinders_file import read_circuits, read_cylinders
 from excavkin.machinery.file_fields import MachineReader, check_head, read_model
 from excavkin.mechanism import Mechanism
 
@@ -68,7 +68,6 @@ _TOP = {
     "support",
     "gravity",
 }
-_CYL = {"driver", "retracted", "stroke", "bore", "rod", "circuit", "count", "mass"}
 #: the most cylinders acting together in one role
 MAX_COUNT = 4
 
@@ -139,26 +138,9 @@ def _machine(data: dict[str, Any], source: str | None) -> Crane:
         lead=r.text(lt, "lead", "linkage") if "lead" in lt else None,
     )
 
-    circuits: dict[str, Circuit] = {}
-    for cname, spec in r.subtable(data, "circuits", "circuits").items():
-        table = f"circuits.{cname}"
-        if not isinstance(spec, dict):
-            raise r.err("must be a table with working and relief pressures", table)
-        r.keys(spec, {"working", "relief"}, table)
-        circuits[cname] = Circuit(
-            cname,
-            r.bounded(spec, "working", "pressure", table, 0.0, 2e8, "Pa"),
-            r.bounded(spec, "relief", "pressure", table, 0.0, 2e8, "Pa"),
-        )
+    circuits = read_circuits(r, data)
     roles = ("luff", SECOND[kind])
-    cyl_t = r.subtable(data, "cylinders", "cylinders")
-    extra = set(cyl_t) - set(roles)
-    if extra:
-        raise r.err(
-            f"unknown cylinder {', '.join(sorted(extra))} (a {kind} crane has {', '.join(roles)})",
-            "cylinders",
-        )
-    cylinders = {role: _cylinder(r, cyl_t, role) for role in roles}
+    cylinders = read_cylinders(r, data, roles, f"a {kind} crane", max_count=MAX_COUNT)
 
     hoist = r.subtable(data, "hoist", "hoist")
     r.keys(hoist, {"line_pull", "parts", "hook_mass"}, "hoist")
@@ -191,28 +173,6 @@ def _machine(data: dict[str, Any], source: str | None) -> Crane:
         gravity=g,
         name=name,
         source=source,
-    )
-
-
-def _cylinder(r: MachineReader, cyl_t: dict[str, Any], role: str) -> Cylinder:
-    table = f"cylinders.{role}"
-    spec = cyl_t.get(role)
-    if not isinstance(spec, dict):
-        raise r.err("is missing or not a table", table)
-    r.keys(spec, _CYL, table)
-    count = spec.get("count", 1)
-    if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= MAX_COUNT:
-        raise r.err(f"count must be a whole number from 1 to {MAX_COUNT}", table, "count")
-    return Cylinder(
-        role=role,
-        driver=r.text(spec, "driver", table, f"{role}_cyl"),
-        retracted=r.bounded(spec, "retracted", "length", table, 0.0, 50.0, "m"),
-        stroke=r.bounded(spec, "stroke", "length", table, 0.0, 20.0, "m"),
-        bore=r.bounded(spec, "bore", "length", table, 0.0, 2.0, "m"),
-        rod=r.bounded(spec, "rod", "length", table, 0.0, 2.0, "m"),
-        circuit=r.text(spec, "circuit", table, role),
-        count=count,
-        mass=r.bounded(spec, "mass", "mass", table, 0.0, 1e6, "kg", default=0.0, open_low=False),
     )
 
 

@@ -48,13 +48,13 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.crane.machine import Crane
-from excavkin.errors import ExcavkinError
 from excavkin.machinery.designs import (
     Family,
     cylinder_parameters,
     design_cylinders,
     model_parameter,
     model_with,
+    rate_designs,
 )
 from excavkin.studies import machine_study as ms
 from excavkin.studies.machine_study import MachineStudy, optimize_machine
@@ -245,22 +245,7 @@ def crane_columns(
     columns : dict of str to ndarray, shape (n,)
     ok : ndarray of bool, shape (n,)
     """
-    keys = sorted(params)
-    rows = np.column_stack(
-        [np.broadcast_to(np.asarray(params[k], float), (n,)) for k in keys] or [np.zeros(n)]
-    )
-    designs, which = np.unique(rows, axis=0, return_inverse=True)
-    values = np.full((len(designs), len(names)), np.nan)
-    for i, row in enumerate(designs):  # each design finds its own poses: one crane each
-        try:
-            one = design_crane(machine, dict(zip(keys, row.tolist(), strict=True)))
-            figures = crane_figures(one, names)
-        except ExcavkinError:
-            continue
-        values[i] = [figures[k] for k in names]
-    at = values[which.reshape(-1)]
-    ok = np.asarray(np.isfinite(at).all(axis=1))
-    return {k: np.asarray(at[:, j]) for j, k in enumerate(names)}, ok
+    return rate_designs(params, names, n, lambda p: crane_figures(design_crane(machine, p), names))
 
 
 def _load(path: Path) -> Crane:
