@@ -296,19 +296,6 @@ class Crane(CylinderMachine):
         return self.cylinders[1]
 
     # ---- geometry from the engine
-    def index(self, point: str) -> int:
-        """The column of a point in the engine's arrays.
-
-        Parameters
-        ----------
-        point : str
-
-        Returns
-        -------
-        int
-        """
-        return self.mechanism.plan.points.index(point)
-
     def tip(self, kin: KinematicResult) -> F:
         """The tip sheave's position at every pose (n, 2) (m).
 

@@ -39,9 +39,8 @@ middle, four slew sectors), each cell the least over the sectors.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -57,10 +56,7 @@ from excavkin.machinery.designs import (
     rate_designs,
 )
 from excavkin.studies import machine_study as ms
-from excavkin.studies.machine_study import MachineStudy, optimize_machine
-
-if TYPE_CHECKING:
-    from excavkin.studies.optimize import Optimum
+from excavkin.studies.machine_study import MachineStudy
 
 #: The crane's columns and their kinds: the largest radius and the highest tip of its working
 #: range (`excavkin.crane.reach`); from its load chart, each cell the least over the sectors,
@@ -289,28 +285,3 @@ def load_crane_study(path: str | Path) -> MachineStudy:
         An entry of the file that is wrong, named with its file and table.
     """
     return ms.load_machine_study(path, FAMILY)
-
-
-def optimize_crane(
-    study: MachineStudy,
-    *,
-    method: str | None = None,
-    progress: Callable[[int, int], None] | None = None,
-) -> Optimum:
-    """The best design of a crane study ([`excavkin.studies.machine_study.optimize_machine`][]
-    with the study's ``[optimize]`` settings).
-
-    Parameters
-    ----------
-    study : MachineStudy
-        A crane study (`load_crane_study`).
-    method : {"slsqp", "differential-evolution"}, optional
-        Override the study's method.
-    progress : callable, optional
-        ``progress(iterations, maxiter)`` after each iteration.
-
-    Returns
-    -------
-    Optimum
-    """
-    return optimize_machine(study, method=method, progress=progress)
