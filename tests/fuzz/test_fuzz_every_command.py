@@ -56,9 +56,15 @@ LOADER_STUDY = (
     .replace("samples = 64", "samples = 2")
     .replace("maxiter = 30", "maxiter = 2\npopsize = 4")
 )
+CRANE_STUDY = (
+    excavkin.example_path("telescopic_crane_counterweight")
+    .read_text()
+    .replace("samples = 8", "samples = 2")
+    .replace("maxiter = 6", "maxiter = 1")
+)
 
 #: a small valid command line of every command; "{d}" is a scratch folder, "{study}",
-#: "{machine_study}" and "{loader_study}" the files above
+#: "{machine_study}", "{loader_study}" and "{crane_study}" the files above
 BASE: dict[str, list[str]] = {
     "check": ["fourbar"],
     "demo": ["--model", "slider_crank", "--out-dir", "{d}/demo"],
@@ -71,6 +77,14 @@ BASE: dict[str, list[str]] = {
     "study": ["{study}", "-o", "{d}/s.parquet", "--force", "-q", "--backend", "auto"],
     "tolerance": ["fourbar", "--sweep", "crank=0:1:3", "--tol", "A-B=0.1mm", "--draws", "20",
                   "--backend", "auto"],
+    "crane chart": ["knuckle_crane_machine", "--step", "2m", "--second", "2234mm"],
+    "crane range": ["telescopic_crane_machine", "--samples", "3"],
+    "crane study": ["{crane_study}", "-o", "{d}/c.parquet", "--force", "-q"],
+    "crane optimize": ["{crane_study}", "--write-machine", "{d}/c.toml", "--force"],
+    "crane report": ["knuckle_crane_machine", "--samples", "3", "-o", "{d}/c.html", "--force",
+                     "-q"],
+    "crane supports": ["telescopic_crane_machine", "--radius", "8m", "--load", "1t",
+                       "--samples", "5"],
     "excavator cycle": ["excavator_machine"],
     "excavator dig": ["excavator_machine", "--width", "1.2m", "--samples", "5"],
     "excavator forces": ["excavator_machine", "--samples", "3"],
@@ -185,13 +199,15 @@ def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (d / "study.toml").write_text(STUDY)
     (d / "machine_study.toml").write_text(MACHINE_STUDY)
     (d / "loader_study.toml").write_text(LOADER_STUDY)
+    (d / "crane_study.toml").write_text(CRANE_STUDY)
     return d
 
 
 def base_args(path: str, d: Path) -> list[str]:
     fill = {"d": str(d), "study": str(d / "study.toml"),
             "machine_study": str(d / "machine_study.toml"),
-            "loader_study": str(d / "loader_study.toml")}  # fmt: skip
+            "loader_study": str(d / "loader_study.toml"),
+            "crane_study": str(d / "crane_study.toml")}  # fmt: skip
     return [*path.split(), *(a.format(**fill) for a in BASE[path])]
 
 

@@ -146,12 +146,14 @@ def test_the_file_is_never_overwritten_unless_asked(tmp_path: Path) -> None:
 
 
 # ------------------------------------------------------------------------- the families' reports
-MACHINES = excavkin.examples("machine")
 #: each built-in machine's family, by its file's ``family`` key (an excavator's file has none)
 FAMILIES = {
     n: tomllib.loads(excavkin.example_path(n).read_text()).get("family", "excavator")
-    for n in MACHINES
+    for n in excavkin.examples("machine")
 }
+#: the families with a spec-sheet report (the crane's is not built yet: docs/crane.md)
+REPORTED = ("loader", "excavator")
+MACHINES = [n for n, f in FAMILIES.items() if f in REPORTED]
 LOADERS = [n for n in MACHINES if FAMILIES[n] == "loader"]
 EXCAVATORS = [n for n in MACHINES if FAMILIES[n] == "excavator"]
 

@@ -175,14 +175,17 @@ def test_the_excavator_registers_its_family() -> None:
     assert fam.kind == "machine"
     assert excavkin.examples("machine") == [
         "excavator_machine",
+        "knuckle_crane_machine",
+        "synchronised_crane_machine",
+        "telescopic_crane_machine",
         "wheel_loader_machine",
         "wheel_loader_tp_machine",
     ]
     assert family_of({"family": "excavator"}) is fam
     assert family_of({"schema_version": 1, "front": {"boom": "boom"}}) is fam
     assert family_of({"schema_version": 1, "bodies": {}}) is None
-    with pytest.raises(ModelError, match=r"family = 'crane' is no known machine family.*excavator"):
-        family_of({"family": "crane"}, "m.toml")
+    with pytest.raises(ModelError, match=r"family = 'tower' is no known machine family.*excavator"):
+        family_of({"family": "tower"}, "m.toml")
     with pytest.raises(ModelError, match="family = 3"):
         family_of({"family": 3})
 
@@ -211,8 +214,12 @@ def test_another_family_is_refused_by_the_excavator_reader(tmp_path: Path) -> No
         load_machine(bad)
     r = CliRunner().invoke(main, ["excavator", "ranges", str(bad)])
     assert r.exit_code == 2 and "family = 'crane'" in r.output and "Traceback" not in r.output
+    with pytest.raises(ModelError, match="unknown top-level keys base, front"):
+        load_any_machine(bad)  # read as a crane's file: the crane's reader names what is off
+    tower = tmp_path / "tower.toml"
+    tower.write_text(text.replace('family = "excavator"', 'family = "tower"'), encoding="utf-8")
     with pytest.raises(ModelError, match="is no known machine family"):
-        load_any_machine(bad)
+        load_any_machine(tower)
 
 
 def test_a_model_file_is_no_machine_file() -> None:

@@ -14,6 +14,13 @@ import click
 
 from excavkin.cli.common import handle_errors, model_path
 from excavkin.cli.machine_report import machine_report_options
+from excavkin.cli.result_output import (
+    FORCE_OPTION,
+    MACHINE_ARGUMENT,
+    OUTPUT_OPTION,
+    check_output,
+    print_result,
+)
 from excavkin.cli.study_options import machine_optimize_options, study_options
 
 if TYPE_CHECKING:
@@ -24,29 +31,6 @@ def _machine(path: str) -> Loader:
     from excavkin.loader.machine_file import load_machine
 
     return load_machine(model_path(path, "machine"))
-
-
-def _write(result: Any, output: str | None, force: bool) -> None:
-    """Print the result's summary and write its table."""
-    from excavkin.outputs.tables import write_table
-
-    click.echo(result.summary())
-    if output:
-        click.echo(f"wrote {write_table(result.to_frame(), output, force=force)}")
-
-
-def _check(output: str | None, force: bool) -> None:
-    from excavkin.outputs.tables import check_target
-
-    if output:
-        check_target(output, force=force, suffixes=(".csv", ".parquet"))
-
-
-_MACHINE = click.argument("machine", type=click.Path(dir_okay=False))
-_OUTPUT = click.option(
-    "-o", "--output", type=click.Path(dir_okay=False), help="The table (.csv or .parquet), SI."
-)
-_FORCE = click.option("--force", is_flag=True, help="Replace an output file that exists.")
 
 
 _Command = TypeVar("_Command", bound=Callable[..., Any])
@@ -70,108 +54,108 @@ def command() -> None:
 
 
 @command.command("ranges")
-@_MACHINE
-@_OUTPUT
-@_FORCE
+@MACHINE_ARGUMENT
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def ranges(machine: str, output: str | None, force: bool) -> None:
     """Print the SAE J732 / ISO 7131 dimensions (mm, degrees) and the poses they are taken at."""
     from excavkin.loader.dimensions import dimensions
 
-    _check(output, force)
-    _write(dimensions(_machine(machine)), output, force)
+    check_output(output, force)
+    print_result(dimensions(_machine(machine)), output, force)
 
 
 @command.command("breakout")
-@_MACHINE
-@_OUTPUT
-@_FORCE
+@MACHINE_ARGUMENT
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def breakout(machine: str, output: str | None, force: bool) -> None:
     """Print the SAE J732 / ISO 14397-2 breakout forces (kN) and what limits each."""
     from excavkin.loader.breakout import breakout as rate
 
-    _check(output, force)
-    _write(rate(_machine(machine)), output, force)
+    check_output(output, force)
+    print_result(rate(_machine(machine)), output, force)
 
 
 @command.command("tipping")
-@_MACHINE
-@_OUTPUT
-@_FORCE
+@MACHINE_ARGUMENT
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def tipping(machine: str, output: str | None, force: bool) -> None:
     """Print the static tipping loads, straight and at full turn, and the rated operating
     capacity (kg)."""
     from excavkin.loader.tipping import static_tipping
 
-    _check(output, force)
-    _write(static_tipping(_machine(machine)), output, force)
+    check_output(output, force)
+    print_result(static_tipping(_machine(machine)), output, force)
 
 
 @command.command("capacity")
-@_MACHINE
+@MACHINE_ARGUMENT
 @_samples(101, "Lift lengths over the stroke.")
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def capacity(machine: str, samples: int, output: str | None, force: bool) -> None:
     """Print the lift capacity to full height and the least rollback capacity (kg); the table
     has both at every lift length."""
     from excavkin.loader.capacity import capacity as rate
 
-    _check(output, force)
-    _write(rate(_machine(machine), samples), output, force)
+    check_output(output, force)
+    print_result(rate(_machine(machine), samples), output, force)
 
 
 @command.command("cycle")
-@_MACHINE
+@MACHINE_ARGUMENT
 @click.option(
     "--load",
     type=click.FloatRange(min=0.0),
     default=None,
     help="The mass raised (kg); default the rated operating capacity.",
 )
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def cycle(machine: str, load: float | None, output: str | None, force: bool) -> None:
     """Print the SAE J732 raise, lower-empty and dump times (s) at the pumps' full flow, with
     each phase's static pressure (MPa) and hydraulic power (kW)."""
     from excavkin.loader.cycle import cycle as run
 
-    _check(output, force)
-    _write(run(_machine(machine), load), output, force)
+    check_output(output, force)
+    print_result(run(_machine(machine), load), output, force)
 
 
 @command.command("pins")
-@_MACHINE
+@MACHINE_ARGUMENT
 @_samples(21, "Lift lengths from the ground pose to full lift.")
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def pins(machine: str, samples: int, output: str | None, force: bool) -> None:
     """Print each pin's largest load (kN) over the lift in the breakout, rated-load and tipping
     cases, with its case and height; the table has every pin at every lift length."""
     from excavkin.loader.pins import pin_loads
 
-    _check(output, force)
-    _write(pin_loads(_machine(machine), samples), output, force)
+    check_output(output, force)
+    print_result(pin_loads(_machine(machine), samples), output, force)
 
 
 @command.command("lift")
-@_MACHINE
+@MACHINE_ARGUMENT
 @_samples(101, "Lift lengths from the ground pose to full lift.")
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def lift(machine: str, samples: int, output: str | None, force: bool) -> None:
     """Print the bucket's angle change over the lift with the tilt cylinder held at the length
     that levels it on the ground (degrees); the table has the angle at every lift length."""
     from excavkin.loader.parallel_lift import parallel_lift
 
-    _check(output, force)
-    _write(parallel_lift(_machine(machine), samples), output, force)
+    check_output(output, force)
+    print_result(parallel_lift(_machine(machine), samples), output, force)
 
 
 @command.command("optimize")

@@ -417,19 +417,6 @@ class Loader(CylinderMachine):
         c = self.cylinders[1]
         return c.retracted if c.dig == "extend" else c.extended
 
-    def index(self, point: str) -> int:
-        """The engine's index of a point of the model.
-
-        Parameters
-        ----------
-        point : str
-
-        Returns
-        -------
-        int
-        """
-        return self.mechanism.plan.points.index(point)
-
     def __repr__(self) -> str:
         return f"Loader({self.name!r}, cylinders={list(self.drivers)})"
 

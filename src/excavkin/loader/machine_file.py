@@ -51,7 +51,7 @@ from excavkin.loader.machine import (
     LoaderHydraulics,
 )
 from excavkin.machinery.base import Mass
-from excavkin.machinery.cylinders import Circuit, Cylinder
+from excavkin.machinery.cylinders_file import read_circuits, read_cylinders
 from excavkin.machinery.file_fields import MachineReader, check_head, read_model
 from excavkin.machinery.hydraulics_file import read_hydraulics
 from excavkin.mechanism import Mechanism
@@ -73,7 +73,6 @@ _TOP = {
     "hydraulics",
 }
 _LINKAGE = {"lift_arm", "bucket", "edge", "heel", "carry_height"}
-_CYL = {"driver", "retracted", "stroke", "bore", "rod", "circuit", "count", "mass"}
 #: per role, the key that says which motion of the cylinder does the role's work
 _MOTION = {"lift": "raises", "tilt": "rolls_back"}
 _CHASSIS = {
@@ -156,26 +155,8 @@ def _machine(data: dict[str, Any], source: str | None) -> Loader:
     )
     carry = r.bounded(lt, "carry_height", "length", "linkage", 0.0, 100.0, "m")
 
-    circuits = {}
-    for cname, spec in r.subtable(data, "circuits", "circuits").items():
-        table = f"circuits.{cname}"
-        if not isinstance(spec, dict):
-            raise r.err("must be a table with working and relief pressures", table)
-        r.keys(spec, {"working", "relief"}, table)
-        circuits[cname] = Circuit(
-            cname,
-            r.bounded(spec, "working", "pressure", table, 0.0, 2e8, "Pa"),
-            r.bounded(spec, "relief", "pressure", table, 0.0, 2e8, "Pa"),
-        )
-
-    cyl_t = r.subtable(data, "cylinders", "cylinders")
-    extra = set(cyl_t) - set(ROLES)
-    if extra:
-        raise r.err(
-            f"unknown cylinder {', '.join(sorted(extra))} (a loader has {', '.join(ROLES)})",
-            "cylinders",
-        )
-    cylinders = {role: _cylinder(r, cyl_t, role) for role in ROLES}
+    circuits = read_circuits(r, data)
+    cylinders = read_cylinders(r, data, ROLES, "a loader", motions=_MOTION, max_count=MAX_COUNT)
 
     bt = r.subtable(data, "bucket", "bucket")
     r.keys(bt, {"capacity", "width", "load_cg"}, "bucket")
@@ -212,33 +193,6 @@ def _machine(data: dict[str, Any], source: str | None) -> Loader:
         hydraulics=read_hydraulics(r, data, LoaderHydraulics),
         name=name,
         source=source,
-    )
-
-
-def _cylinder(r: MachineReader, cyl_t: dict[str, Any], role: str) -> Cylinder:
-    table = f"cylinders.{role}"
-    spec = cyl_t.get(role)
-    if not isinstance(spec, dict):
-        raise r.err("is missing or not a table", table)
-    motion = _MOTION[role]
-    r.keys(spec, _CYL | {motion}, table)
-    count = spec.get("count", 1)
-    if not isinstance(count, int) or isinstance(count, bool) or not 1 <= count <= MAX_COUNT:
-        raise r.err(f"count must be a whole number from 1 to {MAX_COUNT}", table, "count")
-    how = spec.get(motion, "extend")
-    if how not in ("extend", "retract"):
-        raise r.err(f"{motion} must be 'extend' or 'retract', not {how!r}", table, motion)
-    return Cylinder(
-        role=role,
-        driver=r.text(spec, "driver", table, f"{role}_cyl"),
-        retracted=r.bounded(spec, "retracted", "length", table, 0.0, 50.0, "m"),
-        stroke=r.bounded(spec, "stroke", "length", table, 0.0, 20.0, "m"),
-        bore=r.bounded(spec, "bore", "length", table, 0.0, 2.0, "m"),
-        rod=r.bounded(spec, "rod", "length", table, 0.0, 2.0, "m"),
-        circuit=r.text(spec, "circuit", table, role),
-        count=count,
-        dig=how,
-        mass=r.bounded(spec, "mass", "mass", table, 0.0, 1e6, "kg", default=0.0, open_low=False),
     )
 
 

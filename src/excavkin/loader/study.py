@@ -51,7 +51,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
-from excavkin.errors import ExcavkinError
 from excavkin.loader.machine import Loader
 from excavkin.machinery.designs import (
     Family,
@@ -59,6 +58,7 @@ from excavkin.machinery.designs import (
     design_cylinders,
     model_parameter,
     model_with,
+    rate_designs,
 )
 from excavkin.studies import machine_study as ms
 from excavkin.studies.machine_study import MachineStudy, optimize_machine
@@ -303,22 +303,9 @@ def loader_columns(
     for name in names:
         if name not in COLUMNS:
             raise unknown_name("loader column", name, list(COLUMNS))
-    keys = sorted(params)
-    rows = np.column_stack(
-        [np.broadcast_to(np.asarray(params[k], float), (n,)) for k in keys] or [np.zeros(n)]
+    return rate_designs(
+        params, names, n, lambda p: loader_figures(design_loader(machine, p), names)
     )
-    designs, which = np.unique(rows, axis=0, return_inverse=True)
-    values = np.full((len(designs), len(names)), np.nan)
-    for i, row in enumerate(designs):  # each design finds its own poses: one loader each
-        try:
-            one = design_loader(machine, dict(zip(keys, row.tolist(), strict=True)))
-            figures = loader_figures(one, names)
-        except ExcavkinError:
-            continue
-        values[i] = [figures[k] for k in names]
-    at = values[which.reshape(-1)]
-    ok = np.asarray(np.isfinite(at).all(axis=1))
-    return {k: np.asarray(at[:, j]) for j, k in enumerate(names)}, ok
 
 
 def _load(path: Path) -> Loader:

@@ -93,6 +93,19 @@ class CylinderMachine:
                 "needs 0 < working pressure ≤ relief pressure", f"circuits.{c.circuit}", "working"
             )
 
+    def index(self, point: str) -> int:
+        """The engine's index of a point of the model (its column in a result's arrays).
+
+        Parameters
+        ----------
+        point : str
+
+        Returns
+        -------
+        int
+        """
+        return self.mechanism.plan.points.index(point)
+
     @property
     def roles(self) -> tuple[str, ...]:
         """The family's cylinder roles: the order of every ``(n, k)`` array of lengths."""

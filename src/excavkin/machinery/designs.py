@@ -333,3 +333,50 @@ def model_with(model: Model, params: Mapping[str, float]) -> Model:
     return dataclasses.replace(
         model, points=points, bodies=tuple(bodies[b.name] for b in model.bodies)
     )
+
+
+def rate_designs(
+    params: Mapping[str, F],
+    names: Sequence[str],
+    n: int,
+    rate: Callable[[dict[str, float]], Mapping[str, float]],
+) -> tuple[dict[str, F], NDArray[np.bool_]]:
+    """The columns ``names`` of n designs, each distinct design rated once by ``rate``, for a
+    family whose every design finds its own poses (one machine a design): design i is
+    ``params[k][i]``.
+
+    Parameters
+    ----------
+    params : mapping of str to ndarray, shape (n,)
+        Parameter → its SI value in each design.
+    names : sequence of str
+        The columns asked for.
+    n : int
+        The designs.
+    rate : callable
+        ``rate(design) -> {column: value}`` for one design's parameters; an `ExcavkinError`
+        (a design that cannot be built or rated) makes that design's row NaN.
+
+    Returns
+    -------
+    columns : dict of str to ndarray, shape (n,)
+    ok : ndarray of bool, shape (n,)
+        The design was rated and every column asked for is finite.
+    """
+    from excavkin.errors import ExcavkinError
+
+    keys = sorted(params)
+    rows = np.column_stack(
+        [np.broadcast_to(np.asarray(params[k], float), (n,)) for k in keys] or [np.zeros(n)]
+    )
+    designs, which = np.unique(rows, axis=0, return_inverse=True)
+    values = np.full((len(designs), len(names)), np.nan)
+    for i, row in enumerate(designs):  # each design finds its own poses: one machine each
+        try:
+            figures = rate(dict(zip(keys, row.tolist(), strict=True)))
+        except ExcavkinError:
+            continue
+        values[i] = [figures[k] for k in names]
+    at = values[which.reshape(-1)]
+    ok = np.asarray(np.isfinite(at).all(axis=1))
+    return {k: np.asarray(at[:, j]) for j, k in enumerate(names)}, ok
