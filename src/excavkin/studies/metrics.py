@@ -433,10 +433,14 @@ def tabulate_sets(
     failed = np.zeros(d, dtype=np.int64)
     why = np.full(d, "", dtype=object)
     for name, ok in oks.items():
-        miss = (~ok).sum(axis=1)
+        miss = ok.shape[1] - np.count_nonzero(ok, axis=1)
         where = "" if name is None else f" of set {name!r}"
-        text = np.char.add(miss.astype(str), f" of {ok.shape[1]} poses{where} do not solve")
-        why = np.where((why == "") & (miss > 0), text, why)
+        told = np.flatnonzero((why == "") & (miss > 0))  # (the text made for these alone)
+        if told.size:
+            text = np.char.add(
+                miss[told].astype(str), f" of {ok.shape[1]} poses{where} do not solve"
+            )
+            why[told] = text
         failed += miss
     out["poses_failed"] = failed
     met = failed == 0

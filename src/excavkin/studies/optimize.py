@@ -38,7 +38,6 @@ from excavkin.studies.metrics import (
     Poses,
     angle_change,
     column_of,
-    evaluate,
     pose_sets_of,
     target_of,
 )
@@ -810,7 +809,9 @@ class _MechanismProblem(Problem):
             self.kinds[m.name] = metric_kind(m, of)
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
-        return evaluate(
+        from excavkin.studies.fused import evaluate_designs
+
+        return evaluate_designs(
             self.mech, designs, self.poses, self.metrics, (), self.loads, self.pose_sets
         )
 

@@ -15,7 +15,9 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import os
 import shutil
+import threading
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,7 +33,6 @@ from excavkin.studies.metrics import (
     Metric,
     Poses,
     check_pose_sets,
-    evaluate,
     needs_forces,
     pose_sets_of,
 )
@@ -161,11 +162,11 @@ class Study:
             per metric, ``poses_failed``, ``feasible`` and ``status``, as
             `excavkin.studies.metrics.evaluate` gives them.
         """
-        from excavkin import load
+        from excavkin.studies.fused import evaluate_designs
 
-        mech = load(self.model)
+        mech = _mechanism(self.model)
         part = sample_designs(self.bounds, self.samples, self.method, self.seed, (start, stop))
-        frame = evaluate(
+        frame = evaluate_designs(
             mech, part, self.poses, self.metrics, self.constraints, self.loads, self.pose_sets
         )
         frame.insert(0, "design", np.arange(start, stop))
@@ -503,6 +504,30 @@ class StudyResult:
         )  # fmt: skip
 
 
+#: the model last loaded by a study's chunk, with its file's text: the next chunk of the same
+#: file takes it again (its plan, and the workspaces kept for that plan)
+_loaded: dict[str, tuple[str, Mechanism]] = {}
+_loaded_lock = threading.Lock()
+
+
+def _mechanism(path: Path) -> Mechanism:
+    """The model file's mechanism, loaded again only when its text has changed."""
+    from excavkin import load
+    from excavkin.io.toml_model import read_text_file
+
+    key = str(path)
+    text = read_text_file(path)
+    with _loaded_lock:
+        got = _loaded.get(key)
+    if got is not None and got[0] == text:
+        return got[1]
+    mech = load(path)
+    with _loaded_lock:
+        _loaded.clear()
+        _loaded[key] = (text, mech)
+    return mech
+
+
 def _check(study: Study) -> Mechanism:
     """Refuse, before any solve, unknown parameters, columns and metric names."""
     from excavkin import load
@@ -573,8 +598,7 @@ def _run(
     study: Subject, todo: list[tuple[int, int]], scheduler: str | None, execution: Execution
 ) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
     if scheduler is None:
-        for s, e in todo:
-            yield (s, e), evaluate_chunk(study, s, e, execution)
+        yield from _run_here(study, todo, execution)
         return
     try:
         from distributed import Client, LocalCluster, as_completed
@@ -623,6 +647,44 @@ def _run(
     finally:
         if cluster is not None:
             cluster.close()
+
+
+def _run_here(
+    study: Subject, todo: list[tuple[int, int]], execution: Execution
+) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
+    """The chunks here: several at once, one per thread (each solved on its thread alone, so
+    that one chunk's serial work — its designs, its table — overlaps the others' solves), a
+    bounded window of them in flight, each yielded as it finishes; a single chunk, or one
+    thread, solves its blocks on every thread instead. A chunk's rows do not depend on the
+    threads: they are those of a Dask worker's solve, to the bit."""
+    threads = min(execution.workers or os.cpu_count() or 1, len(todo))
+    if threads <= 1:
+        for s, e in todo:
+            yield (s, e), evaluate_chunk(study, s, e, execution)
+        return
+    from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
+
+    alone = dataclasses.replace(execution, workers=1)
+    pending = iter(todo)
+    with ThreadPoolExecutor(threads) as pool:
+        running: dict[Future[pd.DataFrame], tuple[int, int]] = {}
+
+        def submit(n: int) -> None:
+            for s, e in itertools.islice(pending, n):
+                running[pool.submit(evaluate_chunk, study, s, e, alone)] = (s, e)
+
+        submit(2 * threads)
+        try:
+            while running:
+                finished, _ = wait(running, return_when=FIRST_COMPLETED)
+                for future in sorted(finished, key=lambda f: running[f]):
+                    span = running.pop(future)
+                    frame = future.result()
+                    submit(1)
+                    yield span, frame
+        finally:
+            for future in running:
+                future.cancel()
 
 
 def _part(parts: Path, start: int) -> Path:
