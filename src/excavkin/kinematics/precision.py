@@ -266,11 +266,9 @@ def _scales(parts: list[tuple[Arrays, np.ndarray]]) -> dict[str, float]:
         for kind, group in _groups(arrays).items():
             for arr in group:
                 if arr.size:
-                    # each sample's largest magnitude first (fmax and fmin pass over NaN; no
-                    # copy of the array's magnitudes), then over the samples used: no copy of
-                    # the picked columns of every row
-                    per = np.maximum(np.fmax.reduce(arr, axis=0), -np.fmin.reduce(arr, axis=0))
-                    per = per[use].astype(np.float64)
+                    # each sample's largest first (fmax passes over NaN), then over the samples
+                    # used: no copy of the picked columns of every row
+                    per = np.fmax.reduce(np.abs(arr), axis=0)[use].astype(np.float64)
                     big = float(np.nanmax(per, initial=0.0))
                     top[kind] = max(top.get(kind, 0.0), big)
     return floored({kind: top.get(kind, 0.0) for kind in _KINDS})
