@@ -43,7 +43,6 @@ from excavkin.studies.metrics import (
     Poses,
     check_pose_sets,
     evaluate,
-    metric_series,
     pose_sets_of,
     tabulate_sets,
 )
@@ -185,6 +184,9 @@ def _solve_set(
     ok = np.empty(n, dtype=bool)
     angles: list[set[str]] = []
     run = dataclasses.replace(current(), workers=1, progress=None)  # a block per thread
+    names = {
+        f"{pt}.{axis}" for m in metrics if m.clearance for pt in m.clearance for axis in "xy"
+    } | {m.column for m in metrics if m.clearance is None}
 
     def at(v: F, index: NDArray[np.intp]) -> Any:
         return v[index] if v.ndim else float(v)
@@ -210,8 +212,9 @@ def _solve_set(
                 execution=run, unbuildable=unbuildable[design] if any_bad else None,
                 workspace=workspace, change_points=False,
             )  # fmt: skip
+            cols = res.columns_named(names)  # (the result's columns listed once)
             for m in metrics:
-                out[m.key][s:e] = metric_series(res, m)
+                out[m.key][s:e] = _series(cols, m)
             ok[s:e] = res.status.solved
             if not angles:
                 angles.append({c.name for c in res.columns if c.kind == "angle"})
@@ -220,6 +223,17 @@ def _solve_set(
 
     over_chunks(n, BLOCK, current().workers, one)
     return out, ok.reshape(d, p), angles[0] if angles else set()
+
+
+def _series(cols: Mapping[str, F], m: Metric) -> F:
+    """A metric's per-sample series from the block's columns, as
+    [`metric_series`][excavkin.studies.metrics.metric_series] takes it from a result."""
+    if m.clearance is None:
+        return cols[m.column]
+    from excavkin.studies.clearance import segment_clearance
+
+    ends = [np.stack([cols[f"{pt}.x"], cols[f"{pt}.y"]], axis=-1) for pt in m.clearance]
+    return np.asarray(segment_clearance(*ends))
 
 
 def _rows(values: list[Any], k: int) -> F:
