@@ -158,7 +158,10 @@ def needs_forces(mech: Mechanism, metrics: Sequence[Metric]) -> bool:
     from excavkin.errors import unknown_name
 
     kin = {c.name for c in mech.solve({}).columns}
-    forces = {c.name for c in mech.solve({}, loads=[]).columns} - kin
+    read = {m.column for m in metrics if m.clearance is None}
+    # the force columns only where a metric reads no kinematic column (the kinetostatics not
+    # imported and solved for a kinematic study)
+    forces = {c.name for c in mech.solve({}, loads=[]).columns} - kin if read - kin else set()
     for m in metrics:
         if m.clearance is not None:
             points = sorted(mech.model.points)
