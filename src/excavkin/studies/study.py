@@ -46,6 +46,9 @@ if TYPE_CHECKING:
 
 #: samples (designs × poses) solved at once: a chunk's arrays stay within a few hundred MB
 CHUNK_SAMPLES = 1 << 18
+#: the finished parts' tables kept in memory, at most (bytes), so that the table is assembled
+#: without reading them back (the rest are read from their files)
+KEEP_BYTES = 1 << 28
 
 
 @dataclass(frozen=True)
@@ -311,8 +314,11 @@ def run_study(
     done = study.designs - sum(e - s for s, e in todo)
     if progress is not None:
         progress(done, study.designs)
+    kept: dict[str, Any] = {}  # part file's name → its table, as written (`KEEP_BYTES`)
     for (s, e), frame in _run(study, todo, scheduler, run):
-        _write_part(frame, _part(parts, s))
+        table = _write_part(frame, _part(parts, s))
+        if sum(t.nbytes for t in kept.values()) + table.nbytes <= KEEP_BYTES:
+            kept[_part(parts, s).name] = table
         done += e - s
         if progress is not None:
             progress(done, study.designs)
@@ -326,7 +332,7 @@ def run_study(
         if set(sets) - {None}
         else None
     )
-    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note, described)
+    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note, described, kept)
     shutil.rmtree(parts)
     return StudyResult(target, getattr(study, "units", {}))
 
@@ -698,11 +704,16 @@ def _stamp(path: Path) -> str | None:
         return None
 
 
-def _write_part(frame: pd.DataFrame, path: Path) -> None:
-    """A chunk's rows, written whole or not at all."""
+def _write_part(frame: pd.DataFrame, path: Path) -> Any:
+    """A chunk's rows, written whole or not at all; returns them as the Arrow table written."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
     from excavkin.io.files import write_atomic
 
-    write_atomic(path, lambda tmp: frame.to_parquet(tmp, index=False))
+    table = pa.Table.from_pandas(frame, preserve_index=False)  # (as frame.to_parquet makes it)
+    write_atomic(path, lambda tmp: pq.write_table(table, tmp))
+    return table
 
 
 def _assemble(
@@ -713,9 +724,11 @@ def _assemble(
     name: str,
     motion: str,
     sets: dict[str, Any] | None = None,
+    kept: Mapping[str, Any] | None = None,
 ) -> None:
     """The parts in design order, as one table with units (and the pose sets, where named) in
-    its metadata, moved into place whole; one part in memory at a time."""
+    its metadata, moved into place whole; one part read at a time, those ``kept`` (part
+    file's name → its table, as written by this run) not read back."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -723,7 +736,9 @@ def _assemble(
     from excavkin.kinematics.columns import si_unit
 
     files = sorted(parts.glob("part-*.parquet"))
-    schema = pq.read_schema(files[0])
+    kept = kept or {}
+    first = kept.get(files[0].name)
+    schema = first.schema if first is not None else pq.read_schema(files[0])
     meta = {
         b"excavkin.units": json.dumps({k: si_unit(v) for k, v in kinds.items()}).encode(),
         b"excavkin.kinds": json.dumps(kinds).encode(),
@@ -737,7 +752,9 @@ def _assemble(
     def write(tmp: Path) -> None:
         with pq.ParquetWriter(tmp, schema) as writer:
             for f in files:
-                writer.write_table(pa.Table.from_batches(pq.read_table(f).to_batches(), schema))
+                table = kept.get(f.name)
+                batches = (table if table is not None else pq.read_table(f)).to_batches()
+                writer.write_table(pa.Table.from_batches(batches, schema))
 
     write_atomic(target, write)
 
