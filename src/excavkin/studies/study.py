@@ -661,10 +661,11 @@ def _run_here(
     """The chunks here: several at once, one per thread (each solved on its thread alone, so
     that one chunk's serial work — its designs, its table — overlaps the others' solves), a
     bounded window of them in flight, each yielded as it finishes; a single chunk, or one
-    thread, solves its blocks on every thread instead. A chunk's rows do not depend on the
-    threads: they are those of a Dask worker's solve, to the bit."""
+    thread, solves its blocks on every thread instead (and so does another subject than a
+    `Study`: a machine study's chunks, one after another, as before). A chunk's rows do not
+    depend on the threads: they are those of a Dask worker's solve, to the bit."""
     threads = min(execution.workers or os.cpu_count() or 1, len(todo))
-    if threads <= 1:
+    if threads <= 1 or not isinstance(study, Study):
         for s, e in todo:
             yield (s, e), evaluate_chunk(study, s, e, execution)
         return
