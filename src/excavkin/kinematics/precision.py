@@ -26,6 +26,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import os
+import sys
 from collections.abc import Callable
 
 import numpy as np
@@ -293,8 +294,8 @@ def kernel(bits, use):
             top = max(top, b if ok else 0)
     return top
 '''
-#: samples from which `largest` is compiled unasked (a compile of about a second, once on a
-#: machine); below, it is used once compiled, else NumPy does it
+#: samples from which `largest` is compiled (a compile of about a second, once on a machine)
+#: or loaded unasked; below, it is used once compiled and numba is imported, else NumPy does it
 LARGEST_COMPILE_AT = 32768
 
 
@@ -312,8 +313,9 @@ def largest(arr: F, use: np.ndarray) -> float:
     -------
     float
         The same number by either path (a largest value is exact): one compiled pass for
-        float64 where numba runs and ``EXCAVKIN_COMPILED`` is not ``0`` (once compiled, or for
-        `LARGEST_COMPILE_AT` samples or more), else NumPy.
+        float64 where numba runs and ``EXCAVKIN_COMPILED`` is not ``0`` (for
+        `LARGEST_COMPILE_AT` samples or more, or once compiled and numba imported), else
+        NumPy.
     """
     kernel = _largest_kernel(arr.shape[1]) if arr.dtype == np.float64 else None
     if kernel is not None:
@@ -333,7 +335,9 @@ def _largest_kernel(n: int) -> backends.Kernel | None:
     if os.environ.get("EXCAVKIN_COMPILED", "") == "0":
         return None
     if not _largest:
-        if not _numba() or not (n >= LARGEST_COMPILE_AT or backends.is_cached(LARGEST_SOURCE)):
+        # a small check does not import numba for it (a fraction of a second), nor compile it
+        loaded = "numba" in sys.modules and backends.is_cached(LARGEST_SOURCE)
+        if not _numba() or not (n >= LARGEST_COMPILE_AT or loaded):
             return None
         _largest.append(backends.kernel_of(LARGEST_SOURCE, "precision scales"))
     return _largest[0]

@@ -157,11 +157,15 @@ def needs_forces(mech: Mechanism, metrics: Sequence[Metric]) -> bool:
     unknown column or point is an error naming it."""
     from excavkin.errors import unknown_name
 
-    kin = {c.name for c in mech.solve({}).columns}
+    kin = {c.name for c in mech.solve({}, backend="numpy").columns}
     read = {m.column for m in metrics if m.clearance is None}
     # the force columns only where a metric reads no kinematic column (the kinetostatics not
     # imported and solved for a kinematic study)
-    forces = {c.name for c in mech.solve({}, loads=[]).columns} - kin if read - kin else set()
+    forces = (
+        {c.name for c in mech.solve({}, loads=[], backend="numpy").columns} - kin
+        if read - kin
+        else set()
+    )
     for m in metrics:
         if m.clearance is not None:
             points = sorted(mech.model.points)

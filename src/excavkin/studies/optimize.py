@@ -799,7 +799,7 @@ class _MechanismProblem(Problem):
                     ends = m.clearance or ()
                     cols += [f"{p}.{a}" for p in ends for a in "xy"] if ends else [m.column]
             self.wanted[name] = list(dict.fromkeys(cols))
-        probe = mech.solve({}, loads=[]) if loads is not None else mech.solve({})
+        probe = mech.solve({}, loads=[] if loads is not None else None, backend="numpy")
         self.angles = {c.name for c in probe.columns if c.kind == "angle"}
         from excavkin.structure.design import parameter_kind
 

@@ -17,6 +17,7 @@ import itertools
 import json
 import os
 import shutil
+import sys
 import threading
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
@@ -46,6 +47,11 @@ if TYPE_CHECKING:
 
 #: samples (designs × poses) solved at once: a chunk's arrays stay within a few hundred MB
 CHUNK_SAMPLES = 1 << 18
+#: samples (designs × poses) below which a study run with ``backend="auto"`` in a process that
+#: has not imported numba runs on NumPy: importing numba and loading a cached kernel takes about
+#: half a second, which the compiled solve (≈ 0.15 µs a sample faster) repays only past
+#: millions of samples
+SMALL_STUDY = 1_000_000
 #: the finished parts' tables kept in memory, at most (bytes), so that the table is assembled
 #: without reading them back (the rest are read from their files)
 KEEP_BYTES = 1 << 28
@@ -284,7 +290,9 @@ def run_study(
         Designs × poses solved at once.
     backend : {"auto", "numpy", "numba", "cuda"}, optional
         Where every solve runs, here or on the Dask workers, as for
-        [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
+        [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]; ``"auto"`` runs a study of
+        fewer than `SMALL_STUDY` samples on NumPy where numba is not imported yet (its import
+        would cost more than the compiled solve saves).
     execution : Execution, optional
         Backend, threads and chunk size of every solve as one object
         ([`Execution`][excavkin.execution.Execution]); ``backend`` replaces its own.
@@ -300,6 +308,9 @@ def run_study(
     if scheduler is not None:
         check_scheduler(scheduler)
     run = dataclasses.replace(settings(execution, backend=backend), progress=None)
+    small = study.designs * study.pose_count < SMALL_STUDY
+    if run.backend == "auto" and small and "numba" not in sys.modules:  # (see SMALL_STUDY)
+        run = dataclasses.replace(run, backend="numpy")
     target = check_target(out, force=force, suffixes=(".parquet",))
     with use(run):  # (its probes too)
         kinds, name = study.prepare()
@@ -775,7 +786,7 @@ def _kinds(study: Study, mech: Mechanism) -> dict[str, str]:
     from excavkin.structure.design import parameter_kind
 
     kinds = {f"design.{k}": parameter_kind(k, mech.model) for k in study.bounds}
-    probe = mech.solve({}, loads="model") if study.loads else mech.solve({})
+    probe = mech.solve({}, loads="model" if study.loads else None, backend="numpy")
     of = {c.name: c.kind for c in probe.columns}
     for m in study.metrics:
         kinds[m.name] = metric_kind(m, of)
