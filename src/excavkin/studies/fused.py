@@ -262,7 +262,8 @@ def _borrow(plan: SolvePlan, n: int) -> Workspace:
 
 
 def _give_back(plan: SolvePlan, workspace: Workspace) -> None:
-    """Keep a workspace for the next block (one per core at most, the newest)."""
+    """Keep a workspace for the next block: two per core at most, the newest (a chunk's
+    blocks are of two sizes, whole blocks and its last)."""
     with _lock:
         _free.append((plan, workspace))
-        del _free[: max(0, len(_free) - (os.cpu_count() or 1))]
+        del _free[: max(0, len(_free) - 2 * (os.cpu_count() or 1))]
