@@ -13,6 +13,7 @@ import pandas as pd
 import pytest
 
 import excavkin
+from excavkin.errors import InputError
 from excavkin.execution import Execution, use
 from excavkin.kinematics.solve import BLOCK
 from excavkin.studies.design_space import sample_designs
@@ -156,3 +157,35 @@ def test_fused_equals_the_full_solve_on_every_closed_form_example(name: str) -> 
             full = evaluate(mech, designs, poses, metrics)
             fused = evaluate_fused(mech, designs, poses, metrics)
         pd.testing.assert_frame_equal(fused, full, check_exact=True)
+
+
+@pytest.mark.parametrize(
+    ("poses", "message"),
+    [
+        (Poses({"crankk": np.linspace(0.0, 1.0, 5)}, {}, {}), "unknown driver 'crankk'"),
+        (Poses({"crank": np.linspace(0.0, 1.0, 5)}, {"crank": np.ones(4)}, {}), r"shape \(4,\)"),
+        (Poses({"crank": np.ones((5, 2))}, {}, {}), r"shape \(5, 2\)"),
+        (Poses({"crank": "30 deg"}, {}, {}), "numbers"),
+    ],
+)
+def test_a_bad_pose_set_is_refused_naming_the_driver(poses: Poses, message: str) -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    metrics = [Metric("g", "B.transmission", "min")]
+    with pytest.raises(InputError, match=message):
+        evaluate_fused(mech, {"A-B": np.array([0.12, 0.125])}, poses, metrics)
+
+
+@pytest.mark.parametrize(
+    ("designs", "message"),
+    [
+        ({"A-X": np.array([0.12])}, "no parameter 'A-X'"),
+        ({"A-B": np.array([0.12, 0.13]), "O4.x": np.array([0.1])}, "different lengths"),
+        ({"A-B": np.ones((2, 2))}, "one number"),
+        ({}, "different lengths"),
+    ],
+)
+def test_bad_designs_are_refused_naming_the_parameter(designs: dict, message: str) -> None:
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    poses = Poses({"crank": np.linspace(0.0, 1.0, 5)}, {}, {})
+    with pytest.raises(InputError, match=message):
+        evaluate_fused(mech, designs, poses, [Metric("g", "B.transmission", "min")])

@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
+from excavkin.errors import InputError
 from excavkin.execution import current
 from excavkin.kinematics.solve import BLOCK, Workspace, solve_part
 from excavkin.kinematics.threads import over_chunks
@@ -144,7 +145,9 @@ def evaluate_fused(
         raise ValueError("evaluate_fused: a plan with a Newton group takes evaluate()")
     sets = pose_sets_of(poses, pose_sets)
     check_pose_sets(sets, metrics)
-    arrays = {k: np.asarray(v, dtype=np.float64) for k, v in designs.items()}
+    for pose_set in sets.values():
+        _check_poses(mech, pose_set)
+    arrays = _check_designs(mech, designs)
     d = len(next(iter(arrays.values())))
     varied, sketch, bad = vary(mech.plan, arrays)  # once per design
     unbuildable = np.broadcast_to(np.asarray(bad, dtype=bool), (d,))
@@ -159,6 +162,45 @@ def evaluate_fused(
         for m in wanted:
             series[m.key] = got[m.key].reshape(d, p)
     return tabulate_sets(arrays, series, oks, metrics, constraints, angles)
+
+
+def _check_designs(mech: Mechanism, designs: Mapping[str, Any]) -> dict[str, F]:
+    """The designs' parameters as arrays of one length, SI; an unknown name, or arrays of
+    other shapes, refused as a solve refuses them."""
+    from excavkin.errors import unknown_name
+    from excavkin.structure.design import joint_offsets, parameters
+
+    known = {**parameters(mech.model), **joint_offsets(mech.model)}
+    out: dict[str, F] = {}
+    for name, value in designs.items():
+        if name not in known:
+            raise unknown_name("parameter", name, list(known))
+        arr = np.asarray(value)
+        if arr.dtype.kind not in "fiu" or arr.ndim != 1:
+            raise InputError(f"parameter {name!r}: one number (SI) per design, got {arr.shape}")
+        out[name] = arr.astype(np.float64)
+    sizes = {len(v) for v in out.values()}
+    if len(sizes) != 1:
+        listing = ", ".join(f"{k}: {len(v)}" for k, v in out.items())
+        raise InputError(f"the designs' parameters have different lengths ({listing or 'none'})")
+    return out
+
+
+def _check_poses(mech: Mechanism, poses: Poses) -> None:
+    """Refuse, as a solve does, a driver the mechanism does not have and an array that is not
+    one value per pose (or one value)."""
+    p = poses.count
+    for part in (poses.values, poses.rates, poses.accels):
+        for name, value in part.items():
+            mech.input_kind(name)  # an unknown driver: its error, with the nearest names
+            if np.asarray(value).dtype.kind not in "fiu":
+                raise InputError(f"driver {name!r}: a pose set's values are numbers (SI)")
+            shape = np.shape(value)
+            if len(shape) > 1 or (len(shape) == 1 and shape[0] != p):
+                raise InputError(
+                    f"driver {name!r}: a pose set's values, rates and accelerations are one "
+                    f"value or one per pose ({p}), got shape {shape}"
+                )
 
 
 def _solve_set(
