@@ -21,6 +21,7 @@ from excavkin.errors import InputError
 if TYPE_CHECKING:
     import pandas as pd
 
+    from excavkin.execution import Execution
     from excavkin.mechanism import Mechanism
 
 
@@ -152,17 +153,34 @@ class Poses:
         return sizes.pop() if sizes else 1
 
 
+def probe_execution() -> Execution:
+    """The settings of a probe solve (a sample, for the columns' names and kinds): those in
+    use (`excavkin.execution.current`), except that ``"auto"`` probes in NumPy (loading
+    numba and a kernel for one sample costs more than the solve).
+
+    Returns
+    -------
+    Execution
+    """
+    import dataclasses
+
+    from excavkin.execution import current
+
+    run = current()
+    return dataclasses.replace(run, backend="numpy") if run.backend == "auto" else run
+
+
 def needs_forces(mech: Mechanism, metrics: Sequence[Metric]) -> bool:
     """Whether a metric reads a force column (the designs then get their kinetostatics); an
     unknown column or point is an error naming it."""
     from excavkin.errors import unknown_name
 
-    kin = {c.name for c in mech.solve({}, backend="numpy").columns}
+    kin = {c.name for c in mech.solve({}, execution=probe_execution()).columns}
     read = {m.column for m in metrics if m.clearance is None}
     # the force columns only where a metric reads no kinematic column (the kinetostatics not
     # imported and solved for a kinematic study)
     forces = (
-        {c.name for c in mech.solve({}, loads=[], backend="numpy").columns} - kin
+        {c.name for c in mech.solve({}, loads=[], execution=probe_execution()).columns} - kin
         if read - kin
         else set()
     )

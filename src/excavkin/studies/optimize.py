@@ -39,6 +39,7 @@ from excavkin.studies.metrics import (
     angle_change,
     column_of,
     pose_sets_of,
+    probe_execution,
     target_of,
 )
 
@@ -799,7 +800,12 @@ class _MechanismProblem(Problem):
                     ends = m.clearance or ()
                     cols += [f"{p}.{a}" for p in ends for a in "xy"] if ends else [m.column]
             self.wanted[name] = list(dict.fromkeys(cols))
-        probe = mech.solve({}, loads=[] if loads is not None else None, backend="numpy")
+        run = probe_execution()
+        probe = (
+            mech.solve({}, loads=[], execution=run)
+            if loads is not None
+            else mech.solve({}, execution=run)
+        )
         self.angles = {c.name for c in probe.columns if c.kind == "angle"}
         from excavkin.structure.design import parameter_kind
 

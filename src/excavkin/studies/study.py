@@ -36,6 +36,7 @@ from excavkin.studies.metrics import (
     check_pose_sets,
     needs_forces,
     pose_sets_of,
+    probe_execution,
 )
 
 if TYPE_CHECKING:
@@ -786,7 +787,12 @@ def _kinds(study: Study, mech: Mechanism) -> dict[str, str]:
     from excavkin.structure.design import parameter_kind
 
     kinds = {f"design.{k}": parameter_kind(k, mech.model) for k in study.bounds}
-    probe = mech.solve({}, loads="model" if study.loads else None, backend="numpy")
+    run = probe_execution()
+    probe = (
+        mech.solve({}, loads="model", execution=run)
+        if study.loads
+        else mech.solve({}, execution=run)
+    )
     of = {c.name: c.kind for c in probe.columns}
     for m in study.metrics:
         kinds[m.name] = metric_kind(m, of)
