@@ -1,17 +1,30 @@
-"""A design study at scale: designs × poses of the four-bar, full kinematic state and metrics,
-locally and on a local Dask cluster.
+"""A design study at scale: designs × poses of the four-bar, three kinematic metrics, against
+the engine solving the same number of samples of one design, in one run.
 
-Run: ``python benchmarks/bench_study.py [DESIGNS] [--dask]`` (default 100 000 designs × 100
-poses; the issue's target is 10⁶ designs × 100 poses in ≤ 30 min on this machine). Prints
-designs/s and samples/s, the projected time of 10⁶ designs, and with ``--dask`` the Dask run's
-time and its efficiency (local time / Dask time on the same cores).
+Run: ``python benchmarks/bench_study.py [DESIGNS] [--dask] [--repeat N]`` (default 20 000
+designs × 100 poses = 2·10⁶ samples). Prints, best of N runs each (default 3), interleaved:
+
+- the engine: one design's full kinematic state over the same 2·10⁶ samples (its compiled
+  kernel, every core);
+- the study: `run_study` of the designs, every core, its table written;
+- their ratio (engine time / study time: 1.0 is the study at engine speed), and the ratio
+  of their CPU time (every thread's), which other work on a shared machine disturbs less;
+- the share of the study's wall time during which a thread held the GIL, sampled: a probe
+  thread wakes about every millisecond and asks for the GIL; a wake-up that waits more than
+  `LATE` seconds beyond its sleep found the GIL held (the share of such wake-ups estimates
+  the share of the time it is held; the probe's own idle overshoot is measured first and
+  taken off);
+- with ``--dask``, a local Dask cluster's time on the same cores.
 """
 
 from __future__ import annotations
 
+import random
 import sys
 import tempfile
+import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -20,12 +33,16 @@ import excavkin
 from excavkin.studies.metrics import Metric, Poses
 from excavkin.studies.study import Study, run_study
 
+#: a probe's wake-up later than this beyond its sleep found the GIL held
+LATE = 2e-4
+POSES = 100
+
 
 def study(designs: int) -> Study:
     return Study(
         model=Path(excavkin.example_path("fourbar")),
         bounds={"A-B": (0.10, 0.14), "O4-B": (0.07, 0.11), "O4.x": (0.09, 0.115)},
-        poses=Poses({"crank": np.linspace(0.0, 2 * np.pi, 100)}, {"crank": 31.4}, {}),
+        poses=Poses({"crank": np.linspace(0.0, 2 * np.pi, POSES)}, {"crank": 31.4}, {}),
         metrics=(
             Metric("gamma_min", "B.transmission", "min"),
             Metric("omega_peak", "rocker.omega", "absmax"),
@@ -35,24 +52,97 @@ def study(designs: int) -> Study:
     )
 
 
-def main(designs: int = 100_000, dask: bool = False) -> None:
-    s = study(designs)
-    with tempfile.TemporaryDirectory() as tmp:
+class Probe:
+    """Samples whether the GIL is held: a thread that sleeps a random 0.5–1.5 ms and counts
+    the wake-ups that come late (`LATE`)."""
+
+    def __init__(self) -> None:
+        self.stop = threading.Event()
+        self.wakes = 0
+        self.late = 0
+        self.thread = threading.Thread(target=self._run, daemon=True)
+
+    def _run(self) -> None:
+        rng = random.Random(0)
+        while not self.stop.is_set():
+            want = rng.uniform(5e-4, 1.5e-3)
+            t0 = time.perf_counter()
+            time.sleep(want)
+            self.wakes += 1
+            self.late += time.perf_counter() - t0 - want > LATE
+
+    def __enter__(self) -> Probe:
+        self.thread.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.stop.set()
+        self.thread.join()
+
+    @property
+    def share(self) -> float:
+        return self.late / max(self.wakes, 1)
+
+
+def held_share(run: Callable[[], object]) -> tuple[float, float]:
+    """The share of ``run``'s wall time during which the GIL is held (sampled, the probe's
+    idle lateness taken off), and the wall time with the probe running."""
+    with Probe() as idle:
+        time.sleep(0.5)
+    with Probe() as probe:
         t = time.perf_counter()
-        run_study(s, Path(tmp) / "local.parquet")
-        local = time.perf_counter() - t
-        print(f"study: {designs:,} designs × 100 poses of the four-bar, 3 metrics")
-        print(f"  local       : {local:7.1f} s  {designs / local:10,.0f} designs/s  "
-              f"{designs * 100 / local / 1e6:5.2f} M samples/s")  # fmt: skip
-        print(f"  10⁶ designs : {local * 1e6 / designs / 60:7.1f} min projected (target ≤ 30)")
+        run()
+        wall = time.perf_counter() - t
+    return max(0.0, probe.share - idle.share), wall
+
+
+def main(designs: int = 20_000, dask: bool = False, repeat: int = 3) -> None:
+    s = study(designs)
+    mech = excavkin.load(s.model)
+    crank = np.tile(np.linspace(0.0, 2 * np.pi, POSES), designs)
+    n = designs * POSES
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp)
+
+        def engine() -> None:
+            mech.solve({"crank": crank}, {"crank": 31.4}, backend="numba")
+
+        def local() -> None:
+            run_study(s, out / "local.parquet", force=True)
+
+        engine()
+        local()  # (the kernels compiled or loaded, the pages of the process touched)
+        times: dict[str, list[float]] = {"engine": [], "study": []}
+        cpu: dict[str, list[float]] = {"engine": [], "study": []}
+        for _ in range(repeat):
+            for name, run in (("engine", engine), ("study", local)):
+                t, c = time.perf_counter(), time.process_time()
+                run()
+                times[name].append(time.perf_counter() - t)
+                cpu[name].append(time.process_time() - c)
+        e, st = min(times["engine"]), min(times["study"])
+        ec, sc = min(cpu["engine"]), min(cpu["study"])
+        share, probed = held_share(local)
+        print(f"study: {designs:,} designs × {POSES} poses of the four-bar, 3 metrics, "
+              f"best of {repeat}")  # fmt: skip
+        print(f"  engine, one design : {e:7.3f} s  {n / e / 1e6:6.2f} M samples/s")
+        print(f"  study              : {st:7.3f} s  {n / st / 1e6:6.2f} M samples/s  "
+              f"{designs / st:10,.0f} designs/s")  # fmt: skip
+        print(f"  ratio              : {e / st:7.2f}  (engine time / study time; target ≥ 0.5)")
+        print(f"  CPU time           : engine {ec:.3f} s, study {sc:.3f} s, ratio {ec / sc:.2f} "
+              "(every thread's; other load on the cores weighs on it less)")  # fmt: skip
+        print(f"  GIL held           : {share:7.1%}  of the study's wall time (sampled; "
+              f"{probed:.3f} s with the probe; target < 10 %)")  # fmt: skip
+        print(f"  10⁶ designs        : {st * 1e6 / designs / 60:7.1f} min projected")
         if dask:
             t = time.perf_counter()
-            run_study(s, Path(tmp) / "dask.parquet", scheduler="dask")
+            run_study(s, out / "dask.parquet", scheduler="dask")
             remote = time.perf_counter() - t
-            print(f"  Dask, local cluster: {remote:7.1f} s, efficiency {local / remote:.2f} "
+            print(f"  Dask, local cluster: {remote:7.1f} s, efficiency {st / remote:.2f} "
                   "(local time / Dask time, same cores)")  # fmt: skip
 
 
 if __name__ == "__main__":
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    main(int(args[0]) if args else 100_000, "--dask" in sys.argv)
+    reps = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--repeat=")), 3)
+    main(int(args[0]) if args else 20_000, "--dask" in sys.argv, reps)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import html
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -744,6 +744,32 @@ class KinematicResult:
             if c.name == name:
                 return np.asarray(arr, dtype=np.float64)
         raise unknown_name("column", name, [c.name for c, _ in cols])
+
+    def columns_named(self, names: Collection[str]) -> dict[str, F]:
+        """Several columns by name at once (`column` of each, the table's columns listed
+        once).
+
+        Parameters
+        ----------
+        names : collection of str
+            Column names, e.g. ``["B.x", "B.y"]``.
+
+        Returns
+        -------
+        dict of str to ndarray, shape (n,)
+            Each column's values, SI.
+
+        Raises
+        ------
+        UnknownNameError
+            A name of no column, with the nearest names.
+        """
+        cols = self._columns()
+        got = {c.name: arr for c, arr in cols if c.name in names}
+        for name in names:
+            if name not in got:
+                raise unknown_name("column", name, [c.name for c, _ in cols])
+        return {name: np.asarray(got[name], dtype=np.float64) for name in names}
 
     def _columns(self) -> list[tuple[Column, F]]:
         plan = self.plan

@@ -85,6 +85,77 @@ DEVICE_CHUNK = 1 << 20
 
 
 @dataclass(frozen=True, slots=True)
+class Workspace:
+    """The output arrays of solves of ``n`` samples of one plan's structure, made once and
+    written again by every solve given them (`solve_part`'s ``workspace``): a loop of solves
+    of blocks — a study's — pays no page faults and stays in the pages it has already touched.
+
+    A result solved into a workspace is views of these arrays: it is good until the next
+    solve into the same workspace. The velocity and acceleration rows of a fixed point and
+    the ground's body row are zero when made and never written (as a fresh solve's).
+
+    Attributes
+    ----------
+    x, v, a : ndarray, shape (n_points, 2, n)
+    trans : ndarray, shape (n_transmissions, n)
+    derived : Derived
+    status : ndarray of int8, shape (n,)
+    failed : ndarray of int16, shape (n,)
+    near : ndarray, shape (n,)
+    near_step : ndarray of int16, shape (n,)
+    """
+
+    x: F
+    v: F
+    a: F
+    trans: F
+    derived: Derived
+    status: np.ndarray
+    failed: np.ndarray
+    near: F
+    near_step: np.ndarray
+
+    @classmethod
+    def of(cls, plan: SolvePlan, n: int) -> Workspace:
+        """The arrays of a solve of ``n`` samples of ``plan`` (or of any plan of its
+        structure: a design's).
+
+        Parameters
+        ----------
+        plan : SolvePlan
+        n : int
+            Samples.
+
+        Returns
+        -------
+        Workspace
+        """
+        n_pts = len(plan.points)
+        return cls(
+            np.empty((n_pts, 2, n)), np.zeros((n_pts, 2, n)), np.zeros((n_pts, 2, n)),
+            np.empty((len(plan.transmissions), n)), Derived.empty(plan, n),
+            np.zeros(n, dtype=np.int8), np.empty(n, dtype=np.int16), np.empty(n),
+            np.empty(n, dtype=np.int16),
+        )  # fmt: skip
+
+    def fits(self, plan: SolvePlan, n: int) -> bool:
+        """Whether it holds a solve of ``n`` samples of ``plan``'s structure.
+
+        Parameters
+        ----------
+        plan : SolvePlan
+        n : int
+
+        Returns
+        -------
+        bool
+        """
+        return self.x.shape == (len(plan.points), 2, n) and self.trans.shape[0] == len(
+            plan.transmissions
+        )
+
+
+@dataclass(frozen=True, slots=True)
 class Carry:
     """What one part of a sweep hands the next, so that the parts solve as the whole would.
 
@@ -116,6 +187,8 @@ def solve_part(
     unbuildable: np.ndarray | None = None,
     designs: DesignBatch | None = None,
     carry: Carry | None = None,
+    workspace: Workspace | None = None,
+    change_points: bool = True,
 ) -> tuple[KinematicResult, Carry]:
     """Positions, velocities and accelerations of every point for consecutive samples of a
     sweep, each dyad on its sketch side.
@@ -143,6 +216,12 @@ def solve_part(
         constants are made as the chunk is solved.
     carry : Carry, optional
         What the part before handed on (none: these samples start the sweep).
+    workspace : Workspace, optional
+        Arrays to solve into (`Workspace.fits` these samples), instead of new ones: the
+        result is views of them, good until the next solve into them.
+    change_points : bool
+        Search the change points (default); False: the result lists none (a family of
+        designs one after another, whose neighbouring samples are not a path).
 
     Returns
     -------
@@ -155,26 +234,34 @@ def solve_part(
     n_in, n = q.shape
     n_pts = len(plan.points)
     per_sample = 8 * (6 * n_pts + len(plan.transmissions) + 3 * len(plan.bodies))
-    with _small_pages(n * (per_sample + 48 * len(plan.elements))):
-        x = np.empty((n_pts, 2, n))
-        v = np.zeros((n_pts, 2, n))  # (a fixed point's rows stay so: the compiled plan
-        a = np.zeros((n_pts, 2, n))  # leaves them unwritten, and never paged in)
-        trans = np.empty((len(plan.transmissions), n))
-        derived = Derived.empty(plan, n)
-    status = np.zeros(n, dtype=np.int8)
+    if workspace is None:
+        with _small_pages(n * (per_sample + 48 * len(plan.elements))):
+            workspace = Workspace.of(plan, n)  # (a fixed point's v and a rows stay zero: the
+            # compiled plan leaves them unwritten, and never paged in)
+    elif not workspace.fits(plan, n):
+        raise ValueError(f"a workspace of shape {workspace.x.shape} for {n} samples")
+    else:
+        workspace.status.fill(0)
+    x, v, a, trans, derived = (
+        workspace.x,
+        workspace.v,
+        workspace.a,
+        workspace.trans,
+        workspace.derived,
+    )
+    status, failed = workspace.status, workspace.failed
     q_given = q
     if plan.has_newton:  # the continuation needs every input checked before it starts
-        failed = np.full(n, -1, dtype=np.int16)
+        failed.fill(-1)
         q = _check_inputs(plan, q, qd, qdd, status, unbuildable)
-    else:  # each chunk checks its own inputs, on its thread, while they are in cache
-        failed = np.empty(n, dtype=np.int16)
+    # else each chunk checks its own inputs, on its thread, while they are in cache
     report = _Reporter(execution.progress, n)
     chunk, workers = execution.chunk_or(CHUNK), execution.workers
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     blocks = _blocks(carry.start, n)
     reached = carry.reached
-    near, near_step = np.empty(n), np.empty(n, dtype=np.int16)
+    near, near_step = workspace.near, workspace.near_step
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if plan.has_newton:  # positions by continuation, block by block; then the rates
             chunk = _newton_chunk(plan, chunk)
@@ -188,7 +275,7 @@ def solve_part(
                       checked, unbuildable)  # fmt: skip
     error, found, tail = _check_blocks(
         plan, (q_given, q, qd, qdd), precision.Arrays(x, v, a, trans, derived), status, failed,
-        (near, near_step), tol, designs, carry, blocks,
+        (near, near_step), tol, designs, carry, blocks, change_points,
     )  # fmt: skip
     result = KinematicResult.build(
         plan, x, v, a, q_given, qd, qdd, trans, derived, Status(status, failed, plan)
@@ -208,11 +295,13 @@ def _check_blocks(
     designs: DesignBatch | None,
     carry: Carry,
     blocks: list[slice],
+    change_points: bool = True,
 ) -> tuple[F, list[ChangePoint], Tail | None]:
     """Block by block, the precision check (its scales are the block's) and the change
     points (searched in the dyads that come near flat in the block, and between it and the
-    block before): the error estimates, the change points in plan order and the last tail.
-    ``inputs``: the inputs as given, and as solved (q, qd, qdd)."""
+    block before): the error estimates, the change points in plan order and the last tail
+    (none searched without ``change_points``). ``inputs``: the inputs as given, and as
+    solved (q, qd, qdd)."""
     q_given, q, qd, qdd = inputs
     x, v, a, trans, derived = out.x, out.v, out.a, out.trans, out.derived
     error = np.empty(q.shape[1])  # every block's estimates are written below
@@ -229,6 +318,8 @@ def _check_blocks(
             take(plan, b) if per_sample else plan, (q[:, b], qd[:, b], qdd[:, b]), arrays,
             status[b], failed[b], near, tol, designs, b.start,
         )  # fmt: skip
+        if not change_points:
+            continue
         here = (x[..., b], v[..., b], q_given[:, b], qd[:, b], trans[:, b])
         found += find_change_points(
             plan, here[0], v=here[1], q=here[2], qd=here[3], trans=here[4],

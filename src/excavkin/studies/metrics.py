@@ -21,6 +21,7 @@ from excavkin.errors import InputError
 if TYPE_CHECKING:
     import pandas as pd
 
+    from excavkin.execution import Execution
     from excavkin.mechanism import Mechanism
 
 
@@ -152,13 +153,37 @@ class Poses:
         return sizes.pop() if sizes else 1
 
 
+def probe_execution() -> Execution:
+    """The settings of a probe solve (a sample, for the columns' names and kinds): those in
+    use (`excavkin.execution.current`), except that ``"auto"`` probes in NumPy (loading
+    numba and a kernel for one sample costs more than the solve).
+
+    Returns
+    -------
+    Execution
+    """
+    import dataclasses
+
+    from excavkin.execution import current
+
+    run = current()
+    return dataclasses.replace(run, backend="numpy") if run.backend == "auto" else run
+
+
 def needs_forces(mech: Mechanism, metrics: Sequence[Metric]) -> bool:
     """Whether a metric reads a force column (the designs then get their kinetostatics); an
     unknown column or point is an error naming it."""
     from excavkin.errors import unknown_name
 
-    kin = {c.name for c in mech.solve({}).columns}
-    forces = {c.name for c in mech.solve({}, loads=[]).columns} - kin
+    kin = {c.name for c in mech.solve({}, execution=probe_execution()).columns}
+    read = {m.column for m in metrics if m.clearance is None}
+    # the force columns only where a metric reads no kinematic column (the kinetostatics not
+    # imported and solved for a kinematic study)
+    forces = (
+        {c.name for c in mech.solve({}, loads=[], execution=probe_execution()).columns} - kin
+        if read - kin
+        else set()
+    )
     for m in metrics:
         if m.clearance is not None:
             points = sorted(mech.model.points)
@@ -433,10 +458,14 @@ def tabulate_sets(
     failed = np.zeros(d, dtype=np.int64)
     why = np.full(d, "", dtype=object)
     for name, ok in oks.items():
-        miss = (~ok).sum(axis=1)
+        miss = ok.shape[1] - np.count_nonzero(ok, axis=1)
         where = "" if name is None else f" of set {name!r}"
-        text = np.char.add(miss.astype(str), f" of {ok.shape[1]} poses{where} do not solve")
-        why = np.where((why == "") & (miss > 0), text, why)
+        told = np.flatnonzero((why == "") & (miss > 0))  # (the text made for these alone)
+        if told.size:
+            text = np.char.add(
+                miss[told].astype(str), f" of {ok.shape[1]} poses{where} do not solve"
+            )
+            why[told] = text
         failed += miss
     out["poses_failed"] = failed
     met = failed == 0

@@ -38,8 +38,8 @@ from excavkin.studies.metrics import (
     Poses,
     angle_change,
     column_of,
-    evaluate,
     pose_sets_of,
+    probe_execution,
     target_of,
 )
 
@@ -800,7 +800,12 @@ class _MechanismProblem(Problem):
                     ends = m.clearance or ()
                     cols += [f"{p}.{a}" for p in ends for a in "xy"] if ends else [m.column]
             self.wanted[name] = list(dict.fromkeys(cols))
-        probe = mech.solve({}, loads=[]) if loads is not None else mech.solve({})
+        run = probe_execution()
+        probe = (
+            mech.solve({}, loads=[], execution=run)
+            if loads is not None
+            else mech.solve({}, execution=run)
+        )
         self.angles = {c.name for c in probe.columns if c.kind == "angle"}
         from excavkin.structure.design import parameter_kind
 
@@ -810,7 +815,9 @@ class _MechanismProblem(Problem):
             self.kinds[m.name] = metric_kind(m, of)
 
     def table(self, designs: Mapping[str, F]) -> pd.DataFrame:
-        return evaluate(
+        from excavkin.studies.fused import evaluate_designs
+
+        return evaluate_designs(
             self.mech, designs, self.poses, self.metrics, (), self.loads, self.pose_sets
         )
 

@@ -15,7 +15,10 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import os
 import shutil
+import sys
+import threading
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,9 +34,9 @@ from excavkin.studies.metrics import (
     Metric,
     Poses,
     check_pose_sets,
-    evaluate,
     needs_forces,
     pose_sets_of,
+    probe_execution,
 )
 
 if TYPE_CHECKING:
@@ -45,6 +48,14 @@ if TYPE_CHECKING:
 
 #: samples (designs × poses) solved at once: a chunk's arrays stay within a few hundred MB
 CHUNK_SAMPLES = 1 << 18
+#: samples (designs × poses) below which a study run with ``backend="auto"`` in a process that
+#: has not imported numba runs on NumPy: importing numba and loading a cached kernel takes about
+#: half a second, which the compiled solve (≈ 0.15 µs a sample faster) repays only past
+#: millions of samples
+SMALL_STUDY = 1_000_000
+#: the finished parts' tables kept in memory, at most (bytes), so that the table is assembled
+#: without reading them back (the rest are read from their files)
+KEEP_BYTES = 1 << 28
 
 
 @dataclass(frozen=True)
@@ -161,11 +172,11 @@ class Study:
             per metric, ``poses_failed``, ``feasible`` and ``status``, as
             `excavkin.studies.metrics.evaluate` gives them.
         """
-        from excavkin import load
+        from excavkin.studies.fused import evaluate_designs
 
-        mech = load(self.model)
+        mech = _mechanism(self.model)
         part = sample_designs(self.bounds, self.samples, self.method, self.seed, (start, stop))
-        frame = evaluate(
+        frame = evaluate_designs(
             mech, part, self.poses, self.metrics, self.constraints, self.loads, self.pose_sets
         )
         frame.insert(0, "design", np.arange(start, stop))
@@ -280,7 +291,9 @@ def run_study(
         Designs × poses solved at once.
     backend : {"auto", "numpy", "numba", "cuda"}, optional
         Where every solve runs, here or on the Dask workers, as for
-        [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve].
+        [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]; ``"auto"`` runs a study of
+        fewer than `SMALL_STUDY` samples on NumPy where numba is not imported yet (its import
+        would cost more than the compiled solve saves).
     execution : Execution, optional
         Backend, threads and chunk size of every solve as one object
         ([`Execution`][excavkin.execution.Execution]); ``backend`` replaces its own.
@@ -296,6 +309,9 @@ def run_study(
     if scheduler is not None:
         check_scheduler(scheduler)
     run = dataclasses.replace(settings(execution, backend=backend), progress=None)
+    small = study.designs * study.pose_count < SMALL_STUDY
+    if run.backend == "auto" and small and "numba" not in sys.modules:  # (see SMALL_STUDY)
+        run = dataclasses.replace(run, backend="numpy")
     target = check_target(out, force=force, suffixes=(".parquet",))
     with use(run):  # (its probes too)
         kinds, name = study.prepare()
@@ -310,8 +326,11 @@ def run_study(
     done = study.designs - sum(e - s for s, e in todo)
     if progress is not None:
         progress(done, study.designs)
+    kept: dict[str, Any] = {}  # part file's name → its table, as written (`KEEP_BYTES`)
     for (s, e), frame in _run(study, todo, scheduler, run):
-        _write_part(frame, _part(parts, s))
+        table = _write_part(frame, _part(parts, s))
+        if sum(t.nbytes for t in kept.values()) + table.nbytes <= KEEP_BYTES:
+            kept[_part(parts, s).name] = table
         done += e - s
         if progress is not None:
             progress(done, study.designs)
@@ -325,7 +344,7 @@ def run_study(
         if set(sets) - {None}
         else None
     )
-    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note, described)
+    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note, described, kept)
     shutil.rmtree(parts)
     return StudyResult(target, getattr(study, "units", {}))
 
@@ -503,6 +522,30 @@ class StudyResult:
         )  # fmt: skip
 
 
+#: the model last loaded by a study's chunk, with its file's text: the next chunk of the same
+#: file takes it again (its plan, and the workspaces kept for that plan)
+_loaded: dict[str, tuple[str, Mechanism]] = {}
+_loaded_lock = threading.Lock()
+
+
+def _mechanism(path: Path) -> Mechanism:
+    """The model file's mechanism, loaded again only when its text has changed."""
+    from excavkin import load
+    from excavkin.io.toml_model import read_text_file
+
+    key = str(path)
+    text = read_text_file(path)
+    with _loaded_lock:
+        got = _loaded.get(key)
+    if got is not None and got[0] == text:
+        return got[1]
+    mech = load(path)
+    with _loaded_lock:
+        _loaded.clear()
+        _loaded[key] = (text, mech)
+    return mech
+
+
 def _check(study: Study) -> Mechanism:
     """Refuse, before any solve, unknown parameters, columns and metric names."""
     from excavkin import load
@@ -573,8 +616,7 @@ def _run(
     study: Subject, todo: list[tuple[int, int]], scheduler: str | None, execution: Execution
 ) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
     if scheduler is None:
-        for s, e in todo:
-            yield (s, e), evaluate_chunk(study, s, e, execution)
+        yield from _run_here(study, todo, execution)
         return
     try:
         from distributed import Client, LocalCluster, as_completed
@@ -625,6 +667,45 @@ def _run(
             cluster.close()
 
 
+def _run_here(
+    study: Subject, todo: list[tuple[int, int]], execution: Execution
+) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
+    """The chunks here: several at once, one per thread (each solved on its thread alone, so
+    that one chunk's serial work — its designs, its table — overlaps the others' solves), a
+    bounded window of them in flight, each yielded as it finishes; a single chunk, or one
+    thread, solves its blocks on every thread instead (and so does another subject than a
+    `Study`: a machine study's chunks, one after another, as before). A chunk's rows do not
+    depend on the threads: they are those of a Dask worker's solve, to the bit."""
+    threads = min(execution.workers or os.cpu_count() or 1, len(todo))
+    if threads <= 1 or not isinstance(study, Study):
+        for s, e in todo:
+            yield (s, e), evaluate_chunk(study, s, e, execution)
+        return
+    from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
+
+    alone = dataclasses.replace(execution, workers=1)
+    pending = iter(todo)
+    with ThreadPoolExecutor(threads) as pool:
+        running: dict[Future[pd.DataFrame], tuple[int, int]] = {}
+
+        def submit(n: int) -> None:
+            for s, e in itertools.islice(pending, n):
+                running[pool.submit(evaluate_chunk, study, s, e, alone)] = (s, e)
+
+        submit(2 * threads)
+        try:
+            while running:
+                finished, _ = wait(running, return_when=FIRST_COMPLETED)
+                for future in sorted(finished, key=lambda f: running[f]):
+                    span = running.pop(future)
+                    frame = future.result()
+                    submit(1)
+                    yield span, frame
+        finally:
+            for future in running:
+                future.cancel()
+
+
 def _part(parts: Path, start: int) -> Path:
     return parts / f"part-{start:012d}.parquet"
 
@@ -636,11 +717,26 @@ def _stamp(path: Path) -> str | None:
         return None
 
 
-def _write_part(frame: pd.DataFrame, path: Path) -> None:
-    """A chunk's rows, written whole or not at all."""
-    from excavkin.io.files import write_atomic
+def _write_part(frame: pd.DataFrame, path: Path) -> Any:
+    """A chunk's rows, written whole or not at all; returns them as the Arrow table written.
 
-    write_atomic(path, lambda tmp: frame.to_parquet(tmp, index=False))
+    The parts' folder is the study's own: a temporary file that a killed run leaves in it is
+    never read (the parts are ``part-*.parquet``) and goes with the folder, so that a write
+    does not list the folder's thousands of parts for leftovers (`write_atomic` does)."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    # as frame.to_parquet makes it, on this thread (Arrow's pool of threads started for a
+    # few thousand rows cost 5–20× the conversion)
+    table = pa.Table.from_pandas(frame, preserve_index=False, nthreads=1)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        pq.write_table(table, tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return table
 
 
 def _assemble(
@@ -651,9 +747,11 @@ def _assemble(
     name: str,
     motion: str,
     sets: dict[str, Any] | None = None,
+    kept: Mapping[str, Any] | None = None,
 ) -> None:
     """The parts in design order, as one table with units (and the pose sets, where named) in
-    its metadata, moved into place whole; one part in memory at a time."""
+    its metadata, moved into place whole; one part read at a time, those ``kept`` (part
+    file's name → its table, as written by this run) not read back."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
@@ -661,7 +759,9 @@ def _assemble(
     from excavkin.kinematics.columns import si_unit
 
     files = sorted(parts.glob("part-*.parquet"))
-    schema = pq.read_schema(files[0])
+    kept = kept or {}
+    first = kept.get(files[0].name)
+    schema = first.schema if first is not None else pq.read_schema(files[0])
     meta = {
         b"excavkin.units": json.dumps({k: si_unit(v) for k, v in kinds.items()}).encode(),
         b"excavkin.kinds": json.dumps(kinds).encode(),
@@ -675,7 +775,9 @@ def _assemble(
     def write(tmp: Path) -> None:
         with pq.ParquetWriter(tmp, schema) as writer:
             for f in files:
-                writer.write_table(pa.Table.from_batches(pq.read_table(f).to_batches(), schema))
+                table = kept.get(f.name)
+                batches = (table if table is not None else pq.read_table(f)).to_batches()
+                writer.write_table(pa.Table.from_batches(batches, schema))
 
     write_atomic(target, write)
 
@@ -685,7 +787,12 @@ def _kinds(study: Study, mech: Mechanism) -> dict[str, str]:
     from excavkin.structure.design import parameter_kind
 
     kinds = {f"design.{k}": parameter_kind(k, mech.model) for k in study.bounds}
-    probe = mech.solve({}, loads="model") if study.loads else mech.solve({})
+    run = probe_execution()
+    probe = (
+        mech.solve({}, loads="model", execution=run)
+        if study.loads
+        else mech.solve({}, execution=run)
+    )
     of = {c.name: c.kind for c in probe.columns}
     for m in study.metrics:
         kinds[m.name] = metric_kind(m, of)

@@ -54,7 +54,7 @@ import numpy as np
 from excavkin.errors import ExcavkinError, ModelError
 from excavkin.io.toml_model import TomlReader, read_text_file, read_toml
 from excavkin.studies.design_space import METHODS
-from excavkin.studies.metrics import REDUCTIONS, Constraint, Metric, Poses
+from excavkin.studies.metrics import REDUCTIONS, Constraint, Metric, Poses, probe_execution
 from excavkin.studies.study import Study, metric_kind
 from excavkin.units import KINDS
 
@@ -121,7 +121,18 @@ def load_study(path: str | Path) -> Study:
     bounds = read_bounds(r, mech.parameters, lambda k: parameter_kind(k, mech.model))
     poses = read_poses(r, mech)
     pose_sets = read_pose_sets(r, mech)
-    columns = {c.name: c.kind for c in (*mech.solve({}).columns, *mech.solve({}, loads=[]).columns)}
+    columns = {c.name: c.kind for c in mech.solve({}, execution=probe_execution()).columns}
+    table = r.data.get("metrics")
+    named = (
+        [e.get("column") for e in table.values() if isinstance(e, dict) and "clearance" not in e]
+        if isinstance(table, dict)
+        else [None]
+    )
+    if any(c not in columns for c in named):  # a force column, or a name to be refused: the
+        # forces' columns too (a kinematic study neither imports nor solves the kinetostatics)
+        columns.update(
+            {c.name: c.kind for c in mech.solve({}, loads=[], execution=probe_execution()).columns}
+        )
     default = bool(r.data.get("poses")) or not pose_sets
     metrics = read_metrics(r, columns, (list(pose_sets), default), tuple(mech.model.points))
     from excavkin.studies.metrics import needs_forces
