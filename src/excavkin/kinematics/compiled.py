@@ -46,13 +46,21 @@ ATAN2 = fast_atan2.NAME
 
 
 def supports(plan: SolvePlan) -> bool:
-    """Whether the plan can be compiled: every step of a kind that compiles (closed-form)."""
-    return all(kind_of(st).compiles for st in plan.steps)
+    """Whether the plan can be compiled: every step one that compiles (closed-form)."""
+    return unsupported(plan) is None
 
 
 def unsupported(plan: SolvePlan) -> str | None:
     """Why the plan cannot be compiled (None: it can), for `excavkin.backends.Job`."""
-    return None if supports(plan) else "of this plan have a Newton group, solved in NumPy"
+    for st in plan.steps:
+        kind = kind_of(st)
+        why = kind.uncompiled(st)
+        if why is None:
+            continue
+        if kind.iterative:
+            return "of this plan have a Newton group, solved in NumPy"
+        return f"of this plan have {why}, solved in NumPy"
+    return None
 
 
 #: the last kernel sources made, by plan of one design (its id, and the plan itself so that an

@@ -534,6 +534,8 @@ class _Differ:
             return self.op(value, f"-{self.helper(f'math.sin({a})')} * {da}")
         if fn == "math.sin":
             return self.op(value, f"{self.helper(f'math.cos({a})')} * {da}")
+        if fn == "math.floor":  # piecewise constant: its tangent is 0 (a cam's whole turns)
+            return self.op(value, None)
         if fn == "abs":
             sign = self.helper(f"(1.0 if {a} > 0.0 else -1.0 if {a} < 0.0 else 0.0)")
             return self.op(value, f"{sign} * {da}")

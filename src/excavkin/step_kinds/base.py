@@ -26,6 +26,9 @@ operation            used by
 ``role``             kinetostatics: the points it places and the drivers whose effort it carries
 ``drawing``          a drawing of the plan: its lines and marks, as data (no plotting here)
 ===================  =========================================================================
+
+One operation has a default, which a kind overrides where its steps differ: ``uncompiled``
+(why a step cannot be compiled; by default none can or all can, by `StepKind.compiles`).
 """
 
 from __future__ import annotations
@@ -228,6 +231,12 @@ class StepKind(ABC, Generic[S]):
     @abstractmethod
     def transmission(self, st: S) -> int | None:
         """The index of the transmission angle the step reports, or None."""
+
+    def uncompiled(self, st: S) -> str | None:
+        """Why step ``st`` cannot be compiled (None: it can). By default a kind's steps all
+        compile or none does (`compiles`); a kind whose steps differ says so per step (a
+        cam's, by its lift law)."""
+        return None if self.compiles else f"a {self.name} step"
 
     @abstractmethod
     def constants(self, st: S) -> list[Any]:

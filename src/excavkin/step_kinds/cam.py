@@ -9,8 +9,13 @@ gives the follower's travel. A point of the follower is, in the guide's frame at
     X = o + ((a + s(θ))·D + b·perp(D)) / d
 
 and, with ``ṡ = s'·θ̇`` and ``s̈ = s''·θ̇² + s'·θ̈``, its rates are those of a rack
-(`excavkin.step_kinds.rack`). The law is a table's spline, evaluated in NumPy: the step does
-not compile, and a plan with it runs in NumPy.
+(`excavkin.step_kinds.rack`).
+
+A table's law compiles (`emit_law`): its knots and its pieces' coefficients are constants
+of the plan, and the generated source finds a sample's piece by comparing its turn with each
+knot in turn (selects, no loop: the vectorised and the differentiated sources take it as it
+is), then evaluates the piece's cubic as `excavkin.model.cams.LiftLaw` does, operation for
+operation. A law given as a function does not compile: a plan with it runs in NumPy.
 """
 
 from __future__ import annotations
@@ -28,6 +33,88 @@ from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKin
 from excavkin.step_kinds.dist import Index, at, varies
 from excavkin.step_kinds.gear import refuse_ratios, sketch_input_angle
 from excavkin.step_kinds.state import Chunk, round_output
+
+#: 2π as the generated source writes it (`excavkin.model.cams.TWO_PI`)
+TWO_PI = repr(2.0 * np.pi)
+
+
+def law_constants(law: Law) -> list[Any]:
+    """A table's lift law as constants of the compiled plan, in the order `emit_law` reads
+    them: per piece, its knot and its coefficients of ``t³, t², t, 1``.
+
+    Parameters
+    ----------
+    law : LiftLaw
+        A table's law (`excavkin.model.cams.lift_law`).
+
+    Returns
+    -------
+    list of float
+        5·m entries for a law of m pieces.
+    """
+    assert isinstance(law, LiftLaw)
+    out: list[Any] = []
+    for k in range(law.coef.shape[1]):
+        out += [law.knots[k], *(law.coef[j][k] for j in range(4))]
+    return out
+
+
+def law_uncompiled(law: Law, cam: str) -> str | None:
+    """Why a cam's step cannot be compiled (None: its law is a table's, which can).
+
+    Parameters
+    ----------
+    law : callable
+        The cam's lift law.
+    cam : str
+        The cam's name.
+
+    Returns
+    -------
+    str or None
+    """
+    if isinstance(law, LiftLaw):
+        return None
+    return f"cam {cam!r}, whose lift law is a function"
+
+
+def emit_law(g: Emitter, law: Law, theta: str) -> None:
+    """Write the evaluation of a table's lift law at the turn named ``theta``: the names
+    ``lift``, ``lift1`` and ``lift2`` get ``s``, ``ds/dθ`` and ``d²s/dθ²``.
+
+    The turn is brought into one turn as `excavkin.model.cams.LiftLaw` does
+    (``u = θ − 2π·⌊θ/2π⌋``); the piece is the last whose knot is at most ``u`` (the first
+    where none is: numpy's ``searchsorted``, clipped), found by one comparison per knot.
+
+    Parameters
+    ----------
+    g : Emitter
+        The source being written.
+    law : LiftLaw
+        A table's law (its constants: `law_constants`).
+    theta : str
+        The name of the turn in the source.
+    """
+    assert isinstance(law, LiftLaw)
+    g.emit(
+        f"turns = math.floor({theta} / {TWO_PI})",
+        f"u = {theta} - {TWO_PI} * turns",
+        f"kt = {g.const()}", f"c3 = {g.const()}", f"c2 = {g.const()}",
+        f"c1 = {g.const()}", f"c0 = {g.const()}",
+    )  # fmt: skip
+    for _ in range(1, law.coef.shape[1]):
+        g.emit(
+            f"kn = {g.const()}",
+            "if u >= kn:",
+            "    kt = kn",
+            *(f"    c{j} = {g.const()}" for j in (3, 2, 1, 0)),
+        )
+    g.emit(
+        "t = u - kt",
+        "lift = ((c3 * t + c2) * t + c1) * t + c0",
+        "lift1 = (3.0 * c3 * t + 2.0 * c2) * t + c1",
+        "lift2 = 6.0 * c3 * t + 2.0 * c2",
+    )
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -57,7 +144,7 @@ class CamKind(StepKind[CamStep]):
 
     name = "cam"
     record = CamStep
-    compiles = False
+    compiles = True
     iterative = False
 
     def build(
@@ -144,11 +231,43 @@ class CamKind(StepKind[CamStep]):
     def transmission(self, st: CamStep) -> int | None:
         return None
 
+    def uncompiled(self, st: CamStep) -> str | None:
+        return law_uncompiled(st.law, st.cam)
+
     def constants(self, st: CamStep) -> list[Any]:
-        return []
+        if not isinstance(st.law, LiftLaw):
+            return []
+        return [st.along, st.across, st.offset, *st.coef, *law_constants(st.law)]
 
     def emit(self, g: Emitter, st: CamStep, k: int) -> None:
-        raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled")
+        if not isinstance(st.law, LiftLaw):
+            raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled: {st.cam!r}")
+        p, o, l1, l2 = st.point, st.origin, st.l1, st.l2
+        g.emit(f"s = {g.const()}", f"b = {g.const()}", f"th = {g.const()}")
+        g.emit("thd = 0.0", "thdd = 0.0")
+        for i in st.inputs:
+            g.emit(
+                f"cam_c = {g.const()}",
+                f"th = th + cam_c * q[{i}, i]",
+                f"thd = thd + cam_c * qd[{i}, i]",
+                f"thdd = thdd + cam_c * qdd[{i}, i]",
+            )
+        emit_law(g, st.law, "th")
+        g.emit(
+            "s = s + lift",
+            f"dx = X{l2} - X{l1}", f"dy = Y{l2} - Y{l1}",
+            "inv = 1.0 / math.sqrt(dx * dx + dy * dy)",
+            f"X{p} = X{o} + (s * dx - b * dy) * inv",
+            f"Y{p} = Y{o} + (s * dy + b * dx) * inv",
+            "sd = lift1 * thd",
+            "sdd = lift2 * thd * thd + lift1 * thdd",
+            f"rvx = VX{l2} - VX{l1}", f"rvy = VY{l2} - VY{l1}",
+            f"rax = AX{l2} - AX{l1}", f"ray = AY{l2} - AY{l1}",
+            f"VX{p} = VX{o} + (sd * dx + s * rvx - b * rvy) * inv",
+            f"VY{p} = VY{o} + (sd * dy + s * rvy + b * rvx) * inv",
+            f"AX{p} = AX{o} + (sdd * dx + 2.0 * sd * rvx + s * rax - b * ray) * inv",
+            f"AY{p} = AY{o} + (sdd * dy + 2.0 * sd * rvy + s * ray + b * rax) * inv",
+        )  # fmt: skip
 
     def describe(self, st: CamStep, names: tuple[str, ...]) -> str:
         terms = " ".join(
