@@ -104,6 +104,8 @@ def set_model_values(
             holder[key] = float(value)
             continue
         holder[key] = written_value(holder[key], float(value), kind, units, data)
+        for other in _visits(data, name, holder):  # a block's other sheaves: the same radius
+            holder[other] = holder[key]
     return _drop_orphans(data)
 
 
@@ -210,6 +212,23 @@ def _entry(data: dict[str, Any], name: str, source: str) -> tuple[Any, Any, str]
     if last == "radius" and isinstance(rack, dict) and "radius" in rack:
         return rack, "radius", "length"
     raise missing()
+
+
+def _visits(data: dict[str, Any], name: str, holder: Any) -> list[int]:
+    """The indices in its rope's ``radii`` of a sheave radius ``ROPE.radius.S``'s later visits
+    of S (a block reeved over: each of its sheaves has the radius), where ``holder`` (the entry
+    written) is that list; none otherwise."""
+    base, _, last = name.rpartition(".")
+    owner, _, mid = base.rpartition(".")
+    ropes = data.get("ropes")
+    sheaved = ropes.get(owner) if isinstance(ropes, dict) and mid == "radius" else None
+    if not isinstance(sheaved, dict) or sheaved.get("radii") is not holder:
+        return []
+    path = sheaved.get("path")
+    if not isinstance(path, list):
+        return []
+    inner = path[1:-1]
+    return [k for k, p in enumerate(inner) if p == last][1:]
 
 
 def _drop_orphans(data: dict[str, Any]) -> list[str]:
