@@ -121,6 +121,10 @@ class Geometry(Protocol):
         """A rack's pinion pitch radius."""
         ...
 
+    def cam_lifts(self, cam: str) -> tuple[Any, ...] | None:
+        """A cam table's lifts (every row but the last), or None where none is given."""
+        ...
+
     @property
     def ratios(self) -> Mapping[str, Any]:
         """Gear pair name → its ratio, for each pair whose ratio is given."""

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from excavkin.arrays import FloatArray as F
-from excavkin.model.cams import Law, LiftLaw, evaluate
+from excavkin.model.cams import Law, LiftLaw, evaluate, with_lifts
 from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
 from excavkin.step_kinds.dist import Index, at, varies
@@ -55,8 +55,32 @@ def law_constants(law: Law) -> list[Any]:
     assert isinstance(law, LiftLaw)
     out: list[Any] = []
     for k in range(law.coef.shape[1]):
-        out += [law.knots[k], *(law.coef[j][k] for j in range(4))]
+        piece = law.coef[:, k] if law.pieces is None else law.pieces[k]
+        out += [law.knots[k], *piece]
     return out
+
+
+def varied_law(law: Law, geo: Geometry, cam: str) -> Law:
+    """A cam's law with the lifts a family of designs gives (`excavkin.model.cams.with_lifts`),
+    or ``law`` itself where none is given.
+
+    Parameters
+    ----------
+    law : callable
+        The cam's lift law.
+    geo : Geometry
+        The designs' geometry.
+    cam : str
+        The cam's name.
+
+    Returns
+    -------
+    callable
+    """
+    lifts = geo.cam_lifts(cam)
+    if lifts is None or not isinstance(law, LiftLaw):
+        return law
+    return with_lifts(law, lifts)
 
 
 def law_uncompiled(law: Law, cam: str) -> str | None:
@@ -166,30 +190,33 @@ class CamKind(StepKind[CamStep]):
 
     def vary(self, st: CamStep, geo: Geometry, names: tuple[str, ...], model: Model) -> CamStep:
         refuse_ratios(geo, st.cam)
+        law = varied_law(st.law, geo, st.cam)
         sk = geo.sketch
         (ax, ay), (bx, by) = sk[names[st.l1]], sk[names[st.l2]]
         dx, dy = bx - ax, by - ay
         d = np.hypot(dx, dy)
         px = sk[names[st.point]][0] - sk[names[st.origin]][0]
         py = sk[names[st.point]][1] - sk[names[st.origin]][1]
-        along = (px * dx + py * dy) / d - evaluate(st.law, 0.0, st.cam)[0]
+        along = (px * dx + py * dy) / d - evaluate(law, 0.0, st.cam)[0]
         across = (dx * py - dy * px) / d
         offset: Any = 0.0
         rotary = {dr.name: k for k, dr in enumerate(model.rotary)}
         for i, c in zip(st.inputs, st.coef, strict=True):
             offset = offset - c * sketch_input_angle(sk, model, rotary[model.inputs[i]])
-        if not (varies(along) or varies(across) or varies(offset)):
+        if not (varies(along) or varies(across) or varies(offset) or law is not st.law):
             return st
-        return dataclasses.replace(st, along=along, across=across, offset=offset)
+        return dataclasses.replace(st, along=along, across=across, offset=offset, law=law)
 
     def take(self, st: CamStep, index: Index) -> CamStep:
+        law = st.law.take(index) if isinstance(st.law, LiftLaw) else st.law
         if not (np.ndim(st.along) or np.ndim(st.across) or np.ndim(st.offset)):
-            return st
+            return st if law is st.law else dataclasses.replace(st, law=law)
         return dataclasses.replace(
             st,
             along=at(st.along, index),
             across=at(st.across, index),
             offset=at(st.offset, index),
+            law=law,
         )
 
     def solve(

@@ -24,7 +24,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.model.cams import Law, LiftLaw, evaluate
 from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
-from excavkin.step_kinds.cam import emit_law, law_constants, law_uncompiled
+from excavkin.step_kinds.cam import emit_law, law_constants, law_uncompiled, varied_law
 from excavkin.step_kinds.dist import Index, at, varies
 from excavkin.step_kinds.gear import refuse_ratios, sketch_input_angle
 from excavkin.step_kinds.state import Chunk, round_output
@@ -80,29 +80,32 @@ class CamRockerKind(StepKind[CamRockerStep]):
         self, st: CamRockerStep, geo: Geometry, names: tuple[str, ...], model: Model
     ) -> CamRockerStep:
         refuse_ratios(geo, st.cam)
+        law = varied_law(st.law, geo, st.cam)
         p, o = names[st.point], names[st.pivot]
         radius = geo.distance(st.body, p, o)
         sk = geo.sketch
         offset: Any = np.arctan2(sk[p][1] - sk[o][1], sk[p][0] - sk[o][0])
-        offset = offset - evaluate(st.law, 0.0, st.cam)[0]
+        offset = offset - evaluate(law, 0.0, st.cam)[0]
         turn0: Any = 0.0
         rotary = {d.name: k for k, d in enumerate(model.rotary)}
         for i, a, c in zip(st.inputs, st.carrier, st.turn, strict=True):
             q0 = sketch_input_angle(sk, model, rotary[model.inputs[i]])
             offset = offset - a * q0
             turn0 = turn0 - c * q0
-        if not (varies(radius) or varies(offset) or varies(turn0)):
+        if not (varies(radius) or varies(offset) or varies(turn0) or law is not st.law):
             return st
-        return dataclasses.replace(st, radius=radius, offset=offset, turn0=turn0)
+        return dataclasses.replace(st, radius=radius, offset=offset, turn0=turn0, law=law)
 
     def take(self, st: CamRockerStep, index: Index) -> CamRockerStep:
+        law = st.law.take(index) if isinstance(st.law, LiftLaw) else st.law
         if not (np.ndim(st.radius) or np.ndim(st.offset) or np.ndim(st.turn0)):
-            return st
+            return st if law is st.law else dataclasses.replace(st, law=law)
         return dataclasses.replace(
             st,
             radius=at(st.radius, index),
             offset=at(st.offset, index),
             turn0=at(st.turn0, index),
+            law=law,
         )
 
     def solve(
