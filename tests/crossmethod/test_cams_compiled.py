@@ -1,7 +1,8 @@
 """Cams through the compiled plan (issue 26): a table's lift law is constants of the plan and
 the generated source evaluates its spline piece by piece, so ``backend="numba"`` (and the CUDA
 target, here in numba's simulator) solves translating and oscillating, roller and flat-faced
-followers as NumPy does — positions, velocities, accelerations and their design tangents —
+followers as NumPy does — positions, velocities, accelerations, their design tangents and the
+forces (the law traced into the compiled equilibrium) —
 while a law given as a function stays in NumPy, with the reason given."""
 
 from __future__ import annotations
@@ -67,6 +68,20 @@ def test_numba_solves_a_cam_as_numpy_does(case: str) -> None:
     assert compiled.is_compiled(mech.plan)
     for field in FIELDS:
         assert gap(getattr(got, field), getattr(ref, field)) <= 1e-12, field
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_numba_solves_a_cams_forces_as_numpy_does(case: str) -> None:
+    """The traced equilibrium with the cam's law (`excavkin.kinetostatics.compiled`): every
+    force and torque, the contact force included, and the power balance."""
+    mech = load(case)
+    q, qd, qdd = sweep(mech, 2000, 8)
+    ref = mech.solve(q, rates=qd, accels=qdd, loads="model", backend="numpy")
+    got = mech.solve(q, rates=qd, accels=qdd, loads="model", backend="numba")
+    for field in ("pin_force", "cam_force", "driver_torque"):
+        a, b = getattr(got, field), getattr(ref, field)
+        assert np.abs(a - b).max() <= 1e-13 * np.abs(b).max(), field  # (a column may be 0)
+    assert np.max(got.power_balance().relative) < 1e-9
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
@@ -136,15 +151,19 @@ for path, face in json.loads(sys.argv[1]):
     values, rates = {name: q0 + turns}, {name: 3.0 * np.cos(turns)}
     accels = {name: 5.0 * np.sin(turns)}
     names = [f"{p}.{c}" for p in list(mech.model.points)[:2] for c in "xy"]
-    got = {b: mech.solve(values, rates, accels, sensitivities=names, backend=b)
+    got = {b: mech.solve(values, rates, accels, sensitivities=names, loads="model", backend=b)
            for b in ("numpy", "cuda")}
     a, b = got["cuda"], got["numpy"]
+    ak, bk = a.kinematics, b.kinematics
     report["cases"][f"{path} {face}"] = {
-        "status": bool(np.array_equal(a.status.code, b.status.code)),
-        "kinematics": max(gap(getattr(a, f), getattr(b, f))
+        "status": bool(np.array_equal(ak.status.code, bk.status.code)),
+        "kinematics": max(gap(getattr(ak, f), getattr(bk, f))
                           for f in ("positions", "velocities", "accelerations")),
-        "tangents": max(gap(getattr(a.tangents[p], f), getattr(b.tangents[p], f))
+        "tangents": max(gap(getattr(ak.tangents[p], f), getattr(bk.tangents[p], f))
                         for p in names for f in ("positions", "velocities", "accelerations")),
+        "forces": max(float(np.abs(getattr(a, f) - getattr(b, f)).max()
+                            / np.abs(getattr(b, f)).max())
+                      for f in ("pin_force", "cam_force", "driver_torque")),
     }
 print(json.dumps(report))
 """
@@ -170,3 +189,4 @@ def test_the_simulated_gpu_solves_cams_as_numpy_does(tmp_path: Path) -> None:
         assert case["status"], label
         assert case["kinematics"] <= 1e-12, (label, case)
         assert case["tangents"] <= 1e-12, (label, case)
+        assert case["forces"] <= 1e-12, (label, case)

@@ -266,8 +266,10 @@ def _solve_chosen(
         source,
         numpy=lambda: _solve_sparse(known, motion, out, singular, chunk),
         compiled=compiled,
-        # a cam's lift law is a spline evaluated in NumPy: not traced
-        unsupported="of a model with cams, solved in NumPy" if known[0].system.cams else None,
+        # a cam's lift law given as a function cannot be traced
+        unsupported=None
+        if kernel.traceable(known[0].system)
+        else "of a model with a cam whose lift law is a function, solved in NumPy",
         unasked=not big,
         scalar=source,  # (a plain loop already)
         device=lambda k: compiled(k, 1),  # the chunks one after another
