@@ -181,10 +181,11 @@ class Primitive:
     ``"ground"``: a point held fixed; ``"link"``: a rigid segment p→q (a body's distance, or
     a driven element when ``driven``); ``"arc"``: a point swung about a pivot (p the pivot,
     q the point); ``"slide"``: a line l1→l2 a point runs on; ``"group"``: points solved
-    together.
+    together; ``"profile"``: a cam's profile about its pivot p touching the follower's point q
+    (`excavkin.outputs.cam_profiles` draws it from the model's law).
     """
 
-    kind: Literal["ground", "link", "arc", "slide", "group"]
+    kind: Literal["ground", "link", "arc", "slide", "group", "profile"]
     points: tuple[int, ...]
     driven: bool = False
 

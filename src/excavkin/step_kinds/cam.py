@@ -325,4 +325,7 @@ class CamKind(StepKind[CamStep]):
         return Role(places=(st.point,), efforts=())
 
     def drawing(self, st: CamStep) -> tuple[Primitive, ...]:
-        return (Primitive("slide", (st.point, st.l1, st.l2)),)
+        return (
+            Primitive("slide", (st.point, st.l1, st.l2)),
+            Primitive("profile", (st.origin, st.point)),
+        )
