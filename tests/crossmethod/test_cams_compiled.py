@@ -190,3 +190,34 @@ def test_the_simulated_gpu_solves_cams_as_numpy_does(tmp_path: Path) -> None:
         assert case["kinematics"] <= 1e-12, (label, case)
         assert case["tangents"] <= 1e-12, (label, case)
         assert case["forces"] <= 1e-12, (label, case)
+
+
+def long_table(rows: int) -> excavkin.Mechanism:
+    """The disc cam with a table of ``rows`` rows (a lift of 10·(1 − cos θ) mm)."""
+    import re
+
+    turns = np.linspace(0.0, 360.0, rows)
+    lifts = 10.0 * (1.0 - np.cos(np.radians(turns)))
+    rows_text = ", ".join(
+        f"[{float(a)!r}, {float(b)!r}]" for a, b in zip(turns, lifts, strict=True)
+    )
+    given = (DATA / "disc_cam.toml").read_text()
+    text = re.sub(r"lift = \[\[0, 0\].*?\[360, 0\]\]", f"lift = [{rows_text}]", given, flags=re.S)
+    return excavkin.loads(text, "long.toml")
+
+
+def test_a_long_table_compiles_branch_free_and_only_when_asked() -> None:
+    """The piece is picked by arithmetic (weights of 1 and 0), not by a branch per knot: a
+    table of hundreds of rows once put thousands of branches in the kernel, past the
+    compiler's recursion limit. Its pieces count towards the size the automatic choice
+    compiles unasked (`excavkin.kinematics.compiled.size`)."""
+    from excavkin import backends
+    from excavkin.kinematics.compiled import AUTO_POINTS, job, size, source
+
+    mech = long_table(361)
+    text = source(mech.plan)
+    law = text[text.index("turns = ") : text.index("lift = ")]
+    assert "if " not in law and law.count(">=") == 359
+    assert size(mech.plan) == len(mech.plan.points) + 180 > AUTO_POINTS
+    assert backends.choose("auto", job(mech.plan), 10**6).name == "numpy"
+    assert size(load("translating roller").plan) == 6 + 6

@@ -40,9 +40,29 @@ from excavkin.structure.plan import SolvePlan
 #: per plan has no way to split it yet (a kernel compiled before is used all the same)
 AUTO_POINTS = 40
 
+#: a cam table's pieces compile as a point's steps do, two pieces for a point (a piece is six
+#: lines of the kernel: its knot's test, its weight and its share of five sums)
+PIECES_PER_POINT = 2
+
 Kernel = Callable[..., None]
 #: the generated code's arctangent: arithmetic, inlined (`excavkin.kinematics.fast_atan2`)
 ATAN2 = fast_atan2.NAME
+
+
+def size(plan: SolvePlan) -> int:
+    """The plan's size as the automatic choice weighs it against `AUTO_POINTS`: its points,
+    and its cams' table pieces (`PIECES_PER_POINT` to a point).
+
+    Parameters
+    ----------
+    plan : SolvePlan
+
+    Returns
+    -------
+    int
+    """
+    pieces = sum(len(cm.lift) - 1 for cm in plan.model.cams if not callable(cm.lift))
+    return len(plan.points) + -(-pieces // PIECES_PER_POINT)
 
 
 def supports(plan: SolvePlan) -> bool:
@@ -96,14 +116,14 @@ def job(
     """The plan's kinematics as a `excavkin.backends.Job`: its kernel's source, run by
     ``numpy()``, ``compiled(kernel)`` or, on a device, ``device(kernel)`` with the plain
     loop's kernel (`source`; nothing, by default: a job to choose for); a plan of more than
-    `AUTO_POINTS` points is not compiled unasked."""
+    `AUTO_POINTS` points (its `size`, cams' tables counted) is not compiled unasked."""
     return backends.Job(
         "kinematics",
         lambda: kernel_source(plan, per_sample),
         numpy,
         compiled,
         unsupported(plan),
-        unasked=len(plan.points) <= AUTO_POINTS,
+        unasked=size(plan) <= AUTO_POINTS,
         scalar=lambda: source(plan, write_at_rest=False),
         device=device,
     )

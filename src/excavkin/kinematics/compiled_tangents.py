@@ -457,6 +457,8 @@ class _Differ:
             return self.op(f"-{a}", da and f"-{da}")
         if isinstance(node, ast.Call):
             return self.call(node)
+        if isinstance(node, ast.Compare):  # a test (1 or 0 in arithmetic): no tangent
+            return self.op(ast.unparse(self.rename(node)), None)
         raise NotImplementedError(f"cannot differentiate {ast.unparse(node)!r}")
 
     def op(self, value: str, tangent: str | Callable[[str], str] | None) -> tuple[str, str | None]:

@@ -194,28 +194,35 @@ class _Masses:
 class _TracedLaw:
     """A cam's lift law as the traced source evaluates it: its knots and coefficients rows of
     the constants table (read before the trace, so that a cached trace reads them too), the
-    piece the last whose knot the turn reaches (selects), the cubic as
+    piece the last whose knot the turn reaches, picked by weights of 1 and 0 as the compiled
+    plan picks it (`excavkin.step_kinds.cam.emit_law`), the cubic as
     `excavkin.model.cams.LiftLaw` evaluates it, operation for operation."""
 
     def __init__(self, g: _Source, law: LiftLaw) -> None:
         self.g = g
-        self.pieces = [
-            (g.value(law.knots[k]), *(g.value(law.coef[j, k]) for j in range(4)))
-            for k in range(law.coef.shape[1])
-        ]
+        m = law.coef.shape[1]
+        self.knots = [g.value(law.knots[k]) for k in range(m)]
+        self.coef = [[g.value(law.coef[j, k]) for k in range(m)] for j in range(4)]
 
     def __call__(self, theta: Any) -> tuple[_Sym, _Sym, _Sym]:
         g = self.g
         two_pi = repr(2.0 * math.pi)
         turns = g.tmp(f"math.floor({_text(theta)} / {two_pi})")
         u = g.tmp(f"{_text(theta)} - {two_pi} * {turns.name}")
-        kt, c3, c2, c1, c0 = self.pieces[0]
-        for piece in self.pieces[1:]:
-            on = g.tmp(f"{u.name} >= {piece[0].name}")
-            kt, c3, c2, c1, c0 = (
-                g.tmp(f"{new.name} if {on.name} else {old.name}")
-                for new, old in zip(piece, (kt, c3, c2, c1, c0), strict=True)
-            )
+        m = len(self.knots)
+        ge = [g.tmp(f"1.0 * ({u.name} >= {kn.name})") for kn in self.knots[1:]]
+        weights = [g.tmp(f"1.0 - {ge[0].name}")] if m > 1 else [g.tmp("1.0")]
+        weights += [g.tmp(f"{a.name} - {b.name}") for a, b in zip(ge, ge[1:], strict=False)]
+        weights += ge[-1:]
+
+        def pick(values: list[_Sym]) -> _Sym:
+            out = g.tmp(f"{weights[0].name} * {values[0].name}")
+            for w, v in zip(weights[1:], values[1:], strict=True):
+                out = g.tmp(f"{out.name} + {w.name} * {v.name}")
+            return out
+
+        kt = pick(self.knots)
+        c3, c2, c1, c0 = (pick(row) for row in self.coef)
         t = g.tmp(f"{u.name} - {kt.name}")
         s = ((c3 * t + c2) * t + c1) * t + c0
         s1 = (3.0 * c3 * t + 2.0 * c2) * t + c1

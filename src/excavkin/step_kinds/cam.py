@@ -40,23 +40,26 @@ TWO_PI = repr(2.0 * np.pi)
 
 def law_constants(law: Law) -> list[Any]:
     """A table's lift law as constants of the compiled plan, in the order `emit_law` reads
-    them: per piece, its knot and its coefficients of ``t³, t², t, 1``.
+    them: its m knots, then the pieces' coefficients of ``t³`` (one per piece), of ``t²``,
+    of ``t`` and of 1.
 
     Parameters
     ----------
     law : LiftLaw
-        A table's law (`excavkin.model.cams.lift_law`).
+        A table's law (`excavkin.model.cams.lift_law`), or one with its lifts given
+        (`excavkin.model.cams.with_lifts`).
 
     Returns
     -------
-    list of float
-        5·m entries for a law of m pieces.
+    list
+        5·m entries for a law of m pieces (floats, or one value per sample).
     """
     assert isinstance(law, LiftLaw)
-    out: list[Any] = []
-    for k in range(law.coef.shape[1]):
-        piece = law.coef[:, k] if law.pieces is None else law.pieces[k]
-        out += [law.knots[k], *piece]
+    m = law.coef.shape[1]
+    pieces = law.pieces if law.pieces is not None else [law.coef[:, k] for k in range(m)]
+    out: list[Any] = list(law.knots[:m])
+    for j in range(4):
+        out += [piece[j] for piece in pieces]
     return out
 
 
@@ -108,7 +111,11 @@ def emit_law(g: Emitter, law: Law, theta: str) -> None:
 
     The turn is brought into one turn as `excavkin.model.cams.LiftLaw` does
     (``u = θ − 2π·⌊θ/2π⌋``); the piece is the last whose knot is at most ``u`` (the first
-    where none is: numpy's ``searchsorted``, clipped), found by one comparison per knot.
+    where none is: numpy's ``searchsorted``, clipped). With ``g_k = [u ≥ knot_k]`` (1 or 0,
+    ``g_0 = 1``), which falls with k, piece k's weight ``g_k − g_{k+1}`` is 1 for that piece
+    and 0 for every other, and each of its values is ``Σ_k w_k·v_k``: exactly the piece's
+    (adding zeros), by arithmetic alone — no branch, which a table of hundreds of rows would
+    multiply past what the compiler takes.
 
     Parameters
     ----------
@@ -120,19 +127,18 @@ def emit_law(g: Emitter, law: Law, theta: str) -> None:
         The name of the turn in the source.
     """
     assert isinstance(law, LiftLaw)
-    g.emit(
-        f"turns = math.floor({theta} / {TWO_PI})",
-        f"u = {theta} - {TWO_PI} * turns",
-        f"kt = {g.const()}", f"c3 = {g.const()}", f"c2 = {g.const()}",
-        f"c1 = {g.const()}", f"c0 = {g.const()}",
-    )  # fmt: skip
-    for _ in range(1, law.coef.shape[1]):
-        g.emit(
-            f"kn = {g.const()}",
-            "if u >= kn:",
-            "    kt = kn",
-            *(f"    c{j} = {g.const()}" for j in (3, 2, 1, 0)),
-        )
+    m = law.coef.shape[1]
+    g.emit(f"turns = math.floor({theta} / {TWO_PI})", f"u = {theta} - {TWO_PI} * turns")
+    g.emit(*(f"kn{k} = {g.const()}" for k in range(m)))
+    g.emit(*(f"ge{k} = 1.0 * (u >= kn{k})" for k in range(1, m)))
+    weights = ["(1.0 - ge1)" if m > 1 else "1.0"]
+    weights += [f"(ge{k} - ge{k + 1})" for k in range(1, m - 1)]
+    weights += [f"ge{m - 1}"] if m > 1 else []
+    g.emit(*(f"w{k} = {w}" for k, w in enumerate(weights)))
+    g.emit("kt = w0 * kn0", *(f"kt = kt + w{k} * kn{k}" for k in range(1, m)))
+    for j in (3, 2, 1, 0):
+        g.emit(f"c{j} = w0 * {g.const()}")
+        g.emit(*(f"c{j} = c{j} + w{k} * {g.const()}" for k in range(1, m)))
     g.emit(
         "t = u - kt",
         "lift = ((c3 * t + c2) * t + c1) * t + c0",
