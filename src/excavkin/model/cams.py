@@ -9,6 +9,7 @@ value; the polynomial carries the derivative).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -105,9 +106,15 @@ class LiftLaw:
 
 def _basis(knots: np.ndarray) -> np.ndarray:
     """The periodic spline's coefficients per unit lift at each row: shape (4, m, m), the
-    coefficients being linear in the lifts (row m is row 0)."""
+    coefficients being linear in the lifts (row m is row 0); made once per table's turns."""
+    return _basis_of(tuple(float(k) for k in knots))
+
+
+@functools.lru_cache(maxsize=32)
+def _basis_of(turns: tuple[float, ...]) -> np.ndarray:
     from scipy.interpolate import CubicSpline
 
+    knots = np.array(turns)
     m = knots.size - 1
     out = np.empty((4, m, m))
     for i in range(m):
@@ -116,6 +123,7 @@ def _basis(knots: np.ndarray) -> np.ndarray:
         if i == 0:
             unit[m] = 1.0
         out[:, :, i] = CubicSpline(knots, unit, bc_type="periodic").c
+    out.flags.writeable = False  # (shared by every law of these turns)
     return out
 
 
