@@ -12,10 +12,11 @@ and, with ``ṡ = s'·θ̇`` and ``s̈ = s''·θ̇² + s'·θ̈``, its rates are
 (`excavkin.step_kinds.rack`).
 
 A table's law compiles (`emit_law`): its knots and its pieces' coefficients are constants
-of the plan, and the generated source finds a sample's piece by comparing its turn with each
-knot in turn (selects, no loop: the vectorised and the differentiated sources take it as it
-is), then evaluates the piece's cubic as `excavkin.model.cams.LiftLaw` does, operation for
-operation. A law given as a function does not compile: a plan with it runs in NumPy.
+of the plan, and the generated source picks a sample's piece by weights of 1 and 0 from its
+turn's test against each knot (arithmetic, no branch and no loop: the vectorised and the
+differentiated sources take it as it is), then evaluates the piece's cubic as
+`excavkin.model.cams.LiftLaw` does, operation for operation. A law given as a function does
+not compile: a plan with it runs in NumPy.
 """
 
 from __future__ import annotations
