@@ -251,7 +251,9 @@ class Mechanism:
         From [`excavkin.load`][] or built in Python.
     method : {"closed-form", "newton"}
         ``"newton"`` solves every moving point with the generic Newton–Raphson solver instead of
-        the closed-form steps (slower; for cross-checking).
+        the closed-form steps (slower; for cross-checking), but the bodies of gear trains,
+        racks and cam followers, which it places in closed form (their angles and travels
+        are linear in the inputs).
     """
 
     def __init__(

@@ -92,31 +92,39 @@ def test_power_balances_with_inertia_and_gravity(face: str) -> None:
     assert np.abs(res.power_balance().relative).max() < 1e-9
 
 
-def test_a_plan_with_a_cam_runs_in_numpy() -> None:
+def test_a_plan_with_a_cam_compiles_and_its_forces_run_in_numpy() -> None:
+    """A table's lift law compiles (tests/crossmethod/test_cams_compiled.py holds the two paths
+    together); the forces of a cam are solved in NumPy."""
     mech = cam()
     from excavkin.kinematics.compiled import supports
 
-    assert not supports(mech.plan)
+    assert supports(mech.plan)
     q = mech.sketch_values()["shaft"] + np.linspace(0, 7, 5000)
     res = mech.solve({"shaft": q}, rates={"shaft": 3.0}, loads="model")
     assert res.kinematics.status.all_ok
 
 
-def test_the_forces_of_a_cam_are_never_compiled() -> None:
-    """``auto`` solves a cam's forces in NumPy even for a batch it would compile; ``numba``
-    asked by name is refused with the reason, not run silently another way."""
+def test_the_forces_of_a_cam_compile_unless_its_law_is_a_function() -> None:
+    """A table's law is traced into the compiled forces (equal to NumPy's); a function's is
+    not: ``auto`` solves those forces in NumPy, and ``numba`` asked by name is refused with the
+    reason, not run silently another way."""
     from excavkin.errors import InputError
 
     mech = cam()
     q = mech.sketch_values()["shaft"] + np.linspace(0, 7, 5000)
     kin = mech.solve({"shaft": q}, rates={"shaft": 3.0}, backend="numpy")
     loads = mech.model.loads
-    auto = mech.forces(kin, loads=loads, backend="auto")
+    compiled = mech.forces(kin, loads=loads, backend="numba")
     ref = mech.forces(kin, loads=loads, backend="numpy")
-    assert_allclose(auto.cam_force, ref.cam_force, rtol=0, atol=0)
-    assert_allclose(auto.pin_force, ref.pin_force, rtol=0, atol=0)
-    with pytest.raises(InputError, match="backend='numba': the forces of a model with cams"):
-        mech.forces(kin, loads=loads, backend="numba")
+    assert_allclose(compiled.cam_force, ref.cam_force, rtol=1e-14, atol=1e-12)
+    assert_allclose(compiled.pin_force, ref.pin_force, rtol=1e-14, atol=1e-12)
+    by_function = excavkin.Mechanism(_with_law(eccentric))
+    kin = by_function.solve({"shaft": by_function.sketch_values()["shaft"] + q[:50]})
+    auto = by_function.forces(kin, loads=[PointForce("w", "valve", "F2", (0.0, -5.0))])
+    assert np.isfinite(auto.cam_force).all()
+    with pytest.raises(InputError, match="a cam whose lift law is a function"):
+        by_function.forces(kin, loads=[PointForce("w", "valve", "F2", (0.0, -5.0))],
+                           backend="numba")  # fmt: skip
 
 
 @pytest.mark.parametrize("face", ["roller", "flat"])

@@ -217,11 +217,20 @@ def test_a_redundant_mesh_is_refused() -> None:
         excavkin.loads(text, "pair.toml")
 
 
-def test_the_generic_solver_refuses_geared_bodies_by_name() -> None:
+def test_the_generic_solver_holds_geared_bodies_in_closed_form() -> None:
+    """``method="newton"`` places a gear train's bodies by their gear steps (their angles are
+    linear in the inputs) and the rest in one Newton group
+    (tests/crossmethod/test_geared_newton.py): the pair alone needs no group."""
+    from excavkin.step_kinds import GearStep
     from excavkin.structure.builder import compile_plan
 
-    with pytest.raises(MobilityError, match="bodies wheel are moved by gears or racks"):
-        compile_plan(pair().model, method="newton")
+    plan = compile_plan(pair().model, method="newton")
+    assert plan.method == "newton" and not plan.has_newton
+    assert [type(st) for st in plan.steps].count(GearStep) == 1
+    q = np.linspace(-3.0, 3.0, 7)
+    a = pair().solve({"motor": q}, rates={"motor": 2.0}).positions
+    b = excavkin.Mechanism(pair().model, method="newton").solve({"motor": q}).positions
+    assert_allclose(b, a, rtol=0, atol=1e-15)
 
 
 def test_a_geared_body_fixed_otherwise_too_is_refused() -> None:

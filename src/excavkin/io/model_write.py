@@ -104,6 +104,8 @@ def set_model_values(
             holder[key] = float(value)
             continue
         holder[key] = written_value(holder[key], float(value), kind, units, data)
+        for where, at in _visits(data, name, holder):  # the same value written elsewhere too
+            where[at] = holder[key]
     return _drop_orphans(data)
 
 
@@ -206,10 +208,39 @@ def _entry(data: dict[str, Any], name: str, source: str) -> tuple[Any, Any, str]
         path, radii = sheaved.get("path"), sheaved.get("radii")
         if isinstance(path, list) and isinstance(radii, list) and last in path[1:-1]:
             return radii, path[1:-1].index(last), "length"
+    cam = table("cams").get(owner)
+    if mid == "lift" and isinstance(cam, dict) and isinstance(cam.get("lift"), list):
+        rows, k = cam["lift"], int(last) if last.isdigit() else -1
+        if 0 <= k < len(rows) - 1 and isinstance(rows[k], list) and len(rows[k]) == 2:
+            oscillating = "along" not in cam
+            return rows[k], 1, "angle" if oscillating else "length"
     rack = table("racks").get(base)
     if last == "radius" and isinstance(rack, dict) and "radius" in rack:
         return rack, "radius", "length"
     raise missing()
+
+
+def _visits(data: dict[str, Any], name: str, holder: Any) -> list[tuple[Any, Any]]:
+    """Where else the value of parameter ``name`` is written, ``holder`` being the entry
+    written: a sheave radius ``ROPE.radius.S``'s later visits of S in its rope's ``radii`` (a
+    block reeved over: each of its sheaves has the radius), a cam's ``CAM.lift.0`` its table's
+    last row (the same lift, a turn on); none otherwise."""
+    base, _, last = name.rpartition(".")
+    owner, _, mid = base.rpartition(".")
+    cams = data.get("cams")
+    cam = cams.get(owner) if isinstance(cams, dict) and mid == "lift" else None
+    if isinstance(cam, dict) and last == "0" and isinstance(cam.get("lift"), list):
+        rows = cam["lift"]
+        return [(rows[-1], 1)] if holder is rows[0] and len(rows) > 1 else []
+    ropes = data.get("ropes")
+    sheaved = ropes.get(owner) if isinstance(ropes, dict) and mid == "radius" else None
+    if not isinstance(sheaved, dict) or sheaved.get("radii") is not holder:
+        return []
+    path = sheaved.get("path")
+    if not isinstance(path, list):
+        return []
+    inner = path[1:-1]
+    return [(holder, k) for k, p in enumerate(inner) if p == last][1:]
 
 
 def _drop_orphans(data: dict[str, Any]) -> list[str]:

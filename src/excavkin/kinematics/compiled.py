@@ -40,19 +40,47 @@ from excavkin.structure.plan import SolvePlan
 #: per plan has no way to split it yet (a kernel compiled before is used all the same)
 AUTO_POINTS = 40
 
+#: a cam table's pieces compile as a point's steps do, two pieces for a point (a piece is six
+#: lines of the kernel: its knot's test, its weight and its share of five sums)
+PIECES_PER_POINT = 2
+
 Kernel = Callable[..., None]
 #: the generated code's arctangent: arithmetic, inlined (`excavkin.kinematics.fast_atan2`)
 ATAN2 = fast_atan2.NAME
 
 
+def size(plan: SolvePlan) -> int:
+    """The plan's size as the automatic choice weighs it against `AUTO_POINTS`: its points,
+    and its cams' table pieces (`PIECES_PER_POINT` to a point).
+
+    Parameters
+    ----------
+    plan : SolvePlan
+
+    Returns
+    -------
+    int
+    """
+    pieces = sum(len(cm.lift) - 1 for cm in plan.model.cams if not callable(cm.lift))
+    return len(plan.points) + -(-pieces // PIECES_PER_POINT)
+
+
 def supports(plan: SolvePlan) -> bool:
-    """Whether the plan can be compiled: every step of a kind that compiles (closed-form)."""
-    return all(kind_of(st).compiles for st in plan.steps)
+    """Whether the plan can be compiled: every step one that compiles (closed-form)."""
+    return unsupported(plan) is None
 
 
 def unsupported(plan: SolvePlan) -> str | None:
     """Why the plan cannot be compiled (None: it can), for `excavkin.backends.Job`."""
-    return None if supports(plan) else "of this plan have a Newton group, solved in NumPy"
+    for st in plan.steps:
+        kind = kind_of(st)
+        why = kind.uncompiled(st)
+        if why is None:
+            continue
+        if kind.iterative:
+            return "of this plan have a Newton group, solved in NumPy"
+        return f"of this plan have {why}, solved in NumPy"
+    return None
 
 
 #: the last kernel sources made, by plan of one design (its id, and the plan itself so that an
@@ -88,14 +116,14 @@ def job(
     """The plan's kinematics as a `excavkin.backends.Job`: its kernel's source, run by
     ``numpy()``, ``compiled(kernel)`` or, on a device, ``device(kernel)`` with the plain
     loop's kernel (`source`; nothing, by default: a job to choose for); a plan of more than
-    `AUTO_POINTS` points is not compiled unasked."""
+    `AUTO_POINTS` points (its `size`, cams' tables counted) is not compiled unasked."""
     return backends.Job(
         "kinematics",
         lambda: kernel_source(plan, per_sample),
         numpy,
         compiled,
         unsupported(plan),
-        unasked=len(plan.points) <= AUTO_POINTS,
+        unasked=size(plan) <= AUTO_POINTS,
         scalar=lambda: source(plan, write_at_rest=False),
         device=device,
     )

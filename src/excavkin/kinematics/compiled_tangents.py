@@ -457,6 +457,8 @@ class _Differ:
             return self.op(f"-{a}", da and f"-{da}")
         if isinstance(node, ast.Call):
             return self.call(node)
+        if isinstance(node, ast.Compare):  # a test (1 or 0 in arithmetic): no tangent
+            return self.op(ast.unparse(self.rename(node)), None)
         raise NotImplementedError(f"cannot differentiate {ast.unparse(node)!r}")
 
     def op(self, value: str, tangent: str | Callable[[str], str] | None) -> tuple[str, str | None]:
@@ -534,6 +536,8 @@ class _Differ:
             return self.op(value, f"-{self.helper(f'math.sin({a})')} * {da}")
         if fn == "math.sin":
             return self.op(value, f"{self.helper(f'math.cos({a})')} * {da}")
+        if fn == "math.floor":  # piecewise constant: its tangent is 0 (a cam's whole turns)
+            return self.op(value, None)
         if fn == "abs":
             sign = self.helper(f"(1.0 if {a} > 0.0 else -1.0 if {a} < 0.0 else 0.0)")
             return self.op(value, f"{sign} * {da}")

@@ -22,6 +22,7 @@ size, and so does numba's compile time: the automatic choice compiles models of 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import threading
 from typing import Any
@@ -33,6 +34,7 @@ from excavkin.backends import Kernel
 from excavkin.kinematics.compiled import table
 from excavkin.kinematics.threads import over_chunks
 from excavkin.kinetostatics.body_loads import body_loads
+from excavkin.kinetostatics.equilibrium import StaticsSystem
 from excavkin.kinetostatics.inertia import MassProperties
 from excavkin.kinetostatics.loads import EvaluatedLoads
 from excavkin.kinetostatics.structured import (
@@ -41,6 +43,7 @@ from excavkin.kinetostatics.structured import (
     StructuredSystem,
     back_substitute,
 )
+from excavkin.model.cams import LiftLaw
 
 #: samples per call of the kernel (a thread's share of the work at a time)
 CHUNK = 32768
@@ -106,6 +109,8 @@ class _Sym:
             return -args[0]
         if ufunc is np.sqrt:
             return self.g.tmp(f"math.sqrt({_text(args[0])})")
+        if ufunc is np.arctan2 and len(args) == 2:  # a cam's turn from its points
+            return self.g.tmp(f"math.atan2({_text(args[0])}, {_text(args[1])})")
         return NotImplemented
 
 
@@ -186,6 +191,61 @@ class _Masses:
         ]
 
 
+class _TracedLaw:
+    """A cam's lift law as the traced source evaluates it: its knots and coefficients rows of
+    the constants table (read before the trace, so that a cached trace reads them too), the
+    piece the last whose knot the turn reaches, picked by weights of 1 and 0 as the compiled
+    plan picks it (`excavkin.step_kinds.cam.emit_law`), the cubic as
+    `excavkin.model.cams.LiftLaw` evaluates it, operation for operation."""
+
+    def __init__(self, g: _Source, law: LiftLaw) -> None:
+        self.g = g
+        m = law.coef.shape[1]
+        self.knots = [g.value(law.knots[k]) for k in range(m)]
+        self.coef = [[g.value(law.coef[j, k]) for k in range(m)] for j in range(4)]
+
+    def __call__(self, theta: Any) -> tuple[_Sym, _Sym, _Sym]:
+        g = self.g
+        two_pi = repr(2.0 * math.pi)
+        turns = g.tmp(f"math.floor({_text(theta)} / {two_pi})")
+        u = g.tmp(f"{_text(theta)} - {two_pi} * {turns.name}")
+        m = len(self.knots)
+        ge = [g.tmp(f"1.0 * ({u.name} >= {kn.name})") for kn in self.knots[1:]]
+        weights = [g.tmp(f"1.0 - {ge[0].name}")] if m > 1 else [g.tmp("1.0")]
+        weights += [g.tmp(f"{a.name} - {b.name}") for a, b in zip(ge, ge[1:], strict=False)]
+        weights += ge[-1:]
+
+        def pick(values: list[_Sym]) -> _Sym:
+            out = g.tmp(f"{weights[0].name} * {values[0].name}")
+            for w, v in zip(weights[1:], values[1:], strict=True):
+                out = g.tmp(f"{out.name} + {w.name} * {v.name}")
+            return out
+
+        kt = pick(self.knots)
+        c3, c2, c1, c0 = (pick(row) for row in self.coef)
+        t = g.tmp(f"{u.name} - {kt.name}")
+        s = ((c3 * t + c2) * t + c1) * t + c0
+        s1 = (3.0 * c3 * t + 2.0 * c2) * t + c1
+        s2 = 6.0 * c3 * t + 2.0 * c2
+        return s, s1, s2
+
+
+def traceable(sy: StaticsSystem) -> bool:
+    """Whether the system's cams can be traced: each lift law a table's (a function's
+    cannot).
+
+    Parameters
+    ----------
+    sy : StaticsSystem
+        The equilibrium system.
+
+    Returns
+    -------
+    bool
+    """
+    return all(isinstance(cm.law, LiftLaw) and cm.law.pieces is None for cm in sy.cams)
+
+
 def _loads(g: _Source, ev: EvaluatedLoads) -> EvaluatedLoads:
     forces = tuple((b, p, g.value(fx), g.value(fy)) for b, p, fx, fy in ev.forces)
     torques = tuple((b, r, g.value(tau)) for b, r, tau in ev.torques)
@@ -262,8 +322,29 @@ def source(
     g = _Source()
     masses: Any = _Masses(g, mp)
     loads = _loads(g, ev)
+    laws = [_TracedLaw(g, cm.law) for cm in ss.system.cams]  # type: ignore[arg-type]
     text = _traced.get(key)
     if text is None:
+        if laws:  # each cam's contact, in the system and in its blocks, with its traced law
+            traced = {
+                id(cm): dataclasses.replace(cm, law=law)
+                for cm, law in zip(ss.system.cams, laws, strict=True)
+            }
+            blocks = tuple(
+                dataclasses.replace(
+                    b,
+                    scalars=tuple(
+                        dataclasses.replace(sc, mesh=traced[id(sc.mesh)])
+                        if id(sc.mesh) in traced
+                        else sc
+                        for sc in b.scalars
+                    ),
+                )
+                for b in ss.blocks
+            )
+            cams = tuple(traced[id(cm)] for cm in ss.system.cams)
+            system = dataclasses.replace(ss.system, cams=cams)
+            ss = dataclasses.replace(ss, system=system, blocks=blocks)
         text = _trace(g, ss, masses, loads, inertia)
         with _lock:  # (forces may be solved on several threads)
             while len(_traced) >= 16:

@@ -29,6 +29,7 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.kinetostatics.equilibrium import StaticsSystem
+from excavkin.model.cams import LiftLaw, lift_law, with_lifts
 from excavkin.model.entities import Model
 
 __all__ = [
@@ -180,7 +181,8 @@ def pitch_fractions(model: Model, values: Mapping[str, Any]) -> dict[tuple[str, 
     -------
     dict
         ``("gear", k)`` → λ of gear pair k, ``("rack", k)`` → r of rack k, ``("rope", k)`` →
-        the signed radii (0 at the ends) of the k-th rope over sheaves, for those given.
+        the signed radii (0 at the ends) of the k-th rope over sheaves, ``("cam", k)`` → the
+        lift law of cam k with its lifts (``CAM.lift.K``), for those given.
     """
     out: dict[tuple[str, int], Any] = {}
     for k, g in enumerate(model.gears):
@@ -200,6 +202,15 @@ def pitch_fractions(model: Model, values: Mapping[str, Any]) -> dict[tuple[str, 
                 for n, r, w in zip(names, rope.radii, rope.wraps, strict=True)
             )
             out["rope", k] = (0.0, *signed, 0.0)
+    for k, cm in enumerate(model.cams):
+        if callable(cm.lift):
+            continue
+        names = [f"{cm.name}.lift.{i}" for i in range(len(cm.lift) - 1)]
+        if any(n in values for n in names):
+            lifts = tuple(values.get(n, row[1]) for n, row in zip(names, cm.lift, strict=False))
+            law = lift_law(cm.lift)
+            assert isinstance(law, LiftLaw)
+            out["cam", k] = with_lifts(law, lifts)
     return out
 
 
@@ -214,8 +225,8 @@ def with_pitch(
     sy : StaticsSystem
         The model's equilibrium system.
     given : mapping
-        ``("gear", k)`` → λ, ``("rack", k)`` → r, ``("rope", k)`` → signed radii, per
-        sample.
+        ``("gear", k)`` → λ, ``("rack", k)`` → r, ``("rope", k)`` → signed radii,
+        ``("cam", k)`` → a lift law, per sample.
     part : slice
         The samples.
 
@@ -242,4 +253,8 @@ def with_pitch(
         (e[0], e[1], tuple(cut(v) for v in given["rope", k])) if ("rope", k) in given else e
         for k, e in enumerate(sy.ropes)
     )
-    return dataclasses.replace(sy, gears=gears, racks=racks, ropes=ropes)  # type: ignore[arg-type]
+    cams = tuple(
+        dataclasses.replace(e, law=given["cam", k].take(part)) if ("cam", k) in given else e
+        for k, e in enumerate(sy.cams)
+    )
+    return dataclasses.replace(sy, gears=gears, racks=racks, ropes=ropes, cams=cams)  # type: ignore[arg-type]

@@ -23,7 +23,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.backends import Job, Kernel
 from excavkin.errors import InputError
 from excavkin.execution import Execution, settings
-from excavkin.kinematics.compiled import AUTO_POINTS
+from excavkin.kinematics.compiled import AUTO_POINTS, PIECES_PER_POINT
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
@@ -241,7 +241,8 @@ def _solve_chosen(
 ) -> None:
     """The back-substitution on the backend chosen for it (`excavkin.backends.choose`):
     its compiled kernel, or NumPy chunk by chunk. A model of more than
-    `excavkin.kinematics.compiled.AUTO_POINTS` points is never compiled unasked (numba's
+    `excavkin.kinematics.compiled.AUTO_POINTS` points (its cams' table pieces counted, as
+    `excavkin.kinematics.compiled.size` counts them) is never compiled unasked (numba's
     compile grows with it), and under ``"auto"`` it is not traced either."""
     from excavkin.kinetostatics import compiled as kernel
 
@@ -257,7 +258,9 @@ def _solve_chosen(
         source()
         kernel.solve(k, traced[0][1], x, a, eps, out, singular, workers)
 
-    big = len(known[0].system.points) > AUTO_POINTS
+    sy = known[0].system
+    pieces = sum(max(len(getattr(cm.law, "knots", ())) - 1, 0) for cm in sy.cams)
+    big = len(sy.points) + -(-pieces // PIECES_PER_POINT) > AUTO_POINTS
     if big and execution.backend == "auto":
         _solve_sparse(known, motion, out, singular, chunk)
         return
@@ -266,8 +269,10 @@ def _solve_chosen(
         source,
         numpy=lambda: _solve_sparse(known, motion, out, singular, chunk),
         compiled=compiled,
-        # a cam's lift law is a spline evaluated in NumPy: not traced
-        unsupported="of a model with cams, solved in NumPy" if known[0].system.cams else None,
+        # a cam's lift law given as a function cannot be traced
+        unsupported=None
+        if kernel.traceable(known[0].system)
+        else "of a model with a cam whose lift law is a function, solved in NumPy",
         unasked=not big,
         scalar=source,  # (a plain loop already)
         device=lambda k: compiled(k, 1),  # the chunks one after another

@@ -155,7 +155,9 @@ class Rope:
     ``path[0]`` over a sheave of radius ``radii[k]`` centred at each inner point, turning
     counter-clockwise (``"ccw"``: the sheave on the rope's left as it runs from the first point
     to the last) or clockwise around it, to ``path[-1]``. Its length is the sum of its free
-    tangent segments and its arcs on the sheaves; a winch's length is ``θ·R/i``.
+    tangent segments and its arcs on the sheaves; a winch's length is ``θ·R/i``. A block of
+    several parts is reeved over sheaves by a path that visits its two blocks in turn (each
+    visit one of the block's sheaves, all of one radius).
 
     Attributes
     ----------

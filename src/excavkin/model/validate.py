@@ -284,7 +284,8 @@ def _check_sheaves(model: Model, rope: Rope, drivers: set[str]) -> None:
     if rope.parts != 1:
         raise bad(
             f"a rope over sheaves has one part (got parts = {rope.parts!r}); a block of n parts "
-            "is a rope between two blocks",
+            "is a rope between two blocks, or reeved over sheaves by a path that visits its "
+            "two blocks in turn (path = [..., M, T, M, T])",
             "parts",
         )
     for a, b in zip(rope.path, rope.path[1:], strict=False):
@@ -304,6 +305,15 @@ def _check_sheaves(model: Model, rope: Rope, drivers: set[str]) -> None:
     for k, w in enumerate(rope.wraps):
         if w not in ("ccw", "cw"):
             raise bad(f"sheave {rope.path[k + 1]}: wrap must be 'ccw' or 'cw', not {w!r}", "wraps")
+    first: dict[str, float] = {}  # a block's sheaves (a point the path visits again): one radius
+    for p, r in zip(rope.path[1:-1], rope.radii, strict=True):
+        if first.setdefault(p, r) != r:
+            raise bad(
+                f"sheave {p}: the rope runs over it again with radius {r:g} m, not "
+                f"{first[p]:g} m; a block's sheaves (the path's visits of one point) share one "
+                "radius",
+                "radii",
+            )
     if rope.mode not in ("winch", "locked"):
         raise bad(f"mode must be 'winch' or 'locked', not {rope.mode!r}", "mode")
     if rope.mode == "winch":

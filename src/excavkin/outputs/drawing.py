@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from excavkin.outputs.cam_profiles import add_cam_profiles, move_cam_profiles
 from excavkin.outputs.events import as_table
 from excavkin.outputs.meshes import add_pitch_circles, move_pitch_circles
 from excavkin.outputs.scene import Scene, overlays, scene_of, source
@@ -66,6 +67,9 @@ class MechanismDrawing:
         Block and guide of each slider.
     circles : list of (int, Circle)
         The pitch circles of the gears and pinions, with their centres' point indices.
+    profiles : list of Line2D
+        The cams' profiles (a roller's pitch curve) and flat followers' faces
+        (`excavkin.outputs.cam_profiles`).
     ghosts : list of MechanismDrawing
         Fainter drawings of the other samples asked for.
     """
@@ -106,6 +110,7 @@ class MechanismDrawing:
         else:
             self.ground = ()
         self.circles = add_pitch_circles(ax, scene, sample, z, alpha)
+        self.profiles = add_cam_profiles(ax, scene, sample, z, alpha)
         for sl in scene.sliders:
             guide = scene.slider_guide(sl, sample)
             (g,) = ax.plot(
@@ -247,6 +252,7 @@ class MechanismDrawing:
         for block, g in self.sliders.values():
             out += [block, g]
         out += [c for _, c in self.circles]
+        out += self.profiles
         out += [self.pins, self.dots, *self.labels.values()]
         return out
 
@@ -286,6 +292,7 @@ class MechanismDrawing:
             guide = sc.slider_guide(sl, sample)
             g.set_data(guide[:, 0], guide[:, 1])
         move_pitch_circles(self.circles, sc, sample)
+        move_cam_profiles(self.profiles, sc, sample)
         xy = sc.xy[sample]
         self.pins.set_data(xy[sc.pins, 0], xy[sc.pins, 1])
         self.dots.set_data(xy[sc.dots, 0], xy[sc.dots, 1])

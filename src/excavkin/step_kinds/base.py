@@ -26,6 +26,9 @@ operation            used by
 ``role``             kinetostatics: the points it places and the drivers whose effort it carries
 ``drawing``          a drawing of the plan: its lines and marks, as data (no plotting here)
 ===================  =========================================================================
+
+One operation has a default, which a kind overrides where its steps differ: ``uncompiled``
+(why a step cannot be compiled; by default none can or all can, by `StepKind.compiles`).
 """
 
 from __future__ import annotations
@@ -118,6 +121,10 @@ class Geometry(Protocol):
         """A rack's pinion pitch radius."""
         ...
 
+    def cam_lifts(self, cam: str) -> tuple[Any, ...] | None:
+        """A cam table's lifts (every row but the last), or None where none is given."""
+        ...
+
     @property
     def ratios(self) -> Mapping[str, Any]:
         """Gear pair name → its ratio, for each pair whose ratio is given."""
@@ -174,10 +181,11 @@ class Primitive:
     ``"ground"``: a point held fixed; ``"link"``: a rigid segment p→q (a body's distance, or
     a driven element when ``driven``); ``"arc"``: a point swung about a pivot (p the pivot,
     q the point); ``"slide"``: a line l1→l2 a point runs on; ``"group"``: points solved
-    together.
+    together; ``"profile"``: a cam's profile about its pivot p touching the follower's point q
+    (`excavkin.outputs.cam_profiles` draws it from the model's law).
     """
 
-    kind: Literal["ground", "link", "arc", "slide", "group"]
+    kind: Literal["ground", "link", "arc", "slide", "group", "profile"]
     points: tuple[int, ...]
     driven: bool = False
 
@@ -228,6 +236,12 @@ class StepKind(ABC, Generic[S]):
     @abstractmethod
     def transmission(self, st: S) -> int | None:
         """The index of the transmission angle the step reports, or None."""
+
+    def uncompiled(self, st: S) -> str | None:
+        """Why step ``st`` cannot be compiled (None: it can). By default a kind's steps all
+        compile or none does (`compiles`); a kind whose steps differ says so per step (a
+        cam's, by its lift law)."""
+        return None if self.compiles else f"a {self.name} step"
 
     @abstractmethod
     def constants(self, st: S) -> list[Any]:

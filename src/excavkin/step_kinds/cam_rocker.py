@@ -8,7 +8,8 @@ carrier's angle and the cam's turn are linear functions of the rotary inputs
 
     φ̇ = Σ a_i q̇_i + ψ'·θ̇,    φ̈ = Σ a_i q̈_i + ψ''·θ̇² + ψ'·θ̈
 
-The law is evaluated in NumPy: the step does not compile.
+A table's law compiles as a translating follower's does (`excavkin.step_kinds.cam.emit_law`);
+a law given as a function runs in NumPy.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.model.cams import Law, LiftLaw, evaluate
 from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
+from excavkin.step_kinds.cam import emit_law, law_constants, law_uncompiled, varied_law
 from excavkin.step_kinds.dist import Index, at, varies
 from excavkin.step_kinds.gear import refuse_ratios, sketch_input_angle
 from excavkin.step_kinds.state import Chunk, round_output
@@ -53,7 +55,7 @@ class CamRockerKind(StepKind[CamRockerStep]):
 
     name = "cam rocker"
     record = CamRockerStep
-    compiles = False
+    compiles = True
     iterative = False
 
     def build(
@@ -78,29 +80,32 @@ class CamRockerKind(StepKind[CamRockerStep]):
         self, st: CamRockerStep, geo: Geometry, names: tuple[str, ...], model: Model
     ) -> CamRockerStep:
         refuse_ratios(geo, st.cam)
+        law = varied_law(st.law, geo, st.cam)
         p, o = names[st.point], names[st.pivot]
         radius = geo.distance(st.body, p, o)
         sk = geo.sketch
         offset: Any = np.arctan2(sk[p][1] - sk[o][1], sk[p][0] - sk[o][0])
-        offset = offset - evaluate(st.law, 0.0, st.cam)[0]
+        offset = offset - evaluate(law, 0.0, st.cam)[0]
         turn0: Any = 0.0
         rotary = {d.name: k for k, d in enumerate(model.rotary)}
         for i, a, c in zip(st.inputs, st.carrier, st.turn, strict=True):
             q0 = sketch_input_angle(sk, model, rotary[model.inputs[i]])
             offset = offset - a * q0
             turn0 = turn0 - c * q0
-        if not (varies(radius) or varies(offset) or varies(turn0)):
+        if not (varies(radius) or varies(offset) or varies(turn0) or law is not st.law):
             return st
-        return dataclasses.replace(st, radius=radius, offset=offset, turn0=turn0)
+        return dataclasses.replace(st, radius=radius, offset=offset, turn0=turn0, law=law)
 
     def take(self, st: CamRockerStep, index: Index) -> CamRockerStep:
+        law = st.law.take(index) if isinstance(st.law, LiftLaw) else st.law
         if not (np.ndim(st.radius) or np.ndim(st.offset) or np.ndim(st.turn0)):
-            return st
+            return st if law is st.law else dataclasses.replace(st, law=law)
         return dataclasses.replace(
             st,
             radius=at(st.radius, index),
             offset=at(st.offset, index),
             turn0=at(st.turn0, index),
+            law=law,
         )
 
     def solve(
@@ -144,11 +149,39 @@ class CamRockerKind(StepKind[CamRockerStep]):
     def transmission(self, st: CamRockerStep) -> int | None:
         return None
 
+    def uncompiled(self, st: CamRockerStep) -> str | None:
+        return law_uncompiled(st.law, st.cam)
+
     def constants(self, st: CamRockerStep) -> list[Any]:
-        return []
+        if not isinstance(st.law, LiftLaw):
+            return []
+        pairs = [c for ca, ct in zip(st.carrier, st.turn, strict=True) for c in (ca, ct)]
+        return [st.radius, st.offset, st.turn0, *pairs, *law_constants(st.law)]
 
     def emit(self, g: Emitter, st: CamRockerStep, k: int) -> None:
-        raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled")
+        if not isinstance(st.law, LiftLaw):
+            raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled: {st.cam!r}")
+        p, o = st.point, st.pivot
+        g.emit(f"r = {g.const()}", f"phi = {g.const()}", f"th = {g.const()}")
+        g.emit("w = 0.0", "e = 0.0", "thd = 0.0", "thdd = 0.0")
+        for i in st.inputs:
+            g.emit(
+                f"cam_a = {g.const()}", f"cam_c = {g.const()}",
+                f"phi = phi + cam_a * q[{i}, i]", f"th = th + cam_c * q[{i}, i]",
+                f"w = w + cam_a * qd[{i}, i]", f"e = e + cam_a * qdd[{i}, i]",
+                f"thd = thd + cam_c * qd[{i}, i]", f"thdd = thdd + cam_c * qdd[{i}, i]",
+            )  # fmt: skip
+        emit_law(g, st.law, "th")
+        g.emit(
+            "phi = phi + lift",
+            "cs = math.cos(phi)", "sn = math.sin(phi)",
+            f"X{p} = X{o} + r * cs", f"Y{p} = Y{o} + r * sn",
+            "w = w + lift1 * thd",
+            "e = e + lift2 * thd * thd + lift1 * thdd",
+            f"VX{p} = VX{o} - r * w * sn", f"VY{p} = VY{o} + r * w * cs",
+            f"AX{p} = AX{o} - r * (e * sn + w * w * cs)",
+            f"AY{p} = AY{o} + r * (e * cs - w * w * sn)",
+        )  # fmt: skip
 
     def describe(self, st: CamRockerStep, names: tuple[str, ...]) -> str:
         law = (

@@ -92,7 +92,9 @@ def compile_plan(
         A validated model.
     method : {"closed-form", "newton"}
         ``"newton"`` puts every moving point into one Newton group (used to cross-check the
-        closed-form path).
+        closed-form path), but those of the bodies of gear trains, racks and cam followers
+        (`PlanBuilder.held`): their gear, rack and cam steps (and the rotary drivers and
+        attachments of the trains' bodies) place them first.
 
     Raises
     ------
@@ -342,6 +344,8 @@ class PlanBuilder:
             b = self.bodies[bi]
             if not 2 <= self.body_known[bi] < len(b.points):
                 continue  # not ready, or attached already
+            if self.method == "newton" and b.name not in self.held():
+                continue  # (the generic solver holds a body outside the higher pairs)
             self.attach_at = bi
             kn = [n for n in b.points if n in self.known]
             unknown = [n for n in b.points if n not in self.known]
@@ -376,6 +380,8 @@ class PlanBuilder:
             refb = self.body_named[d.reference]
             if ri in self.used_rotary or d.pivot not in self.known:
                 continue
+            if self.method == "newton" and d.body not in self.held():
+                continue  # (the generic solver holds a rotary driver outside a gear train)
             if not (refb.ground or all(n in self.known for n in refb.points[:2])):
                 continue
             p = next(n for n in self.body_named[d.body].points if n != d.pivot)
@@ -519,13 +525,29 @@ class PlanBuilder:
             for n in {pivot, *self.cam_guide(cm)}:
                 self.cam_at.setdefault(n, []).append(k)
 
+    def held(self) -> set[str]:
+        """The bodies that ``method="newton"`` still places in closed form: those of the gear
+        trains (their angles are linear in the inputs), the racks and the cams' followers."""
+        out = set(self.train.angles)
+        out.update(rk.rack for rk in self.model.racks)
+        out.update(cm.follower for cm in self.model.cams)
+        out.discard(self.model.ground.name)
+        return out
+
     def check_no_meshes(self, unknown: list[str]) -> None:
         """Refuse a Newton group that holds a body a gear or a rack moves: its mesh is a
         relation of the inputs (`excavkin.model.gears`), which only the closed-form steps
         place."""
         moved = set(self.train.placed) | {rk.rack for rk in self.model.racks}
         moved |= {cm.follower for cm in self.model.cams}
-        caught = [b.name for b in self.bodies if b.name in moved and set(b.points) & set(unknown)]
+        # a body whose two points its mesh placed is held: its others are rigid with them
+        caught = [
+            b.name
+            for b in self.bodies
+            if b.name in moved
+            and set(b.points) & set(unknown)
+            and sum(n in self.known for n in b.points) < 2
+        ]
         if caught:
             raise MobilityError(
                 f"bodies {', '.join(caught)} are moved by gears or racks, which the generic "
@@ -952,9 +974,11 @@ class PlanBuilder:
         self.fixed()
         if self.method == "closed-form":
             tries: list[Callable[[], bool]] = [getattr(self, kind) for kind in self.ORDER]
-            # after any step, start again from the first kind: attach before all else
-            while len(self.known) < len(self.names) and any(t() for t in tries):
-                pass
+        else:  # the higher pairs' bodies still in closed form: their angles are the inputs'
+            tries = [self.attach, self.rotate, self.gear, self.rack, self.cam]
+        # after any step, start again from the first kind: attach before all else
+        while len(self.known) < len(self.names) and any(t() for t in tries):
+            pass
         unknown = [n for n in self.names if n not in self.known]
         if unknown:
             self.newton_group(unknown)

@@ -83,7 +83,8 @@ def parameters(model: Model) -> dict[str, float]:
         ``BODY.center_of_mass.x``, ``.y`` (m) where the body gives them; ``ROPE.drum_radius``
         (m) and ``ROPE.gear_ratio`` of each winch rope; ``GEAR.ratio`` of each gear pair;
         ``RACK.radius`` (m), the pinion pitch radius of each rack; ``ROPE.radius.S`` (m), the
-        radius of each sheave S of a rope over sheaves.
+        radius of each sheave S of a rope over sheaves; ``CAM.lift.K`` (m, or rad), the lift of
+        row K of a cam's table.
     """
     out: dict[str, float] = {v.name: float(v.value) for v in model.design}
     for name, (x, y) in model.points.items():
@@ -102,6 +103,8 @@ def parameters(model: Model) -> dict[str, float]:
         out[f"{rk.name}.radius"] = float(rk.radius)
     for name, value in sheave_parameters(model).items():
         out[name] = value
+    for name, value in lift_parameters(model).items():
+        out[name] = value
     for b in model.bodies:
         if b.mass is not None:
             out[f"{b.name}.mass"] = float(b.mass)
@@ -110,6 +113,28 @@ def parameters(model: Model) -> dict[str, float]:
         if b.center_of_mass is not None:
             out[f"{b.name}.center_of_mass.x"] = float(b.center_of_mass[0])
             out[f"{b.name}.center_of_mass.y"] = float(b.center_of_mass[1])
+    return out
+
+
+def lift_parameters(model: Model) -> dict[str, float]:
+    """The lifts of the model's cams' tables: ``CAM.lift.K`` of row K (m, or rad for an
+    oscillating follower), each row but the last (which repeats the first: row 0 sets both).
+
+    Parameters
+    ----------
+    model : Model
+        The model.
+
+    Returns
+    -------
+    dict of str to float
+        In each cam's table order; none for a law given as a function.
+    """
+    out: dict[str, float] = {}
+    for cm in model.cams:
+        if not callable(cm.lift):
+            for k, (_, lift) in enumerate(cm.lift[:-1]):
+                out[f"{cm.name}.lift.{k}"] = float(lift)
     return out
 
 
@@ -189,6 +214,9 @@ def parameter_kind(name: str, model: Model | None = None) -> str:
         for var in model.design:
             if var.name == name:
                 return var.kind
+        for cm in model.cams:  # an oscillating follower's lift is an angle
+            if cm.along is None and name.startswith(f"{cm.name}.lift."):
+                return "angle"
     return KIND_OF.get(name.rsplit(".", 1)[-1], "length")
 
 
@@ -287,6 +315,15 @@ class _Geometry:
             for r in model.ropes
             if r.over_sheaves and any(f"{r.name}.radius.{p}" in values for p in r.path[1:-1])
         }
+        #: each cam's table lifts (all rows but the last), where one of its lifts is given
+        self.lifts: dict[str, tuple[Num, ...]] = {
+            cm.name: tuple(
+                values.get(f"{cm.name}.lift.{k}", lift) for k, (_, lift) in enumerate(cm.lift[:-1])
+            )
+            for cm in model.cams
+            if not callable(cm.lift)
+            and any(f"{cm.name}.lift.{k}" in values for k in range(len(cm.lift) - 1))
+        }
         self.frames: dict[str, LocalFrame] = {}
         self.bad: Num = False
         for b in model.bodies if frames else ():
@@ -346,6 +383,9 @@ class _Geometry:
 
     def rack_radius(self, rack: str) -> Num:
         return self.rack_radii[rack]
+
+    def cam_lifts(self, cam: str) -> tuple[Num, ...] | None:
+        return self.lifts.get(cam)
 
     def train(self) -> dict[str, dict[int, Num]] | None:
         if not self.ratios:

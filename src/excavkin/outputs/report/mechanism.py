@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from excavkin.outputs.cam_profiles import cam_profiles
 from excavkin.outputs.display_units import pretty_unit
 from excavkin.outputs.meshes import circle_paths
 from excavkin.outputs.protocols import Solved
@@ -188,6 +189,7 @@ def _dynamic_traces(scene: Scene, i: int) -> list[Any]:
     """Everything that moves, at sample ``i``: sliders, bodies, cylinders, pins and labels."""
     return (
         _circle_traces(scene, i)
+        + _cam_traces(scene, i)
         + _slider_traces(scene, i)
         + _body_traces(scene, i)
         + _element_traces(scene, i)
@@ -207,6 +209,21 @@ def _circle_traces(scene: Scene, i: int) -> list[Any]:
             line={"color": "#595959", "width": 1, "dash": "dashdot"},
         )
         for path in circle_paths(scene, i)
+    ]
+
+
+def _cam_traces(scene: Scene, i: int) -> list[Any]:
+    """The cams' profiles and flat faces (`excavkin.outputs.cam_profiles`)."""
+    return [
+        _scatter(
+            path,
+            mode="lines",
+            showlegend=False,
+            name="cam profile",
+            hoverinfo="skip",
+            line={"color": "#333333", "width": 1.5},
+        )
+        for path in cam_profiles(scene, i)
     ]
 
 
