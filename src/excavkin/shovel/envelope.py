@@ -304,7 +304,9 @@ def _floor(machine: Shovel, y: F, gl: F, gs: F) -> tuple[float, float, float]:
     while hs > _TOL:
         s = np.clip(cur_s + hs * offsets, lo_s, hi_s)
         Lk = floor_length(machine, np.full_like(s, cur_l), s)
-        xk = machine.solve(np.where(np.isfinite(Lk), Lk, cur_l), s).point(machine.front.teeth)[0][:, 0]
+        xk = machine.solve(np.where(np.isfinite(Lk), Lk, cur_l), s).point(machine.front.teeth)[0][
+            :, 0
+        ]
         xk = np.where(np.isfinite(Lk), xk, -np.inf)
         j = int(np.argmax(xk))
         cur_s, cur_l = float(s[j]), float(Lk[j])

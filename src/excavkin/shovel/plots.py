@@ -19,6 +19,7 @@ if TYPE_CHECKING:
 
     from excavkin.shovel.dig import Dig
     from excavkin.shovel.envelope import Envelope
+    from excavkin.shovel.loads import BoomLoads
 
 GROUND_COLOR = "saddlebrown"
 HOIST_COLOR, CROWD_COLOR, ROPE_COLOR = "tab:blue", "tab:green", "0.45"
@@ -154,5 +155,39 @@ def plot_dig(machine: Shovel, dig: Dig, *, ax: Axes | None = None) -> MachinePlo
     l2, lb2 = ax2.get_legend_handles_labels()
     ax.legend(lines + l2, labels + lb2, loc="upper left", fontsize=7)
     ax.set_title(f"{machine.name}: along a dig ({dig.soil})", fontsize=10)
+    ax.grid(alpha=0.3)
+    return MachinePlot(fig, ax, artists)
+
+
+def plot_boom_loads(loads: BoomLoads, *, ax: Axes | None = None) -> MachinePlot:
+    """The boom's loads over the tooth tip's height (see
+    [`BoomLoads.plot`][excavkin.shovel.loads.BoomLoads.plot]).
+
+    Parameters
+    ----------
+    loads : BoomLoads
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    MachinePlot
+    """
+    fig, ax = figure_axes(ax, (8.0, 5.0))
+    h = loads.teeth[:, 1]
+    artists: dict[str, Any] = {}
+    for name, mag, color in (
+        ("suspension ropes", loads.suspension, "tab:blue"),
+        ("boom-foot pin", np.hypot(*loads.boom_foot.T), "tab:red"),
+        ("shipper shaft", np.hypot(*loads.shipper_shaft.T), "tab:green"),
+        ("boom-point sheave", np.hypot(*loads.sheave.T), "tab:purple"),
+    ):
+        artists[name] = ax.plot(h, mag / 1e3, color=color, label=name)
+    bad = ~loads.ok
+    if bad.any():
+        ax.plot(h[bad], loads.suspension[bad] / 1e3, "x", color="tab:red", label="not ok (status)")
+    ax.set_xlabel("tooth tip height (m)")
+    ax.set_ylabel("force on the boom (kN)")
+    ax.set_title(f"{loads.machine}: boom loads along the dig", fontsize=10)
+    ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     return MachinePlot(fig, ax, artists)
