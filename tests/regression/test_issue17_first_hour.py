@@ -19,7 +19,12 @@ def run(*args: str) -> tuple[int, str]:
 def test_examples_are_listed_by_kind_and_found_by_name() -> None:
     models, machines = excavkin.examples("model"), excavkin.examples("machine")
     assert "fourbar" in models and "excavator_machine" not in models
-    assert machines == ["excavator_machine", "wheel_loader_machine", "wheel_loader_tp_machine"]
+    assert machines == [
+        "excavator_machine",
+        "mining_shovel_machine",
+        "wheel_loader_machine",
+        "wheel_loader_tp_machine",
+    ]
     assert "schema_version = 1" in excavkin.example_path("fourbar").read_text()
     with pytest.raises(excavkin.ModelError, match="did you mean 'fourbar'"):
         excavkin.example_path("fourbr")
