@@ -20,6 +20,7 @@ def test_examples_are_listed_by_kind_and_found_by_name() -> None:
     models, machines = excavkin.examples("model"), excavkin.examples("machine")
     assert "fourbar" in models and "excavator_machine" not in models
     assert machines == [
+        "eo4112_machine",
         "excavator_machine",
         "mining_shovel_machine",
         "wheel_loader_machine",

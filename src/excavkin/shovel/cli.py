@@ -22,9 +22,17 @@ _Command = TypeVar("_Command", bound=Callable[..., Any])
 
 
 def _machine(path: str) -> Shovel:
+    from excavkin.errors import InputError
+    from excavkin.shovel.machine import Shovel
     from excavkin.shovel.machine_file import load_machine
 
-    return load_machine(model_path(path, "machine"))
+    machine = load_machine(model_path(path, "machine"))
+    if not isinstance(machine, Shovel):
+        raise InputError(
+            f"{path}: a rope backhoe (its [drag] table); these commands rate a rope shovel "
+            "(its [hoist] and [crowd] tables)"
+        )
+    return machine
 
 
 def _check(output: str | None, plot: str | None, force: bool) -> None:

@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike
 
 from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import KinematicResult
-from excavkin.kinetostatics import Gravity, PointForce
+from excavkin.kinetostatics import ForceResult, Gravity, PointForce
 from excavkin.machinery.base import BaseMachine
 from excavkin.mechanism import Mechanism
 from excavkin.model.entities import Load
@@ -357,3 +357,120 @@ def table_attrs(machine: str, kinds: dict[str, str]) -> dict[str, object]:
         "excavkin.kinds": dict(kinds),
         "excavkin.units": {c: si_unit(k) for c, k in kinds.items()},
     }
+
+
+@dataclass(frozen=True, slots=True)
+class Drag:
+    """A rope backhoe's drag winch: motors, gearing, drum and the rope's parts.
+
+    Attributes
+    ----------
+    driver : str
+        The model's driven linear driver: the drag rope's length from its sheave to the bucket
+        (its rate is −v, hauling in shortens it).
+    motor : Motor
+    gear_ratio : float
+        Motor turns per drum turn.
+    drum_radius : float
+        m.
+    parts : int
+        Parts of rope between the sheave's block and the bucket's (the rope's multiplicity).
+    """
+
+    driver: str
+    motor: Motor
+    gear_ratio: float
+    drum_radius: float
+    parts: int
+
+    @property
+    def speed(self) -> float:
+        """The bucket's hauling speed at the motors' rated speed, v = ω·R/(i·parts) (m/s)."""
+        return self.motor.speed * self.drum_radius / (self.gear_ratio * self.parts)
+
+    @property
+    def pull(self) -> float:
+        """The drag pull on the bucket at the motors' rated torque, n·τ·i·parts/R (N)."""
+        return (
+            self.motor.count * self.motor.torque * self.gear_ratio * self.parts / self.drum_radius
+        )
+
+
+class RopeBackhoe:
+    """A rope backhoe: the stick hauled by a drag rope, the bucket turned by its linkage.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    drag : Drag
+    stick, bucket : str
+        Bodies of the model.
+    name : str
+    source : str or None
+    """
+
+    def __init__(
+        self,
+        mechanism: Mechanism,
+        drag: Drag,
+        stick: str,
+        bucket: str,
+        name: str,
+        source: str | None = None,
+    ) -> None:
+        self.mechanism = mechanism
+        self.drag = drag
+        self.stick = stick
+        self.bucket = bucket
+        self.name = name
+        self.source = source
+
+    def __repr__(self) -> str:
+        return f"RopeBackhoe({self.name!r}: drag {self.drag.speed:.3f} m/s)"
+
+    def haul(self, length: ArrayLike) -> KinematicResult:
+        """The mechanism at drag-rope lengths, hauled in at the motors' rated speed.
+
+        Parameters
+        ----------
+        length : array_like, shape (n,)
+            The drag rope's length, sheave to bucket (m).
+
+        Returns
+        -------
+        KinematicResult
+        """
+        q = np.asarray(length, dtype=float)
+        return self.mechanism.solve(
+            {self.drag.driver: q}, {self.drag.driver: np.full_like(q, -self.drag.speed)}
+        )
+
+    def attitude(self, result: KinematicResult) -> tuple[F, F]:
+        """The bucket's attitude: to the stick and to the boom (the model's x axis).
+
+        Parameters
+        ----------
+        result : KinematicResult
+            From `haul`.
+
+        Returns
+        -------
+        relative, absolute : ndarray, shape (n,)
+            rad.
+        """
+        stick = result.body(self.stick)[0]
+        bucket = result.body(self.bucket)[0]
+        return bucket - stick, bucket
+
+    def rope_tension(self, forces: ForceResult) -> F:
+        """The drag rope's tension (N): the driver's pull over the rope's parts.
+
+        Parameters
+        ----------
+        forces : ForceResult
+
+        Returns
+        -------
+        ndarray, shape (n,)
+        """
+        return -forces.force(self.drag.driver) / self.drag.parts

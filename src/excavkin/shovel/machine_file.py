@@ -40,7 +40,16 @@ from excavkin.machinery.base_file import read_base
 from excavkin.machinery.file_fields import MachineReader, check_head, read_model
 from excavkin.mechanism import Mechanism
 from excavkin.shovel.family import NAME
-from excavkin.shovel.machine import Crowd, Dipper, Front, Hoist, Motor, Shovel
+from excavkin.shovel.machine import (
+    Crowd,
+    Dipper,
+    Drag,
+    Front,
+    Hoist,
+    Motor,
+    RopeBackhoe,
+    Shovel,
+)
 
 SCHEMA_VERSION = 1
 _TOP = {
@@ -56,6 +65,8 @@ _TOP = {
     "dipper",
     "base",
     "gravity",
+    "drag",
+    "backhoe",
 }
 _FRONT_BODIES = ("boom", "saddle", "handle", "dipper")
 _FRONT_POINTS = ("boom_foot", "shipper_shaft", "sheave", "teeth", "bail", "door_hinge")
@@ -63,7 +74,7 @@ _MOTOR = {"motors", "motor_torque", "motor_speed", "gear_ratio"}
 _MAX_COUNT = 16
 
 
-def loads_machine(text: str, source: str | None = None) -> Shovel:
+def loads_machine(text: str, source: str | None = None) -> Shovel | RopeBackhoe:
     """Parse a shovel machine file from TOML text; see
     [`load_machine`][excavkin.shovel.machine_file.load_machine].
 
@@ -76,12 +87,13 @@ def loads_machine(text: str, source: str | None = None) -> Shovel:
 
     Returns
     -------
-    Shovel
+    Shovel or RopeBackhoe
+        A rope backhoe where the file has a ``[drag]`` table.
     """
     return _machine(read_toml(text, source), source)
 
 
-def load_machine(path: str | Path) -> Shovel:
+def load_machine(path: str | Path) -> Shovel | RopeBackhoe:
     """Read a rope-shovel machine file.
 
     Parameters
@@ -91,7 +103,8 @@ def load_machine(path: str | Path) -> Shovel:
 
     Returns
     -------
-    Shovel
+    Shovel or RopeBackhoe
+        A rope backhoe where the file has a ``[drag]`` table.
 
     Raises
     ------
@@ -104,7 +117,7 @@ def load_machine(path: str | Path) -> Shovel:
     return loads_machine(read_text_file(file), str(file))
 
 
-def _machine(data: dict[str, Any], source: str | None) -> Shovel:
+def _machine(data: dict[str, Any], source: str | None) -> Shovel | RopeBackhoe:
     r = MachineReader(data, source)
     if data.get("family") != NAME:
         raise r.err(
@@ -115,6 +128,8 @@ def _machine(data: dict[str, Any], source: str | None) -> Shovel:
         )
     check_head(r, SCHEMA_VERSION, _TOP, "mining_shovel.toml")
     model = read_model(r, data.get("model"), source, "mining_shovel.toml")
+    if "drag" in data:
+        return _backhoe(r, data, model, source)
 
     ft = r.subtable(data, "front", "front")
     r.keys(ft, {*_FRONT_BODIES, *_FRONT_POINTS, "suspension"}, "front")
@@ -237,3 +252,35 @@ def _range(r: MachineReader, t: dict[str, Any], key: str, table: str) -> tuple[f
     if not lo < hi:
         raise r.err(f"{key}: the shortest ({lo:.6g} m) must be below the longest", table, key)
     return lo, hi
+
+
+def _backhoe(r: MachineReader, data: dict[str, Any], model: Any, source: str | None) -> RopeBackhoe:
+    """A rope backhoe: ``[drag]`` (the drag winch) and ``[backhoe]`` (stick and bucket)."""
+    for key in ("front", "hoist", "crowd", "dipper"):
+        if key in data:
+            raise r.err(f"a rope backhoe ([drag]) has no [{key}] table", key)
+    dt = r.subtable(data, "drag", "drag")
+    r.keys(dt, _MOTOR | {"driver", "drum_radius", "parts"}, "drag")
+    driver = r.text(dt, "driver", "drag", "drag")
+    linear = {d.name: d for d in model.linear}
+    if driver not in linear or linear[driver].mode != "driven":
+        raise r.err(f"{driver!r} is not a driven linear driver of the model", "drag", "driver")
+    drag = Drag(
+        driver=driver,
+        motor=_motor(r, dt, "drag"),
+        gear_ratio=r.bounded(dt, "gear_ratio", "dimensionless", "drag", 0.0, 1e4, ""),
+        drum_radius=r.bounded(dt, "drum_radius", "length", "drag", 0.0, 20.0, "m"),
+        parts=_count(r, dt, "parts", "drag"),
+    )
+    bt = r.subtable(data, "backhoe", "backhoe")
+    r.keys(bt, {"stick", "bucket"}, "backhoe")
+    bodies = {b.name for b in model.bodies}
+    names = {}
+    for key in ("stick", "bucket"):
+        names[key] = r.text(bt, key, "backhoe", key)
+        if names[key] not in bodies:
+            raise r.err(f"{names[key]!r} is not a body of the model", "backhoe", key)
+    name = data.get("name", Path(source).stem if source else model.name)
+    if not isinstance(name, str):
+        raise r.err(f"name must be a string, got {name!r}"[:120], entry="name")
+    return RopeBackhoe(Mechanism(model), drag, names["stick"], names["bucket"], name, source)
