@@ -174,7 +174,9 @@ def test_the_excavator_registers_its_family() -> None:
     fam = families()["excavator"]
     assert fam.kind == "machine"
     assert excavkin.examples("machine") == [
+        "eo4112_machine",
         "excavator_machine",
+        "mining_shovel_machine",
         "wheel_loader_machine",
         "wheel_loader_tp_machine",
     ]

@@ -74,9 +74,8 @@ _FORCE = click.option("--force", is_flag=True, help="Replace an output file that
 
 
 def _dig_options(func: _Command) -> _Command:
-    """The dig's options, shared by ``dig`` and ``loads``."""
-    from excavkin.machinery.soil import MODELS, SOILS
-
+    """The dig's options, shared by ``dig`` and ``loads`` (the soil's and the model's names are
+    checked by the library: ``--help`` imports no NumPy)."""
     options = [
         click.option(
             "--samples",
@@ -100,18 +99,17 @@ def _dig_options(func: _Command) -> _Command:
         ),
         click.option(
             "--soil",
-            type=click.Choice(sorted(SOILS)),
             default="loam",
             show_default=True,
-            help="The soil (machinery layer's categories, estimates).",
+            help="The soil: sand, loam, clay or heavy_clay (the machinery layer's categories, "
+            "estimates).",
         ),
         click.option(
             "--model",
             "soil_model",
-            type=click.Choice(list(MODELS)),
             default="mckyes",
             show_default=True,
-            help="The digging-resistance model.",
+            help="The digging-resistance model: zelenin, balovnev or mckyes.",
         ),
         click.option(
             "--depth",

@@ -250,6 +250,7 @@ def dig(
         raise InputError(f"crowd speed must be a fraction from -1 to 1, not {crowd_speed}")
     if model not in MODELS:
         raise InputError(f"unknown soil model {model!r}; known models: {', '.join(MODELS)}")
+    ground = soil(soil_name)
     if not 0.0 < depth <= 10.0:
         raise InputError(f"depth must be in (0, 10] m, not {depth}")
     if not 0.0 < rake < np.pi:
@@ -284,7 +285,7 @@ def dig(
 
     tool = Tool(width=machine.dipper.width, normal_ratio=0.2)
     res = resistance(
-        model, np.full_like(t, depth), np.full_like(t, rake), soil(soil_name), tool,
+        model, np.full_like(t, depth), np.full_like(t, rake), ground, tool,
         g=machine.gravity,
     )  # fmt: skip
     soil_force = -res.along[:, None] * unit + res.normal[:, None] * into
