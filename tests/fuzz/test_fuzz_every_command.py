@@ -57,6 +57,19 @@ LOADER_STUDY = (
     .replace("maxiter = 30", "maxiter = 2\npopsize = 4")
 )
 
+#: the shovel's drive study, cut to the figures that need no envelope and no dig
+SHOVEL_STUDY = """
+[study]
+machine = "mining_shovel_machine"
+method = "sobol"
+samples = 2
+[parameters]
+"hoist.gear_ratio" = [70, 90]
+[metrics]
+hoist_speed = { column = "hoist.speed" }
+pull = { column = "hoist.pull" }
+"""
+
 #: a small valid command line of every command; "{d}" is a scratch folder, "{study}",
 #: "{machine_study}" and "{loader_study}" the files above
 BASE: dict[str, list[str]] = {
@@ -98,6 +111,7 @@ BASE: dict[str, list[str]] = {
     "shovel envelope": ["mining_shovel_machine", "--samples", "5"],
     "shovel dig": ["mining_shovel_machine", "--samples", "5"],
     "shovel loads": ["mining_shovel_machine", "--samples", "5"],
+    "shovel study": ["{shovel_study}", "-o", "{d}/sh.parquet", "--force", "-q"],
     "reproduce arm": ["--out-dir", "{d}/arm"],
     "reproduce mo100": ["--out-dir", "{d}/mo100", "--samples", "36"],
     "reproduce pasika": ["--out-dir", "{d}/pasika", "--samples", "11"],
@@ -188,13 +202,15 @@ def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (d / "study.toml").write_text(STUDY)
     (d / "machine_study.toml").write_text(MACHINE_STUDY)
     (d / "loader_study.toml").write_text(LOADER_STUDY)
+    (d / "shovel_study.toml").write_text(SHOVEL_STUDY)
     return d
 
 
 def base_args(path: str, d: Path) -> list[str]:
     fill = {"d": str(d), "study": str(d / "study.toml"),
             "machine_study": str(d / "machine_study.toml"),
-            "loader_study": str(d / "loader_study.toml")}  # fmt: skip
+            "loader_study": str(d / "loader_study.toml"),
+            "shovel_study": str(d / "shovel_study.toml")}  # fmt: skip
     return [*path.split(), *(a.format(**fill) for a in BASE[path])]
 
 

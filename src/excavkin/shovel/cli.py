@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 from excavkin.cli.common import handle_errors, model_path
+from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
     from excavkin.shovel.machine import Shovel
@@ -216,3 +217,17 @@ def loads(machine: str, output: str | None, plot: str | None, force: bool, **opt
     shovel = _machine(machine)
     result = boom_loads(shovel, _run_dig(shovel, options))
     _write(result, output, plot, force, lambda: result.plot())
+
+
+@command.command("study")
+@click.argument("spec", metavar="STUDY")
+@study_options
+@handle_errors
+def study(spec: str, **options: Any) -> None:
+    """A design study of a rope shovel: designs sampled in the box of STUDY.toml's parameter
+    bounds (its [study] names a shovel machine), each rated by the shovel's own analyses; one
+    row per design to a Parquet table, streamed and resumable."""
+    from excavkin.cli.commands.study import run_machine_study
+    from excavkin.shovel.study import load_shovel_study
+
+    run_machine_study(load_shovel_study, spec, **options)
