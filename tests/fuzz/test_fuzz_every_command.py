@@ -111,6 +111,8 @@ BASE: dict[str, list[str]] = {
     "shovel envelope": ["mining_shovel_machine", "--samples", "5"],
     "shovel dig": ["mining_shovel_machine", "--samples", "5"],
     "shovel loads": ["mining_shovel_machine", "--samples", "5"],
+    "shovel report": ["mining_shovel_machine", "--samples", "5", "-o", "{d}/sh.html", "--force",
+                      "-q"],
     "shovel study": ["{shovel_study}", "-o", "{d}/sh.parquet", "--force", "-q"],
     "reproduce arm": ["--out-dir", "{d}/arm"],
     "reproduce mo100": ["--out-dir", "{d}/mo100", "--samples", "36"],

@@ -16,7 +16,7 @@ from excavkin.errors import ExcavkinError, InputError, ModelError
 from excavkin.families import families
 from excavkin.shovel.dig import dig
 from excavkin.shovel.machine import Shovel
-from excavkin.shovel.machine_file import load_machine, loads_machine
+from excavkin.shovel.machine_file import loads_machine
 from excavkin.shovel.study import (
     COLUMNS,
     design_shovel,
@@ -166,3 +166,22 @@ def test_a_design_is_a_shovel_of_its_own(shovel) -> None:
     with pytest.raises(ExcavkinError, match="parameter"):
         design_shovel(shovel, {"hoist.ratio": 60.0})
     assert set(COLUMNS) >= {"envelope.cutting_height", "dig.margin", "loads.suspension"}
+
+
+def test_the_report_has_its_sections_and_values(tmp_path) -> None:
+    import re
+
+    out = tmp_path / "s.html"
+    r = CliRunner().invoke(
+        main, ["shovel", "report", "mining_shovel_machine", "--samples", "5", "-o", str(out), "-q"]
+    )
+    assert r.exit_code == 0, r.output
+    text = out.read_text()
+    assert re.findall(r"<h2[^>]*>(.*?)</h2>", text) == [
+        "Machine", "Digging envelope", "Along a dig", "Boom loads", "Moving front",
+    ]  # fmt: skip
+    shown = re.search(r'data-key="hoist.pull"[^>]*>([^<]*)<', text)
+    assert shown is not None and shown.group(1).replace("\u2009", "").replace(" ", "") == "2694.7"
+    assert "<script" in text and "Plotly.newPlot" in text
+    refused = CliRunner().invoke(main, ["shovel", "report", "eo4112_machine", "-o", str(out)])
+    assert refused.exit_code == 2 and "rope backhoe" in refused.output

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 from excavkin.cli.common import handle_errors, model_path
+from excavkin.cli.machine_report import machine_report_options
 from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
@@ -231,3 +232,15 @@ def study(spec: str, **options: Any) -> None:
     from excavkin.shovel.study import load_shovel_study
 
     run_machine_study(load_shovel_study, spec, **options)
+
+
+@command.command("report")
+@machine_report_options(41, 301, "Grid poses a side of the envelope, and rows of the dig.")
+@handle_errors
+def report(machine: str, samples: int, **options: Any) -> None:
+    """Write a self-contained HTML spec sheet of MACHINE: digging envelope, the forces along a
+    dig, the boom's loads, their charts and the moving front."""
+    from excavkin.cli.machine_report import run_report
+    from excavkin.shovel.report import machine_report
+
+    run_report("shovel", machine, _machine(machine), samples, machine_report, **options)
