@@ -258,3 +258,26 @@ def test_boom_loads_by_an_independent_balance(shovel):
     assert np.all(tension > 0)
     # the dig's boom loads are the same equilibrium with the dig's inertia and resistance
     assert lb.suspension.shape == (11,) and np.all(lb.suspension[lb.ok] > 0)
+
+
+def test_tipping_payload_by_moments_about_the_front_of_the_tracks(shovel):
+    from excavkin.shovel.stability import stability
+
+    d = dig(shovel, samples=7)
+    st = stability(shovel, d)
+    kin = d.forces.kinematics
+    base = shovel.base
+    front = base.track_centre + 0.5 * base.track_length  # the idlers' axis
+    moment = np.zeros(d.time.size)
+    for b in shovel.mechanism.model.bodies:
+        if b.ground or not b.mass:
+            continue
+        cg, _, _ = _cg(shovel.mechanism, kin, b.name)
+        moment += b.mass * (cg[:, 0] - front)
+    for part in (base.upper, base.counterweight, base.undercarriage):
+        moment += part.mass * (part.x - front)
+    x_pc = kin.point(shovel.dipper.payload_point)[0][:, 0]
+    assert np.all(moment < 0) and np.all(x_pc > front)
+    np.testing.assert_allclose(st.tipping_payload, -moment / (x_pc - front), rtol=1e-12)
+    assert set(st.payload_line) == {"front"}
+    assert np.all(st.tipping_payload > st.payload)

@@ -113,6 +113,7 @@ BASE: dict[str, list[str]] = {
     "shovel loads": ["mining_shovel_machine", "--samples", "5"],
     "shovel report": ["mining_shovel_machine", "--samples", "5", "-o", "{d}/sh.html", "--force",
                       "-q"],
+    "shovel stability": ["mining_shovel_machine", "--samples", "5"],
     "shovel study": ["{shovel_study}", "-o", "{d}/sh.parquet", "--force", "-q"],
     "reproduce arm": ["--out-dir", "{d}/arm"],
     "reproduce mo100": ["--out-dir", "{d}/mo100", "--samples", "36"],

@@ -185,3 +185,13 @@ def test_the_report_has_its_sections_and_values(tmp_path) -> None:
     assert "<script" in text and "Plotly.newPlot" in text
     refused = CliRunner().invoke(main, ["shovel", "report", "eo4112_machine", "-o", str(out)])
     assert refused.exit_code == 2 and "rope backhoe" in refused.output
+
+
+def test_stability_needs_a_base(tmp_path) -> None:
+    no_base = TEXT[: TEXT.index("[base]")]
+    path = tmp_path / "m.toml"
+    model = SOURCE.parent / "mining_shovel.toml"
+    path.write_text(no_base.replace('model = "mining_shovel.toml"', f'model = "{model}"'))
+    assert _read(no_base).base is None
+    r = CliRunner().invoke(main, ["shovel", "stability", str(path), "--samples", "3"])
+    assert r.exit_code == 2 and "no [base] table" in r.output

@@ -244,3 +244,23 @@ def report(machine: str, samples: int, **options: Any) -> None:
     from excavkin.shovel.report import machine_report
 
     run_report("shovel", machine, _machine(machine), samples, machine_report, **options)
+
+
+@command.command("stability")
+@_MACHINE
+@_dig_options
+@_OUTPUT
+@_FORCE
+@handle_errors
+def stability(machine: str, output: str | None, force: bool, **options: Any) -> None:
+    """Print the least payload (t) and digging force (kN) that tip the machine on its crawlers
+    along a dig, and the centre of mass's margin; the table has every row."""
+    from excavkin.errors import InputError
+    from excavkin.shovel.stability import stability as run
+
+    _check(output, None, force)
+    shovel = _machine(machine)
+    if shovel.base is None:
+        raise InputError(f"{machine}: no [base] table: the machine stands on nothing to tip")
+    result = run(shovel, _run_dig(shovel, options))
+    _write(result, output, None, force, None)

@@ -39,6 +39,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import KinematicResult
 from excavkin.kinetostatics import ForceResult, Gravity, PointForce
 from excavkin.machinery.base import BaseMachine
+from excavkin.machinery.masses import MassPoints, mass_points
 from excavkin.mechanism import Mechanism
 from excavkin.model.entities import Load
 
@@ -271,6 +272,21 @@ class Shovel:
             f"{self.hoist.speed:.2f} m/s, crowd {self.crowd.force / 1e3:.0f} kN at "
             f"{self.crowd.speed:.2f} m/s, payload {self.dipper.payload / 1e3:.0f} t)"
         )
+
+    @property
+    def swing_axis(self) -> float:
+        """x of the slew axis (m): the model's origin."""
+        return 0.0
+
+    @property
+    def ground_line(self) -> float:
+        """Height of the ground in the model's plane (m): the model's x axis."""
+        return 0.0
+
+    @property
+    def mass_points(self) -> MassPoints:
+        """The front's masses as points: each moving body's centre of mass (no cylinders)."""
+        return mass_points(self.mechanism, (), ())
 
     @property
     def front_mass(self) -> float:
