@@ -97,7 +97,8 @@ def _dig_options(func: _Command) -> _Command:
             type=click.FloatRange(min=-1.0, max=1.0),
             default=0.1,
             show_default=True,
-            help="The crowd motor's speed, a fraction of its rated speed (> 0 crowds out).",
+            help="The handle's slide speed, a fraction of the crowd's rated speed "
+            "(> 0 crowds out).",
         ),
         click.option(
             "--soil",

@@ -1,17 +1,22 @@
 r"""A rope shovel along a dig: the drives' forces, the tooth's path and the digging margin.
 
 The dig starts with the tooth tip on the ground at a crowd extension and runs with the hoist
-motors at their rated speed, hauling in (rope speed v = ω·R/i), and the crowd motor at a
-fraction of its rated speed (> 0 crowds out), both constant, until the hoist rope or the crowd
-reaches the end of its range. At each of the samples the general kinetostatics
-([`Mechanism.forces`][excavkin.mechanism.Mechanism.forces]) holds the front — its weight and
-d'Alembert inertia, the payload's weight (the dipper filling from empty to the rated payload
-over the dig, or a fixed fill) and the soil's digging resistance at the tooth tip — with:
+motors at their rated speed, hauling in (rope speed v = ω·R/i), and the handle sliding out
+along its rack at a fraction of the crowd's rated speed ω·r/i (> 0 crowds out), both constant,
+until the hoist rope or the crowd reaches the end of its range; the crowd motor's speed follows
+from the slide and the saddle's turn (the pinion is carried by the boom). At each of the
+samples the general kinetostatics ([`Mechanism.forces`][excavkin.mechanism.Mechanism.forces])
+holds the front — its weight and d'Alembert inertia, the payload's weight (the dipper filling
+from empty to the rated payload over the dig, or a fixed fill) and the soil's digging
+resistance at the tooth tip — with the crowd as a driver between the saddle and the handle and
+the hoist as its winch. Its efforts are those of the drives by virtual work
+([`pinion_efforts`][excavkin.shovel.dig.pinion_efforts]), the pinion on the shipper shaft
+turning with the boom, not with the saddle:
 
 * the **bail pull** (the hoist ropes' tension, all of them; per rope too) and the hoist motors'
-  torque and power (the engine's winch torque, `docs/ropes.md`);
-* the **crowd force** along the rack (> 0 crowds out) and the crowd motors' torque F·r/i and
-  power F·ṡ;
+  torque, speed and power;
+* the **crowd force** (the rack's tooth force, > 0 crowds out) and the crowd motors' torque,
+  speed and power;
 * the tooth tip's path and speed.
 
 The **digging resistance** is the machinery layer's soil model (`excavkin.machinery.soil`:
@@ -23,7 +28,7 @@ drives' forces are affine in it (the weights and inertia, plus the resistance's 
 once each), so it is the least of (T_max − T₀)/T_R and the crowd's two bounds. A margin below 1
 means the motors stall on that soil.
 
-A rope never pushes: where the hoist would have to push, the row's status is the engine's
+A rope never pushes: where the hoist would have to push, the row's status is
 ``slack rope 'hoist' (it would have to push)`` and ``ok`` is false; a row whose bail pull or
 crowd force exceeds the motors' rated torque says so too.
 """
@@ -73,7 +78,9 @@ class Dig:
     crowd_force : ndarray
         N, > 0 crowds out.
     hoist_torque, crowd_torque : ndarray
-        Each motor's torque (N·m), in the sense of its angle.
+        Each motor's torque (N·m), in the sense of its angle (the crowd's > 0 crowds out).
+    hoist_speed, crowd_speed : ndarray
+        The motors' speeds (rad/s).
     hoist_power, crowd_power : ndarray
         The drives' power, all their motors (W; > 0 the motors drive).
     resistance_along, resistance_normal : ndarray
@@ -98,6 +105,8 @@ class Dig:
     crowd_force: F
     hoist_torque: F
     crowd_torque: F
+    hoist_speed: F
+    crowd_speed: F
     hoist_power: F
     crowd_power: F
     resistance_along: F
@@ -169,6 +178,8 @@ class Dig:
             "crowd_force": (self.crowd_force, "force"),
             "hoist_motor_torque": (self.hoist_torque, "torque"),
             "crowd_motor_torque": (self.crowd_torque, "torque"),
+            "hoist_motor_speed": (self.hoist_speed, "angular_velocity"),
+            "crowd_motor_speed": (self.crowd_speed, "angular_velocity"),
             "hoist_power": (self.hoist_power, "power"),
             "crowd_power": (self.crowd_power, "power"),
             "resistance_along": (self.resistance_along, "force"),
@@ -221,7 +232,8 @@ def dig(
     extension : float, optional
         The crowd's extension at the start (m); default 80 % of the way out along its range.
     crowd_speed : float, default 0.1
-        The crowd motor's speed as a fraction of its rated speed, in [−1, 1] (> 0 crowds out).
+        The handle's slide speed as a fraction of the crowd's rated speed ω·r/i, in [−1, 1]
+        (> 0 crowds out).
     soil_name : str, default "loam"
         A soil of `excavkin.machinery.soil.SOILS`.
     model : {"zelenin", "balovnev", "mckyes"}, default "mckyes"
@@ -297,20 +309,28 @@ def dig(
     part = machine.mechanism.forces(static, [f_soil])
 
     rope, crowd = machine.hoist.rope, machine.crowd.driver
-    pull = forces.tension(rope)
-    push = forces.force(crowd)
-    pull_r, push_r = part.tension(rope), part.force(crowd)
-    pull_0, push_0 = pull - pull_r, push - push_r
-    margin = _margin(pull_0, pull_r, machine.hoist.pull, push_0, push_r, machine.crowd.force)
+    a, b = _saddle_transfer(machine, L, s)
+    efforts = pinion_efforts(machine, forces.force(crowd), forces.winch_torque(rope), a, b)
+    parts = pinion_efforts(machine, part.force(crowd), part.winch_torque(rope), a, b)
+    pull, tooth = efforts.pull, efforts.tooth
+    margin = _margin(pull - parts.pull, parts.pull, machine.hoist.pull,
+                     tooth - parts.tooth, parts.tooth, machine.crowd.force)  # fmt: skip
 
-    status = forces.status_labels().astype(object)
+    status = forces.kinematics.status.labels().astype(object)
+    kin_ok = forces.kinematics.status.ok
+    status[forces.singular & kin_ok] = "statically singular (redundant joint at this position)"
+    good = status == "ok"
+    status[good & (pull < 0.0)] = f"slack rope {rope!r} (it would have to push)"
     good = status == "ok"
     status[good & (pull > machine.hoist.pull)] = "bail pull over the hoist motors' rated torque"
-    over = good & (np.abs(push) > machine.crowd.force)
+    over = good & (np.abs(tooth) > machine.crowd.force)
     status[over] = "crowd force over the crowd motors' rated torque"
 
-    hoist_torque = forces.winch_torque(rope)  # all the motors, in the motor angle's sense
     theta_rate = kin.driver(rope)[1]
+    omega_sad = kin.body(machine.front.saddle)[1]
+    crowd_rate = machine.crowd.gear_ratio * (
+        v_c / machine.crowd.pinion_radius - machine.crowd.sigma * omega_sad
+    )
     return Dig(
         machine=machine.name,
         soil=f"{soil_name}, {model}",
@@ -322,16 +342,84 @@ def dig(
         fill=frac,
         bail_pull=pull,
         bail_pull_per_rope=pull / machine.hoist.ropes,
-        crowd_force=push,
-        hoist_torque=hoist_torque / machine.hoist.motor.count,
-        crowd_torque=machine.crowd.torque(push) / machine.crowd.motor.count,
-        hoist_power=hoist_torque * theta_rate,
-        crowd_power=push * kin.driver(crowd)[1],
+        crowd_force=tooth,
+        hoist_torque=efforts.hoist / machine.hoist.motor.count,
+        crowd_torque=efforts.crowd / machine.crowd.motor.count,
+        hoist_speed=theta_rate,
+        crowd_speed=crowd_rate,
+        hoist_power=efforts.hoist * theta_rate,
+        crowd_power=efforts.crowd * crowd_rate,
         resistance_along=np.asarray(res.along, float),
         resistance_normal=np.asarray(res.normal, float),
         margin=margin,
         status=np.asarray(status, dtype=str),
         forces=forces,
+    )
+
+
+@dataclass(frozen=True, slots=True)
+class Efforts:
+    """The drives' efforts with the crowd pinion on the boom (`pinion_efforts`), shape (n,).
+
+    Attributes
+    ----------
+    crowd : ndarray
+        The crowd motors' torque, all of them, in the sense of the crowd-out motor angle (N·m).
+    hoist : ndarray
+        The hoist motors' torque, all of them, in the sense of their angle (N·m).
+    tooth : ndarray
+        The rack's tooth force, W = τ_crowd·i/r (N, > 0 crowds out).
+    pull : ndarray
+        The hoist ropes' tension, T = −τ_hoist·i/R (N).
+    """
+
+    crowd: F
+    hoist: F
+    tooth: F
+    pull: F
+
+
+def _saddle_transfer(machine: Shovel, length: F, extension: F) -> tuple[F, F]:
+    """The saddle's turn per metre of crowd slide and per radian of the hoist motor, shape (n,)
+    each: two solves of the engine's velocities with unit rates."""
+    rope, crowd = machine.hoist.rope, machine.crowd.driver
+    inputs = {rope: machine.hoist.angle(length), crowd: extension}
+    one, zero = np.ones_like(length), np.zeros_like(length)
+    per_s = machine.mechanism.solve(inputs, rates={rope: zero, crowd: one})
+    per_h = machine.mechanism.solve(inputs, rates={rope: one, crowd: zero})
+    return per_s.body(machine.front.saddle)[1], per_h.body(machine.front.saddle)[1]
+
+
+def pinion_efforts(machine: Shovel, force: F, torque: F, a: F, b: F) -> Efforts:
+    """The drives' efforts with the crowd pinion on the boom, from the general kinetostatics'
+    crowd-driver force and hoist torque (the crowd as a driver between saddle and handle).
+
+    The crowd motor's angle is θm = i·(s/r − σ·θsaddle) + const (`excavkin.shovel.machine`),
+    so δθm = i·((1/r − σ·a)·δs − σ·b·δθh) with a and b the saddle's turn per metre of slide and
+    per radian of the hoist motor. The configurations and the loads are the same in both
+    coordinates, so their virtual work is: F·δs + τh·δθh = τm·δθm + τh'·δθh, whence
+
+        τm = F / (i·(1/r − σ·a)),    τh' = τh + σ·i·b·τm.
+
+    Parameters
+    ----------
+    machine : Shovel
+    force : ndarray, shape (n,)
+        The crowd driver's force (N, > 0 pushes the handle out).
+    torque : ndarray, shape (n,)
+        The hoist winch's torque (N·m).
+    a, b : ndarray, shape (n,)
+        The saddle's turn per metre of slide (rad/m) and per radian of the hoist motor.
+
+    Returns
+    -------
+    Efforts
+    """
+    c, h = machine.crowd, machine.hoist
+    crowd = force / (c.gear_ratio * (1.0 / c.pinion_radius - c.sigma * a))
+    hoist = torque + c.sigma * c.gear_ratio * b * crowd
+    return Efforts(
+        crowd, hoist, crowd * c.gear_ratio / c.pinion_radius, -hoist * h.gear_ratio / h.drum_radius
     )
 
 

@@ -3,8 +3,13 @@ r"""The boom's loads along a dig: suspension ropes, boom-foot pin, shipper shaft
 The boom is a body of the general model, pivoted at its foot and held by its locked
 suspension ropes; the general kinetostatics of the dig ([`dig`][excavkin.shovel.dig.dig])
 holds it in equilibrium under what the front puts on it — the saddle's pin at the shipper shaft
-(the crowd's reaction with it) and the hoist rope's wrap on the boom-point sheave, the resultant
-T·(u_out − u_in) of its two free segments — and its own weight. From that equilibrium:
+and the hoist rope's wrap on the boom-point sheave, the resultant T·(u₁ + u₂) of its two free
+segments (u the directions from the sheave along them) — and its own weight. The pinion on the
+shipper shaft is the boom's, not the saddle's: the drives' efforts by virtual work
+([`pinion_efforts`][excavkin.shovel.dig.pinion_efforts]) give the bail pull T', so the shaft
+carries ΔT·t more (t the rope's direction at the bail, towards the sheave, ΔT = T' − T), the
+sheave ΔT·(u₁ + u₂) more, and the boom the crowd drive's reaction couple σ·i·τm; the boom's
+moment about its foot and its force balance take them up. From that equilibrium:
 
 * the **suspension-rope tension** (all the ropes; per rope with the machine's count of
   suspension ropes — the model's rope is all of them);
@@ -145,13 +150,62 @@ def boom_loads(machine: Shovel, dug: Dig) -> BoomLoads:
     BoomLoads
     """
     fr, front = dug.forces, machine.front
+    kin = fr.kinematics
+    rope = next(r for r in machine.mechanism.model.ropes if r.name == machine.hoist.rope)
+    drum, centre, bail = (kin.point(p)[0] for p in rope.path)
+    u_drum, u_bail = rope_segments(drum, centre, bail, rope.radii[0], rope.wraps[0] == "cw")
+    delta = dug.bail_pull - fr.tension(machine.hoist.rope)
+    extra_shaft = -delta[:, None] * u_bail  # the bail pulled towards the sheave: −u_bail
+    extra_sheave = delta[:, None] * (u_drum + u_bail)
+    couple = machine.crowd.sigma * machine.crowd.gear_ratio * dug.crowd_torque
+    couple = couple * machine.crowd.motor.count
+    foot = kin.point(front.boom_foot)[0]
+    shaft = kin.point(front.shipper_shaft)[0]
+    hang = next(r for r in machine.mechanism.model.ropes if r.name == front.suspension)
+    anchor, pin = (kin.point(p)[0] for p in (hang.path[0], hang.path[-1]))
+    along = (anchor - pin) / np.hypot(*(anchor - pin).T)[:, None]
+
+    def moment(at: F, force: F) -> F:
+        return (at[:, 0] - foot[:, 0]) * force[:, 1] - (at[:, 1] - foot[:, 1]) * force[:, 0]
+
+    extra = moment(shaft, extra_shaft) + moment(centre, extra_sheave) + couple
+    d_tension = -extra / moment(pin, along)
+    d_foot = -(extra_shaft + extra_sheave + d_tension[:, None] * along)
     return BoomLoads(
         machine=machine.name,
         time=dug.time,
         teeth=dug.teeth,
-        suspension=fr.tension(front.suspension),
-        boom_foot=fr.pin(front.boom_foot, front.boom),
-        shipper_shaft=fr.pin(front.shipper_shaft, front.boom),
-        sheave=fr.pin(front.sheave, front.boom),
+        suspension=fr.tension(front.suspension) + d_tension,
+        boom_foot=fr.pin(front.boom_foot, front.boom) + d_foot,
+        shipper_shaft=fr.pin(front.shipper_shaft, front.boom) + extra_shaft,
+        sheave=fr.pin(front.sheave, front.boom) + extra_sheave,
         status=dug.status,
     )
+
+
+def rope_segments(a: F, centre: F, b: F, radius: float, cw: bool) -> tuple[F, F]:
+    """The directions from a sheave along the two free segments of a rope over it, to its
+    ends ``a`` and ``b``, shape (n, 2) each.
+
+    Parameters
+    ----------
+    a, centre, b : ndarray, shape (n, 2)
+        The rope's first end, the sheave's centre, its last end (m).
+    radius : float
+        The sheave's radius (m).
+    cw : bool
+        The rope turns clockwise around the sheave as it runs from ``a`` to ``b``.
+
+    Returns
+    -------
+    to_a, to_b : ndarray, shape (n, 2)
+        Unit vectors from the sheave's tangent points towards ``a`` and ``b``.
+    """
+    side = 1.0 if cw else -1.0
+
+    def towards_tangent(p: F, turn: float) -> F:
+        d = centre - p
+        ang = np.arctan2(d[:, 1], d[:, 0]) + turn * np.arcsin(radius / np.hypot(d[:, 0], d[:, 1]))
+        return np.stack([np.cos(ang), np.sin(ang)], axis=1)
+
+    return -towards_tangent(a, side), -towards_tangent(b, -side)

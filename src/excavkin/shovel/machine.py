@@ -23,9 +23,13 @@ Conventions (SI; side view, x forward from the slew axis, y up from the ground):
   so a positive motor speed pays rope out (lowers the dipper) and a hoist hauls in. The engine's
   rope is all the hoist ropes together (``ropes`` in parallel): its tension is the bail pull.
 * **crowd**: the handle's slide s, the distance along the rack's pitch line from the saddle's
-  pitch point to the handle's front end (> 0, growing as the dipper crowds out). The crowd
-  motor turns the pinion through the gear ratio i: s changes by r/i per motor radian (r the
-  pinion's pitch radius), and the crowd force F (> 0 crowds out) needs a motor torque F·r/i.
+  pitch point to the handle's front end (> 0, growing as the dipper crowds out): the model's
+  crowd driver. The pinion turns on the shipper shaft, carried by the boom, and meshes with the
+  rack at the pitch point, r (its pitch radius) from the shaft: the rack's travel relative to
+  the saddle is Δs = −σ·r·Δ(θp − θsaddle) (σ = +1 with the rack to the left of the handle's
+  direction from the shaft, as `docs/gears.md` draws it), so the crowd motor's angle (> 0
+  crowds out, i motor turns per pinion turn) is θm = i·(s/r − σ·θsaddle) + const: the handle
+  slides as the saddle turns with the crowd motor held (the crowd–hoist interaction).
 """
 
 from __future__ import annotations
@@ -135,6 +139,9 @@ class Crowd:
         The pinion's pitch radius (m).
     extension : tuple of float
         The slide's shortest and longest value (m): the crowd's range.
+    sigma : float
+        +1 where the rack lies to the left of the handle's direction from the shipper shaft,
+        −1 to the right (module docstring).
     """
 
     driver: str
@@ -142,6 +149,7 @@ class Crowd:
     gear_ratio: float
     pinion_radius: float
     extension: tuple[float, float]
+    sigma: float = 1.0
 
     @property
     def force(self) -> float:
@@ -154,12 +162,12 @@ class Crowd:
         return self.motor.speed * self.pinion_radius / self.gear_ratio
 
     def torque(self, force: ArrayLike) -> F:
-        """The motors' torque (all of them) for a crowd force, τ = F·r/i.
+        """The motors' torque (all of them) for a tooth force on the rack, τ = W·r/i.
 
         Parameters
         ----------
         force : array_like
-            Crowd force (N, > 0 crowds out).
+            The rack's tooth force (N, > 0 crowds out).
 
         Returns
         -------

@@ -35,6 +35,8 @@ import dataclasses
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from excavkin.io.toml_model import read_text_file, read_toml
 from excavkin.machinery.base_file import read_base
 from excavkin.machinery.file_fields import MachineReader, check_head, read_model
@@ -182,12 +184,14 @@ def _machine(data: dict[str, Any], source: str | None) -> Shovel | RopeBackhoe:
     linear = {d.name: d for d in model.linear}
     if driver not in linear or linear[driver].mode != "driven":
         raise r.err(f"{driver!r} is not a driven linear driver of the model", "crowd", "driver")
+    radius = r.bounded(ct, "pinion_radius", "length", "crowd", 0.0, 10.0, "m")
     crowd = Crowd(
         driver=driver,
         motor=_motor(r, ct, "crowd"),
         gear_ratio=r.bounded(ct, "gear_ratio", "dimensionless", "crowd", 0.0, 1e4, ""),
-        pinion_radius=r.bounded(ct, "pinion_radius", "length", "crowd", 0.0, 10.0, "m"),
+        pinion_radius=radius,
         extension=_range(r, ct, "extension", "crowd"),
+        sigma=_rack_side(r, model, linear[driver].between, front.shipper_shaft, radius),
     )
 
     dt = r.subtable(data, "dipper", "dipper")
@@ -284,3 +288,23 @@ def _backhoe(r: MachineReader, data: dict[str, Any], model: Any, source: str | N
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], entry="name")
     return RopeBackhoe(Mechanism(model), drag, names["stick"], names["bucket"], name, source)
+
+
+def _rack_side(
+    r: MachineReader, model: Any, between: tuple[str, str], shaft: str, radius: float
+) -> float:
+    """σ: +1 where the rack's pitch line (the crowd driver's points, from the saddle's pitch
+    point to the handle) passes to the left of the shipper shaft, −1 to the right; the line must
+    pass the pinion's pitch radius from the shaft."""
+    pts = model.points
+    p, q, c = (np.asarray(pts[k], dtype=float) for k in (*between, shaft))
+    u = (q - p) / np.hypot(*(q - p))
+    off = float(u[0] * (p - c)[1] - u[1] * (p - c)[0])  # the pitch point left of u from S
+    if not abs(abs(off) - radius) <= 1e-6 * max(1.0, radius):
+        raise r.err(
+            f"the rack's pitch line ({between[0]} to {between[1]}) passes {abs(off):.6g} m from "
+            f"the shipper shaft {shaft!r}, not the pinion's pitch radius {radius:.6g} m",
+            "crowd",
+            "pinion_radius",
+        )
+    return 1.0 if off > 0.0 else -1.0
