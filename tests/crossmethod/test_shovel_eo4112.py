@@ -62,3 +62,26 @@ def test_the_shovel_commands_refuse_a_backhoe_by_name():
     r = CliRunner().invoke(main, ["shovel", "dig", "eo4112_machine"])
     assert r.exit_code == 2
     assert "rope backhoe" in r.output and "Traceback" not in r.output
+
+
+def test_the_haul_against_the_reference_and_its_command(tmp_path):
+    from excavkin.shovel.haul import haul
+
+    hoe = load_machine("eo4112_machine")
+    h = haul(hoe, samples=31, force=(3000.0, -8000.0))
+    ref = bucket_mechanism_from_drive(EO4112_GEOMETRY, EO4112_DRIVE, h.stick)
+    np.testing.assert_allclose(h.length, ref.fe, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.angle(np.exp(1j * (h.to_stick - ref.phi7p))), 0.0, atol=1e-12)
+    np.testing.assert_allclose(h.stick_rate, ref.omega1, rtol=1e-10)
+    np.testing.assert_allclose(h.bucket_rate, ref.omega7p, rtol=1e-9, atol=1e-12)
+    d = hoe.drag
+    np.testing.assert_allclose(h.torque, h.tension * d.parts * d.drum_radius / d.gear_ratio)
+    assert set(h.status[h.tension < 0]) == {"slack drag rope (it would have to push)"}
+    assert set(h.status[h.tension >= 0]) == {"ok"}
+    out = tmp_path / "h.csv"
+    r = CliRunner().invoke(main, ["shovel", "haul", "eo4112_machine", "--samples", "7",
+                                  "--load", "3", "-8", "-o", str(out)])  # fmt: skip
+    assert r.exit_code == 0, r.output
+    assert "bucket to stick" in r.output and out.stat().st_size > 500
+    r = CliRunner().invoke(main, ["shovel", "haul", "mining_shovel_machine"])
+    assert r.exit_code == 2 and "haul takes a rope backhoe" in r.output

@@ -109,6 +109,7 @@ BASE: dict[str, list[str]] = {
     "loader optimize": ["{loader_study}", "-o", "{d}/l.csv", "--write-machine", "{d}/l.toml",
                         "--force", "-q"],
     "shovel envelope": ["mining_shovel_machine", "--samples", "5"],
+    "shovel haul": ["eo4112_machine", "--samples", "5", "--load", "3", "-8"],
     "shovel dig": ["mining_shovel_machine", "--samples", "5"],
     "shovel loads": ["mining_shovel_machine", "--samples", "5"],
     "shovel report": ["mining_shovel_machine", "--samples", "5", "-o", "{d}/sh.html", "--force",

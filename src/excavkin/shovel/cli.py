@@ -265,3 +265,47 @@ def stability(machine: str, output: str | None, force: bool, **options: Any) -> 
         raise InputError(f"{machine}: no [base] table: the machine stands on nothing to tip")
     result = run(shovel, _run_dig(shovel, options))
     _write(result, output, None, force, None)
+
+
+@command.command("haul")
+@_MACHINE
+@click.option(
+    "--samples",
+    default=91,
+    show_default=True,
+    type=click.IntRange(min=2, max=100_000),
+    help="Drag-rope lengths over its range.",
+)
+@click.option("--point", default="D", show_default=True, help="The bucket's point loaded.")
+@click.option(
+    "--load",
+    nargs=2,
+    type=click.FloatRange(min=-1e6, max=1e6),
+    default=(0.0, 0.0),
+    show_default=True,
+    help="The force on the bucket, FX FY (kN, the model's frame).",
+)
+@_OUTPUT
+@_FORCE
+@handle_errors
+def haul(
+    machine: str,
+    samples: int,
+    point: str,
+    load: tuple[float, float],
+    output: str | None,
+    force: bool,
+) -> None:
+    """Print a rope backhoe's bucket attitude and drag-rope pull as its winch hauls the bucket
+    in (the EO-4112: eo4112_machine); the table has every sample."""
+    from excavkin.errors import InputError
+    from excavkin.shovel.haul import haul as run
+    from excavkin.shovel.machine import RopeBackhoe
+    from excavkin.shovel.machine_file import load_machine
+
+    _check(output, None, force)
+    hoe = load_machine(model_path(machine, "machine"))
+    if not isinstance(hoe, RopeBackhoe):
+        raise InputError(f"{machine}: a rope shovel; haul takes a rope backhoe (its [drag] table)")
+    result = run(hoe, samples=samples, point=point, force=(load[0] * 1e3, load[1] * 1e3))
+    _write(result, output, None, force, None)

@@ -399,6 +399,9 @@ class Drag:
         m.
     parts : int
         Parts of rope between the sheave's block and the bucket's (the rope's multiplicity).
+    length : tuple of float or None
+        The rope's shortest and longest length, sheave to bucket (m); None where the file
+        gives none.
     """
 
     driver: str
@@ -406,6 +409,7 @@ class Drag:
     gear_ratio: float
     drum_radius: float
     parts: int
+    length: tuple[float, float] | None = None
 
     @property
     def speed(self) -> float:

@@ -264,7 +264,7 @@ def _backhoe(r: MachineReader, data: dict[str, Any], model: Any, source: str | N
         if key in data:
             raise r.err(f"a rope backhoe ([drag]) has no [{key}] table", key)
     dt = r.subtable(data, "drag", "drag")
-    r.keys(dt, _MOTOR | {"driver", "drum_radius", "parts"}, "drag")
+    r.keys(dt, _MOTOR | {"driver", "drum_radius", "parts", "length"}, "drag")
     driver = r.text(dt, "driver", "drag", "drag")
     linear = {d.name: d for d in model.linear}
     if driver not in linear or linear[driver].mode != "driven":
@@ -275,6 +275,7 @@ def _backhoe(r: MachineReader, data: dict[str, Any], model: Any, source: str | N
         gear_ratio=r.bounded(dt, "gear_ratio", "dimensionless", "drag", 0.0, 1e4, ""),
         drum_radius=r.bounded(dt, "drum_radius", "length", "drag", 0.0, 20.0, "m"),
         parts=_count(r, dt, "parts", "drag"),
+        length=_range(r, dt, "length", "drag") if "length" in dt else None,
     )
     bt = r.subtable(data, "backhoe", "backhoe")
     r.keys(bt, {"stick", "bucket"}, "backhoe")
