@@ -67,22 +67,23 @@ class Haul:
         str
         """
         deg = np.degrees
-        ok = self.status == "ok"
-        pull = self.tension[ok] if ok.any() else np.array([np.nan])
-        return "\n".join(
-            [
-                f"{self.machine}: hauled in over {self.length[-1]:.3f}..{self.length[0]:.3f} m "
-                f"of drag rope at {self.speed[0]:.3f} m/s",
-                f"  stick angle      {deg(self.stick[0]):7.2f} .. {deg(self.stick[-1]):7.2f} deg",
-                f"  bucket to stick  {deg(self.to_stick[0]):7.2f} .. "
-                f"{deg(self.to_stick[-1]):7.2f} deg"
-                f" (turns {deg(self.to_stick[-1] - self.to_stick[0]):.1f} deg)",
-                f"  drag rope        {np.nanmin(pull) / 1e3:7.2f} .. "
-                f"{np.nanmax(pull) / 1e3:.2f} kN a part where it pulls, motor "
-                f"{np.nanmax(pull) * self.torque[0] / self.tension[0] / 1e3:.3f} kN*m at most",
-                f"  not ok           {int(np.sum(~ok))} samples (the rope would have to push)",
-            ]
-        )
+        pulls = (self.status == "ok") & np.isfinite(self.tension)
+        lines = [
+            f"{self.machine}: hauled in over {self.length[-1]:.3f}..{self.length[0]:.3f} m "
+            f"of drag rope at {self.speed[0]:.3f} m/s",
+            f"  stick angle      {deg(self.stick[0]):7.2f} .. {deg(self.stick[-1]):7.2f} deg",
+            f"  bucket to stick  {deg(self.to_stick[0]):7.2f} .. "
+            f"{deg(self.to_stick[-1]):7.2f} deg"
+            f" (turns {deg(self.to_stick[-1] - self.to_stick[0]):.1f} deg)",
+        ]
+        if pulls.any():
+            lines.append(
+                f"  drag rope        {np.min(self.tension[pulls]) / 1e3:7.2f} .. "
+                f"{np.max(self.tension[pulls]) / 1e3:.2f} kN a part where it pulls, motor "
+                f"{np.max(self.torque[pulls]) / 1e3:.3f} kN*m at most"
+            )
+        lines.append(f"  not ok           {int(np.sum(~pulls))} samples")
+        return "\n".join(lines)
 
     def to_frame(self) -> pd.DataFrame:
         """The samples as a table, SI; ``attrs`` record the machine and the columns' kinds.
