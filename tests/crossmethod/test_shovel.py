@@ -213,16 +213,48 @@ def test_a_hoist_that_would_push_is_a_status_never_ok(shovel):
     assert normal.ok[0]
 
 
-def test_the_pinion_on_the_boom_by_the_fronts_own_statics(shovel):
+def _mirrored(shovel: Shovel) -> Shovel:
+    """The shovel mirrored top to bottom: the rack to the right of the handle (σ = −1), the
+    hoist rope turning counter-clockwise over its sheave."""
+    import dataclasses
+
+    from excavkin import Mechanism
+
+    m = shovel.mechanism.model
+    model = dataclasses.replace(
+        m,
+        points={k: (x, -y) for k, (x, y) in m.points.items()},
+        bodies=tuple(
+            dataclasses.replace(b, center_of_mass=(b.center_of_mass[0], -b.center_of_mass[1]))
+            if b.center_of_mass is not None
+            else b
+            for b in m.bodies
+        ),
+        ropes=tuple(
+            dataclasses.replace(r, wraps=tuple("ccw" if w == "cw" else "cw" for w in r.wraps))
+            for r in m.ropes
+        ),
+    )
+    crowd = dataclasses.replace(shovel.crowd, sigma=-1.0)
+    return Shovel(Mechanism(model), shovel.front, shovel.hoist, crowd, shovel.dipper, None,
+                  shovel.gravity, "mirrored")  # fmt: skip
+
+
+@pytest.mark.parametrize("mirror", [False, True])
+def test_the_pinion_on_the_boom_by_the_fronts_own_statics(shovel, mirror):
     """Static poses: the rack's tooth force W and the bail pull T' from the front's free body
     (saddle, handle, dipper): its moments about the shipper shaft (the rope at the bail, W along
     the pitch line through P, the weights, payload and a digging force) and the handle and
-    dipper's forces along the guide (the saddle's normal force has none)."""
+    dipper's forces along the guide (the saddle's normal force has none). Mirrored, the rack
+    lies to the right of the handle (σ = −1) and the rope turns the other way."""
     from excavkin.shovel.dig import pinion_efforts
 
     d = dig(shovel, samples=9, fill=0.6)
+    if mirror:
+        shovel = _mirrored(shovel)
     mech, g, fnt = shovel.mechanism, shovel.gravity, shovel.front
     static = shovel.solve(d.length, d.extension)
+    assert static.status.ok.all()
     soil = np.array([-4e5, -1.5e5])
     loads = [*shovel.weight_loads(0.6), PointForce("soil", "dipper", "K", tuple(soil))]
     fr = mech.forces(static, loads)
@@ -236,7 +268,8 @@ def test_the_pinion_on_the_boom_by_the_fronts_own_statics(shovel):
     u = (HF - P) / np.hypot(*(HF - P).T)[:, None]
     rope = next(r for r in mech.model.ropes if r.name == "hoist")
     sheave, bail = static.point("T")[0], static.point("BL")[0]
-    t_bail = _tangent(sheave, rope.radii[0], bail, -1.0)  # the rope's pull on the bail
+    # the rope's pull on the bail: towards its tangent point, the sheave on its left (cw wrap)
+    t_bail = _tangent(sheave, rope.radii[0], bail, 1.0 if mirror else -1.0)
 
     def m_s(at, f):
         return (at[:, 0] - S[:, 0]) * f[:, 1] - (at[:, 1] - S[:, 1]) * f[:, 0]

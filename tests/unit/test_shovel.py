@@ -84,6 +84,7 @@ def test_the_machine_files_gearing_is_the_models_rope(shovel) -> None:
         ("motor_torque = 16 ", "motor_torque = -16 ", "[hoist] 'motor_torque'"),
         ('payload_point = "PC"', 'payload_point = "BF"', "not a point of the dipper"),
         ("[crowd]", "[crowds]", "crowds"),
+        ("pinion_radius = 0.6 ", "pinion_radius = 0.5 ", "passes 0.6 m from the shipper shaft"),
     ],
 )
 def test_each_bad_entry_is_one_message(old: str, new: str, where: str) -> None:
