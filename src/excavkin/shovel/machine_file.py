@@ -22,7 +22,7 @@ relative to the machine file) or inline (a ``[model]`` table)::
     driver = "crowd"; motors = 1; motor_torque = 8; motor_speed = 900
     gear_ratio = 60; pinion_radius = 0.6; extension = [5, 10.5]
     [dipper]
-    capacity = "56 m^3"; payload = 100000; payload_point = "PC"; door_length = 2.0; width = 4.2
+    capacity = "56 m^3"; payload = 100000; payload_point = "PC"; door_length = 3.6; width = 4.2
     [base]                        # optional: the machinery layer's base (crawlers)
 
 The hoist's ``gear_ratio`` and ``drum_radius`` replace the model's rope's. Every number is
