@@ -1,4 +1,5 @@
-"""``excavkin shovel envelope|dig|loads MACHINE``: a rope shovel's working range and dig.
+"""``excavkin shovel envelope|dig|loads|stability|report|study|haul``: a rope shovel's working
+range, dig, loads and spec sheet, and a rope backhoe's haul.
 
 The wing's entry point: ``excavkin --help`` imports this module, so the heavy modules (NumPy,
 the machine, pint) are imported inside the commands. Each command parses, calls the library
@@ -160,7 +161,8 @@ def _run_dig(machine: Shovel, options: dict[str, Any]) -> Any:
 
 @click.group("shovel", context_settings={"help_option_names": ["-h", "--help"]})
 def command() -> None:
-    """Digging envelope, forces along a dig and boom loads of a rope-shovel MACHINE."""
+    """Digging envelope, forces along a dig, boom loads, stability on the crawlers, spec sheet
+    and design studies of a rope-shovel MACHINE; a rope backhoe's haul."""
 
 
 @command.command("envelope")
