@@ -63,8 +63,21 @@ CRANE_STUDY = (
     .replace("maxiter = 6", "maxiter = 1")
 )
 
+#: the shovel's drive study, cut to the figures that need no envelope and no dig
+SHOVEL_STUDY = """
+[study]
+machine = "mining_shovel_machine"
+method = "sobol"
+samples = 2
+[parameters]
+"hoist.gear_ratio" = [70, 90]
+[metrics]
+hoist_speed = { column = "hoist.speed" }
+pull = { column = "hoist.pull" }
+"""
+
 #: a small valid command line of every command; "{d}" is a scratch folder, "{study}",
-#: "{machine_study}", "{loader_study}" and "{crane_study}" the files above
+#: "{machine_study}", "{loader_study}", "{crane_study}" and "{shovel_study}" the files above
 BASE: dict[str, list[str]] = {
     "check": ["fourbar"],
     "demo": ["--model", "slider_crank", "--out-dir", "{d}/demo"],
@@ -109,6 +122,14 @@ BASE: dict[str, list[str]] = {
     "loader study": ["{loader_study}", "-o", "{d}/l.parquet", "--force", "-q"],
     "loader optimize": ["{loader_study}", "-o", "{d}/l.csv", "--write-machine", "{d}/l.toml",
                         "--force", "-q"],
+    "shovel envelope": ["mining_shovel_machine", "--samples", "5"],
+    "shovel haul": ["eo4112_machine", "--samples", "5", "--load", "3", "-8"],
+    "shovel dig": ["mining_shovel_machine", "--samples", "5"],
+    "shovel loads": ["mining_shovel_machine", "--samples", "5"],
+    "shovel report": ["mining_shovel_machine", "--samples", "5", "-o", "{d}/sh.html", "--force",
+                      "-q"],
+    "shovel stability": ["mining_shovel_machine", "--samples", "5"],
+    "shovel study": ["{shovel_study}", "-o", "{d}/sh.parquet", "--force", "-q"],
     "reproduce arm": ["--out-dir", "{d}/arm"],
     "reproduce mo100": ["--out-dir", "{d}/mo100", "--samples", "36"],
     "reproduce pasika": ["--out-dir", "{d}/pasika", "--samples", "11"],
@@ -200,6 +221,7 @@ def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (d / "machine_study.toml").write_text(MACHINE_STUDY)
     (d / "loader_study.toml").write_text(LOADER_STUDY)
     (d / "crane_study.toml").write_text(CRANE_STUDY)
+    (d / "shovel_study.toml").write_text(SHOVEL_STUDY)
     return d
 
 
@@ -207,7 +229,8 @@ def base_args(path: str, d: Path) -> list[str]:
     fill = {"d": str(d), "study": str(d / "study.toml"),
             "machine_study": str(d / "machine_study.toml"),
             "loader_study": str(d / "loader_study.toml"),
-            "crane_study": str(d / "crane_study.toml")}  # fmt: skip
+            "crane_study": str(d / "crane_study.toml"),
+            "shovel_study": str(d / "shovel_study.toml")}  # fmt: skip
     return [*path.split(), *(a.format(**fill) for a in BASE[path])]
 
 

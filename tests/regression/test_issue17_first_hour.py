@@ -20,8 +20,10 @@ def test_examples_are_listed_by_kind_and_found_by_name() -> None:
     models, machines = excavkin.examples("model"), excavkin.examples("machine")
     assert "fourbar" in models and "excavator_machine" not in models
     assert machines == [
+        "eo4112_machine",
         "excavator_machine",
         "knuckle_crane_machine",
+        "mining_shovel_machine",
         "synchronised_crane_machine",
         "telescopic_crane_machine",
         "wheel_loader_machine",

@@ -156,6 +156,10 @@ REPORTED = ("loader", "excavator")
 MACHINES = [n for n, f in FAMILIES.items() if f in REPORTED]
 LOADERS = [n for n in MACHINES if FAMILIES[n] == "loader"]
 EXCAVATORS = [n for n in MACHINES if FAMILIES[n] == "excavator"]
+#: the rope-shovel wing's machines: the shovel's report has sections of its own (envelope, dig,
+#: boom loads, front; tests/unit/test_shovel.py), the rope backhoe none
+SHOVELS = [n for n in MACHINES if FAMILIES[n] == "shovel"]
+REPORTED = [n for n in MACHINES if n not in SHOVELS]
 
 
 def _family(machine: object) -> str:
@@ -181,12 +185,13 @@ def page(name: str) -> tuple[object, str, str]:
 
 
 def test_every_built_in_machine_is_of_a_family_with_a_report() -> None:
-    assert LOADERS and EXCAVATORS and sorted(LOADERS + EXCAVATORS) == sorted(MACHINES)
-    for n in MACHINES:
+    assert LOADERS and EXCAVATORS and sorted(LOADERS + EXCAVATORS) == sorted(REPORTED)
+    assert SHOVELS == ["eo4112_machine", "mining_shovel_machine"]
+    for n in REPORTED:
         assert _family(load_machine(excavkin.example_path(n))) == FAMILIES[n]
 
 
-@pytest.mark.parametrize("name", MACHINES)
+@pytest.mark.parametrize("name", REPORTED)
 def test_the_report_is_self_contained_with_every_section(name) -> None:
     m, family, text = page(name)
     assert_self_contained(text)

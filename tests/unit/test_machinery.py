@@ -174,8 +174,10 @@ def test_the_excavator_registers_its_family() -> None:
     fam = families()["excavator"]
     assert fam.kind == "machine"
     assert excavkin.examples("machine") == [
+        "eo4112_machine",
         "excavator_machine",
         "knuckle_crane_machine",
+        "mining_shovel_machine",
         "synchronised_crane_machine",
         "telescopic_crane_machine",
         "wheel_loader_machine",
