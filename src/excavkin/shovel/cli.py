@@ -16,6 +16,13 @@ import click
 
 from excavkin.cli.common import handle_errors, model_path
 from excavkin.cli.machine_report import machine_report_options
+from excavkin.cli.result_output import (
+    FORCE_OPTION,
+    MACHINE_ARGUMENT,
+    OUTPUT_OPTION,
+    check_output,
+    print_result,
+)
 from excavkin.cli.study_options import study_options
 
 if TYPE_CHECKING:
@@ -41,19 +48,14 @@ def _machine(path: str) -> Shovel:
 def _check(output: str | None, plot: str | None, force: bool) -> None:
     from excavkin.outputs.tables import check_target
 
-    if output:
-        check_target(output, force=force, suffixes=(".csv", ".parquet"))
+    check_output(output, force)
     if plot:
         check_target(plot, force=force, suffixes=(".png", ".svg", ".pdf"))
 
 
 def _write(result: Any, output: str | None, plot: str | None, force: bool, draw: Any) -> None:
     """Print the result's summary, write its table and its plot."""
-    from excavkin.outputs.tables import write_table
-
-    click.echo(result.summary())
-    if output:
-        click.echo(f"wrote {write_table(result.to_frame(), output, force=force)}")
+    print_result(result, output, force)
     if plot:
         import matplotlib
 
@@ -66,14 +68,9 @@ def _write(result: Any, output: str | None, plot: str | None, force: bool, draw:
         click.echo(f"wrote {plot}")
 
 
-_MACHINE = click.argument("machine", type=click.Path(dir_okay=False))
-_OUTPUT = click.option(
-    "-o", "--output", type=click.Path(dir_okay=False), help="The table (.csv or .parquet), SI."
-)
 _PLOT = click.option(
     "--plot", type=click.Path(dir_okay=False), help="The figure (.png, .svg or .pdf)."
 )
-_FORCE = click.option("--force", is_flag=True, help="Replace an output file that exists.")
 
 
 def _dig_options(func: _Command) -> _Command:
@@ -166,7 +163,7 @@ def command() -> None:
 
 
 @command.command("envelope")
-@_MACHINE
+@MACHINE_ARGUMENT
 @click.option(
     "--samples",
     default=41,
@@ -174,9 +171,9 @@ def command() -> None:
     type=click.IntRange(min=3, max=301),
     help="Grid poses a side of the hoist × crowd box.",
 )
-@_OUTPUT
+@OUTPUT_OPTION
 @_PLOT
-@_FORCE
+@FORCE_OPTION
 @handle_errors
 def envelope(machine: str, samples: int, output: str | None, plot: str | None, force: bool) -> None:
     """Print the cutting height and radius, dump height and radius and the radius at floor
@@ -190,11 +187,11 @@ def envelope(machine: str, samples: int, output: str | None, plot: str | None, f
 
 
 @command.command("dig")
-@_MACHINE
+@MACHINE_ARGUMENT
 @_dig_options
-@_OUTPUT
+@OUTPUT_OPTION
 @_PLOT
-@_FORCE
+@FORCE_OPTION
 @handle_errors
 def dig(machine: str, output: str | None, plot: str | None, force: bool, **options: Any) -> None:
     """Print the bail pull, crowd force, motor power, tooth path and digging-resistance margin
@@ -206,11 +203,11 @@ def dig(machine: str, output: str | None, plot: str | None, force: bool, **optio
 
 
 @command.command("loads")
-@_MACHINE
+@MACHINE_ARGUMENT
 @_dig_options
-@_OUTPUT
+@OUTPUT_OPTION
 @_PLOT
-@_FORCE
+@FORCE_OPTION
 @handle_errors
 def loads(machine: str, output: str | None, plot: str | None, force: bool, **options: Any) -> None:
     """Print the suspension-rope tension and the boom-foot, shipper-shaft and sheave loads
@@ -250,10 +247,10 @@ def report(machine: str, samples: int, **options: Any) -> None:
 
 
 @command.command("stability")
-@_MACHINE
+@MACHINE_ARGUMENT
 @_dig_options
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def stability(machine: str, output: str | None, force: bool, **options: Any) -> None:
     """Print the least payload (t) and digging force (kN) that tip the machine on its crawlers
@@ -270,7 +267,7 @@ def stability(machine: str, output: str | None, force: bool, **options: Any) -> 
 
 
 @command.command("haul")
-@_MACHINE
+@MACHINE_ARGUMENT
 @click.option(
     "--samples",
     default=91,
@@ -287,8 +284,8 @@ def stability(machine: str, output: str | None, force: bool, **options: Any) -> 
     show_default=True,
     help="The force on the bucket, FX FY (kN, the model's frame).",
 )
-@_OUTPUT
-@_FORCE
+@OUTPUT_OPTION
+@FORCE_OPTION
 @handle_errors
 def haul(
     machine: str,

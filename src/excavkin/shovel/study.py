@@ -48,8 +48,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
-from excavkin.errors import ExcavkinError
-from excavkin.machinery.designs import Family, model_parameter, model_with
+from excavkin.machinery.designs import Family, model_parameter, model_with, rate_designs
 from excavkin.shovel.machine import Shovel
 from excavkin.studies import machine_study as ms
 
@@ -296,22 +295,9 @@ def shovel_columns(
     for name in names:
         if name not in COLUMNS:
             raise unknown_name("shovel column", name, list(COLUMNS))
-    keys = sorted(params)
-    rows = np.column_stack(
-        [np.broadcast_to(np.asarray(params[k], float), (n,)) for k in keys] or [np.zeros(n)]
+    return rate_designs(
+        params, names, n, lambda p: shovel_figures(design_shovel(machine, p), names)
     )
-    designs, which = np.unique(rows, axis=0, return_inverse=True)
-    values = np.full((len(designs), len(names)), np.nan)
-    for i, row in enumerate(designs):  # each design finds its own poses: one shovel each
-        try:
-            one = design_shovel(machine, dict(zip(keys, row.tolist(), strict=True)))
-            figures = shovel_figures(one, names)
-        except ExcavkinError:
-            continue
-        values[i] = [figures[k] for k in names]
-    at = values[which.reshape(-1)]
-    ok = np.asarray(np.isfinite(at).all(axis=1))
-    return {k: np.asarray(at[:, j]) for j, k in enumerate(names)}, ok
 
 
 def _load(path: Path) -> Shovel:
