@@ -200,7 +200,7 @@ def source(plan: SolvePlan, *, write_at_rest: bool = True) -> str:
     """The kernel's Python source for ``plan`` (closed-form steps only). ``write_at_rest``
     False: a fixed point's velocity and acceleration rows are left as they come (the kernel
     of `compile_plan`, whose caller hands them in zeroed)."""
-    g = _Source(write_at_rest)
+    g = Source(write_at_rest)
     for k, st in enumerate(plan.steps):
         kind_of(st).emit(g, st, k)  # a kind that does not compile raises TypeError
     g.derived(plan)
@@ -244,7 +244,7 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
 _CHAINS = 8
 
 
-class _Source:
+class Source:
     """Lines of the loop body, and the count of constants read so far: what each step kind's
     ``emit`` (`excavkin.step_kinds`) writes its source through."""
 

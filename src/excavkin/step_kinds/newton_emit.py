@@ -1,0 +1,559 @@
+"""A Newton group's compiled source: the per-sample Newton iteration of
+`excavkin.step_kinds.newton_solve`, written out for the compiled plan of a model with groups
+(`excavkin.kinematics.compiled_newton`).
+
+Per sample, the group's equations (the constraints of `excavkin.step_kinds.constraints`, a
+rope's length over its sheaves by `excavkin.step_kinds.rope_path`'s formulas) fill a residual
+row and a Jacobian held in small scratch arrays, and the kernel's own LU with partial pivoting on
+equilibrated rows (`FACTOR`, the arithmetic of `excavkin.step_kinds.small_systems.Factors`)
+solves them. The iteration has the NumPy path's start (the positions handed in), tolerance
+(a step below 1e-14 of the size), singular test (|det| over the rows' norms below 1e-13), cap
+(50 passes), dyad sides (a dyad on the wrong side mirrored, then iterated again) and statuses
+(not converged where a residual stays above 1e-10·size²; a rope off its sheaves). Its rates solve
+the same Jacobian with the differentiated constraints, as `newton_rates` does; a group's branch
+check (`excavkin.kinematics.solve`'s) is written after every step.
+
+The source is linear in the group's constraints (one block of lines each) and loops over the
+matrix size at run time: no recursion, no unrolling that grows as its square.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, CRope
+from excavkin.step_kinds.state import Code
+
+__all__ = ["FACTOR", "MAX_ITER", "emit_group"]
+
+#: Newton passes at most (`newton_solve.newton_positions`'s cap)
+MAX_ITER = 50
+
+#: the LU helpers of the generated source (numba functions over one sample's matrix)
+FACTOR = '''
+
+@numba.njit(
+    numba.float64(numba.float64[:, ::1], numba.int64[::1], numba.float64[::1],
+                  numba.float64[::1]),
+    nogil=True, cache=True, error_model="numpy",
+)
+def factor(J, piv, scl, rec):
+    """LU of J in place, rows scaled to unit norm, partial pivoting; returns det over the
+    rows' norms (0 at a zero pivot)."""
+    m = J.shape[0]
+    for r in range(m):
+        s = 0.0
+        for c in range(m):
+            s += J[r, c] * J[r, c]
+        nrm = math.sqrt(s)
+        scl[r] = 1.0 / (nrm if nrm > 0.0 else 1.0)
+        for c in range(m):
+            J[r, c] *= scl[r]
+    ratio = 1.0
+    dead = False
+    for k in range(m - 1):
+        best = abs(J[k, k])
+        p = 0
+        for r in range(1, m - k):
+            mag = abs(J[k + r, k])
+            if mag > best:
+                best = mag
+                p = r
+        piv[k] = p
+        if p != 0:
+            for c in range(k, m):
+                t = J[k, c]
+                J[k, c] = J[k + p, c]
+                J[k + p, c] = t
+            ratio = -ratio
+        ratio *= J[k, k]
+        if J[k, k] == 0.0:
+            dead = True
+        for r in range(k + 1, m):
+            J[r, k] /= J[k, k]
+        for r in range(k + 1, m):
+            for c in range(k + 1, m):
+                J[r, c] -= J[r, k] * J[k, c]
+    ratio *= J[m - 1, m - 1]
+    if dead:
+        ratio = 0.0
+    for k in range(m):
+        rec[k] = 1.0 / J[k, k]
+    return ratio
+
+
+@numba.njit(
+    numba.void(numba.float64[:, ::1], numba.int64[::1], numba.float64[::1],
+               numba.float64[::1], numba.float64[::1]),
+    nogil=True, cache=True, error_model="numpy",
+)
+def lusolve(J, piv, scl, rec, b):
+    """Solve with the factors of `factor`, in place in b."""
+    m = J.shape[0]
+    for r in range(m):
+        b[r] *= scl[r]
+    for k in range(m - 1):
+        p = piv[k]
+        if p != 0:
+            t = b[k]
+            b[k] = b[k + p]
+            b[k + p] = t
+        for r in range(k + 1, m):
+            b[r] -= J[r, k] * b[k]
+    for k in range(m - 1, -1, -1):
+        b[k] *= rec[k]
+        for r in range(k):
+            b[r] -= J[r, k] * b[k]
+'''
+
+
+class _Names:
+    """The group's constants as read into locals, and its scratch arrays' names."""
+
+    def __init__(self, g: Any, st: Any, k: int) -> None:
+        self.k = k
+        self.pre = f"g{k}_"
+        self.col = {p: 2 * i for i, p in enumerate(st.points)}
+        self.m = 2 * len(st.points)
+        self.cons: list[dict[str, Any]] = []
+        pre = self.pre
+        for c, con in enumerate(st.constraints):
+            e: dict[str, Any] = {}
+            if isinstance(con, CDist | CRope):
+                d, dd, ddd = g.dist(con.dist, f"{pre}d{c}")
+                e["d"], e["dd"], e["ddd"] = d, dd or "0.0", ddd or "0.0"
+            if isinstance(con, CFrame):
+                e["s"], e["t"] = f"{pre}s{c}", f"{pre}t{c}"
+                g.emit(f"{e['s']} = {g.const()}", f"{e['t']} = {g.const()}")
+            if isinstance(con, CRope):
+                e["r"] = [f"{pre}r{c}_{i}" for i in range(len(con.points))]
+                e["w"] = [f"{pre}w{c}_{i}" for i in range(len(con.points))]
+                for name in e["r"] + e["w"]:
+                    g.emit(f"{name} = {g.const()}")
+            self.cons.append(e)
+        self.signs = [f"{pre}sg{i}" for i in range(len(st.dyads))]
+        for name in self.signs:
+            g.emit(f"{name} = {g.const()}")
+        s = g.scratch(k, self.m)
+        self.J, self.piv, self.scl, self.rec, self.R = s
+
+
+def _rope_lines(pre: str, con: CRope, e: dict[str, Any], pos: tuple[str, str]) -> list[str]:
+    """The rope's segments (``{pre}ux{i}``, ``{pre}uy{i}``, ``{pre}l{i}``), wraps
+    (``{pre}ph{i}``) and length (``{pre}L``) at the positions named ``pos``
+    (`excavkin.step_kinds.rope_path.rope_path`)."""
+    X, Y = pos
+    pts, r, w = con.points, e["r"], e["w"]
+    out = []
+    for i in range(len(pts) - 1):
+        a, b = pts[i], pts[i + 1]
+        out += [
+            f"dx = {X}{b} - {X}{a}",
+            f"dy = {Y}{b} - {Y}{a}",
+            f"rho = {r[i]} - {r[i + 1]}",
+            "d2 = dx * dx + dy * dy",
+            f"{pre}l{i} = math.sqrt(d2 - rho * rho)",
+            f"{pre}ux{i} = ({pre}l{i} * dx - rho * dy) / d2",
+            f"{pre}uy{i} = ({pre}l{i} * dy + rho * dx) / d2",
+        ]
+    out.append(f"{pre}L = 0.0")
+    for i in range(len(pts) - 1):
+        out.append(f"{pre}L = {pre}L + {pre}l{i}")
+    for i in range(1, len(pts) - 1):
+        out += [
+            f"cr = {pre}ux{i - 1} * {pre}uy{i} - {pre}uy{i - 1} * {pre}ux{i}",
+            f"dt = {pre}ux{i - 1} * {pre}ux{i} + {pre}uy{i - 1} * {pre}uy{i}",
+            f"ph = (1.0 if {r[i]} > 0 else -1.0) * math.atan2(cr, dt)",
+            f"tu = np.rint(({w[i]} - ph) / TWO_PI)",
+            "if math.isfinite(tu):",
+            "    ph = ph + TWO_PI * tu",
+            f"{pre}ph{i} = ph",
+            f"{pre}L = {pre}L + abs({r[i]}) * ph",
+        ]
+    return out
+
+
+def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
+    """Lines that fill the residual ``R`` (and with ``jac`` the Jacobian ``J``, zeroed first),
+    or with ``rates`` 1 or 2 the right-hand side of the velocities or accelerations in ``R``
+    (`newton_solve._equations`'s Φ̇ and Φ̈ with the rates the group's points hold)."""
+    out: list[str] = []
+    if jac:
+        out.append(f"{n.J}[:, :] = 0.0")
+    R, J, col = n.R, n.J, n.col
+    row = 0
+
+    later: list[str] = []  # a rope's or an angle's gradient, written after its lines
+
+    def grad(r: int, p: int, gx: str, gy: str, to: list[str] | None = None) -> None:
+        if jac and p in col:
+            (out if to is None else to).append(f"{J}[{r}, {col[p]}] += {gx}")
+            (out if to is None else to).append(f"{J}[{r}, {col[p] + 1}] += {gy}")
+
+    def grad_later(r: int, p: int, gx: str, gy: str) -> None:
+        grad(r, p, gx, gy, later)
+
+    for c, con in enumerate(st.constraints):
+        e = n.cons[c]
+        if isinstance(con, CDist):
+            p, q = con.p, con.q
+            d, dd, ddd = e["d"], e["dd"], e["ddd"]
+            out += [f"rx = X{p} - X{q}", f"ry = Y{p} - Y{q}"]
+            if rates == 0:
+                out.append(f"{R}[{row}] = (rx * rx + ry * ry) - {d} * {d}")
+                grad(row, p, "2 * rx", "2 * ry")
+                grad(row, q, "-(2 * rx)", "-(2 * ry)")
+            else:
+                out += [f"wx = VX{p} - VX{q}", f"wy = VY{p} - VY{q}"]
+                if rates == 1:
+                    out.append(f"{R}[{row}] = 2 * (rx * wx + ry * wy) - 2 * {d} * {dd}")
+                else:
+                    out += [
+                        f"ax_ = AX{p} - AX{q}",
+                        f"ay_ = AY{p} - AY{q}",
+                        f"{R}[{row}] = (2 * (rx * ax_ + ry * ay_) + 2 * (wx * wx + wy * wy)"
+                        f" - 2 * ({dd} * {dd} + {d} * {ddd}))",
+                    ]
+            row += 1
+        elif isinstance(con, CFrame):
+            p, a, b, s, t = con.p, con.a, con.b, e["s"], e["t"]
+            for comp in (0, 1):
+                pre = ("X", "Y", "X", "Y") if rates == 0 else ("VX", "VY", "VX", "VY")
+                if rates == 2:
+                    pre = ("AX", "AY", "AX", "AY")
+                PX, PY = pre[0], pre[1]
+                wx, wy = f"({PX}{b} - {PX}{a})", f"({PY}{b} - {PY}{a})"
+                if comp == 0:
+                    out.append(f"{R}[{row}] = {PX}{p} - {PX}{a} - {s} * {wx} + {t} * {wy}")
+                    grad(row, p, "1.0", "0.0")
+                    grad(row, a, f"{s} - 1.0", f"-{t}")
+                    grad(row, b, f"-{s}", f"{t}")
+                else:
+                    out.append(f"{R}[{row}] = {PY}{p} - {PY}{a} - {s} * {wy} - {t} * {wx}")
+                    grad(row, p, "0.0", "1.0")
+                    grad(row, a, f"{t}", f"{s} - 1.0")
+                    grad(row, b, f"-{t}", f"-{s}")
+                row += 1
+        elif isinstance(con, CLine):
+            p, l1, l2 = con.p, con.l1, con.l2
+            out += [
+                f"ux = X{l2} - X{l1}", f"uy = Y{l2} - Y{l1}",
+                f"gx = X{p} - X{l1}", f"gy = Y{p} - Y{l1}",
+            ]  # fmt: skip
+            if rates == 0:
+                out.append(f"{R}[{row}] = ux * gy - uy * gx")
+                grad(row, p, "-uy", "ux")
+                grad(row, l2, "gy", "-gx")
+                grad(row, l1, "uy - gy", "gx - ux")
+            else:
+                out += [
+                    f"udx = VX{l2} - VX{l1}", f"udy = VY{l2} - VY{l1}",
+                    f"gdx = VX{p} - VX{l1}", f"gdy = VY{p} - VY{l1}",
+                ]  # fmt: skip
+                if rates == 1:
+                    out.append(f"{R}[{row}] = (udx * gy - udy * gx) + (ux * gdy - uy * gdx)")
+                else:
+                    out += [
+                        f"uax = AX{l2} - AX{l1}", f"uay = AY{l2} - AY{l1}",
+                        f"gax = AX{p} - AX{l1}", f"gay = AY{p} - AY{l1}",
+                        f"{R}[{row}] = ((uax * gy - uay * gx) + 2 * (udx * gdy - udy * gdx)"
+                        " + (ux * gay - uy * gax))",
+                    ]  # fmt: skip
+            row += 1
+        elif isinstance(con, CRope):
+            out += _rope(n, con, e, row, rates, grad_later) + later
+            later.clear()
+            row += 1
+        else:
+            out += _angle(n, con, row, rates, grad_later) + later
+            later.clear()
+            row += 1
+    return out
+
+
+def _u(pre: str, comp: str, seg: int | None) -> str:
+    """A segment's direction component, or 0.0 past the rope's end."""
+    return "0.0" if seg is None else f"{pre}{comp}{seg}"
+
+
+def _rope(n: _Names, con: CRope, e: dict[str, Any], row: int, rates: int, grad: Any) -> list[str]:
+    pre = n.pre + "p_"
+    d, dd, ddd = e["d"], e["dd"], e["ddd"]
+    out = _rope_lines(pre, con, e, ("X", "Y"))
+    pts = con.points
+    last = len(pts) - 1
+    L = f"{pre}L"
+    if rates == 0:
+        out.append(f"{n.R}[{row}] = {L} * {L} - {d} * {d}")
+        acc: dict[int, tuple[list[str], list[str]]] = {}
+        for k, p in enumerate(pts):
+            if p not in n.col:
+                continue
+            gx = (
+                (f"{pre}ux{k - 1}" if k else "0.0") + " - " + (f"{pre}ux{k}" if k < last else "0.0")
+            )
+            gy = (
+                (f"{pre}uy{k - 1}" if k else "0.0") + " - " + (f"{pre}uy{k}" if k < last else "0.0")
+            )
+            acc.setdefault(p, ([], []))
+            acc[p][0].append(f"2 * {L} * ({gx})")
+            acc[p][1].append(f"2 * {L} * ({gy})")
+        for p, (xs, ys) in acc.items():
+            grad(row, p, " + ".join(xs), " + ".join(ys))
+        return out
+    out.append("rate = 0.0")
+    for k in range(last):
+        a, b = pts[k], pts[k + 1]
+        out.append(f"rate = rate + {pre}ux{k} * (VX{b} - VX{a}) + {pre}uy{k} * (VY{b} - VY{a})")
+    if rates == 1:
+        out.append(f"{n.R}[{row}] = 2 * {L} * rate - 2 * {d} * {dd}")
+        return out
+    out.append("acc = 0.0")
+    for k in range(last):
+        a, b = pts[k], pts[k + 1]
+        out.append(f"acc = acc + {pre}ux{k} * (AX{b} - AX{a}) + {pre}uy{k} * (AY{b} - AY{a})")
+    out.append("cur = 0.0")
+    for k in range(last):
+        a, b = pts[k], pts[k + 1]
+        out += [
+            f"wr = -{pre}uy{k} * (VX{b} - VX{a}) + {pre}ux{k} * (VY{b} - VY{a})",
+            f"cur = cur + wr * wr / {pre}l{k}",
+        ]
+    out.append(
+        f"{n.R}[{row}] = 2 * rate * rate + 2 * {L} * (acc + cur) - 2 * ({dd} * {dd} + {d} * {ddd})"
+    )
+    return out
+
+
+def _angle(n: _Names, con: CAngle, row: int, rates: int, grad: Any) -> list[str]:
+    i, p, pv = con.input, con.p, con.pivot
+    out = [f"cs = math.cos(q[{i}, i])", f"sn = math.sin(q[{i}, i])"]
+    if con.ref is None:
+        out += ["vx = 1.0", "vy = 0.0"]
+    else:
+        r0, r1 = con.ref
+        out += [f"vx = X{r1} - X{r0}", f"vy = Y{r1} - Y{r0}"]
+    out += [
+        "ex = cs * vx - sn * vy", "ey = sn * vx + cs * vy",
+        f"dpx = X{p} - X{pv}", f"dpy = Y{p} - Y{pv}",
+    ]  # fmt: skip
+    if rates == 0:
+        out.append(f"{n.R}[{row}] = ex * dpy - ey * dpx")
+        grad(row, p, "-ey", "ex")
+        grad(row, pv, "ey", "-ex")
+        if con.ref is not None:
+            out += ["gvx = cs * dpy - sn * dpx", "gvy = -sn * dpy - cs * dpx"]
+            grad(row, con.ref[1], "gvx", "gvy")
+            grad(row, con.ref[0], "-gvx", "-gvy")
+        return out
+    out += [f"qd_ = qd[{i}, i]", f"qdd_ = qdd[{i}, i]"]
+    if con.ref is None:
+        out += ["vdx = 0.0", "vdy = 0.0"]
+    else:
+        r0, r1 = con.ref
+        out += [f"vdx = VX{r1} - VX{r0}", f"vdy = VY{r1} - VY{r0}"]
+    out += [
+        "rvdx = cs * vdx - sn * vdy", "rvdy = sn * vdx + cs * vdy",
+        "edx = rvdx - qd_ * ey", "edy = rvdy + qd_ * ex",
+        f"ddx = VX{p} - VX{pv}", f"ddy = VY{p} - VY{pv}",
+    ]  # fmt: skip
+    if rates == 1:
+        out.append(f"{n.R}[{row}] = (edx * dpy - edy * dpx) + (ex * ddy - ey * ddx)")
+        return out
+    if con.ref is None:
+        out += ["vax = 0.0", "vay = 0.0"]
+    else:
+        r0, r1 = con.ref
+        out += [f"vax = AX{r1} - AX{r0}", f"vay = AY{r1} - AY{r0}"]
+    out += [
+        "eax = cs * vax - sn * vay - 2 * qd_ * rvdy - qdd_ * ey - qd_ * qd_ * ex",
+        "eay = sn * vax + cs * vay + 2 * qd_ * rvdx + qdd_ * ex - qd_ * qd_ * ey",
+        f"dax = AX{p} - AX{pv}", f"day = AY{p} - AY{pv}",
+        f"{n.R}[{row}] = ((eax * dpy - eay * dpx) + 2 * (edx * ddy - edy * ddx)"
+        " + (ex * day - ey * dax))",
+    ]  # fmt: skip
+    return out
+
+
+def _indent(lines: list[str], by: str) -> list[str]:
+    return [by + line for line in lines]
+
+
+def _iterate(n: _Names, st: Any) -> list[str]:
+    """Newton passes from the points' current values (`newton_solve._iterate`, per sample)."""
+    out = [f"for it in range({MAX_ITER}):"]
+    body = _equations(n, st, True, 0)
+    body += [
+        f"ratio = factor({n.J}, {n.piv}, {n.scl}, {n.rec})",
+        "if not (abs(ratio) >= 1e-13):",
+        "    break",
+        f"lusolve({n.J}, {n.piv}, {n.scl}, {n.rec}, {n.R})",
+        "size = 0.0",
+        "nanstep = False",
+        f"for r in range({n.m}):",
+        f"    s_ = abs({n.R}[r])",
+        "    if s_ > size:",
+        "        size = s_",
+        "    elif s_ != s_:",
+        "        nanstep = True",
+    ]
+    for i, p in enumerate(st.points):
+        body += [f"X{p} -= {n.R}[{2 * i}]", f"Y{p} -= {n.R}[{2 * i + 1}]"]
+    body += ["if size <= small and not nanstep:", "    break"]
+    return out + _indent(body, "    ")
+
+
+def emit_group(g: Any, st: Any, k: int, mode: str) -> None:
+    """Write group ``st`` (plan step ``k``) into a Newton plan's source: ``mode``
+    ``"positions"`` iterates from the positions handed in (``x``), ``"rates"`` reads them and
+    solves the velocities and accelerations, and adds the group's branch check to ``g.after``.
+
+    Parameters
+    ----------
+    g : emitter
+        `excavkin.kinematics.compiled_newton`'s source being written.
+    st : NewtonGroup
+        The group.
+    k : int
+        Its plan step.
+    mode : {"positions", "rates"}
+        Which kernel.
+    """
+    n = _Names(g, st, k)
+    for p in st.points:
+        g.emit(f"X{p} = x[{p}, 0, i]", f"Y{p} = x[{p}, 1, i]")
+    if mode == "positions":
+        _positions(g, n, st, k)
+    else:
+        _rates(g, n, st, k)
+
+
+def _positions(g: Any, n: _Names, st: Any, k: int) -> None:
+    lines = _iterate(n, st)
+    for _ in st.dyads:  # `keep_sides`: a pass a dyad, at most
+        lines.append("moved = False")
+        for d, sign in zip(st.dyads, n.signs, strict=True):
+            P, A, B = d.point, d.a, d.b
+            lines += [
+                "if not moved:",
+                f"    ex = X{B} - X{A}",
+                f"    ey = Y{B} - Y{A}",
+                f"    if (ex * (Y{P} - Y{A}) - ey * (X{P} - X{A})) * {sign} < 0:",
+                f"        rx = X{P} - X{A}",
+                f"        ry = Y{P} - Y{A}",
+                "        e2 = ex * ex + ey * ey",
+                "        t_ = (rx * ex + ry * ey) / (e2 if e2 > 0 else nan)",
+                f"        mx = X{A} + 2.0 * t_ * ex - rx",
+                f"        my = Y{A} + 2.0 * t_ * ey - ry",
+                "        if math.isfinite(mx):",
+                f"            X{P} = mx",
+                "        if math.isfinite(my):",
+                f"            Y{P} = my",
+                "        moved = True",
+            ]
+        lines += ["if moved:"] + _indent(_iterate(n, st), "    ")
+    # converged: every residual within 1e-10·size²
+    lines += _equations(n, st, False, 0)
+    lines += ["bad = False", f"for r in range({n.m}):"]
+    lines += [f"    if not (abs({n.R}[r]) <= 1e-10 * scale * scale):", "        bad = True"]
+    lines += [
+        "if bad:",
+        "    if st == 0:",
+        f"        st = {int(Code.NO_CONVERGENCE)}",
+        f"        fk = {k}",
+    ]
+    lines += [f"    X{p} = nan\n    Y{p} = nan" for p in st.points]
+    ropes = [(c, con) for c, con in enumerate(st.constraints) if isinstance(con, CRope)]
+    if ropes:  # `ropes_on_sheaves`
+        lines.append("off = False")
+        for c, con in ropes:
+            pre = f"{n.pre}o{c}_"
+            lines += _rope_lines(pre, con, n.cons[c], ("X", "Y"))
+            for i in range(1, len(con.points) - 1):
+                lines += [f"if not ({pre}ph{i} >= -1e-12):", "    off = True"]
+            for i in range(len(con.points) - 1):
+                lines += [f"if not math.isfinite({pre}l{i}):", "    off = True"]
+        lines += [
+            "if off and st == 0:",
+            f"    st = {int(Code.ROPE_OFF_SHEAVE)}",
+            f"    fk = {k}",
+        ]
+        lines += [f"    X{p} = nan\n    Y{p} = nan" for p in st.points]
+    out: list[str] = []
+    for line in lines:
+        out += line.split("\n")
+    g.emit(*out)
+
+
+def _rates(g: Any, n: _Names, st: Any, k: int) -> None:
+    lines: list[str] = []
+    for p in st.points:
+        lines += [f"VX{p} = 0.0", f"VY{p} = 0.0", f"AX{p} = 0.0", f"AY{p} = 0.0"]
+    lines += _equations(n, st, True, 0)
+    lines += [
+        f"ratio{k} = factor({n.J}, {n.piv}, {n.scl}, {n.rec})",
+        f"sing = not (abs(ratio{k}) >= singular_tol * singular_tol)",
+        "if sing and st == 0:",
+        f"    st = {int(Code.SINGULAR)}",
+        f"    fk = {k}",
+    ]
+    lines += _equations(n, st, False, 1)
+    lines.append(f"lusolve({n.J}, {n.piv}, {n.scl}, {n.rec}, {n.R})")
+    for i, p in enumerate(st.points):
+        lines += [
+            f"VX{p} = nan if sing else -{n.R}[{2 * i}]",
+            f"VY{p} = nan if sing else -{n.R}[{2 * i + 1}]",
+        ]
+    lines += _equations(n, st, False, 2)
+    lines.append(f"lusolve({n.J}, {n.piv}, {n.scl}, {n.rec}, {n.R})")
+    for i, p in enumerate(st.points):
+        lines += [
+            f"AX{p} = nan if sing else -{n.R}[{2 * i}]",
+            f"AY{p} = nan if sing else -{n.R}[{2 * i + 1}]",
+        ]
+    # the group's nearness to a dead position: its smallest |ratio| (NaN kept, as np.minimum)
+    lines += [
+        f"if gnear == gnear and not (abs(ratio{k}) >= gnear):",
+        f"    gnear = abs(ratio{k})",
+    ]
+    g.emit(*lines)
+    # the branch check, after every step (`excavkin.kinematics.solve._check_branches`)
+    ref = g.ref()
+    after = [
+        f"sg = 1.0 if ratio{k} > 0 else (-1.0 if ratio{k} < 0 else "
+        f"(0.0 if ratio{k} == 0 else nan))",
+        "turned = 1.0",
+        "flip = False",
+    ]
+    for d, sign in zip(st.dyads, n.signs, strict=True):
+        P, A, B = d.point, d.a, d.b
+        at = g.ref()
+        after += [
+            f"if ((X{B} - X{A}) * (Y{P} - Y{A}) - (Y{B} - Y{A}) * (X{P} - X{A})) * {sign} < 0:",
+            "    flip = True",
+            f"if {sign} * {at} < 0:",
+            "    turned = -turned",
+        ]
+    for con in st.constraints:
+        if isinstance(con, CAngle):
+            i, p, pv = con.input, con.p, con.pivot
+            if con.ref is None:
+                vx, vy = "1.0", "0.0"
+            else:
+                vx, vy = f"(X{con.ref[1]} - X{con.ref[0]})", f"(Y{con.ref[1]} - Y{con.ref[0]})"
+            after += [
+                f"cs = math.cos(q[{i}, i])",
+                f"sn = math.sin(q[{i}, i])",
+                f"if not ((cs * {vx} - sn * {vy}) * (X{p} - X{pv})"
+                f" + (sn * {vx} + cs * {vy}) * (Y{p} - Y{pv}) > 0):",
+                "    flip = True",
+            ]
+    first = st.points[0]
+    after += [
+        f"if sg != {ref} * turned:",
+        "    flip = True",
+        f"if flip and math.isfinite(X{first}) and st == 0:",
+        f"    st = {int(Code.BRANCH_CHANGED)}",
+        f"    fk = {k}",
+    ]
+    g.after += after
