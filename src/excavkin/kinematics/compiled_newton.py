@@ -34,7 +34,7 @@ from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.compiled import AUTO_POINTS, Source
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.step_kinds import NewtonGroup, kind_of, of_kind
-from excavkin.step_kinds.newton_emit import FACTOR
+from excavkin.step_kinds.newton_emit import factor_source
 from excavkin.structure.plan import SolvePlan
 
 Kernel = Callable[..., None]
@@ -69,22 +69,27 @@ class NewtonSource(Source):
         #: lines written before the loop (the groups' scratch arrays)
         self.alloc: list[str] = []
         self.n_ref = 0
+        #: the sizes of the groups' systems
+        self.sizes: set[int] = set()
 
     def flag(self, cond: str, code: Code, k: int, indent: str = "") -> None:
         if self.newton == "positions" and code == Code.SINGULAR:
             return  # an order-0 pass flags no dead position
         super().flag(cond, code, k, indent)
 
-    def scratch(self, k: int, m: int) -> tuple[str, str, str, str, str]:
-        """Group ``k``'s scratch arrays (Jacobian, pivots, row scales, pivots' reciprocals,
-        right-hand side) for an m×m system, allocated once before the loop."""
-        names = (f"g{k}J", f"g{k}piv", f"g{k}scl", f"g{k}rec", f"g{k}R")
+    def scratch(self, k: int, m: int) -> tuple[str, str, str, str, str, str]:
+        """Group ``k``'s scratch arrays (Jacobian, its factors, pivots, row scales, pivots'
+        reciprocals, right-hand side) for an m×m system, allocated once before the loop (a
+        Jacobian entry no constraint writes stays zero)."""
+        names = (f"g{k}J", f"g{k}LU", f"g{k}piv", f"g{k}scl", f"g{k}rec", f"g{k}R")
+        self.sizes.add(m)
         self.alloc += [
             f"{names[0]} = np.zeros(({m}, {m}))",
-            f"{names[1]} = np.zeros({m}, np.int64)",
-            f"{names[2]} = np.zeros({m})",
+            f"{names[1]} = np.zeros(({m}, {m}))",
+            f"{names[2]} = np.zeros({m}, np.int64)",
             f"{names[3]} = np.zeros({m})",
             f"{names[4]} = np.zeros({m})",
+            f"{names[5]} = np.zeros({m})",
         ]
         return names
 
@@ -183,7 +188,8 @@ def source(plan: SolvePlan) -> str:
     for p in range(len(plan.points)):
         g.emit(f"x[{p}, 0, i] = X{p}", f"x[{p}, 1, i] = Y{p}")
     g.emit("status[i] = st", "failed[i] = fk")
-    text = _HEAD + fast_atan2.SOURCE + _SIGNATURES + FACTOR + _function(g, _POSITIONS, g.lines)
+    factors = "".join(factor_source(m) for m in sorted(g.sizes))
+    text = _HEAD + fast_atan2.SOURCE + _SIGNATURES + factors + _function(g, _POSITIONS, g.lines)
     g = NewtonSource("rates")
     g.emit("gnear = 1.0")
     for k, st in enumerate(plan.steps):

@@ -5,7 +5,7 @@
 Per sample, the group's equations (the constraints of `excavkin.step_kinds.constraints`, a
 rope's length over its sheaves by `excavkin.step_kinds.rope_path`'s formulas) fill a residual
 row and a Jacobian held in small scratch arrays, and the kernel's own LU with partial pivoting on
-equilibrated rows (`FACTOR`, the arithmetic of `excavkin.step_kinds.small_systems.Factors`)
+equilibrated rows (`factor_source`, the arithmetic of `excavkin.step_kinds.small_systems.Factors`)
 solves them. The iteration has the NumPy path's start (the positions handed in), tolerance
 (a step below 1e-14 of the size), singular test (|det| over the rows' norms below 1e-13), cap
 (50 passes), dyad sides (a dyad on the wrong side mirrored, then iterated again) and statuses
@@ -19,66 +19,70 @@ matrix size at run time: no recursion, no unrolling that grows as its square.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, CRope
 from excavkin.step_kinds.state import Code
 
-__all__ = ["FACTOR", "MAX_ITER", "emit_group"]
+__all__ = ["MAX_ITER", "emit_group", "factor_source"]
 
 #: Newton passes at most (`newton_solve.newton_positions`'s cap)
 MAX_ITER = 50
 
-#: the LU helpers of the generated source (numba functions over one sample's matrix)
-FACTOR = '''
+#: once a sample's last Newton step is below this fraction of the size, later steps reuse its
+#: last factorisation (chord steps), as long as each shrinks by `CHORD_RATE` or more
+#: (`newton_solve.CHORD_FROM`, per sample)
+CHORD_FROM = 1e-4
+CHORD_RATE = 0.1
+
+_FACTOR = """
 
 @numba.njit(
-    numba.float64(numba.float64[:, ::1], numba.int64[::1], numba.float64[::1],
-                  numba.float64[::1]),
+    numba.float64(numba.float64[:, ::1], numba.float64[:, ::1], numba.int64[::1],
+                  numba.float64[::1], numba.float64[::1]),
     nogil=True, cache=True, error_model="numpy",
 )
-def factor(J, piv, scl, rec):
-    """LU of J in place, rows scaled to unit norm, partial pivoting; returns det over the
-    rows' norms (0 at a zero pivot)."""
-    m = J.shape[0]
-    for r in range(m):
+def factor_M(J, LU, piv, scl, rec):
+    \"\"\"LU of the MxM matrix J into LU, rows scaled to unit norm, partial pivoting; returns
+    det over the rows' norms (0 at a zero pivot).\"\"\"
+    for r in range(M):
         s = 0.0
-        for c in range(m):
+        for c in range(M):
             s += J[r, c] * J[r, c]
         nrm = math.sqrt(s)
         scl[r] = 1.0 / (nrm if nrm > 0.0 else 1.0)
-        for c in range(m):
-            J[r, c] *= scl[r]
+        for c in range(M):
+            LU[r, c] = J[r, c] * scl[r]
     ratio = 1.0
     dead = False
-    for k in range(m - 1):
-        best = abs(J[k, k])
+    for k in range(M - 1):
+        best = abs(LU[k, k])
         p = 0
-        for r in range(1, m - k):
-            mag = abs(J[k + r, k])
+        for r in range(1, M - k):
+            mag = abs(LU[k + r, k])
             if mag > best:
                 best = mag
                 p = r
         piv[k] = p
         if p != 0:
-            for c in range(k, m):
-                t = J[k, c]
-                J[k, c] = J[k + p, c]
-                J[k + p, c] = t
+            for c in range(k, M):
+                t = LU[k, c]
+                LU[k, c] = LU[k + p, c]
+                LU[k + p, c] = t
             ratio = -ratio
-        ratio *= J[k, k]
-        if J[k, k] == 0.0:
+        ratio *= LU[k, k]
+        if LU[k, k] == 0.0:
             dead = True
-        for r in range(k + 1, m):
-            J[r, k] /= J[k, k]
-        for r in range(k + 1, m):
-            for c in range(k + 1, m):
-                J[r, c] -= J[r, k] * J[k, c]
-    ratio *= J[m - 1, m - 1]
+        rec[k] = 1.0 / LU[k, k]
+        for r in range(k + 1, M):
+            LU[r, k] *= rec[k]
+            for c in range(k + 1, M):
+                LU[r, c] -= LU[r, k] * LU[k, c]
+    ratio *= LU[M - 1, M - 1]
+    rec[M - 1] = 1.0 / LU[M - 1, M - 1]
     if dead:
         ratio = 0.0
-    for k in range(m):
-        rec[k] = 1.0 / J[k, k]
     return ratio
 
 
@@ -87,24 +91,42 @@ def factor(J, piv, scl, rec):
                numba.float64[::1], numba.float64[::1]),
     nogil=True, cache=True, error_model="numpy",
 )
-def lusolve(J, piv, scl, rec, b):
-    """Solve with the factors of `factor`, in place in b."""
-    m = J.shape[0]
-    for r in range(m):
+def lusolve_M(LU, piv, scl, rec, b):
+    \"\"\"Solve with the factors of factor_M, in place in b.\"\"\"
+    for r in range(M):
         b[r] *= scl[r]
-    for k in range(m - 1):
+    for k in range(M - 1):
         p = piv[k]
         if p != 0:
             t = b[k]
             b[k] = b[k + p]
             b[k + p] = t
-        for r in range(k + 1, m):
-            b[r] -= J[r, k] * b[k]
-    for k in range(m - 1, -1, -1):
+        for r in range(k + 1, M):
+            b[r] -= LU[r, k] * b[k]
+    for k in range(M - 1, -1, -1):
         b[k] *= rec[k]
         for r in range(k):
-            b[r] -= J[r, k] * b[k]
-'''
+            b[r] -= LU[r, k] * b[k]
+"""
+
+
+def factor_source(m: int) -> str:
+    """The generated source's LU of an m×m system: ``factor_m`` and ``lusolve_m``, the size a
+    literal (the compiler unrolls a small one); the arithmetic of
+    `excavkin.step_kinds.small_systems.Factors` (a pivot's reciprocal multiplies where it
+    divides, within a rounding).
+
+    Parameters
+    ----------
+    m : int
+        The system's size.
+
+    Returns
+    -------
+    str
+    """
+    text = _FACTOR.replace("_M(", f"_{m}(").replace("MxM", f"{m}x{m}")
+    return re.sub(r"\bM\b", str(m), text)
 
 
 class _Names:
@@ -135,7 +157,9 @@ class _Names:
         for name in self.signs:
             g.emit(f"{name} = {g.const()}")
         s = g.scratch(k, self.m)
-        self.J, self.piv, self.scl, self.rec, self.R = s
+        self.J, self.LU, self.piv, self.scl, self.rec, self.R = s
+        self.fac = f"factor_{self.m}({self.J}, {self.LU}, {self.piv}, {self.scl}, {self.rec})"
+        self.sol = f"lusolve_{self.m}({self.LU}, {self.piv}, {self.scl}, {self.rec}, {self.R})"
 
 
 def _rope_lines(pre: str, con: CRope, e: dict[str, Any], pos: tuple[str, str]) -> list[str]:
@@ -178,17 +202,18 @@ def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
     or with ``rates`` 1 or 2 the right-hand side of the velocities or accelerations in ``R``
     (`newton_solve._equations`'s Φ̇ and Φ̈ with the rates the group's points hold)."""
     out: list[str] = []
-    if jac:
-        out.append(f"{n.J}[:, :] = 0.0")
     R, J, col = n.R, n.J, n.col
+    seen: set[tuple[int, int]] = set()  # an entry's first term is assigned, the rest added
     row = 0
 
     later: list[str] = []  # a rope's or an angle's gradient, written after its lines
 
     def grad(r: int, p: int, gx: str, gy: str, to: list[str] | None = None) -> None:
         if jac and p in col:
-            (out if to is None else to).append(f"{J}[{r}, {col[p]}] += {gx}")
-            (out if to is None else to).append(f"{J}[{r}, {col[p] + 1}] += {gy}")
+            for c, value in ((col[p], gx), (col[p] + 1, gy)):
+                op = "+=" if (r, c) in seen else "="
+                seen.add((r, c))
+                (out if to is None else to).append(f"{J}[{r}, {c}] {op} {value}")
 
     def grad_later(r: int, p: int, gx: str, gy: str) -> None:
         grad(r, p, gx, gy, later)
@@ -380,14 +405,18 @@ def _indent(lines: list[str], by: str) -> list[str]:
 
 
 def _iterate(n: _Names, st: Any) -> list[str]:
-    """Newton passes from the points' current values (`newton_solve._iterate`, per sample)."""
-    out = [f"for it in range({MAX_ITER}):"]
-    body = _equations(n, st, True, 0)
+    """Newton passes from the points' current values (`newton_solve._iterate`, per sample):
+    a chord step (the last factors again) once the last step is below `CHORD_FROM` of the
+    size, taken only if it shrinks by `CHORD_RATE`, else the next pass factors afresh."""
+    body = [f"chord = have and last <= {CHORD_FROM} * scale", "if chord:"]
+    body += _indent(_equations(n, st, False, 0), "    ")
+    body += ["else:"]
+    body += _indent(_equations(n, st, True, 0), "    ")
+    body += [f"    ratio = {n.fac}", "    have = True"]
     body += [
-        f"ratio = factor({n.J}, {n.piv}, {n.scl}, {n.rec})",
         "if not (abs(ratio) >= 1e-13):",
         "    break",
-        f"lusolve({n.J}, {n.piv}, {n.scl}, {n.rec}, {n.R})",
+        n.sol,
         "size = 0.0",
         "nanstep = False",
         f"for r in range({n.m}):",
@@ -396,11 +425,22 @@ def _iterate(n: _Names, st: Any) -> list[str]:
         "        size = s_",
         "    elif s_ != s_:",
         "        nanstep = True",
+        "if nanstep:",
+        "    size = nan",
+        f"if chord and not (size <= {CHORD_RATE} * last):",
+        "    size = math.inf",
+        "    have = False",
+        "else:",
     ]
     for i, p in enumerate(st.points):
-        body += [f"X{p} -= {n.R}[{2 * i}]", f"Y{p} -= {n.R}[{2 * i + 1}]"]
-    body += ["if size <= small and not nanstep:", "    break"]
-    return out + _indent(body, "    ")
+        body += [f"    X{p} -= {n.R}[{2 * i}]", f"    Y{p} -= {n.R}[{2 * i + 1}]"]
+    body += ["if size <= small:", "    break", "last = size"]
+    return [
+        "have = False",
+        "last = math.inf",
+        "ratio = 1.0",
+        f"for it in range({MAX_ITER}):",
+    ] + _indent(body, "    ")
 
 
 def emit_group(g: Any, st: Any, k: int, mode: str) -> None:
@@ -491,21 +531,21 @@ def _rates(g: Any, n: _Names, st: Any, k: int) -> None:
         lines += [f"VX{p} = 0.0", f"VY{p} = 0.0", f"AX{p} = 0.0", f"AY{p} = 0.0"]
     lines += _equations(n, st, True, 0)
     lines += [
-        f"ratio{k} = factor({n.J}, {n.piv}, {n.scl}, {n.rec})",
+        f"ratio{k} = {n.fac}",
         f"sing = not (abs(ratio{k}) >= singular_tol * singular_tol)",
         "if sing and st == 0:",
         f"    st = {int(Code.SINGULAR)}",
         f"    fk = {k}",
     ]
     lines += _equations(n, st, False, 1)
-    lines.append(f"lusolve({n.J}, {n.piv}, {n.scl}, {n.rec}, {n.R})")
+    lines.append(n.sol)
     for i, p in enumerate(st.points):
         lines += [
             f"VX{p} = nan if sing else -{n.R}[{2 * i}]",
             f"VY{p} = nan if sing else -{n.R}[{2 * i + 1}]",
         ]
     lines += _equations(n, st, False, 2)
-    lines.append(f"lusolve({n.J}, {n.piv}, {n.scl}, {n.rec}, {n.R})")
+    lines.append(n.sol)
     for i, p in enumerate(st.points):
         lines += [
             f"AX{p} = nan if sing else -{n.R}[{2 * i}]",
