@@ -25,7 +25,14 @@ from typing import Any
 from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, CLine, CRope
 from excavkin.step_kinds.state import Code
 
-__all__ = ["MAX_ITER", "emit_group", "factor_source"]
+__all__ = [
+    "MAX_ITER",
+    "UNROLL",
+    "emit_group",
+    "factor_source",
+    "unrolled_factor",
+    "unrolled_solve",
+]
 
 #: Newton passes at most (`newton_solve.newton_positions`'s cap)
 MAX_ITER = 50
@@ -129,6 +136,98 @@ def factor_source(m: int) -> str:
     return re.sub(r"\bM\b", str(m), text)
 
 
+def unrolled_factor(m: int, pre: str) -> list[str]:
+    """Lines that factor the m×m matrix held in the locals ``{pre}a{r}_{c}``, in place, as
+    `factor_source` does: rows scaled to unit norm (``{pre}sc{r}``), then partial pivoting,
+    the largest magnitude of a column brought up by exchanges as it is met (``{pre}w{k}_{r}``:
+    rows k and r exchanged), the pivots' reciprocals ``{pre}rc{k}`` and ``ratio``, the
+    determinant over the rows' norms (0 at a zero pivot). Straight-line: the compiler keeps
+    a small system in registers.
+
+    Parameters
+    ----------
+    m : int
+        The size.
+    pre : str
+        The locals' prefix.
+
+    Returns
+    -------
+    list of str
+    """
+
+    def a(r: int, c: int) -> str:
+        return f"{pre}a{r}_{c}"
+
+    out = []
+    for r in range(m):
+        out.append("s_ = " + " + ".join(f"{a(r, c)} * {a(r, c)}" for c in range(m)))
+        out += ["s_ = math.sqrt(s_)", f"{pre}sc{r} = 1.0 / (s_ if s_ > 0.0 else 1.0)"]
+        out += [f"{a(r, c)} *= {pre}sc{r}" for c in range(m)]
+    out += ["ratio = 1.0", "dead = False"]
+    for k in range(m - 1):
+        for r in range(k + 1, m):
+            w = f"{pre}w{k}_{r}"
+            out += [f"{w} = abs({a(r, k)}) > abs({a(k, k)})", f"if {w}:"]
+            for c in range(k, m):
+                out.append(f"    {a(k, c)}, {a(r, c)} = {a(r, c)}, {a(k, c)}")
+            out.append("    ratio = -ratio")
+        out += [
+            f"ratio *= {a(k, k)}",
+            f"if {a(k, k)} == 0.0:",
+            "    dead = True",
+            f"{pre}rc{k} = 1.0 / {a(k, k)}",
+        ]
+        for r in range(k + 1, m):
+            out.append(f"{a(r, k)} *= {pre}rc{k}")
+            for c in range(k + 1, m):
+                out.append(f"{a(r, c)} -= {a(r, k)} * {a(k, c)}")
+    out += [
+        f"ratio *= {a(m - 1, m - 1)}",
+        f"{pre}rc{m - 1} = 1.0 / {a(m - 1, m - 1)}",
+        "if dead:",
+        "    ratio = 0.0",
+    ]
+    return out
+
+
+def unrolled_solve(m: int, pre: str, b: list[str]) -> list[str]:
+    """Lines that solve with the factors of `unrolled_factor`, in place in the locals ``b``.
+
+    Parameters
+    ----------
+    m : int
+        The size.
+    pre : str
+        The factors' prefix.
+    b : list of str
+        The right-hand side's locals.
+
+    Returns
+    -------
+    list of str
+    """
+
+    def a(r: int, c: int) -> str:
+        return f"{pre}a{r}_{c}"
+
+    out = [f"{b[r]} *= {pre}sc{r}" for r in range(m)]
+    for k in range(m - 1):
+        for r in range(k + 1, m):
+            out += [f"if {pre}w{k}_{r}:", f"    {b[k]}, {b[r]} = {b[r]}, {b[k]}"]
+        for r in range(k + 1, m):
+            out.append(f"{b[r]} -= {a(r, k)} * {b[k]}")
+    for k in range(m - 1, -1, -1):
+        out.append(f"{b[k]} *= {pre}rc{k}")
+        for r in range(k):
+            out.append(f"{b[r]} -= {a(r, k)} * {b[k]}")
+    return out
+
+
+#: a system this size or smaller is factored straight-line in locals (its code grows as m³/3)
+UNROLL = 12
+
+
 class _Names:
     """The group's constants as read into locals, and its scratch arrays' names."""
 
@@ -156,10 +255,34 @@ class _Names:
         self.signs = [f"{pre}sg{i}" for i in range(len(st.dyads))]
         for name in self.signs:
             g.emit(f"{name} = {g.const()}")
-        s = g.scratch(k, self.m)
-        self.J, self.LU, self.piv, self.scl, self.rec, self.R = s
-        self.fac = f"factor_{self.m}({self.J}, {self.LU}, {self.piv}, {self.scl}, {self.rec})"
-        self.sol = f"lusolve_{self.m}({self.LU}, {self.piv}, {self.scl}, {self.rec}, {self.R})"
+        #: a small system is factored in locals, straight-line; a larger one by `factor_source`
+        self.unrolled = self.m <= UNROLL
+        if self.unrolled:
+            self.fac = unrolled_factor(self.m, pre)
+            self.sol = unrolled_solve(self.m, pre, [self.rv(r) for r in range(self.m)])
+            return
+        J, LU, piv, scl, rec, R = g.scratch(k, self.m)
+        self.J, self.R = J, R
+        self.fac = [f"ratio = factor_{self.m}({J}, {LU}, {piv}, {scl}, {rec})"]
+        self.sol = [f"lusolve_{self.m}({LU}, {piv}, {scl}, {rec}, {R})"]
+
+    def rv(self, r: int) -> str:
+        """Row r of the right-hand side (the residual, then the solution)."""
+        return f"{self.pre}b{r}" if self.unrolled else f"{self.R}[{r}]"
+
+    def jv(self, r: int, c: int) -> str:
+        """Entry (r, c) of the Jacobian (then of its factors)."""
+        return f"{self.pre}a{r}_{c}" if self.unrolled else f"{self.J}[{r}, {c}]"
+
+    def init(self) -> list[str]:
+        """An unrolled system's locals, defined before the iteration reads them."""
+        if not self.unrolled:
+            return []
+        m, pre = self.m, self.pre
+        out = [f"{self.jv(r, c)} = 0.0" for r in range(m) for c in range(m)]
+        out += [f"{pre}sc{r} = 1.0" for r in range(m)] + [f"{pre}rc{r} = 1.0" for r in range(m)]
+        out += [f"{pre}w{k}_{r} = False" for k in range(m - 1) for r in range(k + 1, m)]
+        return out + [f"{self.rv(r)} = 0.0" for r in range(m)]
 
 
 def _rope_lines(pre: str, con: CRope, e: dict[str, Any], pos: tuple[str, str]) -> list[str]:
@@ -202,7 +325,7 @@ def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
     or with ``rates`` 1 or 2 the right-hand side of the velocities or accelerations in ``R``
     (`newton_solve._equations`'s Φ̇ and Φ̈ with the rates the group's points hold)."""
     out: list[str] = []
-    R, J, col = n.R, n.J, n.col
+    col = n.col
     seen: set[tuple[int, int]] = set()  # an entry's first term is assigned, the rest added
     row = 0
 
@@ -213,7 +336,7 @@ def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
             for c, value in ((col[p], gx), (col[p] + 1, gy)):
                 op = "+=" if (r, c) in seen else "="
                 seen.add((r, c))
-                (out if to is None else to).append(f"{J}[{r}, {c}] {op} {value}")
+                (out if to is None else to).append(f"{n.jv(r, c)} {op} {value}")
 
     def grad_later(r: int, p: int, gx: str, gy: str) -> None:
         grad(r, p, gx, gy, later)
@@ -225,18 +348,18 @@ def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
             d, dd, ddd = e["d"], e["dd"], e["ddd"]
             out += [f"rx = X{p} - X{q}", f"ry = Y{p} - Y{q}"]
             if rates == 0:
-                out.append(f"{R}[{row}] = (rx * rx + ry * ry) - {d} * {d}")
+                out.append(f"{n.rv(row)} = (rx * rx + ry * ry) - {d} * {d}")
                 grad(row, p, "2 * rx", "2 * ry")
                 grad(row, q, "-(2 * rx)", "-(2 * ry)")
             else:
                 out += [f"wx = VX{p} - VX{q}", f"wy = VY{p} - VY{q}"]
                 if rates == 1:
-                    out.append(f"{R}[{row}] = 2 * (rx * wx + ry * wy) - 2 * {d} * {dd}")
+                    out.append(f"{n.rv(row)} = 2 * (rx * wx + ry * wy) - 2 * {d} * {dd}")
                 else:
                     out += [
                         f"ax_ = AX{p} - AX{q}",
                         f"ay_ = AY{p} - AY{q}",
-                        f"{R}[{row}] = (2 * (rx * ax_ + ry * ay_) + 2 * (wx * wx + wy * wy)"
+                        f"{n.rv(row)} = (2 * (rx * ax_ + ry * ay_) + 2 * (wx * wx + wy * wy)"
                         f" - 2 * ({dd} * {dd} + {d} * {ddd}))",
                     ]
             row += 1
@@ -249,12 +372,12 @@ def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
                 PX, PY = pre[0], pre[1]
                 wx, wy = f"({PX}{b} - {PX}{a})", f"({PY}{b} - {PY}{a})"
                 if comp == 0:
-                    out.append(f"{R}[{row}] = {PX}{p} - {PX}{a} - {s} * {wx} + {t} * {wy}")
+                    out.append(f"{n.rv(row)} = {PX}{p} - {PX}{a} - {s} * {wx} + {t} * {wy}")
                     grad(row, p, "1.0", "0.0")
                     grad(row, a, f"{s} - 1.0", f"-{t}")
                     grad(row, b, f"-{s}", f"{t}")
                 else:
-                    out.append(f"{R}[{row}] = {PY}{p} - {PY}{a} - {s} * {wy} - {t} * {wx}")
+                    out.append(f"{n.rv(row)} = {PY}{p} - {PY}{a} - {s} * {wy} - {t} * {wx}")
                     grad(row, p, "0.0", "1.0")
                     grad(row, a, f"{t}", f"{s} - 1.0")
                     grad(row, b, f"-{t}", f"-{s}")
@@ -266,7 +389,7 @@ def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
                 f"gx = X{p} - X{l1}", f"gy = Y{p} - Y{l1}",
             ]  # fmt: skip
             if rates == 0:
-                out.append(f"{R}[{row}] = ux * gy - uy * gx")
+                out.append(f"{n.rv(row)} = ux * gy - uy * gx")
                 grad(row, p, "-uy", "ux")
                 grad(row, l2, "gy", "-gx")
                 grad(row, l1, "uy - gy", "gx - ux")
@@ -276,12 +399,12 @@ def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
                     f"gdx = VX{p} - VX{l1}", f"gdy = VY{p} - VY{l1}",
                 ]  # fmt: skip
                 if rates == 1:
-                    out.append(f"{R}[{row}] = (udx * gy - udy * gx) + (ux * gdy - uy * gdx)")
+                    out.append(f"{n.rv(row)} = (udx * gy - udy * gx) + (ux * gdy - uy * gdx)")
                 else:
                     out += [
                         f"uax = AX{l2} - AX{l1}", f"uay = AY{l2} - AY{l1}",
                         f"gax = AX{p} - AX{l1}", f"gay = AY{p} - AY{l1}",
-                        f"{R}[{row}] = ((uax * gy - uay * gx) + 2 * (udx * gdy - udy * gdx)"
+                        f"{n.rv(row)} = ((uax * gy - uay * gx) + 2 * (udx * gdy - udy * gdx)"
                         " + (ux * gay - uy * gax))",
                     ]  # fmt: skip
             row += 1
@@ -293,6 +416,8 @@ def _equations(n: _Names, st: Any, jac: bool, rates: int) -> list[str]:
             out += _angle(n, con, row, rates, grad_later) + later
             later.clear()
             row += 1
+    if jac and n.unrolled:  # (factored in place: an entry no constraint writes is zeroed)
+        out += [f"{n.jv(r, c)} = 0.0" for r in range(n.m) for c in range(n.m) if (r, c) not in seen]
     return out
 
 
@@ -309,7 +434,7 @@ def _rope(n: _Names, con: CRope, e: dict[str, Any], row: int, rates: int, grad: 
     last = len(pts) - 1
     L = f"{pre}L"
     if rates == 0:
-        out.append(f"{n.R}[{row}] = {L} * {L} - {d} * {d}")
+        out.append(f"{n.rv(row)} = {L} * {L} - {d} * {d}")
         acc: dict[int, tuple[list[str], list[str]]] = {}
         for k, p in enumerate(pts):
             if p not in n.col:
@@ -331,7 +456,7 @@ def _rope(n: _Names, con: CRope, e: dict[str, Any], row: int, rates: int, grad: 
         a, b = pts[k], pts[k + 1]
         out.append(f"rate = rate + {pre}ux{k} * (VX{b} - VX{a}) + {pre}uy{k} * (VY{b} - VY{a})")
     if rates == 1:
-        out.append(f"{n.R}[{row}] = 2 * {L} * rate - 2 * {d} * {dd}")
+        out.append(f"{n.rv(row)} = 2 * {L} * rate - 2 * {d} * {dd}")
         return out
     out.append("acc = 0.0")
     for k in range(last):
@@ -345,7 +470,7 @@ def _rope(n: _Names, con: CRope, e: dict[str, Any], row: int, rates: int, grad: 
             f"cur = cur + wr * wr / {pre}l{k}",
         ]
     out.append(
-        f"{n.R}[{row}] = 2 * rate * rate + 2 * {L} * (acc + cur) - 2 * ({dd} * {dd} + {d} * {ddd})"
+        f"{n.rv(row)} = 2 * rate * rate + 2 * {L} * (acc + cur) - 2 * ({dd} * {dd} + {d} * {ddd})"
     )
     return out
 
@@ -363,7 +488,7 @@ def _angle(n: _Names, con: CAngle, row: int, rates: int, grad: Any) -> list[str]
         f"dpx = X{p} - X{pv}", f"dpy = Y{p} - Y{pv}",
     ]  # fmt: skip
     if rates == 0:
-        out.append(f"{n.R}[{row}] = ex * dpy - ey * dpx")
+        out.append(f"{n.rv(row)} = ex * dpy - ey * dpx")
         grad(row, p, "-ey", "ex")
         grad(row, pv, "ey", "-ex")
         if con.ref is not None:
@@ -383,7 +508,7 @@ def _angle(n: _Names, con: CAngle, row: int, rates: int, grad: Any) -> list[str]
         f"ddx = VX{p} - VX{pv}", f"ddy = VY{p} - VY{pv}",
     ]  # fmt: skip
     if rates == 1:
-        out.append(f"{n.R}[{row}] = (edx * dpy - edy * dpx) + (ex * ddy - ey * ddx)")
+        out.append(f"{n.rv(row)} = (edx * dpy - edy * dpx) + (ex * ddy - ey * ddx)")
         return out
     if con.ref is None:
         out += ["vax = 0.0", "vay = 0.0"]
@@ -394,7 +519,7 @@ def _angle(n: _Names, con: CAngle, row: int, rates: int, grad: Any) -> list[str]
         "eax = cs * vax - sn * vay - 2 * qd_ * rvdy - qdd_ * ey - qd_ * qd_ * ex",
         "eay = sn * vax + cs * vay + 2 * qd_ * rvdx + qdd_ * ex - qd_ * qd_ * ey",
         f"dax = AX{p} - AX{pv}", f"day = AY{p} - AY{pv}",
-        f"{n.R}[{row}] = ((eax * dpy - eay * dpx) + 2 * (edx * ddy - edy * ddx)"
+        f"{n.rv(row)} = ((eax * dpy - eay * dpx) + 2 * (edx * ddy - edy * ddx)"
         " + (ex * day - ey * dax))",
     ]  # fmt: skip
     return out
@@ -412,19 +537,18 @@ def _iterate(n: _Names, st: Any) -> list[str]:
     body += _indent(_equations(n, st, False, 0), "    ")
     body += ["else:"]
     body += _indent(_equations(n, st, True, 0), "    ")
-    body += [f"    ratio = {n.fac}", "    have = True"]
+    body += _indent(n.fac, "    ") + ["    have = True"]
+    body += ["if not (abs(ratio) >= 1e-13):", "    break"]
+    body += n.sol + ["size = 0.0", "nanstep = False"]
+    for r in range(n.m):
+        body += [
+            f"s_ = abs({n.rv(r)})",
+            "if s_ > size:",
+            "    size = s_",
+            "elif s_ != s_:",
+            "    nanstep = True",
+        ]
     body += [
-        "if not (abs(ratio) >= 1e-13):",
-        "    break",
-        n.sol,
-        "size = 0.0",
-        "nanstep = False",
-        f"for r in range({n.m}):",
-        f"    s_ = abs({n.R}[r])",
-        "    if s_ > size:",
-        "        size = s_",
-        "    elif s_ != s_:",
-        "        nanstep = True",
         "if nanstep:",
         "    size = nan",
         f"if chord and not (size <= {CHORD_RATE} * last):",
@@ -433,14 +557,10 @@ def _iterate(n: _Names, st: Any) -> list[str]:
         "else:",
     ]
     for i, p in enumerate(st.points):
-        body += [f"    X{p} -= {n.R}[{2 * i}]", f"    Y{p} -= {n.R}[{2 * i + 1}]"]
+        body += [f"    X{p} -= {n.rv(2 * i)}", f"    Y{p} -= {n.rv(2 * i + 1)}"]
     body += ["if size <= small:", "    break", "last = size"]
-    return [
-        "have = False",
-        "last = math.inf",
-        "ratio = 1.0",
-        f"for it in range({MAX_ITER}):",
-    ] + _indent(body, "    ")
+    head = ["have = False", "last = math.inf", "ratio = 1.0", f"for it in range({MAX_ITER}):"]
+    return head + _indent(body, "    ")
 
 
 def emit_group(g: Any, st: Any, k: int, mode: str) -> None:
@@ -469,7 +589,7 @@ def emit_group(g: Any, st: Any, k: int, mode: str) -> None:
 
 
 def _positions(g: Any, n: _Names, st: Any, k: int) -> None:
-    lines = _iterate(n, st)
+    lines = n.init() + _iterate(n, st)
     for _ in st.dyads:  # `keep_sides`: a pass a dyad, at most
         lines.append("moved = False")
         for d, sign in zip(st.dyads, n.signs, strict=True):
@@ -494,8 +614,9 @@ def _positions(g: Any, n: _Names, st: Any, k: int) -> None:
         lines += ["if moved:"] + _indent(_iterate(n, st), "    ")
     # converged: every residual within 1e-10·size²
     lines += _equations(n, st, False, 0)
-    lines += ["bad = False", f"for r in range({n.m}):"]
-    lines += [f"    if not (abs({n.R}[r]) <= 1e-10 * scale * scale):", "        bad = True"]
+    lines.append("bad = False")
+    for r in range(n.m):
+        lines += [f"if not (abs({n.rv(r)}) <= 1e-10 * scale * scale):", "    bad = True"]
     lines += [
         "if bad:",
         "    if st == 0:",
@@ -531,25 +652,26 @@ def _rates(g: Any, n: _Names, st: Any, k: int) -> None:
         lines += [f"VX{p} = 0.0", f"VY{p} = 0.0", f"AX{p} = 0.0", f"AY{p} = 0.0"]
     lines += _equations(n, st, True, 0)
     lines += [
-        f"ratio{k} = {n.fac}",
+        *n.fac,
+        f"ratio{k} = ratio",
         f"sing = not (abs(ratio{k}) >= singular_tol * singular_tol)",
         "if sing and st == 0:",
         f"    st = {int(Code.SINGULAR)}",
         f"    fk = {k}",
     ]
     lines += _equations(n, st, False, 1)
-    lines.append(n.sol)
+    lines += n.sol
     for i, p in enumerate(st.points):
         lines += [
-            f"VX{p} = nan if sing else -{n.R}[{2 * i}]",
-            f"VY{p} = nan if sing else -{n.R}[{2 * i + 1}]",
+            f"VX{p} = nan if sing else -{n.rv(2 * i)}",
+            f"VY{p} = nan if sing else -{n.rv(2 * i + 1)}",
         ]
     lines += _equations(n, st, False, 2)
-    lines.append(n.sol)
+    lines += n.sol
     for i, p in enumerate(st.points):
         lines += [
-            f"AX{p} = nan if sing else -{n.R}[{2 * i}]",
-            f"AY{p} = nan if sing else -{n.R}[{2 * i + 1}]",
+            f"AX{p} = nan if sing else -{n.rv(2 * i)}",
+            f"AY{p} = nan if sing else -{n.rv(2 * i + 1)}",
         ]
     # the group's nearness to a dead position: its smallest |ratio| (NaN kept, as np.minimum)
     lines += [
