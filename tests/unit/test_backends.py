@@ -146,6 +146,18 @@ def test_a_newton_plan_compiles_when_asked_and_auto_takes_it_cached(
         newton.solve(q, sensitivities=["A-B"], backend="numba")
 
 
+def test_a_newton_plan_on_cuda_is_one_clear_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Its kernels are compiled for the CPU only: asking for the device says so (here with
+    the device taken as usable, whatever this machine has)."""
+    from excavkin import gpu
+
+    monkeypatch.setattr(gpu, "why_not", lambda: None)
+    fb = excavkin.load(excavkin.example_path("fourbar"))
+    newton = excavkin.Mechanism(fb.model, method="newton")
+    with pytest.raises(InputError, match="backend='cuda': the kinematics of this plan have no"):
+        newton.solve({"crank": np.zeros(3)}, backend="cuda")
+
+
 def test_cuda_without_a_gpu_is_one_clear_error_and_never_chosen(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:

@@ -403,25 +403,18 @@ def _solve_chunks(
                 status[bad & (status == Code.OK)] = Code.BAD_DESIGN
                 q = q.copy()
                 q[:, bad] = np.nan
-        if kernel is not None and refs is not None:  # the Newton plan's rates kernel
-            c = dataclasses.replace(full, q=q, qd=full.qd[:, part], qdd=full.qdd[:, part])
-            if designs is None and consts is not None:
-                k, stride = consts
-                table = (k[:, part] if stride else k, stride)
-            else:
-                table = compiled_plan.table(compiled_plan.constants(here), e - s)
-            compiled_newton.run_rates(
-                kernel, table, c, (derived.body, derived.element, *nearest), part, refs
-            )
-        elif kernel is not None:  # the chunk's inputs; the whole solve's outputs, from s on
+        if kernel is not None:  # the chunk's inputs; the whole solve's outputs, from s on
             c = dataclasses.replace(full, q=q, qd=full.qd[:, part], qdd=full.qdd[:, part])
             out = (derived.body, derived.element, *nearest)
             if designs is None and consts is not None:
                 k, stride = consts
                 table = (k[:, part] if stride else k, stride)
-                compiled_plan.run_table(kernel, table, c, *out, s, scalar)
             else:
-                compiled_plan.run(kernel, here, c, *out, s, scalar)
+                table = compiled_plan.table(compiled_plan.constants(here), e - s)
+            if refs is not None:  # a plan with Newton groups: its rates kernel
+                compiled_newton.run_rates(kernel, table, c, out, part, refs)
+            else:
+                compiled_plan.run_table(kernel, table, c, *out, s, scalar)
         else:
             c = dataclasses.replace(_view(full, part), q=q)  # the inputs, unbuildable designs NaN
             near, near_step = nearest[0][part], nearest[1][part]
@@ -450,12 +443,8 @@ def _solve_chunks(
     def numpy() -> None:
         over_chunks(n, chunk, workers, one)
 
-    if plan.has_newton:
-        if newton is None:
-            numpy()
-        else:
-            compiled(newton)
-        return
+    if plan.has_newton:  # its backend chosen already
+        return numpy() if newton is None else compiled(newton)
     job = compiled_plan.job(plan, each, numpy, compiled, device)
     backends.choose(execution.backend, job, n).run(job)
 
@@ -601,12 +590,14 @@ def wrapped_difference(delta: F, plan: SolvePlan) -> F:
 
 
 def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
-    """A chunk of ``full``'s samples (copies when ``samples`` picks some) for position passes."""
+    """A chunk of ``full``'s samples (copies when ``samples`` picks some) for position passes
+    (which read no rates: the positions stand in for them, as in `_positions_at`)."""
     zero = np.zeros_like(q)
+    x = _at(full.x, samples)
     return Chunk(
-        _at(full.x, samples),
-        _at(full.v, samples),
-        _at(full.a, samples),
+        x,
+        x,
+        x,
         q,
         zero,
         zero,

@@ -83,7 +83,7 @@ def factor_M(J, LU, piv, scl, rec):
             dead = True
         rec[k] = 1.0 / LU[k, k]
         for r in range(k + 1, M):
-            LU[r, k] *= rec[k]
+            LU[r, k] /= LU[k, k]
             for c in range(k + 1, M):
                 LU[r, c] -= LU[r, k] * LU[k, c]
     ratio *= LU[M - 1, M - 1]
@@ -119,9 +119,8 @@ def lusolve_M(LU, piv, scl, rec, b):
 
 def factor_source(m: int) -> str:
     """The generated source's LU of an m×m system: ``factor_m`` and ``lusolve_m``, the size a
-    literal (the compiler unrolls a small one); the arithmetic of
-    `excavkin.step_kinds.small_systems.Factors` (a pivot's reciprocal multiplies where it
-    divides, within a rounding).
+    literal; the arithmetic of `excavkin.step_kinds.small_systems.Factors`, operation for
+    operation.
 
     Parameters
     ----------
@@ -139,10 +138,10 @@ def factor_source(m: int) -> str:
 def unrolled_factor(m: int, pre: str) -> list[str]:
     """Lines that factor the m×m matrix held in the locals ``{pre}a{r}_{c}``, in place, as
     `factor_source` does: rows scaled to unit norm (``{pre}sc{r}``), then partial pivoting,
-    the largest magnitude of a column brought up by exchanges as it is met (``{pre}w{k}_{r}``:
-    rows k and r exchanged), the pivots' reciprocals ``{pre}rc{k}`` and ``ratio``, the
-    determinant over the rows' norms (0 at a zero pivot). Straight-line: the compiler keeps
-    a small system in registers.
+    the first row of the largest magnitude of a column exchanged with row k
+    (``{pre}p{k}``: its offset below k, 0 for none), the pivots' reciprocals ``{pre}rc{k}``
+    and ``ratio``, the determinant over the rows' norms (0 at a zero pivot). Straight-line:
+    the compiler keeps a small system in registers.
 
     Parameters
     ----------
@@ -166,20 +165,29 @@ def unrolled_factor(m: int, pre: str) -> list[str]:
         out += [f"{a(r, c)} *= {pre}sc{r}" for c in range(m)]
     out += ["ratio = 1.0", "dead = False"]
     for k in range(m - 1):
+        pk = f"{pre}p{k}"  # the pivot's row, below row k (0: row k itself)
+        out += [f"best = abs({a(k, k)})", f"{pk} = 0"]
         for r in range(k + 1, m):
-            w = f"{pre}w{k}_{r}"
-            out += [f"{w} = abs({a(r, k)}) > abs({a(k, k)})", f"if {w}:"]
+            out += [
+                f"mag = abs({a(r, k)})",
+                "if mag > best:",
+                "    best = mag",
+                f"    {pk} = {r - k}",
+            ]
+        for r in range(k + 1, m):
+            out.append(f"if {pk} == {r - k}:")
             for c in range(k, m):
                 out.append(f"    {a(k, c)}, {a(r, c)} = {a(r, c)}, {a(k, c)}")
-            out.append("    ratio = -ratio")
         out += [
+            f"if {pk} != 0:",
+            "    ratio = -ratio",
             f"ratio *= {a(k, k)}",
             f"if {a(k, k)} == 0.0:",
             "    dead = True",
             f"{pre}rc{k} = 1.0 / {a(k, k)}",
         ]
         for r in range(k + 1, m):
-            out.append(f"{a(r, k)} *= {pre}rc{k}")
+            out.append(f"{a(r, k)} /= {a(k, k)}")
             for c in range(k + 1, m):
                 out.append(f"{a(r, c)} -= {a(r, k)} * {a(k, c)}")
     out += [
@@ -214,7 +222,7 @@ def unrolled_solve(m: int, pre: str, b: list[str]) -> list[str]:
     out = [f"{b[r]} *= {pre}sc{r}" for r in range(m)]
     for k in range(m - 1):
         for r in range(k + 1, m):
-            out += [f"if {pre}w{k}_{r}:", f"    {b[k]}, {b[r]} = {b[r]}, {b[k]}"]
+            out += [f"if {pre}p{k} == {r - k}:", f"    {b[k]}, {b[r]} = {b[r]}, {b[k]}"]
         for r in range(k + 1, m):
             out.append(f"{b[r]} -= {a(r, k)} * {b[k]}")
     for k in range(m - 1, -1, -1):
@@ -281,7 +289,7 @@ class _Names:
         m, pre = self.m, self.pre
         out = [f"{self.jv(r, c)} = 0.0" for r in range(m) for c in range(m)]
         out += [f"{pre}sc{r} = 1.0" for r in range(m)] + [f"{pre}rc{r} = 1.0" for r in range(m)]
-        out += [f"{pre}w{k}_{r} = False" for k in range(m - 1) for r in range(k + 1, m)]
+        out += [f"{pre}p{k} = 0" for k in range(m - 1)]
         return out + [f"{self.rv(r)} = 0.0" for r in range(m)]
 
 
