@@ -115,3 +115,24 @@ def test_random_triads_compiled_as_in_numpy(
         return  # a sketch that does not assemble: no mechanism to solve
     q0 = mech.sketch_values()["crank"]
     both(mech, {"crank": q0 + np.asarray(angles)})
+
+
+def test_a_large_group_source_grows_linearly_and_parses() -> None:
+    """Every moving point of a chain in one group (``method="newton"``): the source is one
+    block of lines an equation (the LU a loop beyond `UNROLL` unknowns, no chain of ``and``),
+    so it grows linearly with the chain and parses without recursion."""
+    import ast
+
+    from excavkin.step_kinds.newton_emit import UNROLL
+    from tests.models import fourbar_chain
+
+    sizes = {}
+    for stages in (20, 40):
+        mech = Mechanism(excavkin.loads(fourbar_chain(stages), "chain").model, method="newton")
+        (group,) = [st for st in mech.plan.steps if type(st).__name__ == "NewtonGroup"]
+        assert 2 * len(group.points) > UNROLL
+        text = compiled_newton.source(mech.plan)
+        ast.parse(text)
+        assert " and math.isfinite(" not in text
+        sizes[stages] = text.count("\n")
+    assert sizes[40] < 2.2 * sizes[20]

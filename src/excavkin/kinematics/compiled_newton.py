@@ -197,6 +197,7 @@ def source(plan: SolvePlan) -> str:
     g.emit(*g.after)
     g.derived(plan)
     g.store(plan)
+    g.lines = _checks_in_sequence(g.lines)
     first = next(k for k, st in enumerate(plan.steps) if kind_of(st).iterative)
     at = g.lines.index("near[i] = nr")  # a group nearer than every dyad: the first group's
     g.lines[at:at] = ["if gnear < nr:", "    nr = gnear", f"    ns = {first}"]
@@ -207,6 +208,23 @@ def source(plan: SolvePlan) -> str:
             _made.clear()
         _made[id(plan)] = (plan, text)
     return text
+
+
+def _checks_in_sequence(lines: list[str]) -> list[str]:
+    """The exact finiteness check's ``and`` of every stored value, as one statement a value:
+    a chain of hundreds of ``and``, each a branch, is too deep for numba's analysis of a
+    large plan's loop."""
+    out: list[str] = []
+    head = "    if not (math.isfinite("
+    for line in lines:
+        if not line.startswith(head):
+            out.append(line)
+            continue
+        values = line[len("    if not (") : -len("):")].split(" and ")
+        out.append("    ok = True")
+        out += [f"    ok &= {v}" for v in values]
+        out.append("    if not ok:")
+    return out
 
 
 def references(plan: SolvePlan, signs: tuple[float, ...], sketch: F) -> F:

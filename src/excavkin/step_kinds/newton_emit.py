@@ -233,7 +233,7 @@ def unrolled_solve(m: int, pre: str, b: list[str]) -> list[str]:
 
 
 #: a system this size or smaller is factored straight-line in locals (its code grows as m³/3)
-UNROLL = 12
+UNROLL = 8
 
 
 class _Names:
@@ -548,14 +548,12 @@ def _iterate(n: _Names, st: Any) -> list[str]:
     body += _indent(n.fac, "    ") + ["    have = True"]
     body += ["if not (abs(ratio) >= 1e-13):", "    break"]
     body += n.sol + ["size = 0.0", "nanstep = False"]
-    for r in range(n.m):
-        body += [
-            f"s_ = abs({n.rv(r)})",
-            "if s_ > size:",
-            "    size = s_",
-            "elif s_ != s_:",
-            "    nanstep = True",
-        ]
+    each = ["if s_ > size:", "    size = s_", "elif s_ != s_:", "    nanstep = True"]
+    if n.unrolled:
+        for r in range(n.m):
+            body += [f"s_ = abs({n.rv(r)})", *each]
+    else:  # (a loop: a large group's source grows with its equations alone)
+        body += [f"for r in range({n.m}):", f"    s_ = abs({n.R}[r])", *_indent(each, "    ")]
     body += [
         "if nanstep:",
         "    size = nan",
@@ -598,11 +596,11 @@ def emit_group(g: Any, st: Any, k: int, mode: str) -> None:
 
 def _positions(g: Any, n: _Names, st: Any, k: int) -> None:
     lines = n.init() + _iterate(n, st)
-    for _ in st.dyads:  # `keep_sides`: a pass a dyad, at most
-        lines.append("moved = False")
+    if st.dyads:  # `keep_sides`: a pass a dyad, at most (one copy of the iteration)
+        side: list[str] = ["moved = False"]
         for d, sign in zip(st.dyads, n.signs, strict=True):
             P, A, B = d.point, d.a, d.b
-            lines += [
+            side += [
                 "if not moved:",
                 f"    ex = X{B} - X{A}",
                 f"    ey = Y{B} - Y{A}",
@@ -619,12 +617,19 @@ def _positions(g: Any, n: _Names, st: Any, k: int) -> None:
                 f"            Y{P} = my",
                 "        moved = True",
             ]
-        lines += ["if moved:"] + _indent(_iterate(n, st), "    ")
+        side += ["if not moved:", "    break"] + _iterate(n, st)
+        lines += [f"for sides in range({len(st.dyads)}):"] + _indent(side, "    ")
     # converged: every residual within 1e-10·size²
     lines += _equations(n, st, False, 0)
     lines.append("bad = False")
-    for r in range(n.m):
-        lines += [f"if not (abs({n.rv(r)}) <= 1e-10 * scale * scale):", "    bad = True"]
+    if n.unrolled:
+        for r in range(n.m):
+            lines += [f"bad |= not (abs({n.rv(r)}) <= 1e-10 * scale * scale)"]
+    else:
+        lines += [
+            f"for r in range({n.m}):",
+            f"    bad |= not (abs({n.R}[r]) <= 1e-10 * scale * scale)",
+        ]
     lines += [
         "if bad:",
         "    if st == 0:",
@@ -666,20 +671,21 @@ def _rates(g: Any, n: _Names, st: Any, k: int) -> None:
         "if sing and st == 0:",
         f"    st = {int(Code.SINGULAR)}",
         f"    fk = {k}",
+        "dead = nan if sing else 0.0",  # added to every rate: NaN where singular, no branch
     ]
     lines += _equations(n, st, False, 1)
     lines += n.sol
     for i, p in enumerate(st.points):
         lines += [
-            f"VX{p} = nan if sing else -{n.rv(2 * i)}",
-            f"VY{p} = nan if sing else -{n.rv(2 * i + 1)}",
+            f"VX{p} = -{n.rv(2 * i)} + dead",
+            f"VY{p} = -{n.rv(2 * i + 1)} + dead",
         ]
     lines += _equations(n, st, False, 2)
     lines += n.sol
     for i, p in enumerate(st.points):
         lines += [
-            f"AX{p} = nan if sing else -{n.rv(2 * i)}",
-            f"AY{p} = nan if sing else -{n.rv(2 * i + 1)}",
+            f"AX{p} = -{n.rv(2 * i)} + dead",
+            f"AY{p} = -{n.rv(2 * i + 1)} + dead",
         ]
     # the group's nearness to a dead position: its smallest |ratio| (NaN kept, as np.minimum)
     lines += [
@@ -699,10 +705,8 @@ def _rates(g: Any, n: _Names, st: Any, k: int) -> None:
         P, A, B = d.point, d.a, d.b
         at = g.ref()
         after += [
-            f"if ((X{B} - X{A}) * (Y{P} - Y{A}) - (Y{B} - Y{A}) * (X{P} - X{A})) * {sign} < 0:",
-            "    flip = True",
-            f"if {sign} * {at} < 0:",
-            "    turned = -turned",
+            f"flip |= ((X{B} - X{A}) * (Y{P} - Y{A}) - (Y{B} - Y{A}) * (X{P} - X{A})) * {sign} < 0",
+            f"turned *= 1.0 - 2.0 * ({sign} * {at} < 0)",
         ]
     for con in st.constraints:
         if isinstance(con, CAngle):
@@ -714,15 +718,13 @@ def _rates(g: Any, n: _Names, st: Any, k: int) -> None:
             after += [
                 f"cs = math.cos(q[{i}, i])",
                 f"sn = math.sin(q[{i}, i])",
-                f"if not ((cs * {vx} - sn * {vy}) * (X{p} - X{pv})"
-                f" + (sn * {vx} + cs * {vy}) * (Y{p} - Y{pv}) > 0):",
-                "    flip = True",
+                f"flip |= not ((cs * {vx} - sn * {vy}) * (X{p} - X{pv})"
+                f" + (sn * {vx} + cs * {vy}) * (Y{p} - Y{pv}) > 0)",
             ]
     first = st.points[0]
     after += [
-        f"if sg != {ref} * turned:",
-        "    flip = True",
-        f"if flip and math.isfinite(X{first}) and st == 0:",
+        f"flip |= sg != {ref} * turned",
+        f"if flip & math.isfinite(X{first}) & (st == 0):",
         f"    st = {int(Code.BRANCH_CHANGED)}",
         f"    fk = {k}",
     ]
