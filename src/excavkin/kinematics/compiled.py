@@ -15,8 +15,9 @@ statuses at the same step (the first failure wins), and computes the derived bod
 quantities and the finiteness check of `excavkin.kinematics.solve`. The NumPy path stays
 the reference: tests hold the two to 1e-15 of each column's scale.
 
-Only a closed-form plan at full order is compiled; Newton groups, the precision check's wider
-solves and the emulated rounding run in NumPy. Which path a solve takes is decided in one place,
+Only a closed-form plan at full order is compiled here (a plan with Newton groups has kernels of
+its own, `excavkin.kinematics.compiled_newton`); the precision check's wider solves and the
+emulated rounding run in NumPy. Which path a solve takes is decided in one place,
 `excavkin.backends.choose`; the kernels are cached there too.
 """
 
