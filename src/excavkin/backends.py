@@ -369,7 +369,10 @@ def choose(name: str, job: Job, n: int) -> Backend:
     require(name)
     b = REGISTRY[name]
     if not b.supports(job):
-        why = f"the {job.what} {job.unsupported or 'cannot be compiled'}"
+        if job.unsupported is None and job.scalar is None:  # compiled for the CPU only
+            why = f"the {job.what} of this plan have no device kernel"
+        else:
+            why = f"the {job.what} {job.unsupported or 'cannot be compiled'}"
         raise InputError(f"backend={name!r}: {why}; backend='auto' chooses what can run")
     return b
 

@@ -10,7 +10,6 @@ import pytest
 
 import excavkin
 from excavkin import backends
-from excavkin.errors import InputError
 from excavkin.kinematics import compiled
 from tests.models import parallelogram
 from tests.property.test_designs import random_designs
@@ -126,13 +125,16 @@ def test_kernel_source_depends_on_structure_only() -> None:
     np.testing.assert_array_equal(table[0], np.arange(10.0))
 
 
-def test_a_newton_plan_is_refused() -> None:
-    """(The rule that chooses is tested in tests/unit/test_backends.py.)"""
+def test_a_newton_plan_has_kernels_of_its_own() -> None:
+    """Not the closed-form kernel's: a plan with a Newton group has its own
+    (`excavkin.kinematics.compiled_newton`, held to NumPy in test_compiled_newton.py)."""
     fb = excavkin.load(excavkin.example_path("fourbar"))
     newton = excavkin.Mechanism(fb.model, method="newton")
     assert not compiled.supports(newton.plan)
-    with pytest.raises(InputError, match="Newton group"):
-        newton.solve({"crank": np.zeros(3)}, backend="numba")
+    with pytest.raises(TypeError, match="cannot be compiled"):
+        compiled.source(newton.plan)
+    q = {"crank": np.linspace(0.0, 1.0, 7)}
+    assert_same(newton.solve(q, backend="numba"), newton.solve(q, backend="numpy"))
 
 
 def test_a_cache_folder_that_cannot_be_written_compiles_in_memory(

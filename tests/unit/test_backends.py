@@ -127,13 +127,35 @@ def test_auto_stays_on_numpy_when_told(
     assert chosen == [("kinematics", "numpy")]
 
 
-def test_a_newton_plan_runs_in_numpy_and_refuses_numba(chosen: list[tuple[str, str]]) -> None:
+def test_a_newton_plan_compiles_when_asked_and_auto_takes_it_cached(
+    chosen: list[tuple[str, str]], fresh_cache: None
+) -> None:
+    """One choice for a Newton plan's kinematics (its positions and rates kernels come
+    together); its tangents stay in NumPy, and asking numba for them is one clear error."""
     fb = excavkin.load(excavkin.example_path("fourbar"))
     newton = excavkin.Mechanism(fb.model, method="newton")
-    newton.solve({"crank": np.linspace(0.0, 1.0, 5)}, sensitivities=["A-B"])
+    q = {"crank": np.linspace(0.0, 1.0, 5)}
+    newton.solve(q, sensitivities=["A-B"])
     assert chosen == [("kinematics", "numpy"), ("tangents", "numpy")]
-    with pytest.raises(InputError, match="backend='numba': the kinematics .* Newton group"):
-        newton.solve({"crank": np.zeros(3)}, backend="numba")
+    chosen.clear()
+    a = newton.solve(q, backend="numba")
+    b = newton.solve(q)  # cached now: "auto" takes it
+    assert chosen == [("kinematics", "numba"), ("kinematics", "numba")]
+    np.testing.assert_array_equal(a.positions, b.positions)
+    with pytest.raises(InputError, match="backend='numba': the tangents .* Newton group"):
+        newton.solve(q, sensitivities=["A-B"], backend="numba")
+
+
+def test_a_newton_plan_on_cuda_is_one_clear_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Its kernels are compiled for the CPU only: asking for the device says so (here with
+    the device taken as usable, whatever this machine has)."""
+    from excavkin import gpu
+
+    monkeypatch.setattr(gpu, "why_not", lambda: None)
+    fb = excavkin.load(excavkin.example_path("fourbar"))
+    newton = excavkin.Mechanism(fb.model, method="newton")
+    with pytest.raises(InputError, match="backend='cuda': the kinematics of this plan have no"):
+        newton.solve({"crank": np.zeros(3)}, backend="cuda")
 
 
 def test_cuda_without_a_gpu_is_one_clear_error_and_never_chosen(

@@ -15,8 +15,9 @@ statuses at the same step (the first failure wins), and computes the derived bod
 quantities and the finiteness check of `excavkin.kinematics.solve`. The NumPy path stays
 the reference: tests hold the two to 1e-15 of each column's scale.
 
-Only a closed-form plan at full order is compiled; Newton groups, the precision check's wider
-solves and the emulated rounding run in NumPy. Which path a solve takes is decided in one place,
+Only a closed-form plan at full order is compiled here (a plan with Newton groups has kernels of
+its own, `excavkin.kinematics.compiled_newton`); the precision check's wider solves and the
+emulated rounding run in NumPy. Which path a solve takes is decided in one place,
 `excavkin.backends.choose`; the kernels are cached there too.
 """
 
@@ -228,7 +229,7 @@ def source(plan: SolvePlan, *, write_at_rest: bool = True) -> str:
     """The kernel's Python source for ``plan`` (closed-form steps only). ``write_at_rest``
     False: a fixed point's velocity and acceleration rows are left as they come (the kernel
     of `compile_plan`, whose caller hands them in zeroed)."""
-    g = _Source(write_at_rest)
+    g = Source(write_at_rest)
     for k, st in enumerate(plan.steps):
         kind_of(st).emit(g, st, k)  # a kind that does not compile raises TypeError
     g.derived(plan)
@@ -272,7 +273,7 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
 _CHAINS = 8
 
 
-class _Source:
+class Source:
     """Lines of the loop body, and the count of constants read so far: what each step kind's
     ``emit`` (`excavkin.step_kinds`) writes its source through."""
 

@@ -26,7 +26,7 @@ from excavkin.backends import Kernel
 from excavkin.errors import AssemblyError
 from excavkin.execution import DEFAULT, Execution
 from excavkin.kinematics import compiled as compiled_plan
-from excavkin.kinematics import kernels, precision
+from excavkin.kinematics import compiled_newton, kernels, precision
 from excavkin.kinematics.change_points import ChangePoint, Tail, dyads, find_change_points
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
@@ -259,6 +259,9 @@ def solve_part(
     chunk, workers = execution.chunk_or(CHUNK), execution.workers
     newton_near = np.ones(n) if plan.has_newton else None
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
+    # a plan with Newton groups: its kernels, where the backend takes them (one choice, here)
+    newton = compiled_newton.kernel_for(plan, execution.backend, n) if plan.has_newton else None
+    positions = None if newton is None else newton.positions  # type: ignore[attr-defined]
     blocks = _blocks(carry.start, n)
     reached = carry.reached
     near, near_step = workspace.near, workspace.near_step
@@ -268,11 +271,11 @@ def solve_part(
             execution = dataclasses.replace(execution, chunk=chunk)  # (the rates' chunks too)
             for b in blocks:
                 reached = _solve_newton(
-                    take(plan, b), assembly, _view(full, b), reached, chunk, workers
+                    take(plan, b), assembly, _view(full, b), reached, chunk, workers, positions
                 )
         checked = assembly if plan.has_newton else None  # the Newton groups' branch
         _solve_chunks(plan, full, derived, (near, near_step), execution, report, designs,
-                      checked, unbuildable)  # fmt: skip
+                      checked, unbuildable, newton)  # fmt: skip
     error, found, tail = _check_blocks(
         plan, (q_given, q, qd, qdd), precision.Arrays(x, v, a, trans, derived), status, failed,
         (near, near_step), tol, designs, carry, blocks, change_points,
@@ -447,6 +450,7 @@ def _solve_chunks(
     designs: DesignBatch | None = None,
     assembly: Assembly | None = None,
     unbuildable: np.ndarray | None = None,
+    newton: Kernel | None = None,
 ) -> None:
     """The plan over chunks of samples, on a thread per core: each chunk runs the steps and
     then its derived quantities and nearness to dead positions while it is in cache (and, for
@@ -458,13 +462,18 @@ def _solve_chunks(
     `nearness`). A closed-form plan's inputs are not
     checked yet: each chunk checks its own (`_check_inputs`, with the samples whose
     design builds no mechanism, ``unbuildable``) and sets its ``failed`` to −1; a plan with
-    Newton groups had them checked before its continuation."""
+    Newton groups had them checked before its continuation, and its backend chosen
+    (``newton``: its compiled kernel, `excavkin.kinematics.compiled_newton`; None: NumPy)."""
     n = full.status.size
     chunk, workers = execution.chunk_or(CHUNK), execution.workers
     each = designs is not None or compiled_plan.per_sample(plan)  # the kernel's constants
     consts: tuple[F, int] | None = None
     kernel: Kernel | None = None
     scalar = False  # the kernel is the plain loop's, on a device
+    refs = None  # a plan with Newton groups: its groups' reference signs
+    if plan.has_newton:
+        assert assembly is not None
+        refs = compiled_newton.references(plan, assembly.newton_signs, assembly.positions)
 
     def one(s: int) -> None:
         e = min(s + chunk, n)
@@ -491,9 +500,12 @@ def _solve_chunks(
             if designs is None and consts is not None:
                 k, stride = consts
                 table = (k[:, part] if stride else k, stride)
-                compiled_plan.run_table(kernel, table, c, *out, s, scalar)
             else:
-                compiled_plan.run(kernel, here, c, *out, s, scalar)
+                table = compiled_plan.table(compiled_plan.constants(here), e - s)
+            if refs is not None:  # a plan with Newton groups: its rates kernel
+                compiled_newton.run_rates(kernel, table, c, out, part, refs)
+            else:
+                compiled_plan.run_table(kernel, table, c, *out, s, scalar)
         else:
             c = dataclasses.replace(_view(full, part), q=q)  # the inputs, unbuildable designs NaN
             near, near_step = nearest[0][part], nearest[1][part]
@@ -522,6 +534,8 @@ def _solve_chunks(
     def numpy() -> None:
         over_chunks(n, chunk, workers, one)
 
+    if plan.has_newton:  # its backend chosen already
+        return numpy() if newton is None else compiled(newton)
     job = compiled_plan.job(plan, each, numpy, compiled, device)
     backends.choose(execution.backend, job, n).run(job)
 
@@ -619,6 +633,7 @@ def _solve_newton(
     reached: tuple[F, F] | None,
     chunk: int,
     workers: int | None,
+    kernel: Kernel | None = None,
 ) -> tuple[F, F] | None:
     """Positions by continuation along the sweep's own order (their rates come after); returns
     the last sample reached (positions and inputs), where the next block starts.
@@ -635,13 +650,13 @@ def _solve_newton(
     steps = step_sizes(plan)
     if reached is None:
         reached = (assembly.positions, np.asarray(plan.input_sketch, dtype=np.float64))
-    _continue_along_sweep(plan, reached, full, steps, chunk, workers)
+    _continue_along_sweep(plan, reached, full, steps, chunk, workers, kernel)
     for long_way in (False, True):
         done = (status == Code.OK) | (status == Code.BAD_INPUT) | (status == Code.BAD_LENGTH)
         retry = np.flatnonzero(~done)
         if not retry.size or (long_way and "angle" not in plan.input_kinds):
             break
-        _continue_from_sketch(plan, assembly, full, steps, retry, long_way, chunk, workers)
+        _continue_from_sketch(plan, assembly, full, steps, retry, long_way, chunk, workers, kernel)
     full.q = q
     ok = np.flatnonzero(status == Code.OK)
     if not ok.size:
@@ -666,12 +681,14 @@ def wrapped_difference(delta: F, plan: SolvePlan) -> F:
 
 
 def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
-    """A chunk of ``full``'s samples (copies when ``samples`` picks some) for position passes."""
+    """A chunk of ``full``'s samples (copies when ``samples`` picks some) for position passes
+    (which read no rates: the positions stand in for them, as in `_positions_at`)."""
     zero = np.zeros_like(q)
+    x = _at(full.x, samples)
     return Chunk(
-        _at(full.x, samples),
-        _at(full.v, samples),
-        _at(full.a, samples),
+        x,
+        x,
+        x,
         q,
         zero,
         zero,
@@ -704,6 +721,7 @@ def _continue_along_sweep(
     steps: F,
     chunk: int,
     workers: int | None,
+    kernel: Kernel | None = None,
 ) -> None:
     """Every sample by continuation along the sweep from the sample nearest ``start``
     (positions (n_points, 2) and inputs (n_inputs,): the sketch, or the block before's last).
@@ -735,7 +753,7 @@ def _continue_along_sweep(
     first_plan = take(plan, valid[[k0]])
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
-        run_steps(first_plan, mini, 0)
+        _positions(first_plan, mini, kernel)
     walked = np.concatenate([[0.0], np.cumsum(_moves(np.diff(q[:, valid], axis=1), plan, steps))])
     span = max(walked[-1] - walked[k0], walked[k0] - walked[0])
     h = max(1.0, span / MAX_RUNGS)
@@ -743,7 +761,7 @@ def _continue_along_sweep(
     rungs = np.concatenate([[k0], ahead, behind])
     at = np.empty((*full.x.shape[:2], rungs.size))  # each rung's solved positions
     at[:, :, 0] = mini.x[:, :, 0]
-    _climb(plan, full, valid[rungs], ahead.size, at)
+    _climb(plan, full, valid[rungs], ahead.size, at, kernel)
     order = np.argsort(rungs)
     solved, at = rungs[order], at[:, :, order]  # sorted along the sweep
     # finer ladders, each all at once from the solved samples behind it, while they are few
@@ -753,7 +771,8 @@ def _continue_along_sweep(
         new = found[~_among(found, solved)]
         if not new.size:
             break
-        x = _from_solved(plan, full, valid[new], at[:, :, _behind(solved, new, k0)], chunk, workers)
+        behind = at[:, :, _behind(solved, new, k0)]
+        x = _from_solved(plan, full, valid[new], behind, chunk, workers, kernel)
         solved = np.concatenate([solved, new])
         order = np.argsort(solved)
         solved, at = solved[order], np.concatenate([at, x], axis=2)[:, :, order]
@@ -766,9 +785,18 @@ def _continue_along_sweep(
         c = _positions_only(full, part, q[:, part])
         c.x[:] = at[:, :, idx[part]]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            run_steps(take(plan, part), c, 0)
+            _positions(take(plan, part), c, kernel)
 
     over_chunks(q.shape[1], chunk, workers, one)
+
+
+def _positions(plan: SolvePlan, c: Chunk, kernel: Kernel | None) -> None:
+    """Every step at order 0 over a chunk (a Newton group from its positions in ``c.x``):
+    with the compiled positions kernel where there is one, else in NumPy."""
+    if kernel is None:
+        run_steps(plan, c, 0)
+    else:
+        compiled_newton.run_positions(kernel, plan, c)
 
 
 def _rungs(walked: F, k0: int, h: float) -> tuple[np.ndarray, np.ndarray]:
@@ -824,6 +852,7 @@ def _from_solved(
     start: F,
     chunk: int,
     workers: int | None,
+    kernel: Kernel | None = None,
 ) -> F:
     """The positions of ``samples``, each solved from its column of ``start`` (the solution
     of a sample behind it), by chunks; the samples' statuses are left as they are."""
@@ -834,14 +863,21 @@ def _from_solved(
         c = _positions_only(full, samples[part], _at(full.q, samples[part]))
         c.x[:] = start[:, :, part]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            run_steps(take(plan, samples[part]), c, 0)
+            _positions(take(plan, samples[part]), c, kernel)
         out[:, :, part] = c.x
 
     over_chunks(samples.size, chunk, workers, one)
     return out
 
 
-def _climb(plan: SolvePlan, full: Chunk, rungs: np.ndarray, n_ahead: int, at: F) -> None:
+def _climb(
+    plan: SolvePlan,
+    full: Chunk,
+    rungs: np.ndarray,
+    n_ahead: int,
+    at: F,
+    kernel: Kernel | None = None,
+) -> None:
     """Solve the ladder's rungs (``rungs``: the sketch's sample, those ahead, those behind),
     each from the one before it, both ways at once: ``at[:, :, i]`` is rung i's solution,
     filled in from ``at[:, :, 0]``."""
@@ -854,7 +890,7 @@ def _climb(plan: SolvePlan, full: Chunk, rungs: np.ndarray, n_ahead: int, at: F)
         c = _positions_only(full, samples, _at(full.q, samples))
         c.x[:] = at[:, :, prev]
         c.status[:] = 0
-        run_steps(take(plan, samples), c, 0)
+        _positions(take(plan, samples), c, kernel)
         at[:, :, here] = c.x
 
 
@@ -867,6 +903,7 @@ def _continue_from_sketch(
     long_way: bool,
     chunk: int,
     workers: int | None,
+    kernel: Kernel | None = None,
 ) -> None:
     """Samples the sweep could not reach: straight from the sketch, the shorter way round (or
     the longer, past what the shorter way could not pass), by chunks of them."""
@@ -890,9 +927,9 @@ def _continue_from_sketch(
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             for k in range(1, stages + 1):
                 c.q = q0 + delta[:, part] * (k / stages)
-                run_steps(here, c, 0)
+                _positions(here, c, kernel)
             c.q = target[:, part]
-            run_steps(here, c, 0)
+            _positions(here, c, kernel)
         full.x[:, :, these] = c.x
         full.status[these] = c.status
         full.failed[these] = c.failed

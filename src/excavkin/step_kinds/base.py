@@ -201,7 +201,9 @@ class StepKind(ABC, Generic[S]):
     name: ClassVar[str]
     #: the record type of its steps
     record: ClassVar[type]
-    #: whether the compiled plan can hold it (else a plan with it runs in NumPy)
+    #: whether the closed-form plan's compiled kernel can hold it (else a plan with it runs in
+    #: NumPy; an iterative kind's ``emit`` writes the kernels of a plan with Newton groups,
+    #: `excavkin.kinematics.compiled_newton`)
     compiles: ClassVar[bool]
     #: whether it is solved by iteration (a Newton group) rather than in closed form
     iterative: ClassVar[bool]
@@ -251,7 +253,8 @@ class StepKind(ABC, Generic[S]):
     @abstractmethod
     def emit(self, g: Emitter, st: S, k: int) -> None:
         """Write step ``k``'s compiled source (a kind that does not compile raises
-        TypeError)."""
+        TypeError; an iterative kind writes only into an emitter that says which of a Newton
+        plan's kernels it writes, its ``newton`` attribute)."""
 
     @abstractmethod
     def describe(self, st: S, names: tuple[str, ...]) -> str:

@@ -1,7 +1,8 @@
 """What no closed-form step reaches: a higher-class group's points, solved together by
 batched Newton–Raphson from the sketch (`excavkin.step_kinds.newton_solve`), with the
-constraints of `excavkin.step_kinds.constraints`. It does not compile: a plan with a group
-runs in NumPy.
+constraints of `excavkin.step_kinds.constraints`. It has no place in the closed-form plan's
+compiled kernel; a plan with groups has kernels of its own (`excavkin.step_kinds.newton_emit`,
+`excavkin.kinematics.compiled_newton`).
 """
 
 from __future__ import annotations
@@ -16,7 +17,16 @@ from excavkin.arrays import FloatArray as F
 from excavkin.model.entities import Model
 from excavkin.step_kinds.base import Emitter, Geometry, Primitive, Role, StepKind, register
 from excavkin.step_kinds.constraints import CAngle, CDist, CFrame, Constraint, CRope, GroupDyad
-from excavkin.step_kinds.dist import Index, at, dist_inputs, take_dist, varies, vary_dist
+from excavkin.step_kinds.dist import (
+    Index,
+    at,
+    compiled_value,
+    dist_inputs,
+    take_dist,
+    varies,
+    vary_dist,
+)
+from excavkin.step_kinds.newton_emit import emit_group
 from excavkin.step_kinds.newton_solve import newton_positions, newton_rates, ropes_on_sheaves
 from excavkin.step_kinds.rope_path import rope_path
 from excavkin.step_kinds.state import Chunk
@@ -115,10 +125,21 @@ class NewtonGroupKind(StepKind[NewtonGroup]):
         return None
 
     def constants(self, st: NewtonGroup) -> list[Any]:
-        return []
+        out: list[Any] = []
+        for con in st.constraints:
+            if isinstance(con, CDist | CRope):
+                out.append(compiled_value(con.dist))
+            if isinstance(con, CFrame):
+                out += [con.s, con.t]
+            if isinstance(con, CRope):
+                out += [*con.signed, *con.wraps0]
+        return out + [d.sign for d in st.dyads]
 
     def emit(self, g: Emitter, st: NewtonGroup, k: int) -> None:
-        raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled")
+        mode = getattr(g, "newton", None)  # a Newton plan's kernel says which
+        if mode is None:
+            raise TypeError(f"step {k} ({type(st).__name__}) cannot be compiled")
+        emit_group(g, st, k, mode)
 
     def describe(self, st: NewtonGroup, names: tuple[str, ...]) -> str:
         return (
