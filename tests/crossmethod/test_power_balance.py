@@ -84,7 +84,11 @@ def test_power_balance_examples(name: str, extra: bool) -> None:
     res = mech.forces(kin, loads)
     pb = res.power_balance()
     ok = res.ok
-    assert ok.all() == kin.status.all_ok
+    # a rope that would push under this generic motion and these loads is slack, never ok
+    # (the synchronised crane's rope about its horizontal sketch); every other sample is
+    assert np.array_equal(ok, kin.status.ok & ~res.singular & ~res.slack)
+    assert not res.singular.any() and (not mech.model.ropes or ok.sum() > 0)
+    assert ok.all() == kin.status.all_ok or (res.slack & kin.status.ok).any()
     assert np.all(pb.relative[ok] <= 1e-9), float(np.max(pb.relative[ok]))
     assert np.all(pb.scale[ok] > 0)
 

@@ -378,6 +378,29 @@ def test_the_synchronising_rope_holds_the_second_fly_by_its_axial_balance() -> N
     assert_allclose(t1, e[:, 1] - np.sum(u * e, axis=1) / crane.hoist.parts, rtol=1e-9)
 
 
+def test_power_balance_of_the_synchronised_boom_luffing_and_telescoping() -> None:
+    """Luffing up and telescoping out at once, with rates and accelerations, under the booms'
+    weight and a hook load: the rope stays taut, and the drivers' power equals the rise of the
+    front's potential and kinetic energy to 1e-9."""
+    crane = load_machine(SYNCHRONISED)
+    t = np.linspace(0.0, 20.0, 101)  # a luffing cycle of 20 s
+    luff, tele = crane.cylinders
+    mid_l, amp_l = 0.5 * (luff.retracted + luff.extended), 0.4 * luff.stroke
+    mid_t, amp_t = 0.5 * (tele.retracted + tele.extended), 0.4 * tele.stroke
+    w = 2.0 * np.pi / 20.0
+    values = {"luff_cyl": mid_l + amp_l * np.sin(w * t), "tele_cyl": mid_t + amp_t * np.cos(w * t)}
+    rates = {"luff_cyl": amp_l * w * np.cos(w * t), "tele_cyl": -amp_t * w * np.sin(w * t)}
+    accels = {
+        "luff_cyl": -amp_l * w * w * np.sin(w * t),
+        "tele_cyl": -amp_t * w * w * np.cos(w * t),
+    }
+    kin = crane.mechanism.solve(values, rates, accels, time=t)
+    loads = [*crane.weight_loads(), *crane.hook_loads(kin, 20e3)]
+    res = crane.mechanism.forces(kin, loads)
+    assert res.ok.all() and np.all(res.tension("sync") > 0.0)
+    assert res.power_balance().relative.max() < 1e-9
+
+
 def test_a_rope_that_would_push_is_a_named_limit() -> None:
     # the boom held below the horizontal: the second fly's weight pulls it out, so the rope
     # that draws it out would have to push; no load is rated there (a retracting rope, not

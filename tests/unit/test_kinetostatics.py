@@ -462,6 +462,9 @@ def test_cli_forces_every_example_with_masses(name: str, tmp_path: Path) -> None
     unit = "rad" if mech.input_kind(driver) == "angle" else "m"
     span = 0.2 if unit == "rad" else 0.01 * mech.plan.scale
     out = tmp_path / "f.csv"
+    # about its sketch a rope may have to push in some samples (the synchronised crane's, its
+    # boom horizontal): those rows are written marked, never ok
+    keep = ["--keep-going"] if mech.model.ropes else []
     r = _run(
         "solve",
         str(EXAMPLES / f"{name}.toml"),
@@ -471,6 +474,7 @@ def test_cli_forces_every_example_with_masses(name: str, tmp_path: Path) -> None
         "--gravity",
         "-o",
         str(out),
+        *keep,
     )
     assert r.returncode == 0, r.stderr
     frame = pd.read_csv(out)
@@ -480,8 +484,12 @@ def test_cli_forces_every_example_with_masses(name: str, tmp_path: Path) -> None
     )
     expected = res.to_frame(kinematics=False)
     assert list(frame.columns[-len(expected.columns) - 1 : -1]) == list(expected.columns)
-    assert_allclose(frame[expected.columns].to_numpy(), expected.to_numpy(), rtol=1e-12, atol=1e-9)
-    assert (frame["status"] == "ok").all()
+    ok = res.ok
+    assert ok.any() and np.array_equal((frame["status"] == "ok").to_numpy(), ok)
+    assert ok.all() or not np.array_equal(ok, res.kinematics.status.ok)  # only a slack rope
+    assert_allclose(
+        frame[expected.columns].to_numpy()[ok], expected.to_numpy()[ok], rtol=1e-12, atol=1e-9
+    )
 
 
 def test_cli_gravity_switch(tmp_path: Path) -> None:

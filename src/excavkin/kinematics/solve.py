@@ -232,24 +232,9 @@ def solve_part(
     """
     carry = carry or Carry()
     n_in, n = q.shape
-    n_pts = len(plan.points)
-    per_sample = 8 * (6 * n_pts + len(plan.transmissions) + 3 * len(plan.bodies))
-    if workspace is None:
-        with _small_pages(n * (per_sample + 48 * len(plan.elements))):
-            workspace = Workspace.of(plan, n)  # (a fixed point's v and a rows stay zero: the
-            # compiled plan leaves them unwritten, and never paged in)
-    elif not workspace.fits(plan, n):
-        raise ValueError(f"a workspace of shape {workspace.x.shape} for {n} samples")
-    else:
-        workspace.status.fill(0)
-    x, v, a, trans, derived = (
-        workspace.x,
-        workspace.v,
-        workspace.a,
-        workspace.trans,
-        workspace.derived,
-    )
-    status, failed = workspace.status, workspace.failed
+    workspace = _prepared(plan, n, workspace)
+    x, v, a, trans = workspace.x, workspace.v, workspace.a, workspace.trans
+    derived, status, failed = workspace.derived, workspace.status, workspace.failed
     q_given = q
     if plan.has_newton:  # the continuation needs every input checked before it starts
         failed.fill(-1)
@@ -285,6 +270,20 @@ def solve_part(
     )
     result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
     return result, Carry(carry.start + n, tail, reached)
+
+
+def _prepared(plan: SolvePlan, n: int, workspace: Workspace | None) -> Workspace:
+    """The arrays a part of n samples solves into: ``workspace`` checked and its statuses
+    cleared, or new ones."""
+    if workspace is None:
+        per_sample = 8 * (6 * len(plan.points) + len(plan.transmissions) + 3 * len(plan.bodies))
+        with _small_pages(n * (per_sample + 48 * len(plan.elements))):
+            return Workspace.of(plan, n)  # (a fixed point's v and a rows stay zero: the
+            # compiled plan leaves them unwritten, and never paged in)
+    if not workspace.fits(plan, n):
+        raise ValueError(f"a workspace of shape {workspace.x.shape} for {n} samples")
+    workspace.status.fill(0)
+    return workspace
 
 
 def _check_blocks(
