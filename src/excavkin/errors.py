@@ -7,7 +7,7 @@ Every error a user can cause names *where* (file, table, entry, sample) and *wha
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable, Sequence
+from collections.abc import Collection, Iterable, Sequence
 
 
 class ExcavkinError(Exception):
@@ -159,6 +159,27 @@ def did_you_mean(name: str, known: Iterable[str]) -> str:
     """
     close = difflib.get_close_matches(name, list(known), n=3, cutoff=0.6)
     return f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+
+
+def require_known(what: str, names: Iterable[str], known: Collection[str]) -> None:
+    """Refuse the first of ``names`` that is not among ``known`` (`unknown_name`).
+
+    Parameters
+    ----------
+    what : str
+        What kind of name they are (``"parameter"``, ``"crane column"``).
+    names : iterable of str
+        The names given.
+    known : collection of str
+        The names there are, in the order the message lists them.
+
+    Raises
+    ------
+    UnknownNameError
+    """
+    for name in names:
+        if name not in known:
+            raise unknown_name(what, name, list(known))
 
 
 def unknown_name(what: str, name: str, known: Sequence[str]) -> UnknownNameError:

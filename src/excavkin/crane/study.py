@@ -47,6 +47,7 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.crane.machine import Crane
+from excavkin.errors import require_known
 from excavkin.machinery.designs import (
     Family,
     cylinder_parameters,
@@ -146,14 +147,10 @@ def design_crane(machine: Crane, params: Mapping[str, float]) -> Crane:
     """
     import dataclasses
 
-    from excavkin.errors import unknown_name
     from excavkin.machinery.base import Mass
     from excavkin.mechanism import Mechanism
 
-    known = crane_parameters(machine)
-    for name in params:
-        if name not in known:
-            raise unknown_name("parameter", name, list(known))
+    require_known("parameter", params, crane_parameters(machine))
     cylinders, circuits = design_cylinders(machine.cylinders, machine.circuits, params)
     sup = machine.support
 
@@ -198,11 +195,8 @@ def crane_figures(machine: Crane, names: Sequence[str]) -> dict[str, float]:
     """
     from excavkin.crane.chart import load_chart
     from excavkin.crane.reach import reach
-    from excavkin.errors import unknown_name
 
-    for name in names:
-        if name not in COLUMNS:
-            raise unknown_name("crane column", name, list(COLUMNS))
+    require_known("crane column", names, COLUMNS)
     wanted = set(names)
     rg = reach(machine, RANGE_SAMPLES)
     x, y = rg.tip[..., 0], rg.tip[..., 1]

@@ -51,6 +51,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
+from excavkin.errors import require_known
 from excavkin.loader.machine import Loader
 from excavkin.machinery.designs import (
     Family,
@@ -186,13 +187,9 @@ def design_loader(machine: Loader, params: Mapping[str, float]) -> Loader:
     """
     import dataclasses
 
-    from excavkin.errors import unknown_name
     from excavkin.mechanism import Mechanism
 
-    known = loader_parameters(machine)
-    for name in params:
-        if name not in known:
-            raise unknown_name("parameter", name, list(known))
+    require_known("parameter", params, loader_parameters(machine))
 
     cylinders, circuits = design_cylinders(machine.cylinders, machine.circuits, params)
     cw = machine.chassis.counterweight
@@ -230,11 +227,7 @@ def loader_figures(machine: Loader, names: Sequence[str]) -> dict[str, float]:
         Where an analysis cannot be made (no pose levels the floor on the ground, no pumps
         for the cycle …).
     """
-    from excavkin.errors import unknown_name
-
-    for name in names:
-        if name not in COLUMNS:
-            raise unknown_name("loader column", name, list(COLUMNS))
+    require_known("loader column", names, COLUMNS)
     out: dict[str, float] = {}
     wanted = set(names)
     if wanted & set(_FIGURES):
@@ -298,11 +291,7 @@ def loader_columns(
     columns : dict of str to ndarray, shape (n,)
     ok : ndarray of bool, shape (n,)
     """
-    from excavkin.errors import unknown_name
-
-    for name in names:
-        if name not in COLUMNS:
-            raise unknown_name("loader column", name, list(COLUMNS))
+    require_known("loader column", names, COLUMNS)
     return rate_designs(
         params, names, n, lambda p: loader_figures(design_loader(machine, p), names)
     )

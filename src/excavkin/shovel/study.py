@@ -48,6 +48,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
+from excavkin.errors import require_known
 from excavkin.machinery.designs import Family, model_parameter, model_with, rate_designs
 from excavkin.shovel.machine import Shovel
 from excavkin.studies import machine_study as ms
@@ -168,13 +169,9 @@ def design_shovel(machine: Shovel, params: Mapping[str, float]) -> Shovel:
     ModelError, AssemblyError
         A design whose front does not assemble.
     """
-    from excavkin.errors import unknown_name
     from excavkin.mechanism import Mechanism
 
-    known = shovel_parameters(machine)
-    for name in params:
-        if name not in known:
-            raise unknown_name("parameter", name, list(known))
+    require_known("parameter", params, shovel_parameters(machine))
     h, c = machine.hoist, machine.crowd
     hoist = dataclasses.replace(
         h,
@@ -232,11 +229,7 @@ def shovel_figures(machine: Shovel, names: Sequence[str]) -> dict[str, float]:
     ExcavkinError
         Where an analysis cannot be made (the dig's start is not reached …).
     """
-    from excavkin.errors import unknown_name
-
-    for name in names:
-        if name not in COLUMNS:
-            raise unknown_name("shovel column", name, list(COLUMNS))
+    require_known("shovel column", names, COLUMNS)
     wanted = set(names)
     out: dict[str, float] = {
         "hoist.pull": machine.hoist.pull,
@@ -290,11 +283,7 @@ def shovel_columns(
     columns : dict of str to ndarray, shape (n,)
     ok : ndarray of bool, shape (n,)
     """
-    from excavkin.errors import unknown_name
-
-    for name in names:
-        if name not in COLUMNS:
-            raise unknown_name("shovel column", name, list(COLUMNS))
+    require_known("shovel column", names, COLUMNS)
     return rate_designs(
         params, names, n, lambda p: shovel_figures(design_shovel(machine, p), names)
     )
