@@ -22,10 +22,11 @@ from excavkin.crane.limits import (
     rope_limit,
     sector_candidates,
     sectors,
+    stability_criterion,
+    stability_limits,
     support_kind,
-    tipping_loads,
 )
-from excavkin.crane.machine import Crane
+from excavkin.crane.machine import Crane, StabilityFactors
 from excavkin.errors import InputError
 
 if TYPE_CHECKING:
@@ -76,13 +77,18 @@ class LoadChart:
         The least of them (kg).
     binding : ndarray of str, shape (r, k, s)
         The limit that binds: ``"luffing cylinder"``, ``"knuckle cylinder"`` or
-        ``"telescope cylinder"``, ``"hoist"``, ``"stability, LINE"`` (the tipping line),
+        ``"telescope cylinder"``, ``"hoist"``, ``"stability (CRITERION), LINE"`` (the
+        criterion, e.g. ``"85 % of tipping"`` or ``"factors 1.3, 0.2"``, and the tipping line),
         ``"rope 'NAME' slack"`` (a rope of the booms would have to push); ``"out of reach"``
         where NaN.
     slew : ndarray, shape (r, k, s)
-        The slew angle of the sector's least tipping load (rad).
-    share : float
-        The share of the tipping load the stability limit is (0.85 or 0.75).
+        The slew angle of the sector's least stability limit (rad).
+    share : float or None
+        The share of the tipping load the stability limit is (0.85 or 0.75); None where
+        factored loads rate it.
+    factors : StabilityFactors or None
+        The factors of the criterion by factored loads that rates stability
+        (`excavkin.crane.limits`); None where the share of the tipping load does.
     hook_mass : float
         The hook block's mass (kg), part of every capacity.
     """
@@ -98,7 +104,8 @@ class LoadChart:
     capacity: F
     binding: NDArray[np.str_]
     slew: F
-    share: float
+    share: float | None
+    factors: StabilityFactors | None
     hook_mass: float
 
     def to_frame(self) -> pd.DataFrame:
@@ -138,7 +145,7 @@ class LoadChart:
         """
         head = [
             f"{self.machine}: load chart (t at the hook, hook block of {self.hook_mass:g} kg "
-            f"included); stability {self.share:.0%} of tipping (ASME B30.5 5-1.1.1)",
+            f"included); stability {self.criterion_text}",
         ]
         for j in range(self.second.size):
             head.append(f"  {self.config_label(j)}")
@@ -148,11 +155,33 @@ class LoadChart:
                 for k in range(len(self.sectors)):
                     c = self.capacity[i, j, k]
                     b = str(self.binding[i, j, k]).replace(" (outriggers)", "")
+                    b = b.replace(f" ({self.criterion})", "")  # the header says it
                     cells.append(
                         f"{'—':>8}{'':24}" if np.isnan(c) else f"{c / 1000:8.2f} {b[:23]:<23}"
                     )
                 head.append(f"    {r:8.2f}  " + "".join(cells))
         return "\n".join(head)
+
+    @property
+    def criterion(self) -> str:
+        """What rates stability, as the binding limit names it: ``"85 % of tipping"`` or
+        ``"factors 1.3, 0.2"``."""
+        if self.factors is not None:
+            return self.factors.label
+        return f"{self.share:.0%} of tipping".replace("%", " %")
+
+    @property
+    def criterion_text(self) -> str:
+        """The stability criterion in words: ``"85 % of tipping (ASME B30.5 5-1.1.1)"`` or
+        ``"by factored loads 1.3·P + 0.2·F (P the hook load, F the booms' weight reduced to
+        the tip; the form of ISO 4305 and EN 13000, the user's factors)"``."""
+        f = self.factors
+        if f is None:
+            return f"{self.criterion} (ASME B30.5 5-1.1.1)"
+        return (
+            f"by factored loads {f.hook:g}·P + {f.jib:g}·F (P the hook load, F the booms' "
+            "weight reduced to the tip; the form of ISO 4305 and EN 13000, the user's factors)"
+        )
 
     def config_label(self, j: int) -> str:
         """The ``j``-th configuration as text: ``"knuckle −60.0°"`` or ``"boom 13.50 m"``.
@@ -193,7 +222,7 @@ class LoadChart:
             )
         ax.set_xlabel("radius (m)")
         ax.set_ylabel("capacity, least over the sectors (t)")
-        ax.set_title(self.machine)
+        ax.set_title(f"{self.machine}: stability {self.criterion}")
         ax.grid(True, alpha=0.3)
         ax.legend()
         return MachinePlot(fig, ax, lines)
@@ -253,7 +282,7 @@ def load_chart(
     other = cylinder_limit(crane, cyl, f0[:, 1], f1[:, 1])
     slack = [rope_limit(*terms) for terms in ropes.values()]
     hoist = np.where(pose.reached, hoist_limit(crane), np.nan)
-    share = STABILITY_SHARE[support_kind(crane)]
+    criterion = stability_criterion(crane)
     lines = crane.support.tipping_lines(crane.swing_axis, 0.0)
     secs = sectors(sector_count)
     stab = np.empty((n, len(secs)))
@@ -262,9 +291,9 @@ def load_chart(
     rows = np.arange(n)
     for k, sec in enumerate(secs):  # a few sectors; every pose at once
         alpha = sector_candidates(lines, sec.start, sec.end)
-        load, line = tipping_loads(crane, pose, alpha)
+        load, line = stability_limits(crane, pose, alpha)
         j = np.argmin(np.where(np.isnan(load), np.inf, load), axis=1)
-        stab[:, k] = share * load[rows, j]
+        stab[:, k] = load[rows, j]
         slew[:, k] = alpha[j]
         stab_name[:, k] = line[rows, j]
     shape = (radius.size, second.size, len(secs))
@@ -276,7 +305,7 @@ def load_chart(
     capacity = np.where(reach, np.min(limits, axis=0), np.nan)
     names_all = limit_names(crane)
     names = np.array(names_all, dtype=object)[which]
-    names = np.where(which == 3, "stability, " + stab_name.astype(str), names)
+    names = np.where(which == 3, f"stability ({criterion}), " + stab_name.astype(str), names)
     binding = np.where(reach, names, "out of reach").astype(str)
     at_config = crane.solve(
         np.column_stack(
@@ -295,6 +324,7 @@ def load_chart(
         capacity=capacity.reshape(shape),
         binding=binding.reshape(shape),
         slew=slew.reshape(shape),
-        share=share,
+        share=None if crane.stability is not None else STABILITY_SHARE[support_kind(crane)],
+        factors=crane.stability,
         hook_mass=crane.hoist.hook_mass,
     )

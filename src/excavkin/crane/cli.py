@@ -24,13 +24,48 @@ from excavkin.cli.result_output import (
 from excavkin.cli.study_options import machine_optimize_options, study_options
 
 if TYPE_CHECKING:
-    from excavkin.crane.machine import Crane
+    from excavkin.crane.machine import Crane, StabilityFactors
+    from excavkin.outputs.machine_report import MachineReport
 
 
-def _machine(path: str) -> Crane:
+def _machine(path: str, factors: tuple[str, str] | None = None) -> Crane:
+    """The machine file's crane; rated by ``--stability-factors`` where given."""
     from excavkin.crane.machine_file import load_machine
 
-    return load_machine(model_path(path, "machine"))
+    crane = load_machine(model_path(path, "machine"))
+    return crane if factors is None else crane.with_stability(_factors(factors))
+
+
+def _factors(text: tuple[str, str]) -> StabilityFactors:
+    """``--stability-factors GAMMA_P GAMMA_F``, or one message naming the option."""
+    from excavkin.crane.machine import StabilityFactors
+    from excavkin.errors import InputError
+
+    values = []
+    for t in text:
+        try:
+            values.append(float(t))
+        except ValueError:
+            raise InputError(f"--stability-factors: {t[:40]!r} is not a number") from None
+    try:
+        return StabilityFactors(*values)
+    except InputError as exc:
+        raise InputError(f"--stability-factors: {exc}") from None
+
+
+#: ``--stability-factors`` of the commands that rate a load chart
+FACTORS_OPTION = click.option(
+    "--stability-factors",
+    "stability_factors",
+    nargs=2,
+    type=str,
+    default=None,
+    metavar="GAMMA_P GAMMA_F",
+    help="Rate stability by factored loads instead of 85 % (75 % on crawlers) of tipping: "
+    "the crane stands under GAMMA_P × the hook load + GAMMA_F × the booms' weight reduced to "
+    "the tip (the form of ISO 4305 and EN 13000; take the factors from the standard's clause). "
+    "Overrides the machine file's [stability].",
+)
 
 
 @click.group("crane", context_settings={"help_option_names": ["-h", "--help"]})
@@ -55,6 +90,7 @@ def command() -> None:
     type=click.IntRange(min=1, max=36),
     help="Equal slew sectors over 360° (4: front, left, rear, right).",
 )
+@FACTORS_OPTION
 @OUTPUT_OPTION
 @FORCE_OPTION
 @handle_errors
@@ -63,12 +99,14 @@ def chart(
     step: str,
     second: tuple[str, ...],
     sectors: int,
+    stability_factors: tuple[str, str] | None,
     output: str | None,
     force: bool,
 ) -> None:
     """Print the load chart (t at the hook) over radius × boom configuration × slew sector:
     the least of the cylinders at relief, the hoist and stability (85 % of tipping on
-    outriggers, 75 % on crawlers, ASME B30.5 5-1.1.1), with the limit that binds."""
+    outriggers, 75 % on crawlers, ASME B30.5 5-1.1.1, or factored loads), with the limit that
+    binds."""
     import numpy as np
 
     from excavkin.cli.common import si_value
@@ -80,7 +118,7 @@ def chart(
         raise click.BadParameter("between 0.1 m and 10 m", param_hint="--step")
     lengths = [si_value(k, "length", "--second") for k in second]
     check_output(output, force)
-    crane = _machine(machine)
+    crane = _machine(machine, stability_factors)
     x = reach(crane).tip[..., 0]
     radii = np.arange(np.ceil(x.min() / dr) * dr, x.max() + 1e-9, dr)
     if radii.size == 0:
@@ -201,11 +239,26 @@ def optimize(study: str, **options: Any) -> None:
 
 @command.command("report")
 @machine_report_options(15, 201, "Radii of the load chart.")
+@FACTORS_OPTION
 @handle_errors
-def report(machine: str, samples: int, **options: Any) -> None:
+def report(
+    machine: str, samples: int, stability_factors: tuple[str, str] | None, **options: Any
+) -> None:
     """Write a self-contained HTML spec sheet of MACHINE: working range, load chart with the
     binding limits, support reactions over a slew, their charts and the moving booms."""
+    import shlex
+
     from excavkin.cli.machine_report import run_report
     from excavkin.crane.report import machine_report
 
-    run_report("crane", machine, _machine(machine), samples, machine_report, **options)
+    crane = _machine(machine, stability_factors)
+    said = (
+        ""
+        if stability_factors is None
+        else " --stability-factors " + " ".join(map(shlex.quote, stability_factors))
+    )
+
+    def build(loaded: Crane, *, command: str, **rest: Any) -> MachineReport:
+        return machine_report(loaded, command=command + said, **rest)
+
+    run_report("crane", machine, crane, samples, build, **options)

@@ -26,6 +26,29 @@ load lies at a sector end or where the booms stand square to a line (α = β or 
 tyres and 75 % on crawlers (ASME B30.5 para. 5-1.1.1(a) and its Table 1: "the load ratings
 shall not exceed" those percentages of the loads that "produce a condition of tipping ... with
 the boom in the least stable direction relative to the mounting").
+
+**Stability by factored loads** (an option: `StabilityFactors` on the crane, ``[stability]`` in
+its machine file). The crane must stand, about every tipping line and over the sector's least
+stable slew, under its own weight and ``γ_P·P + γ_F·F`` at the tip: P the hook load, F the
+booms' weight **reduced to the tip**. ISO 4305 and EN 13000 state their stability loads in this
+form; the user takes the factors' values from the clause of the standard that rates the crane
+(excavkin ships none). Here F, about a tipping line, is the weight at the tip whose moment
+about that line equals the booms' own overturning moment about it: with a = (x_t − x_s)·(n·d)
+− c the tip's arm beyond the line and ``M_b = g·Σ m_i·((x_i − x_s)·(n·d) − c)`` over the
+booms' masses (`Crane.mass_points`: every body of the booms' model, each cylinder's mass half
+at either pin; not the turntable's or the carrier's masses), ``F·a = max(M_b, 0)``: the share
+is added only where the booms overturn about the line, it never steadies the crane. The
+criterion about a line is::
+
+    M_0 + γ_F·max(M_b, 0) + γ_P·P·a ≤ 0
+
+(M_0 the whole crane's moment without the load, as in the tipping load), so the rated load is
+the least over the lines with a > 0 of ``−(M_0 + γ_F·max(M_b, 0))/(γ_P·a)``, 0 where the
+left side already exceeds 0 unloaded (`factored_stability_loads`). M_0, M_b and a are each
+affine in cos(α − β), and the bound about a line is the least of the two ratios with M_b and
+with 0 in its place, each monotone in cos(α − β) where a > 0: its least over a sector lies at
+the same `sector_candidates` as the tipping load's. With γ_F = 0 and γ_P = 1/share it is the
+share of the tipping load.
 """
 
 from __future__ import annotations
@@ -37,7 +60,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
-from excavkin.crane.machine import Crane, Pose
+from excavkin.crane.machine import Crane, Pose, StabilityFactors
 from excavkin.machinery.base import TippingLine
 from excavkin.machinery.cylinders import Cylinder
 from excavkin.machinery.equilibrium import equilibrium
@@ -187,6 +210,102 @@ def tipping_loads(crane: Crane, pose: Pose, alpha: F) -> tuple[F, NDArray[np.str
         line.append(st.tipping_line)
     off = ~pose.reached[:, None]
     return np.where(off, np.nan, np.stack(load, -1)), np.where(off, "", np.stack(line, -1))
+
+
+def factored_stability_loads(
+    crane: Crane, pose: Pose, alpha: F, factors: StabilityFactors
+) -> tuple[F, NDArray[np.str_]]:
+    """The largest hook load the crane holds by the criterion of factored loads (module
+    docstring) at each pose and slew angle, and the line it tips about, from the machinery
+    layer's whole-machine equilibrium (its moments M_0 about the same lines).
+
+    Parameters
+    ----------
+    crane : Crane
+    pose : Pose
+        Shape (n,).
+    alpha : ndarray
+        Slew angles (m,) (rad).
+    factors : StabilityFactors
+        γ_P and γ_F.
+
+    Returns
+    -------
+    load : ndarray, shape (n, m)
+        N; 0 where the crane tips under the factored booms' weight alone; inf where no line
+        is tipped by the load; NaN where the pose is out of reach.
+    line : ndarray of str, shape (n, m)
+        The tipping line's name (empty where none binds).
+    """
+    kin = pose.kinematics
+    hook = crane.tip(kin)
+    xs, g = crane.swing_axis, crane.gravity
+    mp = crane.mass_points
+    booms = mp.locate(kin.positions)  # (n, k, 2)
+    s_b = np.einsum("k,nk->n", mp.mass, booms[:, :, 0] - xs)
+    m_b = float(mp.mass.sum())
+    n = hook.shape[0]
+    load, line = [], []
+    for a in np.asarray(alpha, dtype=np.float64):  # a handful of slew angles; all poses at once
+        st = equilibrium(crane, kin.positions, hook, np.array([0.0, -1.0]), float(a))
+        nrm = np.array([ln.normal for ln in st.lines])
+        c = np.array([ln.offset for ln in st.lines])
+        nd = nrm @ np.array([np.cos(a), np.sin(a)])
+        arm = (hook[:, 0, None] - xs) * nd - c  # (n, E)
+        mb = g * (s_b[:, None] * nd - m_b * c)
+        m0 = st.moment + factors.jib * np.maximum(mb, 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lam = np.where(arm > 0.0, -m0 / (factors.hook * arm), np.inf)
+        lam = np.where(m0 > 0.0, 0.0, lam)
+        k = np.where(np.any(m0 > 0.0, axis=1), np.argmax(m0, axis=1), np.argmin(lam, axis=1))
+        least = lam[np.arange(n), k]
+        names = np.array([ln.name for ln in st.lines])
+        load.append(least)
+        line.append(np.where(np.isfinite(least), names[k], ""))
+    off = ~pose.reached[:, None] | np.isnan(np.stack(load, -1))
+    return np.where(off, np.nan, np.stack(load, -1)), np.where(off, "", np.stack(line, -1))
+
+
+def stability_criterion(crane: Crane) -> str:
+    """What rates the crane's stability, as a chart names it: ``"85 % of tipping"`` or
+    ``"factors 1.3, 0.2"``.
+
+    Parameters
+    ----------
+    crane : Crane
+
+    Returns
+    -------
+    str
+    """
+    if crane.stability is not None:
+        return crane.stability.label
+    return f"{STABILITY_SHARE[support_kind(crane)]:.0%} of tipping".replace("%", " %")
+
+
+def stability_limits(crane: Crane, pose: Pose, alpha: F) -> tuple[F, NDArray[np.str_]]:
+    """The stability limit at each pose and slew angle by the crane's criterion: its share of
+    the tipping load (`tipping_loads`), or the factored loads' (`factored_stability_loads`).
+
+    Parameters
+    ----------
+    crane : Crane
+    pose : Pose
+        Shape (n,).
+    alpha : ndarray
+        Slew angles (m,) (rad).
+
+    Returns
+    -------
+    load : ndarray, shape (n, m)
+        N; NaN where the pose is out of reach.
+    line : ndarray of str, shape (n, m)
+        The tipping line's name.
+    """
+    if crane.stability is not None:
+        return factored_stability_loads(crane, pose, alpha, crane.stability)
+    load, line = tipping_loads(crane, pose, alpha)
+    return STABILITY_SHARE[support_kind(crane)] * load, line
 
 
 def sector_candidates(lines: tuple[TippingLine, ...], start: float, end: float) -> F:

@@ -24,6 +24,8 @@ boom raised), to 1e-12 m.
 
 from __future__ import annotations
 
+import copy
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -49,6 +51,8 @@ SECOND = {"knuckle": "knuckle", "telescopic": "telescope"}
 RADIUS_TOL, MAX_STEPS = 1e-12, 60
 #: luffing lengths sampled over the stroke to bracket every root
 GRID = 65
+#: the largest stability factor a crane takes (a bound against typing errors, not a norm)
+FACTOR_MAX = 10.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -91,6 +95,49 @@ class Hoist:
     line_pull: float
     parts: int
     hook_mass: float
+
+
+@dataclass(frozen=True, slots=True)
+class StabilityFactors:
+    """The factors of the stability criterion by factored loads, as the user takes them from
+    the clause of the standard that rates the crane (ISO 4305, EN 13000 state their stability
+    loads in this form; excavkin ships no values for them): the crane must stand under
+    ``hook·P + jib·F`` at the tip, F the booms' weight reduced to the tip
+    ([`factored_stability_loads`][excavkin.crane.limits.factored_stability_loads]).
+
+    Attributes
+    ----------
+    hook : float
+        γ_P, the factor on the hook load P (> 0).
+    jib : float
+        γ_F, the share of the booms' weight reduced to the tip that is added (≥ 0).
+
+    Raises
+    ------
+    InputError
+        A factor that is not a finite number in its range.
+    """
+
+    hook: float
+    jib: float
+
+    def __post_init__(self) -> None:
+        from excavkin.errors import InputError
+
+        for name, v, low in (("hook load", self.hook, 0.0), ("jib weight", self.jib, None)):
+            number = isinstance(v, (int, float)) and not isinstance(v, bool)
+            if not number or not math.isfinite(v):
+                raise InputError(f"the {name} factor must be a finite number, not {v!r}")
+            if not ((v > low) if low is not None else (v >= 0.0)) or v > FACTOR_MAX:
+                side = "more than 0" if low is not None else "at least 0"
+                raise InputError(
+                    f"the {name} factor {v:g} must be {side} and at most {FACTOR_MAX:g}"
+                )
+
+    @property
+    def label(self) -> str:
+        """``"factors 1.3, 0.2"``: what a chart names the criterion by."""
+        return f"factors {self.hook:g}, {self.jib:g}"
 
 
 @dataclass(frozen=True, slots=True)
@@ -144,6 +191,9 @@ class Crane(CylinderMachine):
         g (m/s²), along −y.
     name, source : str
         For messages.
+    stability : StabilityFactors, optional
+        The stability criterion by factored loads; None (the default) rates stability as a
+        share of the tipping load (ASME B30.5 para. 5-1.1.1, `excavkin.crane.limits`).
 
     Raises
     ------
@@ -164,9 +214,11 @@ class Crane(CylinderMachine):
         gravity: float = 9.80665,
         name: str = "",
         source: str | None = None,
+        stability: StabilityFactors | None = None,
     ) -> None:
         self.mechanism = mechanism
         self.source = source
+        self.stability = stability
         if kind not in SECOND:
             raise self._err(f"kind must be 'knuckle' or 'telescopic', not {kind!r}", "linkage")
         self.kind = kind
@@ -194,6 +246,23 @@ class Crane(CylinderMachine):
         self.pins = _Ends(tuple(drivers[c.driver].between for c in self.cylinders))
         self._mass_points: MassPoints | None = None
         self._check_strokes()
+
+    def with_stability(self, stability: StabilityFactors | None) -> Crane:
+        """The same crane rated by another stability criterion.
+
+        Parameters
+        ----------
+        stability : StabilityFactors or None
+            Factored loads, or None for the share of the tipping load.
+
+        Returns
+        -------
+        Crane
+            A shallow copy (the model, cylinders and masses shared).
+        """
+        out = copy.copy(self)
+        out.stability = stability
+        return out
 
     # ---- construction checks
     def _find_pins(self) -> tuple[str, str | None]:

@@ -33,6 +33,10 @@ slew plane (x the radius from the slew axis, y the height above the ground)::
     # kind = "tyres": axles = [[x, tread], ...] (on its wheels, no outriggers)
     [gravity]
     g = "9.80665 m/s^2"
+    [stability]                      # optional: how stability rates the chart
+    criterion = "factors"            # default "share": 85 % of tipping (75 % on crawlers)
+    hook_load_factor = 1.3           # γ_P on the hook load (> 0), from the standard's clause
+    jib_weight_factor = 0.2          # γ_F on the booms' weight reduced to the tip (≥ 0)
 
 Every number is range-checked; an error names the file, the table and the entry.
 """
@@ -43,7 +47,7 @@ from pathlib import Path
 from typing import Any
 
 from excavkin.crane.family import NAME
-from excavkin.crane.machine import SECOND, Crane, Hoist, Linkage
+from excavkin.crane.machine import FACTOR_MAX, SECOND, Crane, Hoist, Linkage, StabilityFactors
 from excavkin.io.toml_model import read_text_file, read_toml
 from excavkin.machinery.base import Contact, Mass, Support, axle, outriggers, track
 from excavkin.machinery.cylinders_file import read_circuits, read_cylinders
@@ -67,7 +71,10 @@ _TOP = {
     "fixed",
     "support",
     "gravity",
+    "stability",
 }
+#: the stability criteria a file may name
+CRITERIA = ("share", "factors")
 #: the most cylinders acting together in one role
 MAX_COUNT = 4
 
@@ -173,7 +180,51 @@ def _machine(data: dict[str, Any], source: str | None) -> Crane:
         gravity=g,
         name=name,
         source=source,
+        stability=_stability(r, data),
     )
+
+
+def _stability(r: MachineReader, data: dict[str, Any]) -> StabilityFactors | None:
+    """``[stability]``: None for the share of the tipping load, or the factors."""
+    t = data.get("stability", {})
+    if not isinstance(t, dict):
+        raise r.err('must be a table such as { criterion = "share" }', "stability")
+    factors = {"hook_load_factor", "jib_weight_factor"}
+    r.keys(t, {"criterion"} | factors, "stability")
+    criterion = r.text(t, "criterion", "stability", default="share")
+    if criterion not in CRITERIA:
+        raise r.err(
+            f"criterion must be 'share' or 'factors', not {criterion!r}"[:120],
+            "stability",
+            "criterion",
+        )
+    if criterion == "share":
+        given = sorted(factors & set(t))
+        if given:
+            raise r.err(
+                f'{given[0]} needs criterion = "factors" (the share of the tipping load '
+                "takes no factors)",
+                "stability",
+                given[0],
+            )
+        return None
+    return StabilityFactors(
+        _factor(r, t, "hook_load_factor", open_low=True),
+        _factor(r, t, "jib_weight_factor", open_low=False),
+    )
+
+
+def _factor(r: MachineReader, t: dict[str, Any], key: str, *, open_low: bool) -> float:
+    if key not in t:
+        raise r.err(f'{key!r} is missing (criterion = "factors" takes both)', "stability")
+    v = t[key]
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise r.err(f"{key} must be a plain number, not {v!r}"[:120], "stability", key)
+    side = "more than" if open_low else "at least"
+    ok = (v > 0.0 if open_low else v >= 0.0) and v <= FACTOR_MAX  # NaN fails both
+    if not ok:
+        raise r.err(f"{key} = {v} must be {side} 0 and at most {FACTOR_MAX:g}", "stability", key)
+    return float(v)
 
 
 def _xy(r: MachineReader, value: Any, table: str, key: str) -> tuple[float, float]:

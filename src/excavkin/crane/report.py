@@ -6,7 +6,8 @@ that bind it, named, and its ``plot()``:
 
 * **working range** ([`reach`][excavkin.crane.reach.reach]);
 * **load chart** per ASME B30.5 para. 5-1.1.1 ([`load_chart`][excavkin.crane.chart.load_chart]),
-  one table per boom configuration, each cell with the limit that binds it;
+  or with stability by the crane's factored loads, one table per boom configuration, each cell
+  with the limit that binds it;
 * **support reactions** over a 360° slew with the rated load at the middle radius of the
   longest configuration ([`support_reactions`][excavkin.crane.supports.support_reactions]);
 * **the moving booms**: luffed up with the jib folded or retracted, the jib opened or pushed
@@ -125,12 +126,19 @@ def _chart_table(chart: LoadChart, j: int) -> Table:
     for s in chart.sectors:
         cols += [f"{s.name} (t)", f"{s.name}: binds"]
     return Table(
-        f"Load chart, {chart.config_label(j)} (ASME B30.5 para. 5-1.1.1)",
+        f"Load chart, {chart.config_label(j)} ({_standard(chart)})",
         tuple(cols),
         tuple(rows),
         note=f"Hook load, hook block of {chart.hook_mass:g} kg included; stability "
-        f"{chart.share:.0%} of the least tipping load over each sector.",
+        f"{chart.criterion_text}, the least over each sector.",
     )
+
+
+def _standard(chart: LoadChart) -> str:
+    """What the chart is rated by, for the report's captions."""
+    if chart.factors is None:
+        return "ASME B30.5 para. 5-1.1.1"
+    return f"stability by factored loads, {chart.criterion}"
 
 
 def _chart(machine: Crane, samples: int) -> Section:
@@ -141,7 +149,7 @@ def _chart(machine: Crane, samples: int) -> Section:
     return Section(
         "chart",
         "Load chart",
-        "ASME B30.5 para. 5-1.1.1",
+        _standard(chart),
         "Each cell is the least of the cylinders at their port relief (the general "
         "kinetostatics), the hoist's line pull × parts and stability (the whole-machine "
         "equilibrium), with the limit that binds named; '—' where the radius is out of reach.",
@@ -149,7 +157,7 @@ def _chart(machine: Crane, samples: int) -> Section:
         (
             Chart(
                 "Capacity over radius, least over the sectors",
-                "ASME B30.5 para. 5-1.1.1",
+                _standard(chart),
                 chart.plot().figure,
                 "chart-chart",
             ),

@@ -176,6 +176,7 @@ def design_crane(machine: Crane, params: Mapping[str, float]) -> Crane:
         gravity=machine.gravity,
         name=machine.name,
         source=machine.source,
+        stability=machine.stability,
     )
 
 
