@@ -7,7 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import excavkin
-from tests.fuzz.test_fuzz_readers import FUZZ, check_outcome, mutate
+from tests.fuzz.test_fuzz_readers import FUZZ, VALUES, check_outcome, mutate
 
 CRANES = {
     name: (
@@ -43,3 +43,41 @@ def test_mutated_crane_files(tmp_path_factory, data, name, command, which) -> No
     path.write_text(machine)
     # an error names the file it is in: the machine file or its model, both in this folder
     check_outcome(["crane", command, str(path), *COMMANDS[command]], str(folder))
+
+
+#: the stability criterion by factored loads, appended to a machine file
+STABILITY = [
+    "[stability]",
+    'criterion = "factors"',
+    "hook_load_factor = 1.3",
+    "jib_weight_factor = 0.2",
+]
+
+
+@FUZZ
+@given(
+    data=st.data(),
+    name=st.sampled_from(sorted(CRANES)),
+    line=st.integers(0, len(STABILITY) - 1),
+    action=st.sampled_from(["value", "delete", "junk", "duplicate", "key"]),
+)
+def test_mutated_stability_tables(tmp_path_factory, data, name, line, action) -> None:
+    """A mutated ``[stability]`` table: the chart rated, or one message naming the file."""
+    machine, model = CRANES[name]
+    lines = list(STABILITY)
+    if action == "value" and "=" in lines[line]:
+        key = lines[line].split("=", 1)[0]
+        lines[line] = f"{key}= {data.draw(VALUES, label='value')}"
+    elif action == "delete":
+        del lines[line]
+    elif action == "duplicate":
+        lines.insert(line, lines[line])
+    elif action == "key":
+        lines.insert(line + 1, data.draw(st.sampled_from(["gamma = 1", "share = 0.85"])))
+    else:
+        lines.insert(line, data.draw(st.sampled_from(["[", "]]", "x =", "= 1", "[stability]"])))
+    folder = tmp_path_factory.mktemp("crane")
+    (folder / f"{name}.toml").write_text(model)
+    path = folder / "machine.toml"
+    path.write_text(machine + "\n" + "\n".join(lines) + "\n")
+    check_outcome(["crane", "chart", str(path), *COMMANDS["chart"]], str(folder))

@@ -16,6 +16,7 @@ from numpy.testing import assert_allclose
 import excavkin
 from excavkin.cli import main
 from excavkin.crane.chart import load_chart
+from excavkin.crane.machine import StabilityFactors
 from excavkin.crane.machine_file import load_machine, loads_machine
 from excavkin.crane.reach import reach
 from excavkin.crane.supports import support_reactions
@@ -202,6 +203,45 @@ def whole_crane_moments(ref: ClosedForm, theta, q, load, alpha):
     return np.array(out)
 
 
+def booms_moments(ref: ClosedForm, theta, q, alpha):
+    """The booms' own restoring moment about each edge of the contacts' hull (N·m; < 0
+    overturns), the edges in the order of `whole_crane_moments`."""
+    crane = ref.crane
+    d = np.array([math.cos(alpha), math.sin(alpha)])
+    hull = contact_hull(crane)
+    out = []
+    for a, b in zip(hull, hull[1:] + hull[:1], strict=True):
+        a, b = np.array(a), np.array(b)
+        t = (b - a) / np.linalg.norm(b - a)
+        inward = np.array([-t[1], t[0]])
+        out.append(
+            sum(
+                crane.gravity * m * float(inward @ (z.real * d - a))
+                for m, z in ref.centres(theta, q)
+            )
+        )
+    return np.array(out)
+
+
+def factored_moments(ref, theta, q, load, alpha, gp, gf):
+    """Each edge's restoring moment (N·m; < 0 tips) under the factored loads: the whole crane
+    with gp × the hook load (kg) at the tip and gf × the booms' weight reduced to the tip,
+    which about an edge is the weight F at the tip whose moment is the booms' own overturning
+    moment about it (F·arm = max(−booms' restoring moment, 0))."""
+    added = gf * np.maximum(-booms_moments(ref, theta, q, alpha), 0.0)
+    return whole_crane_moments(ref, theta, q, gp * load, alpha) - added
+
+
+def factored_load_direct(ref, theta, q, alpha, gp, gf):
+    """The largest hook load (kg) at which no restoring moment of `factored_moments` is < 0
+    (affine in it)."""
+    m0 = factored_moments(ref, theta, q, 0.0, alpha, gp, gf)
+    m1 = factored_moments(ref, theta, q, 1.0, alpha, gp, gf) - m0
+    with np.errstate(divide="ignore"):
+        w = np.where(m1 < 0, -m0 / m1, np.inf)
+    return 0.0 if (m0 < 0).any() else float(w.min())
+
+
 def tipping_load_direct(ref, theta, q, alpha):
     """The hook load (kg) at which the least restoring moment reaches 0 (affine in it)."""
     m0 = whole_crane_moments(ref, theta, q, 0.0, alpha)
@@ -267,7 +307,7 @@ def test_every_cell_is_the_least_of_its_limits_with_that_limit_named(charted) ->
     assert_allclose(chart.capacity[reach_], np.min(chart.limits, axis=0)[reach_], rtol=0)
     assert set(chart.binding[~reach_].ravel()) == {"out of reach"}
     for i, j, k in zip(*np.nonzero(reach_), strict=True):
-        b = chart.binding[i, j, k].split(",")[0]
+        b = chart.binding[i, j, k].split(",")[0].split(" (")[0]
         assert chart.limits[chart.limit_names.index(b), i, j, k] == chart.capacity[i, j, k]
     assert chart.limit_names[1] == f"{crane.second.role} cylinder"
 
@@ -341,7 +381,7 @@ def test_each_limit_binds_in_a_case_built_so(knuckle, telescopic) -> None:
     assert cell(small, 4.0, ks)[0] == "luffing cylinder"
     ts = telescopic.second.extended
     assert cell(telescopic, 6.0, ts)[0] == "hoist"
-    assert cell(telescopic, 12.0, ts, 1)[0].startswith("stability, left side")
+    assert cell(telescopic, 12.0, ts, 1)[0] == "stability (85 % of tipping), left side (outriggers)"
     weak = variant(TELESCOPIC, "working = 28", "working = 5", "relief = 31", "relief = 6")
     assert cell(weak, 6.0, ts)[0] == "luffing cylinder"
     tele = variant(TELESCOPIC, "bore = 140", "bore = 40", "rod = 100", "rod = 20")
@@ -349,7 +389,7 @@ def test_each_limit_binds_in_a_case_built_so(knuckle, telescopic) -> None:
     # on crawlers, 75 % of tipping
     crawler = variant(KNUCKLE, PADS, CRAWLERS, "line_pull = 25", "line_pull = 60")
     b, cap, ch = cell(crawler, 8.0, ks, 1)
-    assert ch.share == 0.75 and b.startswith("stability")
+    assert ch.share == 0.75 and b.startswith("stability (75 % of tipping)")
     ref = reference(crawler)
     theta, q = ref.invert(*crawler.pose(8.0, ks).lengths[0])
     assert ch.limits[3, 0, 0, 1] == pytest.approx(
@@ -438,6 +478,181 @@ def test_a_crane_that_tips_unloaded_rates_zero() -> None:
     light = variant(KNUCKLE, "mass = 9500", "mass = 10", "mass = 1400", "mass = 10")
     ch = load_chart(light, np.array([8.0]), np.array([light.second.extended]), 4)
     assert ch.capacity[0, 0, 1] == 0.0 and ch.binding[0, 0, 1].startswith("stability")
+
+
+# ------------------------------------------------------------ stability by factored loads
+GP, GF = 1.3, 0.2  # factors of a test, not any standard's
+
+
+@pytest.fixture(scope="module", params=CRANES)
+def factored(request):
+    crane = load_machine(request.param).with_stability(StabilityFactors(GP, GF))
+    radius = np.arange(2.0, 20.01, 1.5)
+    return crane, load_chart(crane, radius, None, 4)
+
+
+def test_factored_cells_against_a_whole_crane_moment_balance_in_every_sector(factored) -> None:
+    crane, chart = factored
+    ref = reference(crane)
+    assert chart.share is None and chart.criterion == "factors 1.3, 0.2"
+    assert crane.mass_points.mass.sum() == pytest.approx(sum(m for m, _ in ref.centres(0, 0)))
+    checked = bound = 0
+    for i, j in zip(*np.nonzero(~np.isnan(chart.capacity[..., 0])), strict=True):
+        pose = crane.pose(chart.radius[i], chart.second[j])
+        theta, q = ref.invert(*pose.lengths[0])
+        for k, sec in enumerate(chart.sectors):
+            grid = np.linspace(sec.start, sec.end, 181)
+            dense = min(factored_load_direct(ref, theta, q, a, GP, GF) for a in grid)
+            at = factored_load_direct(ref, theta, q, chart.slew[i, j, k], GP, GF)
+            stab = chart.limits[3, i, j, k]
+            if np.isinf(at):  # the hook over a tipping line: no load tips it (round-off aside)
+                assert stab > 1e12
+            else:
+                assert stab == pytest.approx(at, rel=1e-9)
+                assert stab <= dense * (1 + 1e-9)  # nowhere in the sector less stable
+            checked += 1
+            if chart.binding[i, j, k].startswith("stability"):
+                assert chart.binding[i, j, k].startswith("stability (factors 1.3, 0.2), ")
+                # at the capacity the least factored restoring moment is zero
+                m = factored_moments(
+                    ref, theta, q, chart.capacity[i, j, k], chart.slew[i, j, k], GP, GF
+                )
+                assert abs(m.min()) <= 1e-9 * np.abs(m).max()
+                bound += 1
+    assert checked >= 4 * 9 and bound >= 2
+
+
+def test_factors_1_over_085_and_0_are_the_asme_85_percent(charted) -> None:
+    crane, chart = charted
+    same = load_chart(crane.with_stability(StabilityFactors(1 / 0.85, 0.0)), chart.radius)
+    assert_allclose(same.limits, chart.limits, rtol=1e-12, atol=0, equal_nan=True)
+    assert_allclose(same.capacity, chart.capacity, rtol=1e-12, equal_nan=True)
+    assert_allclose(same.slew, chart.slew, rtol=0, atol=0)
+    renamed = np.char.replace(same.binding, "(factors 1.17647, 0)", "(85 % of tipping)")
+    assert np.array_equal(renamed, chart.binding)
+
+
+def test_on_crawlers_factors_1_over_075_and_0_are_the_asme_75_percent() -> None:
+    crawler = variant(KNUCKLE, PADS, CRAWLERS, "line_pull = 25", "line_pull = 60")
+    r = np.arange(3.0, 12.0, 1.0)
+    asme = load_chart(crawler, r)
+    same = load_chart(crawler.with_stability(StabilityFactors(1 / 0.75, 0.0)), r)
+    assert asme.share == 0.75 and np.isfinite(asme.limits[3]).sum() > 20
+    assert_allclose(same.limits[3], asme.limits[3], rtol=1e-12, atol=0, equal_nan=True)
+
+
+def test_the_factored_criterion_binds_where_the_hoist_bound_and_is_named(telescopic) -> None:
+    r, ts = np.array([8.0]), np.array([telescopic.second.retracted])
+    asme = load_chart(telescopic, r, ts)
+    fact = load_chart(telescopic.with_stability(StabilityFactors(GP, GF)), r, ts)
+    assert asme.binding[0, 0, 2] == "hoist"  # over the rear
+    assert fact.binding[0, 0, 2] == "stability (factors 1.3, 0.2), rear (outriggers)"
+    assert fact.capacity[0, 0, 2] < asme.capacity[0, 0, 2]
+    ref = reference(telescopic)
+    theta, q = ref.invert(*telescopic.pose(8.0, ts[0]).lengths[0])
+    direct = factored_load_direct(ref, theta, q, fact.slew[0, 0, 2], GP, GF)
+    assert fact.capacity[0, 0, 2] == pytest.approx(direct, rel=1e-9)
+    # the larger either factor, the less it rates
+    for gp, gf in ((1.4, 0.2), (1.3, 0.3)):
+        more = load_chart(telescopic.with_stability(StabilityFactors(gp, gf)), r, ts)
+        assert np.all(more.limits[3] < fact.limits[3])
+    text = fact.summary()
+    assert "by factored loads 1.3·P + 0.2·F" in text and "ASME" not in text
+    assert "85 % of tipping (ASME B30.5 5-1.1.1)" in asme.summary()
+    assert "stability factors 1.3, 0.2" in fact.plot().ax.get_title()
+
+
+STABILITY = '[stability]\ncriterion = "factors"\nhook_load_factor = 1.3\njib_weight_factor = 0.2\n'
+
+
+def test_the_machine_file_sets_the_factors(telescopic) -> None:
+    src = str(excavkin.example_path(TELESCOPIC).parent / "variant.toml")
+    crane = loads_machine(TEXT[TELESCOPIC] + STABILITY, src)
+    assert crane.stability == StabilityFactors(1.3, 0.2)
+    assert telescopic.stability is None
+    share = loads_machine(TEXT[TELESCOPIC] + '[stability]\ncriterion = "share"\n', src)
+    assert share.stability is None
+    r = np.array([8.0, 12.0])
+    a = load_chart(crane, r)
+    b = load_chart(telescopic.with_stability(StabilityFactors(1.3, 0.2)), r)
+    assert np.array_equal(a.capacity, b.capacity, equal_nan=True)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "match"),
+    [
+        (
+            '"factors"',
+            '"iso"',
+            r"\[stability\] 'criterion': criterion must be 'share' or 'factors'",
+        ),
+        ("= 1.3", "= 0", r"\[stability\] 'hook_load_factor': .*more than 0"),
+        ("= 1.3", "= nan", r"\[stability\] 'hook_load_factor': .*more than 0"),
+        ("= 1.3", '= "1.3"', r"\[stability\] 'hook_load_factor': .*plain number"),
+        ("= 1.3", "= true", r"\[stability\] 'hook_load_factor': .*plain number"),
+        ("= 0.2", "= -0.1", r"\[stability\] 'jib_weight_factor': .*at least 0"),
+        ("= 0.2", "= inf", r"\[stability\] 'jib_weight_factor': .*at most 10"),
+        ("jib_weight_factor = 0.2", "", r"'jib_weight_factor' is missing"),
+        ("jib_weight_factor", "jib_factor", r"unknown key jib_factor"),
+        ('"factors"', '"share"', r"hook_load_factor needs criterion = \"factors\""),
+    ],
+)
+def test_a_bad_stability_table_names_the_file_and_entry(tmp_path, old, new, match) -> None:
+    import re
+
+    (tmp_path / "telescopic_crane.toml").write_text(
+        excavkin.example_path("telescopic_crane").read_text()
+    )
+    path = tmp_path / "machine.toml"
+    path.write_text(TEXT[TELESCOPIC] + STABILITY.replace(old, new, 1))
+    r = CliRunner().invoke(main, ["crane", "chart", str(path), "--step", "4m"])
+    assert r.exit_code == 2 and r.output.count("\n") == 1, r.output
+    assert r.output.startswith("excavkin: error:") and str(path) in r.output
+    assert re.search(match, r.output), r.output
+
+
+@pytest.mark.parametrize(
+    ("values", "match"),
+    [
+        (["0", "0.1"], "hook load factor 0 must be more than 0"),
+        (["-1", "0.1"], "hook load factor -1 must be more than 0"),
+        (["nan", "0.1"], "hook load factor must be a finite number"),
+        (["1.2", "-0.1"], "jib weight factor -0.1 must be at least 0"),
+        (["1.2", "inf"], "jib weight factor must be a finite number"),
+        (["1.2", "ten"], "'ten' is not a number"),
+        (["11", "0"], "at most 10"),
+    ],
+)
+def test_bad_stability_factors_on_the_command_line(values, match) -> None:
+    r = CliRunner().invoke(
+        main, ["crane", "chart", TELESCOPIC, "--step", "4m", "--stability-factors", *values]
+    )
+    assert r.exit_code == 2 and r.output.count("\n") == 1, r.output
+    assert r.output.startswith("excavkin: error: --stability-factors: ") and match in r.output
+
+
+def test_the_chart_and_report_commands_rate_by_the_factors(tmp_path) -> None:
+    import pandas as pd
+
+    out = tmp_path / "c.csv"
+    args = ["crane", "chart", TELESCOPIC, "--step", "4m", "--stability-factors", "1.3", "0.2"]
+    r = CliRunner().invoke(main, [*args, "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "by factored loads 1.3·P + 0.2·F" in r.output
+    frame = pd.read_csv(out)
+    crane = load_machine(TELESCOPIC).with_stability(StabilityFactors(1.3, 0.2))
+    chart = load_chart(crane, np.unique(frame["radius"]))
+    assert_allclose(frame["capacity"], chart.to_frame()["capacity"], rtol=1e-12)
+    assert any(b.startswith("stability (factors 1.3, 0.2), ") for b in frame["binding"])
+    html = tmp_path / "c.html"
+    r = CliRunner().invoke(
+        main,
+        ["crane", "report", TELESCOPIC, "--samples", "4", "-o", str(html), "-q",
+         "--stability-factors", "1.3", "0.2"],
+    )  # fmt: skip
+    assert r.exit_code == 0, r.output
+    text = html.read_text()
+    assert "--stability-factors 1.3 0.2" in text and "factored loads, factors 1.3, 0.2" in text
 
 
 # ------------------------------------------------------------------------- the reactions
