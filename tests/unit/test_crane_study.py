@@ -55,6 +55,21 @@ def test_a_design_is_the_crane_with_its_values(crane) -> None:
     assert np.array_equal(heavier.limits[0], nominal.limits[0])  # the cylinders as they were
 
 
+def test_a_design_keeps_the_stability_criterion_of_its_crane(crane) -> None:
+    from excavkin.crane.machine import StabilityFactors
+
+    params = {"turning.counterweight.mass": 6000.0}
+    d = design_crane(crane.with_stability(StabilityFactors(1.3, 0.2)), params)
+    plain = design_crane(crane, params)
+    assert d.stability == StabilityFactors(1.3, 0.2) and plain.stability is None
+    r, s = np.array([12.0]), np.array([crane.second.extended])
+    chart = load_chart(d, r, s)
+    assert chart.factors == d.stability
+    assert np.all(chart.limits[3] < load_chart(plain, r, s).limits[3])
+    f = crane_figures(d, ["load_moment"])["load_moment"]
+    assert f < crane_figures(plain, ["load_moment"])["load_moment"]
+
+
 def test_the_figures_against_the_chart_and_the_range_directly(crane) -> None:
     f = crane_figures(crane, list(COLUMNS))
     rg = reach(crane, 41)
