@@ -42,13 +42,16 @@ criterion about a line is::
 
     M_0 + γ_F·max(M_b, 0) + γ_P·P·a ≤ 0
 
-(M_0 the whole crane's moment without the load, as in the tipping load), so the rated load is
-the least over the lines with a > 0 of ``−(M_0 + γ_F·max(M_b, 0))/(γ_P·a)``, 0 where the
-left side already exceeds 0 unloaded (`factored_stability_loads`). M_0, M_b and a are each
-affine in cos(α − β), and the bound about a line is the least of the two ratios with M_b and
-with 0 in its place, each monotone in cos(α − β) where a > 0: its least over a sector lies at
-the same `sector_candidates` as the tipping load's. With γ_F = 0 and γ_P = 1/share it is the
-share of the tipping load.
+(every moment the one that tips the crane outwards, < 0 while it stands; M_0 the whole
+crane's without the load, as in the tipping load), so the rated load is the least over the
+lines with a > 0 of ``−(M_0 + γ_F·max(M_b, 0))/(γ_P·a)``, 0 where the left side already
+exceeds 0 unloaded (`factored_stability_loads`). M_0, M_b and a are each affine in
+cos(α − β), and the bound about a line is the least of the two ratios with M_b and with 0 in
+its place, each monotone in cos(α − β) where a > 0; the unloaded left side is convex in it, so
+it exceeds 0 somewhere in a sector only if it does at a sector end or a square angle. The
+least over a sector lies at the same `sector_candidates` as the tipping load's (the tests
+check it against 181 slew angles a sector). With γ_F = 0 and γ_P = 1/share it is the share of
+the tipping load.
 """
 
 from __future__ import annotations
