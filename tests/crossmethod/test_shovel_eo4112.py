@@ -111,7 +111,7 @@ def _boom_model(hoe: RopeBackhoe, boom, hoist_mode: str):
     to_view = -_rot(boom.angle)  # p_view = −R(β)·p_model
     model = hoe.mechanism.model
     pts = {k: tuple(to_view @ np.asarray(v)) for k, v in model.points.items()}
-    for name, p in (("O3", boom.foot), ("P", boom.hoist), ("G", boom.gantry)):
+    for name, p in (("O3", boom.foot), ("P", boom.block), ("G", boom.gantry)):
         pts[name] = tuple(to_view @ np.asarray(p))
     bodies = []
     for b in model.bodies:
@@ -166,7 +166,12 @@ def test_hoist_equals_a_model_with_a_moving_boom(beta, load):
     np.testing.assert_allclose(held.pull, pull, rtol=1e-9)
     np.testing.assert_allclose(held.tension * boom.parts, pull, rtol=1e-9)
     np.testing.assert_allclose(held.foot, foot, rtol=1e-9, atol=1e-9 * np.abs(foot).max())
-    assert set(held.status[held.pull >= 0]) <= {"ok"}
+    tension = hoe.rope_tension(hoe.mechanism.forces(static, [PointForce("d", "bucket", "D", load)]))
+    assert set(held.status[(held.pull >= 0) & (tension >= 0)]) <= {"ok"}
+    assert set(held.status[(held.pull < 0) & (tension >= 0)]) <= {
+        "slack hoist rope (it would have to push)"
+    }
+    assert set(held.status[tension < 0]) <= {"slack drag rope (it would have to push)"}
 
 
 def test_hoist_by_virtual_work():
@@ -185,7 +190,7 @@ def test_hoist_by_virtual_work():
 
     to_view, model = _boom_model(hoe, boom, "driven")
     mech = Mechanism(model)
-    ell = np.hypot(*np.subtract(boom.gantry, boom.hoist))
+    ell = np.hypot(*np.subtract(boom.gantry, boom.block))
     moved = mech.solve({"drag": fe, "hoist": np.full_like(fe, ell)},
                        {"drag": np.zeros_like(fe), "hoist": np.ones_like(fe)})  # fmt: skip
     assert moved.status.ok.all()
@@ -215,7 +220,10 @@ def test_a_hoist_that_would_push_is_a_status():
     static = hoe.mechanism.solve({"drag": fe})
     lift = PointForce("lift", "bucket", "D", (0.0, -60_000.0))  # upwards: −y, the paper's frame
     held = hoe.hoist(hoe.mechanism.forces(static, [lift]))
-    assert (held.pull < 0).all() and set(held.status) == {SLACK_HOIST} and not held.ok.any()
+    drag = hoe.rope_tension(hoe.mechanism.forces(static, [lift]))
+    assert (held.pull < 0).all() and not held.ok.any() and (drag >= 0).any()
+    assert set(held.status[drag >= 0]) == {SLACK_HOIST}
+    assert set(held.status[drag < 0]) <= {"slack drag rope (it would have to push)"}
     pull, _ = _hoist_by_moving_boom(hoe, hoe.boom, fe, (0.0, -60_000.0))
     np.testing.assert_allclose(held.pull, pull, rtol=1e-9)
     h = haul(hoe, samples=21, force=(0.0, -60_000.0))

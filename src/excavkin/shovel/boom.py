@@ -36,6 +36,8 @@ from excavkin.kinetostatics import ForceResult
 
 #: the status of a sample whose hoist tackle would have to push
 SLACK_HOIST = "slack hoist rope (it would have to push)"
+#: the status of a sample whose drag rope would have to push
+SLACK_DRAG = "slack drag rope (it would have to push)"
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,8 +53,9 @@ class HoistBalance:
     foot : ndarray, shape (n, 2)
         The foot pin's force on the boom (N, the model's frame).
     status : ndarray of str, shape (n,)
-        The forces' status, ``"slack hoist rope (it would have to push)"`` where the pull
-        is negative.
+        The forces' status: ``"slack drag rope (it would have to push)"`` where the drag
+        rope's tension is negative, else ``"slack hoist rope (it would have to push)"`` where
+        the pull is.
     """
 
     pull: F
@@ -89,7 +92,7 @@ class Boom:
         kg.
     centre : (float, float)
         The boom's centre of mass.
-    hoist : (float, float)
+    block : (float, float)
         The hoist tackle's block on the boom, P.
     gantry : (float, float)
         The gantry's sheave the tackle runs to, G (on the revolving frame).
@@ -108,7 +111,7 @@ class Boom:
     foot: tuple[float, float]
     mass: float
     centre: tuple[float, float]
-    hoist: tuple[float, float]
+    block: tuple[float, float]
     gantry: tuple[float, float]
     parts: int
     angle: float
@@ -125,7 +128,7 @@ class Boom:
     def hoist_arm(self) -> float:
         """The tackle's moment arm about the foot, ``(P − O3) × u_PG`` (m, > 0 counter-clockwise
         in the model's frame)."""
-        return float(_cross(np.subtract(self.hoist, self.foot), _unit(self.hoist, self.gantry)))
+        return float(_cross(np.subtract(self.block, self.foot), _unit(self.block, self.gantry)))
 
     def balance(self, forces: ForceResult, drag_tension: F) -> HoistBalance:
         """The hoist tackle's pull and the foot pin's force (module docstring).
@@ -169,7 +172,8 @@ class Boom:
         total += lead_force
         moment += _cross(f_pt - o3, lead_force)
         pull = -moment / self.hoist_arm
-        total += pull[:, None] * _unit(self.hoist, self.gantry)
+        total += pull[:, None] * _unit(self.block, self.gantry)
         labels = forces.status_labels().astype(object)
+        labels[(np.asarray(drag_tension) < 0.0) & (labels == "ok")] = SLACK_DRAG
         labels[(pull < 0.0) & (labels == "ok")] = SLACK_HOIST
         return HoistBalance(pull, pull / self.parts, -total, np.asarray(labels, dtype=str))

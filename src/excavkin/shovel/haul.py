@@ -19,7 +19,7 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.kinetostatics import PointForce
-from excavkin.shovel.boom import SLACK_HOIST
+from excavkin.shovel.boom import SLACK_DRAG, SLACK_HOIST
 from excavkin.shovel.machine import RopeBackhoe, table_attrs
 
 if TYPE_CHECKING:
@@ -187,16 +187,14 @@ def haul(
     forces = machine.mechanism.forces(static, [load])
     tension = machine.rope_tension(forces)
     d = machine.drag
-    labels = forces.status_labels().astype(object)
-    labels[(tension < 0.0) & (labels == "ok")] = "slack drag rope (it would have to push)"
     hoist, parts, foot = None, 0, None
-    if machine.boom is not None:
+    if machine.boom is None:
+        labels = forces.status_labels().astype(object)
+        labels[(tension < 0.0) & (labels == "ok")] = SLACK_DRAG
+        status = np.asarray(labels, dtype=str)
+    else:
         held = machine.hoist(forces)
-        hoist, parts, foot = held.tension, machine.boom.parts, held.foot
-        labels[(held.status != "ok") & (labels == "ok")] = held.status[
-            (held.status != "ok") & (labels == "ok")
-        ]
-    status = np.asarray(labels, dtype=str)
+        hoist, parts, foot, status = held.tension, machine.boom.parts, held.foot, held.status
     return Haul(
         machine.name, length, -res.driver(d.driver)[1], stick, stick_rate,
         np.angle(np.exp(1j * to_stick)), np.angle(np.exp(1j * to_boom)), bucket_rate,

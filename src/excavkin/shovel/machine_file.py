@@ -25,7 +25,9 @@ relative to the machine file) or inline (a ``[model]`` table)::
     capacity = "56 m^3"; payload = 100000; payload_point = "PC"; door_length = 3.6; width = 4.2
     [base]                        # optional: the machinery layer's base (crawlers)
 
-The hoist's ``gear_ratio`` and ``drum_radius`` replace the model's rope's. Every number is
+The hoist's ``gear_ratio`` and ``drum_radius`` replace the model's rope's. A rope backhoe's
+file (``examples/eo4112_machine.toml``) has ``[drag]`` and ``[backhoe]`` instead, and may
+describe its boom and hoist tackle in ``[boom]`` (`excavkin.shovel.boom`). Every number is
 range-checked; an error names the file, the table and the entry.
 """
 
@@ -348,7 +350,7 @@ def _boom(r: MachineReader, data: dict[str, Any], model: Any, driver: str) -> Bo
         foot=foot,
         mass=r.bounded(bt, "mass", "mass", "boom", 0.0, 1e6, "kg", open_low=False),
         centre=centre,
-        hoist=block,
+        block=block,
         gantry=gantry,
         parts=_count(r, bt, "hoist_parts", "boom"),
         angle=r.bounded(bt, "angle", "angle", "boom", -1.5, 1.5, "rad", default=0.0),
