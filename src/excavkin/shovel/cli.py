@@ -295,8 +295,8 @@ def haul(
     output: str | None,
     force: bool,
 ) -> None:
-    """Print a rope backhoe's bucket attitude and drag-rope pull as its winch hauls the bucket
-    in (the EO-4112: eo4112_machine); the table has every sample."""
+    """Print a rope backhoe's bucket attitude, drag-rope pull and boom-hoist tension as its
+    winch hauls the bucket in (the EO-4112: eo4112_machine); the table has every sample."""
     from excavkin.errors import InputError
     from excavkin.shovel.haul import haul as run
     from excavkin.shovel.machine import RopeBackhoe

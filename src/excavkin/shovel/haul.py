@@ -5,7 +5,9 @@ winch's rated speed ([`RopeBackhoe.haul`][excavkin.shovel.machine.RopeBackhoe.ha
 sample the general engine gives the stick's angle and rate, the bucket's attitude to the stick
 and to the boom and its rate, and the general kinetostatics the drag rope's tension and the
 winch motor's torque holding a force on the bucket (a digging resistance, the bucket's and its
-load's weight: the caller's).
+load's weight: the caller's). Where the machine file describes the boom (``[boom]``), the boom's
+moment balance about its foot adds the hoist tackle's pull and the foot pin's force
+([`RopeBackhoe.hoist`][excavkin.shovel.machine.RopeBackhoe.hoist]).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import numpy as np
 
 from excavkin.arrays import FloatArray as F
 from excavkin.kinetostatics import PointForce
+from excavkin.shovel.boom import SLACK_DRAG, SLACK_HOIST
 from excavkin.shovel.machine import RopeBackhoe, table_attrs
 
 if TYPE_CHECKING:
@@ -45,6 +48,12 @@ class Haul:
     torque : ndarray
         The winch motor's torque (N·m, all its motors): tension · parts · R / i.
     status : ndarray of str
+    hoist : ndarray or None
+        One part of the hoist tackle's tension (N); None without a ``[boom]`` table.
+    hoist_parts : int
+        The tackle's parts (0 without a boom).
+    boom_foot : ndarray, shape (n, 2), or None
+        The foot pin's force on the boom (N, the model's frame).
     """
 
     machine: str
@@ -58,6 +67,9 @@ class Haul:
     tension: F
     torque: F
     status: np.ndarray
+    hoist: F | None = None
+    hoist_parts: int = 0
+    boom_foot: F | None = None
 
     def summary(self) -> str:
         """The haul's ranges of attitude, rates and pull.
@@ -67,7 +79,8 @@ class Haul:
         str
         """
         deg = np.degrees
-        pulls = (self.status == "ok") & np.isfinite(self.tension)
+        # the drag rope's range where it pulls, whether or not the hoist does
+        pulls = np.isin(self.status, ("ok", SLACK_HOIST)) & np.isfinite(self.tension)
         lines = [
             f"{self.machine}: hauled in over {self.length[-1]:.3f}..{self.length[0]:.3f} m "
             f"of drag rope at {self.speed[0]:.3f} m/s",
@@ -82,7 +95,17 @@ class Haul:
                 f"{np.max(self.tension[pulls]) / 1e3:.2f} kN a part where it pulls, motor "
                 f"{np.max(self.torque[pulls]) / 1e3:.3f} kN*m at most"
             )
-        lines.append(f"  not ok           {int(np.sum(~pulls))} samples")
+        ok = self.status == "ok"
+        if self.hoist is not None and self.boom_foot is not None and ok.any():
+            foot = np.hypot(*self.boom_foot[ok].T)
+            lines.append(
+                f"  hoist rope       {np.min(self.hoist[ok]) / 1e3:7.2f} .. "
+                f"{np.max(self.hoist[ok]) / 1e3:.2f} kN a part ({self.hoist_parts} parts), "
+                f"boom-foot pin {np.min(foot) / 1e3:.1f} .. {np.max(foot) / 1e3:.1f} kN"
+            )
+        pushes = int(np.sum(self.status == SLACK_HOIST))
+        why = f" (the hoist rope would push in {pushes})" if pushes else ""
+        lines.append(f"  not ok           {int(np.sum(~ok))} samples{why}")
         return "\n".join(lines)
 
     def to_frame(self) -> pd.DataFrame:
@@ -105,6 +128,10 @@ class Haul:
             "drag_tension": (self.tension, "force"),
             "winch_torque": (self.torque, "torque"),
         }
+        if self.hoist is not None and self.boom_foot is not None:
+            cols["hoist_tension"] = (self.hoist, "force")
+            cols["boom_foot_x"] = (self.boom_foot[:, 0], "force")
+            cols["boom_foot_y"] = (self.boom_foot[:, 1], "force")
         frame = pd.DataFrame({k: v for k, (v, _) in cols.items()})
         frame["status"] = self.status
         frame.attrs.update(table_attrs(self.machine, {k: kind for k, (_, kind) in cols.items()}))
@@ -160,11 +187,16 @@ def haul(
     forces = machine.mechanism.forces(static, [load])
     tension = machine.rope_tension(forces)
     d = machine.drag
-    labels = forces.status_labels().astype(object)
-    labels[(tension < 0.0) & (labels == "ok")] = "slack drag rope (it would have to push)"
-    status = np.asarray(labels, dtype=str)
+    hoist, parts, foot = None, 0, None
+    if machine.boom is None:
+        labels = forces.status_labels().astype(object)
+        labels[(tension < 0.0) & (labels == "ok")] = SLACK_DRAG
+        status = np.asarray(labels, dtype=str)
+    else:
+        held = machine.hoist(forces)
+        hoist, parts, foot, status = held.tension, machine.boom.parts, held.foot, held.status
     return Haul(
         machine.name, length, -res.driver(d.driver)[1], stick, stick_rate,
         np.angle(np.exp(1j * to_stick)), np.angle(np.exp(1j * to_boom)), bucket_rate,
-        tension, tension * d.parts * d.drum_radius / d.gear_ratio, status,
+        tension, tension * d.parts * d.drum_radius / d.gear_ratio, status, hoist, parts, foot,
     )  # fmt: skip

@@ -46,6 +46,7 @@ from excavkin.machinery.base import BaseMachine
 from excavkin.machinery.masses import MassPoints, mass_points
 from excavkin.mechanism import Mechanism
 from excavkin.model.entities import Load
+from excavkin.shovel.boom import Boom, HoistBalance
 
 
 @dataclass(frozen=True, slots=True)
@@ -435,6 +436,8 @@ class RopeBackhoe:
         Bodies of the model.
     name : str
     source : str or None
+    boom : Boom or None
+        The boom's foot, weight and hoist tackle (the model's frame is the boom), or None.
     """
 
     def __init__(
@@ -445,6 +448,7 @@ class RopeBackhoe:
         bucket: str,
         name: str,
         source: str | None = None,
+        boom: Boom | None = None,
     ) -> None:
         self.mechanism = mechanism
         self.drag = drag
@@ -452,6 +456,7 @@ class RopeBackhoe:
         self.bucket = bucket
         self.name = name
         self.source = source
+        self.boom = boom
 
     def __repr__(self) -> str:
         return f"RopeBackhoe({self.name!r}: drag {self.drag.speed:.3f} m/s)"
@@ -502,3 +507,43 @@ class RopeBackhoe:
         ndarray, shape (n,)
         """
         return -forces.force(self.drag.driver) / self.drag.parts
+
+    def hoist(self, forces: ForceResult) -> HoistBalance:
+        """The boom's hoist tackle and foot pin holding the mechanism's forces and the boom's
+        weight (`excavkin.shovel.boom`).
+
+        Parameters
+        ----------
+        forces : ForceResult
+            The general kinetostatics of the model.
+
+        Returns
+        -------
+        HoistBalance
+            The tackle's pull (all parts), one part's tension, the foot pin's force on the
+            boom and the status (a tackle that would push is not ok).
+
+        Raises
+        ------
+        InputError
+            The machine file has no ``[boom]`` table.
+        """
+        from excavkin.errors import InputError
+
+        if self.boom is None:
+            raise InputError(f"{self.name}: no [boom] table: the boom's hoist is not described")
+        return self.boom.balance(forces, self.rope_tension(forces))
+
+    def hoist_tension(self, forces: ForceResult) -> F:
+        """One part of the hoist tackle's tension (N), shape (n,): `hoist`'s ``tension``.
+
+        Parameters
+        ----------
+        forces : ForceResult
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Negative where the tackle would have to push.
+        """
+        return self.hoist(forces).tension

@@ -25,7 +25,9 @@ relative to the machine file) or inline (a ``[model]`` table)::
     capacity = "56 m^3"; payload = 100000; payload_point = "PC"; door_length = 3.6; width = 4.2
     [base]                        # optional: the machinery layer's base (crawlers)
 
-The hoist's ``gear_ratio`` and ``drum_radius`` replace the model's rope's. Every number is
+The hoist's ``gear_ratio`` and ``drum_radius`` replace the model's rope's. A rope backhoe's
+file (``examples/eo4112_machine.toml``) has ``[drag]`` and ``[backhoe]`` instead, and may
+describe its boom and hoist tackle in ``[boom]`` (`excavkin.shovel.boom`). Every number is
 range-checked; an error names the file, the table and the entry.
 """
 
@@ -41,6 +43,7 @@ from excavkin.io.toml_model import read_text_file, read_toml
 from excavkin.machinery.base_file import read_base
 from excavkin.machinery.file_fields import MachineReader, check_head, read_model
 from excavkin.mechanism import Mechanism
+from excavkin.shovel.boom import Boom
 from excavkin.shovel.family import NAME
 from excavkin.shovel.machine import (
     Crowd,
@@ -69,6 +72,7 @@ _TOP = {
     "gravity",
     "drag",
     "backhoe",
+    "boom",
 }
 _FRONT_BODIES = ("boom", "saddle", "handle", "dipper")
 _FRONT_POINTS = ("boom_foot", "shipper_shaft", "sheave", "teeth", "bail", "door_hinge")
@@ -209,11 +213,7 @@ def _machine(data: dict[str, Any], source: str | None) -> Shovel | RopeBackhoe:
         width=r.bounded(dt, "width", "length", "dipper", 0.0, 50.0, "m"),
     )
 
-    grav = data.get("gravity", {})
-    if not isinstance(grav, dict):
-        raise r.err('must be a table such as { g = "9.81 m/s^2" }', "gravity")
-    r.keys(grav, {"g"}, "gravity")
-    g = r.bounded(grav, "g", "acceleration", "gravity", 0.0, 100.0, "m/s^2", default=9.80665)
+    g = _gravity(r, data)
     name = data.get("name", Path(source).stem if source else model.name)
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], entry="name")
@@ -285,10 +285,96 @@ def _backhoe(r: MachineReader, data: dict[str, Any], model: Any, source: str | N
         names[key] = r.text(bt, key, "backhoe", key)
         if names[key] not in bodies:
             raise r.err(f"{names[key]!r} is not a body of the model", "backhoe", key)
+    boom = _boom(r, data, model, driver) if "boom" in data else None
+    if boom is None and "gravity" in data:
+        raise r.err("a rope backhoe reads [gravity] only with a [boom] table", "gravity")
     name = data.get("name", Path(source).stem if source else model.name)
     if not isinstance(name, str):
         raise r.err(f"name must be a string, got {name!r}"[:120], entry="name")
-    return RopeBackhoe(Mechanism(model), drag, names["stick"], names["bucket"], name, source)
+    return RopeBackhoe(Mechanism(model), drag, names["stick"], names["bucket"], name, source, boom)
+
+
+def _gravity(r: MachineReader, data: dict[str, Any]) -> float:
+    grav = data.get("gravity", {})
+    if not isinstance(grav, dict):
+        raise r.err('must be a table such as { g = "9.81 m/s^2" }', "gravity")
+    r.keys(grav, {"g"}, "gravity")
+    return r.bounded(grav, "g", "acceleration", "gravity", 0.0, 100.0, "m/s^2", default=9.80665)
+
+
+_BOOM_POINTS = ("foot", "centre", "hoist_block", "gantry", "drag_lead")
+_MIN_ARM = 0.05  # m: a tackle's line closer to the foot than this cannot hold a boom
+
+
+def _point(r: MachineReader, t: dict[str, Any], key: str) -> tuple[float, float]:
+    if key not in t:
+        raise r.err(f"{key!r} is missing", "boom")
+    x, y = r.xy(t[key], "boom", key)
+    if not (np.isfinite(x) and np.isfinite(y)) or max(abs(x), abs(y)) > 100.0:
+        raise r.err(f"{key} must lie within 100 m of the model's origin", "boom", key)
+    return x, y
+
+
+def _boom(r: MachineReader, data: dict[str, Any], model: Any, driver: str) -> Boom:
+    """The ``[boom]`` table: the boom's foot, weight and hoist tackle (`excavkin.shovel.boom`)."""
+    bt = r.subtable(data, "boom", "boom")
+    r.keys(bt, {*_BOOM_POINTS, "mass", "hoist_parts", "angle"}, "boom")
+    for kind in ("sliders", "gears", "racks", "cams"):
+        if getattr(model, kind):
+            raise r.err(
+                f"the boom's balance reads a model of pins, linear drivers and rotary drivers; "
+                f"this one has {kind}",
+                "boom",
+            )
+    foot, centre, block, gantry, lead = (_point(r, bt, k) for k in _BOOM_POINTS)
+    frame = next(b for b in model.bodies if b.ground)
+    ends = [p for p in next(d for d in model.linear if d.name == driver).between]
+    on_frame = [p for p in ends if p in frame.points]
+    if len(on_frame) != 1:
+        raise r.err(
+            f"the drag rope {driver!r} must run from one point of the frame {frame.name!r} "
+            f"(its sheave on the boom) to the bucket's side, not {' to '.join(ends)}",
+            "drag",
+            "driver",
+        )
+    sheave = model.points[on_frame[0]]
+    if np.hypot(lead[0] - sheave[0], lead[1] - sheave[1]) < 0.1:
+        raise r.err(
+            f"the drag rope's lead lies within 0.1 m of its sheave {on_frame[0]!r}",
+            "boom",
+            "drag_lead",
+        )
+    if np.hypot(gantry[0] - block[0], gantry[1] - block[1]) < 0.1:
+        raise r.err("the gantry's sheave lies within 0.1 m of the hoist block", "boom", "gantry")
+    boom = Boom(
+        foot=foot,
+        mass=r.bounded(bt, "mass", "mass", "boom", 0.0, 1e6, "kg", open_low=False),
+        centre=centre,
+        block=block,
+        gantry=gantry,
+        parts=_count(r, bt, "hoist_parts", "boom"),
+        angle=r.bounded(bt, "angle", "angle", "boom", -1.5, 1.5, "rad", default=0.0),
+        sheave=on_frame[0],
+        lead=lead,
+        gravity=_gravity(r, data),
+    )
+    if abs(boom.hoist_arm) < _MIN_ARM:
+        raise r.err(
+            f"the hoist tackle's line (hoist_block to gantry) passes {abs(boom.hoist_arm):.3g} m "
+            f"from the boom foot: it cannot hold the boom (at least {_MIN_ARM} m)",
+            "boom",
+            "gantry",
+        )
+    arm = np.subtract(centre, foot)
+    held = float(arm[0] * boom.down[1] - arm[1] * boom.down[0]) * boom.mass
+    if held * boom.hoist_arm > 0.0:
+        raise r.err(
+            "the hoist tackle (hoist_block to gantry) turns the boom about its foot the way "
+            "its weight does: it would push to hold it",
+            "boom",
+            "gantry",
+        )
+    return boom
 
 
 def _rack_side(
