@@ -146,27 +146,22 @@ def write_tables(
     parquet = p.suffix.lower() == ".parquet"
 
     def write(tmp: Path) -> None:
-        # three stages side by side, each frame through them in order: the frame is made
-        # (here: the solve), its columns are made Arrow arrays (a thread), and they are
-        # encoded and written (another; Arrow releases the GIL in both). Three frames at most
-        # in memory; the file's bytes are those of writing the frames one after another
+        # each frame is made Arrow arrays here, as it is made, and encoded and written on a
+        # thread of its own while the next one is made (Arrow releases the GIL): a solve and
+        # a write overlap, two frames at most in memory; the file's bytes are those of
+        # writing the frames one after another
         with (
             TableWriter(tmp, parquet=parquet, units_row=units_row) as out,
-            ThreadPoolExecutor(1) as converter,
             ThreadPoolExecutor(1) as writer,
         ):
-            converted: Future[Rows] | None = None
-            written: Future[None] | None = None
+            pending: Future[None] | None = None
             for frame in frames:
-                if written is not None:
-                    written.result()  # (its frame is let go)
-                if converted is not None:
-                    written = writer.submit(out.write_rows, converted.result())
-                converted = converter.submit(out.rows_of, select_frame(frame, columns))
-            if written is not None:
-                written.result()
-            if converted is not None:
-                out.write_rows(converted.result())
+                rows = out.rows_of(select_frame(frame, columns))
+                if pending is not None:
+                    pending.result()
+                pending = writer.submit(out.write_rows, rows)
+            if pending is not None:
+                pending.result()
 
     return write_atomic(p, write)
 
@@ -236,7 +231,7 @@ class TableWriter:
     def rows_of(self, frame: pd.DataFrame) -> Rows:
         """The frame's columns as Arrow arrays, checked against the table's (the first frame
         fixes them, and starts the file): called for the frames in order, as `write_rows`
-        is, though the two may run side by side on two threads, one frame apart.
+        is, though the two may run side by side on two threads, a frame apart.
 
         Parameters
         ----------
