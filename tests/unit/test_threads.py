@@ -4,7 +4,6 @@ thread a run of consecutive chunks, a slow thread's chunks taken by the others."
 from __future__ import annotations
 
 import threading
-import time
 
 import pytest
 
@@ -38,16 +37,21 @@ def test_every_start_once(n: int, chunk: int, workers: int) -> None:
 def test_each_thread_starts_on_its_own_run_and_a_slow_one_is_helped() -> None:
     by_thread: dict[int, list[int]] = {}
     lock = threading.Lock()
+    others_done = threading.Event()
+    waited: list[bool] = []
 
     def one(s: int) -> None:
         with lock:
             by_thread.setdefault(threading.get_ident(), []).append(s)
-        if s == 0:  # the first run's thread is held up: the other takes its later chunks
-            time.sleep(0.3)
+            if sum(len(v) for v in by_thread.values()) == 8:
+                others_done.set()
+        if s == 0:  # the first run's thread is held up until every other chunk is done:
+            waited.append(others_done.wait(timeout=30))  # its run's rest taken by the other
 
     over_chunks(8, 1, 2, one)
+    assert waited == [True]
     firsts = sorted(starts[0] for starts in by_thread.values())
     assert firsts == [0, 4]  # each thread began at its run's first chunk
     slow = next(starts for starts in by_thread.values() if starts[0] == 0)
-    assert slow == [0]  # its chunks 1-3 were taken from the end by the other thread
+    assert slow == [0]
     assert sorted(s for starts in by_thread.values() for s in starts) == list(range(8))
