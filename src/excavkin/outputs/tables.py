@@ -219,7 +219,7 @@ class TableWriter:
             self._release()
 
     def write(self, frame: pd.DataFrame) -> None:
-        """Append the frame's rows (`rows`, then `write_rows`).
+        """Append the frame's rows (`rows_of`, then `write_rows`).
 
         Parameters
         ----------
