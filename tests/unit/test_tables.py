@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 import excavkin
 from excavkin.kinematics.solve import BLOCK
-from excavkin.outputs.tables import write_table, write_tables
+from excavkin.outputs.tables import TableWriter, write_table, write_tables
 
 FOURBAR = excavkin.example_path("fourbar")
 
@@ -124,6 +124,34 @@ def test_a_streamed_table_is_the_table_written_whole(tmp_path: Path, suffix: str
     back = pd.read_parquet(streamed)
     assert list(back.columns) == list(whole.to_frame().columns)
     assert back["status"].iloc[100] == "input is NaN or infinite"
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".parquet"])
+def test_frames_converted_and_written_on_threads_make_the_file_of_one_thread(
+    tmp_path: Path, suffix: str
+) -> None:
+    """The frames made Arrow arrays on one thread and encoded on another, side by side: the
+    file's bytes are those of writing each frame in turn, in this thread."""
+    _, parts = _stream(3000, loads="model")
+    frames = [p.result.to_frame() for p in parts]
+    staged, plain = tmp_path / f"staged{suffix}", tmp_path / f"plain{suffix}"
+    write_tables(iter(frames), staged, units_row=True)
+    with TableWriter(plain, parquet=suffix == ".parquet", units_row=True) as out:
+        for frame in frames:
+            out.write(frame)
+    assert out.rows == sum(len(f) for f in frames) == BLOCK + 4321
+    assert staged.read_bytes() == plain.read_bytes()
+
+
+def test_a_part_with_other_columns_is_named_and_leaves_no_file(tmp_path: Path) -> None:
+    _, parts = _stream(20000)
+    frames = [p.result.to_frame() for p in parts]
+    frames[2] = frames[2].drop(columns=["B.x"])
+    for suffix in (".parquet", ".csv"):
+        target = tmp_path / f"t{suffix}"
+        with pytest.raises(excavkin.errors.ExcavkinError, match="other columns"):
+            write_tables(iter(frames), target)
+        assert not list(tmp_path.iterdir())
 
 
 def test_a_stream_that_stops_leaves_no_file(tmp_path: Path) -> None:

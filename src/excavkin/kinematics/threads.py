@@ -1,21 +1,66 @@
 """Chunks of a batch on a thread per core: NumPy and the compiled loops release the GIL, and
-chunks write disjoint slices of their outputs."""
+chunks write disjoint slices of their outputs.
+
+Each thread takes its own run of consecutive chunks, in order, and only when its run is done
+takes chunks from the end of the longest run left (so a thread slowed by the machine's load
+holds no one up). A fresh output's pages are mapped as they are first written: with the chunks
+dealt out in turn, every thread wrote into the same pages at once (a huge page is 2 MiB, 8
+chunks of a row), and the threads queued on each page's fault; with a run each, a page is
+first touched, and faulted in, by the one thread that writes it, and the threads fault their
+pages side by side.
+"""
 
 from __future__ import annotations
 
 import os
+import threading
+from collections import deque
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 
 
 def over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], None]) -> None:
     """``one(start)`` for every chunk of ``chunk`` samples of ``n``, on ``workers`` threads
-    (default: one per core; one chunk or one worker: in this thread)."""
+    (default: one per core; one chunk or one worker: in this thread, in order). Each thread
+    solves a run of consecutive chunks, then helps the others with theirs (`runs`)."""
     starts = range(0, n, chunk)
     threads = min(workers or os.cpu_count() or 1, len(starts))
-    if threads > 1:
-        with ThreadPoolExecutor(threads) as pool:
-            list(pool.map(one, starts))
-    else:
+    if threads <= 1:
         for s in starts:
             one(s)
+        return
+    queues = runs(len(starts), threads)
+    lock = threading.Lock()
+
+    def next_start(t: int) -> int | None:
+        with lock:
+            if queues[t]:
+                return starts[queues[t].popleft()]
+            longest = max(queues, key=len)
+            return starts[longest.pop()] if longest else None
+
+    def work(t: int) -> None:
+        while (s := next_start(t)) is not None:
+            one(s)
+
+    with ThreadPoolExecutor(threads) as pool:
+        list(pool.map(work, range(threads)))
+
+
+def runs(chunks: int, threads: int) -> list[deque[int]]:
+    """The chunks' indices dealt into ``threads`` runs of consecutive chunks, their lengths
+    differing by one at most.
+
+    Parameters
+    ----------
+    chunks : int
+    threads : int
+
+    Returns
+    -------
+    list of deque of int
+        One run per thread, in order: together every index once.
+    """
+    return [
+        deque(range(chunks * t // threads, chunks * (t + 1) // threads)) for t in range(threads)
+    ]

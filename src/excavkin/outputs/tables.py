@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -145,21 +146,41 @@ def write_tables(
     parquet = p.suffix.lower() == ".parquet"
 
     def write(tmp: Path) -> None:
-        # each frame is written on a thread of its own while the next one is made (Arrow
-        # releases the GIL): a solve and a write overlap, two frames at most in memory
+        # each frame is made Arrow arrays here, as it is made, and encoded and written on a
+        # thread of its own while the next one is made (Arrow releases the GIL): a solve and
+        # a write overlap, two frames at most in memory; the file's bytes are those of
+        # writing the frames one after another
         with (
             TableWriter(tmp, parquet=parquet, units_row=units_row) as out,
             ThreadPoolExecutor(1) as writer,
         ):
             pending: Future[None] | None = None
             for frame in frames:
+                rows = out.rows_of(select_frame(frame, columns))
                 if pending is not None:
                     pending.result()
-                pending = writer.submit(out.write, select_frame(frame, columns))
+                pending = writer.submit(out.write_rows, rows)
             if pending is not None:
                 pending.result()
 
     return write_atomic(p, write)
+
+
+@dataclass(frozen=True, slots=True)
+class Rows:
+    """A frame's columns as Arrow arrays, ready to be written (`TableWriter.rows_of`).
+
+    Attributes
+    ----------
+    names : list of str
+    arrays : list of pyarrow.Array
+    length : int
+        The frame's rows.
+    """
+
+    names: list[str]
+    arrays: list[Any]
+    length: int
 
 
 class TableWriter:
@@ -198,22 +219,51 @@ class TableWriter:
             self._release()
 
     def write(self, frame: pd.DataFrame) -> None:
-        """Append the frame's rows."""
-        import pyarrow as pa
+        """Append the frame's rows (`rows_of`, then `write_rows`).
 
+        Parameters
+        ----------
+        frame : pandas.DataFrame
+            The first frame's columns, in order (the first frame fixes them).
+        """
+        self.write_rows(self.rows_of(frame))
+
+    def rows_of(self, frame: pd.DataFrame) -> Rows:
+        """The frame's columns as Arrow arrays, checked against the table's (the first frame
+        fixes them, and starts the file): called for the frames in order, as `write_rows`
+        is, though the two may run side by side on two threads, a frame apart.
+
+        Parameters
+        ----------
+        frame : pandas.DataFrame
+
+        Returns
+        -------
+        Rows
+        """
         names = [str(c) for c in frame.columns]
         if self.columns is None:
             self.columns = names
             self._start(frame)
         elif names != self.columns:
             raise OutputError(f"{self.path}: a part of the table has other columns")
-        arrays = [_arrow_column(column) for column in _columns(frame)]
+        return Rows(names, [_arrow_column(column) for column in _columns(frame)], len(frame))
+
+    def write_rows(self, rows: Rows) -> None:
+        """Append rows made by `rows_of`: a Parquet row group, or CSV lines.
+
+        Parameters
+        ----------
+        rows : Rows
+        """
+        import pyarrow as pa
+
         if self.parquet:
-            table = pa.Table.from_arrays(arrays, names=names).cast(self._parquet.schema)
-            self._parquet.write_table(table)
+            table = pa.Table.from_arrays(rows.arrays, names=rows.names)
+            self._parquet.write_table(table.cast(self._parquet.schema))
         else:
-            _write_csv_rows(self._file, arrays, names)
-        self.rows += len(frame)
+            _write_csv_rows(self._file, rows.arrays, rows.names)
+        self.rows += rows.length
 
     def _start(self, frame: pd.DataFrame) -> None:
         import json

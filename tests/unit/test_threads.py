@@ -1,0 +1,57 @@
+"""The chunks' schedule over threads (`excavkin.kinematics.threads`): every chunk once, each
+thread a run of consecutive chunks, a slow thread's chunks taken by the others."""
+
+from __future__ import annotations
+
+import threading
+
+import pytest
+
+from excavkin.kinematics.threads import over_chunks, runs
+
+
+@pytest.mark.parametrize(("chunks", "threads"), [(1, 1), (7, 2), (8, 2), (30, 16), (3, 5)])
+def test_runs_are_consecutive_and_cover_every_chunk_once(chunks: int, threads: int) -> None:
+    got = runs(chunks, threads)
+    assert len(got) == threads
+    assert [i for run in got for i in run] == list(range(chunks))
+    sizes = [len(run) for run in got]
+    assert max(sizes) - min(sizes) <= 1
+
+
+@pytest.mark.parametrize(
+    ("n", "chunk", "workers"), [(10, 3, 2), (100, 7, 3), (5, 10, 4), (9, 1, 1)]
+)
+def test_every_start_once(n: int, chunk: int, workers: int) -> None:
+    seen: list[int] = []
+    lock = threading.Lock()
+
+    def one(s: int) -> None:
+        with lock:
+            seen.append(s)
+
+    over_chunks(n, chunk, workers, one)
+    assert sorted(seen) == list(range(0, n, chunk))
+
+
+def test_each_thread_starts_on_its_own_run_and_a_slow_one_is_helped() -> None:
+    by_thread: dict[int, list[int]] = {}
+    lock = threading.Lock()
+    others_done = threading.Event()
+    waited: list[bool] = []
+
+    def one(s: int) -> None:
+        with lock:
+            by_thread.setdefault(threading.get_ident(), []).append(s)
+            if sum(len(v) for v in by_thread.values()) == 8:
+                others_done.set()
+        if s == 0:  # the first run's thread is held up until every other chunk is done:
+            waited.append(others_done.wait(timeout=30))  # its run's rest taken by the other
+
+    over_chunks(8, 1, 2, one)
+    assert waited == [True]
+    firsts = sorted(starts[0] for starts in by_thread.values())
+    assert firsts == [0, 4]  # each thread began at its run's first chunk
+    slow = next(starts for starts in by_thread.values() if starts[0] == 0)
+    assert slow == [0]
+    assert sorted(s for starts in by_thread.values() for s in starts) == list(range(8))
