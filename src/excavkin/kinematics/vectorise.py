@@ -58,13 +58,18 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
 
 
 @functools.lru_cache(maxsize=64)
-def vectorised(text: str, per_sample: bool) -> str:
+def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
     """The compiled plan's source ``text`` (its loop over samples) rewritten over blocks of
     `WIDTH` samples in a contiguous scratch, branch-free. The kernel's inputs (``q``,
     ``qd``, ``qdd``, ``K``) are a chunk's samples; its outputs are the whole solve's arrays,
-    the chunk's samples starting at its last argument, ``s0``. ``per_sample``: the constants
+    the chunk's samples starting at its argument ``s0``. ``per_sample``: the constants
     table has a column per sample (a family of designs), else one column, whose values are
-    read once, before the loop."""
+    read once, before the loop. ``by_design``: the table has a column per design, each
+    design's ``ks`` poses one after another (a study's samples, design-major): sample ``i``
+    of the chunk reads column ``(r0_ + i) // ks``, ``r0_`` the kernel's last argument (the
+    chunk's first sample's pose), so that a design's constants are made once, not copied
+    to each of its poses."""
+    per_sample = per_sample or by_design
     tree = ast.parse(text)
     fn = next(f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel")
     loop = next(s for s in fn.body if isinstance(s, ast.For))
@@ -83,8 +88,12 @@ def vectorised(text: str, per_sample: bool) -> str:
     # each array's rows: its indices before the sample's, and the scratch row (constants)
     tables = {**reads, **writes}  # (status and failed are both: one row each)
     out += [f"T_{name} = np.array({rows!r}, dtype=np.int64)" for name, rows in tables.items()]
+    head = _HEAD.rstrip("\n")
+    if by_design:  # one more argument: the chunk's first sample's pose
+        head = head.replace("numba.int64,\n)", "numba.int64, numba.int64,\n)")
+        head = head.replace("near_step, s0):", "near_step, s0, r0_):")
     out += [
-        _HEAD.rstrip("\n"),
+        head,
         *([] if per_sample else _ONE_DESIGN),
         *(f"    {name} = K[{c}, 0]" for name, c in r.hoisted.items()),
         f"    S_ = np.empty({len(r.rows) * WIDTH})",
@@ -92,8 +101,11 @@ def vectorised(text: str, per_sample: bool) -> str:
         f"    for b0_ in range(0, n_, {WIDTH}):",
         f"        nb_ = min({WIDTH}, n_ - b0_)",
     ]
+    if by_design:  # each sample's design, once a block (not once a constant)
+        out[-3:-3] = [f"    J_ = np.empty({WIDTH}, dtype=np.int64)"]
+        out += ["        for l_ in range(nb_):", "            J_[l_] = (r0_ + b0_ + l_) // ks"]
     for name, rows in reads.items():
-        out += _copy(name, rows, into_scratch=True)
+        out += _copy(name, rows, into_scratch=True, by_design=by_design)
     out += ["        for l_ in range(nb_):", *(f"            {line}" for line in body)]
     for name, rows in writes.items():
         out += _copy(name, rows, into_scratch=False)
@@ -121,18 +133,22 @@ def _tables(elements: dict[str, int]) -> dict[str, list[list[int]]]:
     return out
 
 
-def _copy(name: str, rows: list[list[int]], into_scratch: bool) -> list[str]:
+def _copy(
+    name: str, rows: list[list[int]], into_scratch: bool, by_design: bool = False
+) -> list[str]:
     """A loop over an array's rows, each copied between the array and its scratch row: the
     inputs chunk-relative (the constants at column ``(b0_ + l_)·ks``), the outputs into the
     whole solve's arrays from ``s0``, by streaming stores (`streaming`:
-    they read no line they write). (The loop's own names end in ``_``: the generated loop's
-    never do.)"""
+    they read no line they write); ``by_design``: the constants at the sample's design's
+    column (``J_``, made for the block). (The loop's own names end in ``_``: the
+    generated loop's never do.)"""
     lead = len(rows[0]) - 1
     row = f"{name}[{', '.join(f'T_{name}[k_, {k}]' for k in range(lead))}]" if lead else name
     scratch = f"S_[T_{name}[k_, {lead}] * {WIDTH} + l_]"
     if into_scratch:  # the element read whole (a row's view made here slowed the loop 4×)
         inputs = "s0 + b0_ + l_" if name in _WRITTEN else "b0_ + l_"
-        sample = "(b0_ + l_) * ks" if name == "K" else inputs
+        column = "J_[l_]" if by_design else "(b0_ + l_) * ks"
+        sample = column if name == "K" else inputs
         copy = f"{scratch} = {row}[{sample}]"
     else:
         copy = f"stream(row_, s0 + b0_ + l_, {scratch})"

@@ -32,12 +32,25 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from excavkin import backends
 from excavkin.arrays import FloatArray as F
+from excavkin.backends import Kernel
 from excavkin.errors import InputError
 from excavkin.execution import current
-from excavkin.kinematics.solve import BLOCK, Workspace, solve_part
+from excavkin.kinematics import compiled, precision
+from excavkin.kinematics.kernels import Chunk, Code
+from excavkin.kinematics.result import Derived, KinematicResult, Status
+from excavkin.kinematics.solve import (
+    BLOCK,
+    Tolerances,
+    Workspace,
+    check_finite,
+    check_inputs,
+    solve_part,
+)
 from excavkin.kinematics.threads import over_chunks
 from excavkin.structure.design import take, vary
+from excavkin.studies import reductions
 from excavkin.studies.metrics import (
     Constraint,
     Metric,
@@ -154,14 +167,46 @@ def evaluate_fused(
     series: dict[str, F] = {}
     oks: dict[str | None, NDArray[np.bool_]] = {}
     angles: set[str] = set()
+    reduced: dict[str, F] = {}
+    kernel = _study_kernel(mech, d * max(s.count for s in sets.values()))
     for name, pose_set in sets.items():
         wanted = [m for m in metrics if m.poses == name]
         p = pose_set.count
-        got, oks[name], kinds = _solve_set(mech, varied, sketch, unbuildable, pose_set, d, wanted)
+        if kernel is None:
+            got, oks[name], kinds = _solve_set(
+                mech, varied, sketch, unbuildable, pose_set, d, wanted
+            )
+        else:
+            got, oks[name], kinds = _solve_set_compiled(
+                mech, kernel, varied, sketch, unbuildable, pose_set, d, wanted
+            )
         angles |= kinds
         for m in wanted:
             series[m.key] = got[m.key].reshape(d, p)
-    return tabulate_sets(arrays, series, oks, metrics, constraints, angles)
+            if kernel is not None and reductions.compiled(m, kinds):
+                reduced[m.name] = reductions.reduce_designs(series[m.key], oks[name], m)
+    return tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
+
+
+def _study_kernel(mech: Mechanism, n: int) -> Kernel | None:
+    """The plan's kernel for a study's samples (constants a column per design,
+    `excavkin.kinematics.compiled.run_designs`), where the backend in use compiles the
+    solve (`excavkin.backends.choose`, as a solve of ``n`` samples chooses); None: the
+    blocks solve as a solve does (NumPy, or a device)."""
+    backend = current().backend
+    plan = mech.plan
+    if backend not in ("auto", "numba") or compiled.unsupported(plan) is not None:
+        return None
+    job = backends.Job(
+        "kinematics",
+        lambda: compiled.kernel_source(plan, by_design=True),
+        lambda: None,
+        lambda kernel: None,
+        unasked=compiled.size(plan) <= compiled.AUTO_POINTS,
+    )
+    if backends.choose(backend, job, n).name != "numba":
+        return None
+    return backends.kernel_of(job.source(), "kinematics")
 
 
 def _check_designs(mech: Mechanism, designs: Mapping[str, Any]) -> dict[str, F]:
@@ -265,6 +310,167 @@ def _solve_set(
 
     over_chunks(n, BLOCK, current().workers, one)
     return out, ok.reshape(d, p), angles[0] if angles else set()
+
+
+def _solve_set_compiled(
+    mech: Mechanism,
+    kernel: Kernel,
+    varied: SolvePlan,
+    sketch: list[Any],
+    unbuildable: NDArray[np.bool_],
+    poses: Poses,
+    d: int,
+    metrics: Sequence[Metric],
+) -> tuple[dict[str, F], NDArray[np.bool_], set[str]]:
+    """`_solve_set` by the study's kernel: the inputs checked once for the set, each
+    design's constants a column of one table read by its poses, and each block's Python
+    only its precision check (where a sample comes near a dead position) and its metrics'
+    series; the same numbers, to the bit, as the blocks solved by `solve_part`."""
+    plan = mech.plan
+    p = poses.count
+    n = d * p
+    tol = Tolerances()
+    consts, stride = compiled.table(compiled.constants(varied), d)
+    if not stride:  # (no constant varies: every design reads the one column)
+        consts = np.broadcast_to(consts, (consts.shape[0], max(d, 1)))
+    q, qd, qdd = _inputs(plan, poses, sketch, d)
+    status = np.zeros(n, dtype=np.int8)
+    bad = np.repeat(unbuildable, p) if unbuildable.any() else None
+    solving = check_inputs(plan, q, qd, qdd, status, bad)
+    out = {m.key: np.empty(n) for m in metrics}
+    ok = np.empty(n, dtype=bool)
+    angles: list[set[str]] = []
+    names = {
+        f"{pt}.{axis}" for m in metrics if m.clearance for pt in m.clearance for axis in "xy"
+    } | {m.column for m in metrics if m.clearance is None}
+
+    picked: dict[int, tuple[NDArray[np.intp], precision.Arrays, tuple[F, Any], Any]] = {}
+
+    def one(s: int) -> None:
+        e = min(s + BLOCK, n)
+        first, last = s // p, (e - 1) // p
+        ws = _borrow(plan, e - s)
+        try:
+            ws.status[:] = status[s:e]
+            ws.failed.fill(-1)
+            c = Chunk(
+                ws.x, ws.v, ws.a, solving[:, s:e], qd[:, s:e], qdd[:, s:e], ws.trans,
+                ws.status, ws.failed, tol.close, tol.singular,
+            )  # fmt: skip
+            body, element = ws.derived.body, ws.derived.element
+            compiled.run_designs(
+                kernel, consts[:, first : last + 1], p, s - first * p, c, body, element,
+                ws.near, ws.near_step,
+            )  # fmt: skip
+            far = ws.status == Code.OK
+            pick = np.flatnonzero(far & (ws.near < precision.NEAR))
+            if pick.size:  # checked with every block's below; this block's scales kept
+                far[pick] = False
+                arrays = precision.Arrays(ws.x, ws.v, ws.a, ws.trans, ws.derived)
+                near = (ws.near[pick], ws.near_step[pick])
+                picked[s] = (pick + s, _take(arrays, pick), near, precision.tops(arrays, far))
+            res = KinematicResult.build(
+                plan, ws.x, ws.v, ws.a, q[:, s:e], qd[:, s:e], qdd[:, s:e], ws.trans,
+                ws.derived, Status(ws.status, ws.failed, plan),
+            )  # fmt: skip
+            cols = res.columns_named(names)
+            for m in metrics:
+                out[m.key][s:e] = _series(cols, m)
+            ok[s:e] = res.status.solved
+            if not angles:
+                angles.append({c.name for c in res.columns if c.kind == "angle"})
+        finally:
+            _give_back(plan, ws)
+
+    over_chunks(n, BLOCK, current().workers, one)
+    if picked:  # the samples near a dead position, every block's at once
+        blocks = [picked[s] for s in sorted(picked)]
+        index = np.concatenate([b[0] for b in blocks])
+        arrays = _joined([b[1] for b in blocks])
+        near = (
+            np.concatenate([b[2][0] for b in blocks]),
+            np.concatenate([b[2][1] for b in blocks]),
+        )
+        inputs = (q[:, index], qd[:, index], qdd[:, index])
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            error, code, step = precision.check_picked(
+                take(varied, index // p), inputs, arrays, near, (tol.close, tol.singular),
+                [(len(b[0]), b[3]) for b in blocks],
+            )  # fmt: skip
+        check_finite(arrays, code, np.isfinite(error))
+        part = KinematicResult.build(
+            plan, arrays.x, arrays.v, arrays.a, *inputs, arrays.trans, arrays.derived,
+            Status(code, step, plan),
+        )  # fmt: skip
+        cols = part.columns_named(names)
+        for m in metrics:
+            out[m.key][index] = _series(cols, m)
+        ok[index] = part.status.solved
+    return out, ok.reshape(d, p), angles[0] if angles else set()
+
+
+def _take(arrays: precision.Arrays, pick: NDArray[np.intp]) -> precision.Arrays:
+    """The samples ``pick`` of a solution, copied."""
+    d = arrays.derived
+    return precision.Arrays(
+        arrays.x[..., pick], arrays.v[..., pick], arrays.a[..., pick], arrays.trans[:, pick],
+        Derived(d.body[..., pick], d.element[..., pick]),
+    )  # fmt: skip
+
+
+def _joined(parts: list[precision.Arrays]) -> precision.Arrays:
+    """Solutions of several sets of samples as one, in turn."""
+    if len(parts) == 1:
+        return parts[0]
+
+    def cat(arrays: list[F]) -> F:
+        return np.concatenate(arrays, axis=-1)
+
+    return precision.Arrays(
+        cat([a.x for a in parts]), cat([a.v for a in parts]), cat([a.a for a in parts]),
+        cat([a.trans for a in parts]),
+        Derived(cat([a.derived.body for a in parts]), cat([a.derived.element for a in parts])),
+    )  # fmt: skip
+
+
+def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F, F, F]:
+    """A pose set's inputs, rates and accelerations at every design's every pose
+    (design-major, shape (n_inputs, d·p) each, a broadcast where one value serves all), as
+    `_solve_set`'s blocks take them: a driver the set does not give held at each design's
+    sketch value, its rate 0 (1 where swept without a rate given)."""
+    p = poses.count
+    n = d * p
+    rows: list[list[Any]] = [[], [], []]
+    for i, name in enumerate(plan.inputs):
+        val = poses.values.get(name)
+        rate = poses.rates.get(name)
+        accel = poses.accels.get(name)
+        swept = val is not None and np.ndim(val) == 1
+        given = (
+            sketch[i] if val is None else val,
+            (1.0 if swept else 0.0) if rate is None else rate,
+            0.0 if accel is None else accel,
+        )
+        for k, v in enumerate(given):
+            a = np.asarray(v, dtype=np.float64)
+            if a.ndim and (val is None and k == 0):
+                rows[k].append(np.repeat(a, p))  # a design's own value at its poses
+            elif a.ndim:
+                rows[k].append(np.tile(a, d))
+            else:
+                rows[k].append(float(a))
+    q, qd, qdd = (_full(r, n) for r in rows)
+    return q, qd, qdd
+
+
+def _full(values: list[Any], n: int) -> F:
+    """Rows of ``n`` samples (`_rows` for the whole set)."""
+    if all(np.ndim(v) == 0 for v in values):
+        return np.broadcast_to(np.array(values, dtype=np.float64).reshape(-1, 1), (len(values), n))
+    out = np.empty((len(values), n))
+    for i, v in enumerate(values):
+        out[i] = v
+    return out
 
 
 def _series(cols: Mapping[str, F], m: Metric) -> F:
