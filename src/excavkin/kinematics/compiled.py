@@ -220,6 +220,9 @@ def run_designs(
     element: F,
     near: F,
     near_step: np.ndarray,
+    keep: np.ndarray,
+    tops: np.ndarray,
+    near_at: float,
 ) -> None:
     """`run_table` for consecutive samples of a study (designs × ``poses``, design-major),
     with the kernel made ``by_design`` (`kernel_source`): ``consts`` is the constants table
@@ -243,10 +246,21 @@ def run_designs(
     near : ndarray, shape (n,)
     near_step : ndarray of int16, shape (n,)
         Each sample's nearness to a dead position and nearest step.
+    keep : ndarray of int8, shape (scratch rows,)
+        Which of the kernel's rows (`excavkin.kinematics.vectorise.written_rows`) are
+        written out (1) and which not (0: that row of the outputs is left as it is); the
+        statuses and nearness always are.
+    tops : ndarray of int64, shape (6,)
+        Raised to each kind of quantity's (`excavkin.kinematics.precision.KINDS`) largest
+        magnitude over the samples solved and no nearer a dead position than ``near_at``
+        (every row, kept or not), as a float's bits.
+    near_at : float
+        The precision check's threshold (`excavkin.kinematics.precision.NEAR`).
     """
     kernel(
         c.q, c.qd, c.qdd, consts, poses, c.x, c.v, c.a, c.trans, body, element,
         c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, 0, first,
+        keep, tops, near_at,
     )  # fmt: skip
 
 

@@ -198,7 +198,7 @@ def tops(arrays: Arrays, use: np.ndarray) -> dict[str, float]:
     dict of str to float
         By kind of quantity (length, velocity, …).
     """
-    top = dict.fromkeys(_KINDS, 0.0)
+    top = dict.fromkeys(KINDS, 0.0)
     if use.any():
         for kind, group in _groups(arrays).items():
             for arr in group:
@@ -262,7 +262,7 @@ def check_picked(
             for seed in (1, 2)
         ]
         # each block's scales: its far samples' tops and its wide solve's, one per sample
-        per: dict[str, list[float]] = {kind: [] for kind in _KINDS}
+        per: dict[str, list[float]] = {kind: [] for kind in KINDS}
         start = 0
         for c, far in blocks:
             part = slice(start, start + c)
@@ -272,8 +272,8 @@ def check_picked(
                 Derived(w.derived.body[..., part], w.derived.element[..., part]),
             )  # fmt: skip
             mine = tops(here, ok[part])
-            scale = floored({kind: max(far[kind], mine[kind]) for kind in _KINDS})
-            for kind in _KINDS:
+            scale = floored({kind: max(far[kind], mine[kind]) for kind in KINDS})
+            for kind in KINDS:
                 per[kind].append(scale[kind])
             start += c
         scales = {kind: np.repeat(np.array(v), counts) for kind, v in per.items()}
@@ -351,7 +351,9 @@ def _solve_wide(
     return _Wide(Arrays(x, v, a, trans, derived), status, failed)
 
 
-_KINDS = (
+#: the kinds of quantity each with its own scale, in this order (a study's kernel keeps its
+#: far samples' largest magnitudes so, `excavkin.kinematics.vectorise`)
+KINDS = (
     "length",
     "velocity",
     "acceleration",
@@ -386,7 +388,7 @@ def _scales(parts: list[tuple[Arrays, np.ndarray]]) -> dict[str, float]:
             for arr in group:
                 if arr.size:
                     top[kind] = max(top.get(kind, 0.0), largest(arr, use))
-    return floored({kind: top.get(kind, 0.0) for kind in _KINDS})
+    return floored({kind: top.get(kind, 0.0) for kind in KINDS})
 
 
 #: `largest` as one compiled pass (`excavkin.backends`), without the GIL: the scales of a

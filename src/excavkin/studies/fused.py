@@ -39,7 +39,7 @@ from excavkin.errors import InputError
 from excavkin.execution import current
 from excavkin.kinematics import compiled, precision
 from excavkin.kinematics.kernels import Chunk, Code
-from excavkin.kinematics.result import Derived, KinematicResult, Status
+from excavkin.kinematics.result import KinematicResult, Status
 from excavkin.kinematics.solve import (
     BLOCK,
     Tolerances,
@@ -49,6 +49,7 @@ from excavkin.kinematics.solve import (
     solve_part,
 )
 from excavkin.kinematics.threads import over_chunks
+from excavkin.kinematics.vectorise import written_rows
 from excavkin.structure.design import take, vary
 from excavkin.studies import reductions
 from excavkin.studies.metrics import (
@@ -188,7 +189,17 @@ def evaluate_fused(
     return tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
 
 
-def _study_kernel(mech: Mechanism, n: int) -> Kernel | None:
+@dataclasses.dataclass(frozen=True, slots=True)
+class _StudyKernel:
+    """A plan's study kernel, its written rows (by array and indices) and its scratch rows
+    (`excavkin.kinematics.vectorise.written_rows`)."""
+
+    kernel: Kernel
+    rows: dict[tuple[str, tuple[int, ...]], int]
+    n_rows: int
+
+
+def _study_kernel(mech: Mechanism, n: int) -> _StudyKernel | None:
     """The plan's kernel for a study's samples (constants a column per design,
     `excavkin.kinematics.compiled.run_designs`), where the backend in use compiles the
     solve (`excavkin.backends.choose`, as a solve of ``n`` samples chooses); None: the
@@ -206,7 +217,8 @@ def _study_kernel(mech: Mechanism, n: int) -> Kernel | None:
     )
     if backends.choose(backend, job, n).name != "numba":
         return None
-    return backends.kernel_of(job.source(), "kinematics")
+    text = job.source()
+    return _StudyKernel(backends.kernel_of(text, "kinematics"), *written_rows(text))
 
 
 def _check_designs(mech: Mechanism, designs: Mapping[str, Any]) -> dict[str, F]:
@@ -314,7 +326,7 @@ def _solve_set(
 
 def _solve_set_compiled(
     mech: Mechanism,
-    kernel: Kernel,
+    kernel: _StudyKernel,
     varied: SolvePlan,
     sketch: list[Any],
     unbuildable: NDArray[np.bool_],
@@ -344,7 +356,8 @@ def _solve_set_compiled(
         f"{pt}.{axis}" for m in metrics if m.clearance for pt in m.clearance for axis in "xy"
     } | {m.column for m in metrics if m.clearance is None}
 
-    picked: dict[int, tuple[NDArray[np.intp], precision.Arrays, tuple[F, Any], Any]] = {}
+    keep = _kept(plan, kernel, names)
+    picked: dict[int, tuple[NDArray[np.intp], dict[str, float]]] = {}
 
     def one(s: int) -> None:
         e = min(s + BLOCK, n)
@@ -357,18 +370,16 @@ def _solve_set_compiled(
                 ws.x, ws.v, ws.a, solving[:, s:e], qd[:, s:e], qdd[:, s:e], ws.trans,
                 ws.status, ws.failed, tol.close, tol.singular,
             )  # fmt: skip
-            body, element = ws.derived.body, ws.derived.element
+            tops = np.zeros(len(precision.KINDS), dtype=np.int64)
             compiled.run_designs(
-                kernel, consts[:, first : last + 1], p, s - first * p, c, body, element,
-                ws.near, ws.near_step,
+                kernel.kernel, consts[:, first : last + 1], p, s - first * p, c,
+                ws.derived.body, ws.derived.element, ws.near, ws.near_step, keep, tops,
+                precision.NEAR,
             )  # fmt: skip
-            far = ws.status == Code.OK
-            pick = np.flatnonzero(far & (ws.near < precision.NEAR))
-            if pick.size:  # checked with every block's below; this block's scales kept
-                far[pick] = False
-                arrays = precision.Arrays(ws.x, ws.v, ws.a, ws.trans, ws.derived)
-                near = (ws.near[pick], ws.near_step[pick])
-                picked[s] = (pick + s, _take(arrays, pick), near, precision.tops(arrays, far))
+            pick = np.flatnonzero((ws.status == Code.OK) & (ws.near < precision.NEAR))
+            if pick.size:  # solved again and checked with every block's, below
+                far = tops.view(np.float64).tolist()
+                picked[s] = (pick + s, dict(zip(precision.KINDS, far, strict=True)))
             res = KinematicResult.build(
                 plan, ws.x, ws.v, ws.a, q[:, s:e], qd[:, s:e], qdd[:, s:e], ws.trans,
                 ws.derived, Status(ws.status, ws.failed, plan),
@@ -386,16 +397,25 @@ def _solve_set_compiled(
     if picked:  # the samples near a dead position, every block's at once
         blocks = [picked[s] for s in sorted(picked)]
         index = np.concatenate([b[0] for b in blocks])
-        arrays = _joined([b[1] for b in blocks])
-        near = (
-            np.concatenate([b[2][0] for b in blocks]),
-            np.concatenate([b[2][1] for b in blocks]),
-        )
+        k = index.size
+        ws = Workspace.of(plan, k)  # their whole state, as their blocks' solve made it
+        ws.status[:] = status[index]
+        ws.failed.fill(-1)
         inputs = (q[:, index], qd[:, index], qdd[:, index])
+        c = Chunk(
+            ws.x, ws.v, ws.a, solving[:, index], inputs[1], inputs[2], ws.trans, ws.status,
+            ws.failed, tol.close, tol.singular,
+        )  # fmt: skip
+        compiled.run_designs(
+            kernel.kernel, np.ascontiguousarray(consts[:, index // p]), 1, 0, c,
+            ws.derived.body, ws.derived.element, ws.near, ws.near_step,
+            np.ones_like(keep), np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
+        )  # fmt: skip
+        arrays = precision.Arrays(ws.x, ws.v, ws.a, ws.trans, ws.derived)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             error, code, step = precision.check_picked(
-                take(varied, index // p), inputs, arrays, near, (tol.close, tol.singular),
-                [(len(b[0]), b[3]) for b in blocks],
+                take(varied, index // p), inputs, arrays, (ws.near, ws.near_step),
+                (tol.close, tol.singular), [(len(b[0]), b[1]) for b in blocks],
             )  # fmt: skip
         check_finite(arrays, code, np.isfinite(error))
         part = KinematicResult.build(
@@ -409,28 +429,31 @@ def _solve_set_compiled(
     return out, ok.reshape(d, p), angles[0] if angles else set()
 
 
-def _take(arrays: precision.Arrays, pick: NDArray[np.intp]) -> precision.Arrays:
-    """The samples ``pick`` of a solution, copied."""
-    d = arrays.derived
-    return precision.Arrays(
-        arrays.x[..., pick], arrays.v[..., pick], arrays.a[..., pick], arrays.trans[:, pick],
-        Derived(d.body[..., pick], d.element[..., pick]),
+def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.int8]:
+    """The kernel's rows that hold the columns ``names`` (1; the statuses are always
+    written): found by solving nothing — each written row of a one-sample workspace marked
+    with its own number, the inputs with negative ones, the columns read back. A column
+    that is no row's (a driven length is its input's) needs none; one that is computed
+    from several keeps every row."""
+    keep = np.zeros(kernel.n_rows, dtype=np.int8)
+    ws = Workspace.of(plan, 1)
+    arrays = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
+    arrays |= {"body": ws.derived.body, "element": ws.derived.element}
+    for (name, lead), row in kernel.rows.items():
+        arrays[name][(*lead, 0)] = 1000.0 + row
+    n_in = len(plan.inputs)
+    marks = -1.0 - np.arange(3 * n_in, dtype=np.float64).reshape(3, n_in, 1)
+    res = KinematicResult.build(
+        plan, ws.x, ws.v, ws.a, marks[0], marks[1], marks[2], ws.trans, ws.derived,
+        Status(ws.status, ws.failed, plan),
     )  # fmt: skip
-
-
-def _joined(parts: list[precision.Arrays]) -> precision.Arrays:
-    """Solutions of several sets of samples as one, in turn."""
-    if len(parts) == 1:
-        return parts[0]
-
-    def cat(arrays: list[F]) -> F:
-        return np.concatenate(arrays, axis=-1)
-
-    return precision.Arrays(
-        cat([a.x for a in parts]), cat([a.v for a in parts]), cat([a.a for a in parts]),
-        cat([a.trans for a in parts]),
-        Derived(cat([a.derived.body for a in parts]), cat([a.derived.element for a in parts])),
-    )  # fmt: skip
+    for value in res.columns_named(names).values():
+        mark = float(value[0])
+        if mark >= 1000.0 and mark - 1000.0 < kernel.n_rows and mark.is_integer():
+            keep[int(mark) - 1000] = 1
+        elif not (mark < 0.0 and mark.is_integer()):
+            keep[:] = 1  # (not a row of its own: every row, to be sure)
+    return keep
 
 
 def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F, F, F]:
