@@ -223,11 +223,12 @@ def run_designs(
     keep: np.ndarray,
     tops: np.ndarray,
     near_at: float,
+    start: int = 0,
 ) -> None:
     """`run_table` for consecutive samples of a study (designs × ``poses``, design-major),
     with the kernel made ``by_design`` (`kernel_source`): ``consts`` is the constants table
     (`table`) of the designs from the chunk's first sample's on, one column a design, and
-    ``first`` that sample's pose. The outputs are the chunk's own (from their sample 0).
+    ``first`` that sample's pose. The outputs' sample ``start`` is the chunk's first.
 
     Parameters
     ----------
@@ -256,10 +257,12 @@ def run_designs(
         (every row, kept or not), as a float's bits.
     near_at : float
         The precision check's threshold (`excavkin.kinematics.precision.NEAR`).
+    start : int
+        The outputs' sample that the chunk's first is (they may be a whole pose set's).
     """
     kernel(
         c.q, c.qd, c.qdd, consts, poses, c.x, c.v, c.a, c.trans, body, element,
-        c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, 0, first,
+        c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, start, first,
         keep, tops, near_at,
     )  # fmt: skip
 

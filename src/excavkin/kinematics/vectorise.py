@@ -214,6 +214,7 @@ def _tops(status: int, near: int, n_rows: int) -> list[str]:
     ]
 
 
+@functools.lru_cache(maxsize=16)
 def written_rows(text: str) -> tuple[dict[tuple[str, tuple[int, ...]], int], int]:
     """A kernel's rows (`vectorised` ``by_design``): each written array element's scratch
     row, by the array's name and its indices before the sample's (``("x", (3, 0))``), and
@@ -227,6 +228,7 @@ def written_rows(text: str) -> tuple[dict[tuple[str, tuple[int, ...]], int], int
     Returns
     -------
     rows : dict of (str, tuple of int) to int
+        (One object per source text, kept: not to be changed.)
     n_rows : int
     """
     rows: dict[tuple[str, tuple[int, ...]], int] = {}

@@ -24,6 +24,7 @@ can name).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 import threading
 from collections.abc import Mapping, Sequence
@@ -358,63 +359,77 @@ def _solve_set_compiled(
 
     keep = _kept(plan, kernel, names)
     picked: dict[int, tuple[NDArray[np.intp], dict[str, float]]] = {}
+    span = max(1, min(n, SPAN))
 
-    def one(s: int) -> None:
-        e = min(s + BLOCK, n)
-        first, last = s // p, (e - 1) // p
-        ws = _borrow(plan, e - s)
+    def one(s: int, s0: int, e0: int, here: Workspace, tops: Any) -> None:
+        e = min(s + BLOCK, e0 - s0)
+        first, last = (s0 + s) // p, (s0 + e - 1) // p
+        c = Chunk(
+            here.x, here.v, here.a, solving[:, s0 + s : s0 + e], qd[:, s0 + s : s0 + e],
+            qdd[:, s0 + s : s0 + e], here.trans, here.status, here.failed, tol.close,
+            tol.singular,
+        )  # fmt: skip
+        compiled.run_designs(
+            kernel.kernel, consts[:, first : last + 1], p, s0 + s - first * p, c,
+            here.derived.body, here.derived.element, here.near, here.near_step, keep,
+            tops[s // BLOCK], precision.NEAR, s,
+        )  # fmt: skip
+
+    for s0 in range(0, n, span):
+        e0 = min(s0 + span, n)
+        # only the rows kept, and the statuses, are written: the others' pages are never
+        # touched (a workspace kept from a set before has its pages already)
+        here = _borrow(plan, e0 - s0)
         try:
-            ws.status[:] = status[s:e]
-            ws.failed.fill(-1)
-            c = Chunk(
-                ws.x, ws.v, ws.a, solving[:, s:e], qd[:, s:e], qdd[:, s:e], ws.trans,
-                ws.status, ws.failed, tol.close, tol.singular,
+            here.status[:] = status[s0:e0]
+            here.failed.fill(-1)
+            tops = np.zeros((-(-(e0 - s0) // BLOCK), len(precision.KINDS)), dtype=np.int64)
+            over_chunks(
+                e0 - s0, BLOCK, current().workers,
+                functools.partial(one, s0=s0, e0=e0, here=here, tops=tops),
             )  # fmt: skip
-            tops = np.zeros(len(precision.KINDS), dtype=np.int64)
-            compiled.run_designs(
-                kernel.kernel, consts[:, first : last + 1], p, s - first * p, c,
-                ws.derived.body, ws.derived.element, ws.near, ws.near_step, keep, tops,
-                precision.NEAR,
-            )  # fmt: skip
-            pick = np.flatnonzero((ws.status == Code.OK) & (ws.near < precision.NEAR))
-            if pick.size:  # solved again and checked with every block's, below
-                far = tops.view(np.float64).tolist()
-                picked[s] = (pick + s, dict(zip(precision.KINDS, far, strict=True)))
+            pick = np.flatnonzero((here.status == Code.OK) & (here.near < precision.NEAR))
+            for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
+                # solved again and checked with every block's, below
+                upto = np.searchsorted(pick, (b + 1) * BLOCK)
+                far = tops[b].view(np.float64).tolist()
+                picked[s0 + b * BLOCK] = (
+                    pick[at:upto] + s0,
+                    dict(zip(precision.KINDS, far, strict=True)),
+                )
             res = KinematicResult.build(
-                plan, ws.x, ws.v, ws.a, q[:, s:e], qd[:, s:e], qdd[:, s:e], ws.trans,
-                ws.derived, Status(ws.status, ws.failed, plan),
+                plan, here.x, here.v, here.a, q[:, s0:e0], qd[:, s0:e0], qdd[:, s0:e0],
+                here.trans, here.derived, Status(here.status, here.failed, plan),
             )  # fmt: skip
             cols = res.columns_named(names)
             for m in metrics:
-                out[m.key][s:e] = _series(cols, m)
-            ok[s:e] = res.status.solved
+                out[m.key][s0:e0] = _series(cols, m)
+            ok[s0:e0] = res.status.solved
             if not angles:
                 angles.append({c.name for c in res.columns if c.kind == "angle"})
         finally:
-            _give_back(plan, ws)
-
-    over_chunks(n, BLOCK, current().workers, one)
+            _give_back(plan, here)
     if picked:  # the samples near a dead position, every block's at once
         blocks = [picked[s] for s in sorted(picked)]
         index = np.concatenate([b[0] for b in blocks])
         k = index.size
-        ws = Workspace.of(plan, k)  # their whole state, as their blocks' solve made it
-        ws.status[:] = status[index]
-        ws.failed.fill(-1)
+        solved = Workspace.of(plan, k)  # their whole state, as their blocks' solve made it
+        solved.status[:] = status[index]
+        solved.failed.fill(-1)
         inputs = (q[:, index], qd[:, index], qdd[:, index])
         c = Chunk(
-            ws.x, ws.v, ws.a, solving[:, index], inputs[1], inputs[2], ws.trans, ws.status,
-            ws.failed, tol.close, tol.singular,
+            solved.x, solved.v, solved.a, solving[:, index], inputs[1], inputs[2],
+            solved.trans, solved.status, solved.failed, tol.close, tol.singular,
         )  # fmt: skip
         compiled.run_designs(
             kernel.kernel, np.ascontiguousarray(consts[:, index // p]), 1, 0, c,
-            ws.derived.body, ws.derived.element, ws.near, ws.near_step,
+            solved.derived.body, solved.derived.element, solved.near, solved.near_step,
             np.ones_like(keep), np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
         )  # fmt: skip
-        arrays = precision.Arrays(ws.x, ws.v, ws.a, ws.trans, ws.derived)
+        arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             error, code, step = precision.check_picked(
-                take(varied, index // p), inputs, arrays, (ws.near, ws.near_step),
+                take(varied, index // p), inputs, arrays, (solved.near, solved.near_step),
                 (tol.close, tol.singular), [(len(b[0]), b[1]) for b in blocks],
             )  # fmt: skip
         check_finite(arrays, code, np.isfinite(error))
@@ -517,6 +532,10 @@ def _rows(values: list[Any], k: int) -> F:
         out[i] = v
     return out
 
+
+#: samples of a pose set that a study's kernel solves into one workspace (16 blocks), of
+#: which it writes only the rows its metrics read: the pages of the others are never touched
+SPAN = 16 * BLOCK
 
 #: free workspaces, by the plan they were made for: a study's blocks take them in turn
 _free: list[tuple[SolvePlan, Workspace]] = []
