@@ -477,7 +477,6 @@ def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F
     `_solve_set`'s blocks take them: a driver the set does not give held at each design's
     sketch value, its rate 0 (1 where swept without a rate given)."""
     p = poses.count
-    n = d * p
     rows: list[list[Any]] = [[], [], []]
     for i, name in enumerate(plan.inputs):
         val = poses.values.get(name)
@@ -492,23 +491,25 @@ def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F
         for k, v in enumerate(given):
             a = np.asarray(v, dtype=np.float64)
             if a.ndim and (val is None and k == 0):
-                rows[k].append(np.repeat(a, p))  # a design's own value at its poses
+                rows[k].append(a[:, None])  # a design's own value at each of its poses
             elif a.ndim:
-                rows[k].append(np.tile(a, d))
+                rows[k].append(a[None, :])  # a pose's value for every design
             else:
                 rows[k].append(float(a))
-    q, qd, qdd = (_full(r, n) for r in rows)
+    q, qd, qdd = (_full(r, d, p) for r in rows)
     return q, qd, qdd
 
 
-def _full(values: list[Any], n: int) -> F:
-    """Rows of ``n`` samples (`_rows` for the whole set)."""
+def _full(values: list[Any], d: int, p: int) -> F:
+    """Rows of ``d·p`` samples (`_rows` for the whole set), each value broadcast over the
+    designs × poses."""
     if all(np.ndim(v) == 0 for v in values):
-        return np.broadcast_to(np.array(values, dtype=np.float64).reshape(-1, 1), (len(values), n))
-    out = np.empty((len(values), n))
+        shape = (len(values), d * p)
+        return np.broadcast_to(np.array(values, dtype=np.float64).reshape(-1, 1), shape)
+    out = np.empty((len(values), d, p))
     for i, v in enumerate(values):
         out[i] = v
-    return out
+    return out.reshape(len(values), d * p)
 
 
 def _series(cols: Mapping[str, F], m: Metric) -> F:

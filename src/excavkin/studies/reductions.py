@@ -201,6 +201,10 @@ def reduce_designs(series: F, ok: NDArray[np.bool_], m: Metric) -> F:
     shift = m.reduce == "sumsq" or m.target is not None
     target = np.ascontiguousarray(target_of(m, p)) if shift else np.zeros(p)
     out = np.empty(d)
-    kernel = backends.kernel_of(SOURCE, "study reductions")
-    kernel(series, ok, target, shift, CODES[m.reduce], out)
+    if not _kernel:  # (compiled, or loaded from the cache, once)
+        _kernel.append(backends.kernel_of(SOURCE, "study reductions"))
+    _kernel[0](np.ascontiguousarray(series), ok, target, shift, CODES[m.reduce], out)
     return out
+
+
+_kernel: list[backends.Kernel] = []
