@@ -19,6 +19,20 @@ metrics on a closed-form plan:
 So memory is bounded by a workspace per thread plus the metrics' series of the chunk, and the
 table is the one `evaluate` gives, to the bit (tested for every kind of metric a study file
 can name).
+
+Where numba solves (`excavkin.backends.choose`: ``"auto"`` with the kernel cached or the
+batch large, or ``"numba"``), a pose set takes the study's own kernel instead
+(`excavkin.kinematics.compiled.run_designs`): the inputs are checked once for the set; each
+design's constants are one column of a table made once, read by its poses; the kernel writes
+out only the rows the metrics read (`SPAN` samples into one kept workspace, the other rows'
+pages never touched) and keeps each block's far samples' largest magnitudes, the block's
+share of its precision scales; a block is one kernel call, without the GIL. The samples near
+a dead position are solved again, whole, by the same kernel and checked together
+(`excavkin.kinematics.precision.check_picked`), each against its own block's scales, and
+the metrics are reduced per design in one compiled pass (`excavkin.studies.reductions`).
+The same numbers, to the bit: the same arithmetic sample by sample, the same maxima, NumPy's
+own order of summation. ``backend="numpy"``, a device, or numba that cannot be imported keep
+the blocks above.
 """
 
 from __future__ import annotations
