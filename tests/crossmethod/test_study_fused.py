@@ -119,7 +119,8 @@ def test_a_plan_with_a_newton_group_or_loads_takes_the_full_solve() -> None:
     pd.testing.assert_frame_equal(got, want, check_exact=True)
 
 
-def test_a_study_on_threads_equals_one_on_a_single_thread(tmp_path: Path) -> None:
+@pytest.mark.parametrize("backend", ["numpy", "numba"])
+def test_a_study_on_threads_equals_one_on_a_single_thread(tmp_path: Path, backend: str) -> None:
     study = Study(
         model=excavkin.example_path("fourbar"),
         bounds={"A-B": (0.10, 0.14), "O4-B": (0.07, 0.11)},
@@ -127,7 +128,7 @@ def test_a_study_on_threads_equals_one_on_a_single_thread(tmp_path: Path) -> Non
         metrics=tuple(every_kind(50)),
         samples=700,
     )
-    kw = {"chunk_samples": 5000, "backend": "numpy"}
+    kw = {"chunk_samples": 5000, "backend": backend}
     one = run_study(study, tmp_path / "one.parquet", execution=Execution(workers=1), **kw)
     two = run_study(study, tmp_path / "two.parquet", execution=Execution(workers=2), **kw)
     pd.testing.assert_frame_equal(pd.read_parquet(two), pd.read_parquet(one), check_exact=True)
