@@ -350,9 +350,11 @@ def _solve_set_compiled(
     metrics: Sequence[Metric],
 ) -> tuple[dict[str, F], NDArray[np.bool_], set[str]]:
     """`_solve_set` by the study's kernel: the inputs checked once for the set, each
-    design's constants a column of one table read by its poses, and each block's Python
-    only its precision check (where a sample comes near a dead position) and its metrics'
-    series; the same numbers, to the bit, as the blocks solved by `solve_part`."""
+    design's constants a column of one table read by its poses, a block one kernel call
+    (only the metrics' rows written out, its far samples' precision scales kept), the
+    metrics' series taken once a `SPAN`, and the samples near a dead position of every
+    block solved again and checked together; the same numbers, to the bit, as the blocks
+    solved by `solve_part`."""
     plan = mech.plan
     p = poses.count
     n = d * p
