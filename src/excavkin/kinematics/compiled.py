@@ -87,19 +87,20 @@ def unsupported(plan: SolvePlan) -> str | None:
 #: the last kernel sources made, by plan of one design (its id, and the plan itself so that an
 #: id reused by another plan is not taken for it): a solve asks twice (is it cached? then run
 #: it), and a mechanism solves its one plan again and again
-_made: dict[tuple[int, bool], tuple[SolvePlan, str]] = {}
+_made: dict[tuple[int, bool, bool], tuple[SolvePlan, str]] = {}
 
 
-def kernel_source(plan: SolvePlan, per_sample: bool = False) -> str:
+def kernel_source(plan: SolvePlan, per_sample: bool = False, by_design: bool = False) -> str:
     """The source of the plan's compiled kernel (`compile_plan`): the generated loop
     (`source`) rewritten over blocks of samples, branch-free, so that the compiler
     vectorises it (`excavkin.kinematics.vectorise`). Made once per plan object (0.1–0.5 ms
-    a time: a tenth of a four-bar solve of 10⁴ samples)."""
-    key = (id(plan), per_sample)
+    a time: a tenth of a four-bar solve of 10⁴ samples). ``by_design``: its constants table
+    has a column per design of a study, each design's poses one after another (`run_designs`)."""
+    key = (id(plan), per_sample, by_design)
     made = _made.get(key)
     if made is not None and made[0] is plan:
         return made[1]
-    text = vectorised(source(plan, write_at_rest=False), per_sample)
+    text = vectorised(source(plan, write_at_rest=False), per_sample, by_design)
     if not any(np.ndim(v) for v in constants(plan)):  # (a family's plan holds its arrays)
         if len(_made) >= 16:
             _made.clear()
@@ -206,6 +207,63 @@ def run_table(
     kernel(
         c.q, c.qd, c.qdd, k, stride, c.x, c.v, c.a, c.trans, body, element,
         c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, start,
+    )  # fmt: skip
+
+
+def run_designs(
+    kernel: Kernel,
+    consts: F,
+    poses: int,
+    first: int,
+    c: Chunk,
+    body: F,
+    element: F,
+    near: F,
+    near_step: np.ndarray,
+    keep: np.ndarray,
+    tops: np.ndarray,
+    near_at: float,
+    start: int = 0,
+) -> None:
+    """`run_table` for consecutive samples of a study (designs × ``poses``, design-major),
+    with the kernel made ``by_design`` (`kernel_source`): ``consts`` is the constants table
+    (`table`) of the designs from the chunk's first sample's on, one column a design, and
+    ``first`` that sample's pose. The outputs' sample ``start`` is the chunk's first.
+
+    Parameters
+    ----------
+    kernel : callable
+        The plan's kernel, compiled from ``kernel_source(plan, by_design=True)``.
+    consts : ndarray, shape (k, designs)
+        The constants, a column per design, the chunk's first sample's design first.
+    poses : int
+        Poses per design.
+    first : int
+        The chunk's first sample's pose (0 … poses − 1).
+    c : Chunk
+        The inputs and outputs, as `run` takes them.
+    body, element : ndarray
+        The derived quantities' arrays (`Derived`), the chunk's samples.
+    near : ndarray, shape (n,)
+    near_step : ndarray of int16, shape (n,)
+        Each sample's nearness to a dead position and nearest step.
+    keep : ndarray of int8, shape (scratch rows,)
+        Which of the kernel's rows (`excavkin.kinematics.vectorise.written_rows`) are
+        written out (1) and which not (0: that row of the outputs is left as it is); the
+        statuses and nearness always are.
+    tops : ndarray of int64, shape (6,)
+        Raised to each kind of quantity's (`excavkin.kinematics.precision.KINDS`) largest
+        magnitude over the samples solved and no nearer a dead position than ``near_at``
+        (every row, kept or not), as a float's bits.
+    near_at : float
+        The precision check's threshold (`excavkin.kinematics.precision.NEAR`).
+    start : int
+        The outputs' sample that the chunk's first is (they may be a whole pose set's).
+    """
+    kernel(
+        c.q, c.qd, c.qdd, consts, poses, c.x, c.v, c.a, c.trans, body, element,
+        c.status, c.failed, c.close_tol, c.singular_tol, near, near_step, start, first,
+        keep, tops, near_at,
     )  # fmt: skip
 
 

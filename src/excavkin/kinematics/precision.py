@@ -27,7 +27,8 @@ import dataclasses
 import functools
 import os
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -182,6 +183,118 @@ def check(
     return error
 
 
+def tops(arrays: Arrays, use: np.ndarray) -> dict[str, float]:
+    """Each kind's largest magnitude over the samples ``use`` (0 where none), unfloored: a
+    block's far samples' share of its scales, as `check` takes it.
+
+    Parameters
+    ----------
+    arrays : Arrays
+        A block's solution.
+    use : ndarray of bool, shape (n,)
+
+    Returns
+    -------
+    dict of str to float
+        By kind of quantity (length, velocity, …).
+    """
+    top = dict.fromkeys(KINDS, 0.0)
+    if use.any():
+        for kind, group in _groups(arrays).items():
+            for arr in group:
+                if arr.size:
+                    top[kind] = max(top[kind], largest(arr, use))
+    return top
+
+
+def check_picked(
+    plan: SolvePlan,
+    inputs: tuple[F, F, F],
+    out: Arrays,
+    nearest: tuple[F, np.ndarray],
+    tol: tuple[float, float],
+    blocks: Sequence[tuple[int, Mapping[str, float]]],
+) -> tuple[F, np.ndarray, np.ndarray]:
+    """`check` of the samples picked (ok, and nearer a dead position than `NEAR`) in
+    several blocks at once, in place: each block's picks judged against that block's
+    scales, as `check` judges them block by block — the same numbers, to the bit, with one
+    wide solve (and its two nudged ones) for every block.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        The plan of the picked samples (one column of constants a sample, or one for all).
+    inputs : (ndarray, ndarray, ndarray), each shape (n_inputs, k)
+        The picked samples' inputs, rates and accelerations.
+    out : Arrays
+        Their double-precision solution (k samples), improved in place.
+    nearest : (ndarray, ndarray), shape (k,) each
+        Their nearness to a dead position and nearest step (`nearness`).
+    tol : tuple of float
+        ``(close, singular)``.
+    blocks : sequence of (int, mapping of str to float)
+        Per block, in the picks' order: how many of the samples are its, and its far
+        samples' `tops`.
+
+    Returns
+    -------
+    error : ndarray, shape (k,)
+        As `check` gives it (NaN where a wide solve lost the sample).
+    status : ndarray of int8, shape (k,)
+        0, the wide solve's failure, or ``IMPRECISE``.
+    failed : ndarray of int16, shape (k,)
+        The failed step (−1 for none).
+    """
+    q, qd, qdd = inputs
+    near, step = nearest
+    k = q.shape[1]
+    status = np.zeros(k, dtype=np.int8)
+    failed = np.full(k, -1, dtype=np.int16)
+    if WIDE is None:
+        error = 64.0 * np.finfo(np.float64).eps / near**3
+    else:
+        every = np.arange(k)
+        counts = [c for c, _ in blocks]
+        wide = _solve_wide(plan, q, qd, qdd, out, every, tol)
+        ok = wide.status == Code.OK
+        shaken = [
+            _solve_wide(plan, q, qd, qdd, out, every, tol, nudge=seed, counts=counts)
+            for seed in (1, 2)
+        ]
+        # each block's scales: its far samples' tops and its wide solve's, one per sample
+        per: dict[str, list[float]] = {kind: [] for kind in KINDS}
+        start = 0
+        for c, far in blocks:
+            part = slice(start, start + c)
+            w = wide.arrays
+            here = Arrays(
+                w.x[..., part], w.v[..., part], w.a[..., part], w.trans[:, part],
+                Derived(w.derived.body[..., part], w.derived.element[..., part]),
+            )  # fmt: skip
+            mine = tops(here, ok[part])
+            scale = floored({kind: max(far[kind], mine[kind]) for kind in KINDS})
+            for kind in KINDS:
+                per[kind].append(scale[kind])
+            start += c
+        scales = {kind: np.repeat(np.array(v), counts) for kind, v in per.items()}
+        diff = _difference(out.x, out, wide.arrays, every, scales)
+        swap = ok & (diff > SUBSTITUTE)
+        moved = np.maximum(
+            *(_difference(wide.arrays.x, wide.arrays, s.arrays, None, scales) for s in shaken)
+        )
+        wide_error = np.maximum(diff * RATIO, moved / NUDGE) * MARGIN
+        error = np.where(swap, wide_error, diff + wide_error + 4 * np.finfo(np.float64).eps)
+        _substitute(out, wide.arrays, every, swap)
+        lost = ~ok
+        status[lost] = wide.status[lost]
+        failed[lost] = wide.failed[lost]
+        error[lost] = np.nan
+    bad = error > TOLERANCE
+    status[bad] = Code.IMPRECISE
+    failed[bad] = step[bad]
+    return error, status, failed
+
+
 @dataclasses.dataclass(slots=True)
 class _Wide:
     arrays: Arrays
@@ -198,18 +311,20 @@ def _solve_wide(
     pick: np.ndarray,
     tol: tuple[float, float],
     nudge: int = 0,
+    counts: Sequence[int] | None = None,
 ) -> _Wide:
     """The picked samples solved again in the wider type, by ``plan`` (already taken at them;
     Newton groups start from the double solution and refine it). ``nudge`` > 0 emulates
     rounding: every step's cancelling difference and output move by `NUDGE` units of the
-    wide rounding, with a sign per sample drawn from that seed."""
+    wide rounding, with a sign per sample drawn from that seed (``counts``: the picked
+    samples are several blocks' in turn, so many each, each block's signs drawn anew)."""
     assert WIDE is not None
     k = pick.size
     q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
     moves = None
     if nudge:
-        rng = np.random.default_rng(nudge)
-        moves = (np.finfo(WIDE).eps * NUDGE * rng.choice([-1.0, 1.0], k)).astype(WIDE)
+        signs = [np.random.default_rng(nudge).choice([-1.0, 1.0], c) for c in counts or [k]]
+        moves = (np.finfo(WIDE).eps * NUDGE * np.concatenate(signs)).astype(WIDE)
     x: F = out.x[:, :, pick].astype(WIDE)
     v = np.zeros_like(x)
     a = np.zeros_like(x)
@@ -236,7 +351,9 @@ def _solve_wide(
     return _Wide(Arrays(x, v, a, trans, derived), status, failed)
 
 
-_KINDS = (
+#: the kinds of quantity each with its own scale, in this order (a study's kernel keeps its
+#: far samples' largest magnitudes so, `excavkin.kinematics.vectorise`)
+KINDS = (
     "length",
     "velocity",
     "acceleration",
@@ -271,7 +388,7 @@ def _scales(parts: list[tuple[Arrays, np.ndarray]]) -> dict[str, float]:
             for arr in group:
                 if arr.size:
                     top[kind] = max(top.get(kind, 0.0), largest(arr, use))
-    return floored({kind: top.get(kind, 0.0) for kind in _KINDS})
+    return floored({kind: top.get(kind, 0.0) for kind in KINDS})
 
 
 #: `largest` as one compiled pass (`excavkin.backends`), without the GIL: the scales of a
@@ -364,10 +481,11 @@ def floored(top: dict[str, float]) -> dict[str, float]:
 
 
 def _difference(
-    like: F, out: Arrays, wide: Arrays, pick: np.ndarray | None, scales: dict[str, float]
+    like: F, out: Arrays, wide: Arrays, pick: np.ndarray | None, scales: Mapping[str, Any]
 ) -> F:
     """The largest difference of each (picked) sample's values, relative to their kind's
-    scale; ``like`` is any (·, ·, n) array of ``wide``'s samples."""
+    scale (one, or one per sample); ``like`` is any (·, ·, n) array of ``wide``'s
+    samples."""
     worst = np.zeros(like.shape[-1] if pick is None else pick.size)
     ours, theirs = _groups(out), _groups(wide)
     for kind, arrays in ours.items():

@@ -238,7 +238,7 @@ def solve_part(
     q_given = q
     if plan.has_newton:  # the continuation needs every input checked before it starts
         failed.fill(-1)
-        q = _check_inputs(plan, q, qd, qdd, status, unbuildable)
+        q = check_inputs(plan, q, qd, qdd, status, unbuildable)
     # else each chunk checks its own inputs, on its thread, while they are in cache
     report = _Reporter(execution.progress, n)
     chunk, workers = execution.chunk_or(CHUNK), execution.workers
@@ -418,15 +418,69 @@ def _check_precision(
     designs: DesignBatch | None,
     offset: int = 0,
 ) -> F:
-    """The precision check near dead positions (`excavkin.kinematics.precision`), and
-    the finiteness check again on the samples it may have given extended values; ``offset``
-    is the first sample's place in ``designs``."""
+    """`check_precision` of a block; ``offset`` is the first sample's place in ``designs``."""
+    plan_at = None if designs is None else (lambda index: designs.at(index + offset)[0])
+    return check_precision(plan, inputs, arrays, status, failed, nearest, tol, plan_at)
+
+
+def check_precision(
+    plan: SolvePlan,
+    inputs: tuple[F, F, F],
+    arrays: precision.Arrays,
+    status: np.ndarray,
+    failed: np.ndarray,
+    nearest: tuple[F, np.ndarray],
+    tol: Tolerances,
+    plan_at: Callable[[np.ndarray], SolvePlan] | None = None,
+) -> F:
+    """The precision check near dead positions (`excavkin.kinematics.precision`) of a
+    block's samples, in place, and the finiteness check again on the samples it may have
+    given extended values.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        The block's plan.
+    inputs : (ndarray, ndarray, ndarray), each shape (n_inputs, n)
+        The inputs, their rates and accelerations.
+    arrays : precision.Arrays
+        The block's solution, improved in place.
+    status : ndarray of int8, shape (n,)
+    failed : ndarray of int16, shape (n,)
+        Updated in place.
+    nearest : (ndarray, ndarray)
+        Each sample's nearness to a dead position and nearest step.
+    tol : Tolerances
+    plan_at : callable, optional
+        ``plan_at(index)``: the plan of the samples at ``index`` (default: ``plan`` taken
+        at them).
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Each sample's estimated error (NaN where not checked).
+    """
     q, qd, qdd = inputs
     limits = (tol.close, tol.singular)
-    plan_at = None if designs is None else (lambda index: designs.at(index + offset)[0])
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         error = precision.check(plan, q, qd, qdd, arrays, status, failed, nearest, limits, plan_at)
-    checked = np.flatnonzero(np.isfinite(error))
+    check_finite(arrays, status, np.isfinite(error))
+    return error
+
+
+def check_finite(arrays: precision.Arrays, status: np.ndarray, which: np.ndarray) -> None:
+    """The finiteness check again on the samples ``which`` (those the precision check may
+    have given extended values): a value not finite on a row still ok is ``NOT_FINITE``.
+
+    Parameters
+    ----------
+    arrays : precision.Arrays
+        The samples' solution.
+    status : ndarray of int8, shape (n,)
+        Updated in place.
+    which : ndarray of bool, shape (n,)
+    """
+    checked = np.flatnonzero(which)
     if checked.size:
         d = arrays.derived
         part = status[checked]  # a copy (fancy index): written back below
@@ -436,7 +490,6 @@ def _check_precision(
             slice(None), part,
         )  # fmt: skip
         status[checked] = part
-    return error
 
 
 def _solve_chunks(
@@ -459,7 +512,7 @@ def _solve_chunks(
     plan as its compiled loop or each chunk's steps in NumPy. Fills
     ``nearest`` (each sample's nearness and nearest step, as
     `nearness`). A closed-form plan's inputs are not
-    checked yet: each chunk checks its own (`_check_inputs`, with the samples whose
+    checked yet: each chunk checks its own (`check_inputs`, with the samples whose
     design builds no mechanism, ``unbuildable``) and sets its ``failed`` to −1; a plan with
     Newton groups had them checked before its continuation, and its backend chosen
     (``newton``: its compiled kernel, `excavkin.kinematics.compiled_newton`; None: NumPy)."""
@@ -481,7 +534,7 @@ def _solve_chunks(
         if not plan.has_newton:
             full.failed[part] = -1
             bad_design = None if unbuildable is None else unbuildable[part]
-            q = _check_inputs(
+            q = check_inputs(
                 plan, q, full.qd[:, part], full.qdd[:, part], full.status[part], bad_design
             )
         if designs is None:
@@ -583,12 +636,28 @@ def _flag_not_finite(
     status[~finite & (status == Code.OK)] = Code.NOT_FINITE
 
 
-def _check_inputs(
+def check_inputs(
     plan: SolvePlan, q: F, qd: F, qdd: F, status: np.ndarray, unbuildable: np.ndarray | None
 ) -> F:
     """Mark non-finite inputs, non-positive driven lengths and then the samples whose design
     builds no mechanism (``unbuildable``); the last two's q become NaN (a copy: the caller's
-    arrays are left as they are)."""
+    arrays are left as they are).
+
+    Parameters
+    ----------
+    plan : SolvePlan
+    q, qd, qdd : ndarray, shape (n_inputs, n)
+        The inputs, their rates and accelerations.
+    status : ndarray of int8, shape (n,)
+        Marked in place.
+    unbuildable : ndarray of bool, shape (n,), optional
+        Samples whose design builds no mechanism.
+
+    Returns
+    -------
+    ndarray, shape (n_inputs, n)
+        The inputs to solve: ``q``, or a copy with the marked samples NaN.
+    """
     bad_in = ~(
         np.isfinite(q).all(axis=0) & np.isfinite(qd).all(axis=0) & np.isfinite(qdd).all(axis=0)
     )

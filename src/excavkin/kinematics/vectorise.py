@@ -58,13 +58,18 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
 
 
 @functools.lru_cache(maxsize=64)
-def vectorised(text: str, per_sample: bool) -> str:
+def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
     """The compiled plan's source ``text`` (its loop over samples) rewritten over blocks of
     `WIDTH` samples in a contiguous scratch, branch-free. The kernel's inputs (``q``,
     ``qd``, ``qdd``, ``K``) are a chunk's samples; its outputs are the whole solve's arrays,
-    the chunk's samples starting at its last argument, ``s0``. ``per_sample``: the constants
+    the chunk's samples starting at its argument ``s0``. ``per_sample``: the constants
     table has a column per sample (a family of designs), else one column, whose values are
-    read once, before the loop."""
+    read once, before the loop. ``by_design``: the table has a column per design, each
+    design's ``ks`` poses one after another (a study's samples, design-major): sample ``i``
+    of the chunk reads column ``(r0_ + i) // ks``, ``r0_`` the kernel's last argument (the
+    chunk's first sample's pose), so that a design's constants are made once, not copied
+    to each of its poses."""
+    per_sample = per_sample or by_design
     tree = ast.parse(text)
     fn = next(f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel")
     loop = next(s for s in fn.body if isinstance(s, ast.For))
@@ -83,8 +88,15 @@ def vectorised(text: str, per_sample: bool) -> str:
     # each array's rows: its indices before the sample's, and the scratch row (constants)
     tables = {**reads, **writes}  # (status and failed are both: one row each)
     out += [f"T_{name} = np.array({rows!r}, dtype=np.int64)" for name, rows in tables.items()]
+    head = _HEAD.rstrip("\n")
+    if by_design:  # the chunk's first sample's pose, the rows kept, the far samples' tops
+        head = head.replace(
+            "numba.int64,\n)",
+            "numba.int64, numba.int64,\n    numba.int8[::1], numba.int64[::1], numba.float64,\n)",
+        )
+        head = head.replace("near_step, s0):", "near_step, s0, r0_, keep, tops, near_at):")
     out += [
-        _HEAD.rstrip("\n"),
+        head,
         *([] if per_sample else _ONE_DESIGN),
         *(f"    {name} = K[{c}, 0]" for name, c in r.hoisted.items()),
         f"    S_ = np.empty({len(r.rows) * WIDTH})",
@@ -92,11 +104,21 @@ def vectorised(text: str, per_sample: bool) -> str:
         f"    for b0_ in range(0, n_, {WIDTH}):",
         f"        nb_ = min({WIDTH}, n_ - b0_)",
     ]
+    if by_design:  # each sample's design, once a block (not once a constant)
+        out[-3:-3] = [
+            f"    J_ = np.empty({WIDTH}, dtype=np.int64)",
+            f"    M_ = np.empty({WIDTH}, dtype=np.int64)",
+            "    SB_ = S_.view(np.int64)",
+            f"    KIND_ = np.array({_kinds(writes, len(r.rows))!r}, dtype=np.int64)",
+        ]
+        out += ["        for l_ in range(nb_):", "            J_[l_] = (r0_ + b0_ + l_) // ks"]
     for name, rows in reads.items():
-        out += _copy(name, rows, into_scratch=True)
+        out += _copy(name, rows, into_scratch=True, by_design=by_design)
     out += ["        for l_ in range(nb_):", *(f"            {line}" for line in body)]
+    if by_design:
+        out += _tops(r.rows["status[i]"], r.rows["near[i]"], len(r.rows))
     for name, rows in writes.items():
-        out += _copy(name, rows, into_scratch=False)
+        out += _copy(name, rows, into_scratch=False, by_design=by_design)
     out.append("    fence()")
     return "\n".join(out) + "\n"
 
@@ -121,28 +143,108 @@ def _tables(elements: dict[str, int]) -> dict[str, list[list[int]]]:
     return out
 
 
-def _copy(name: str, rows: list[list[int]], into_scratch: bool) -> list[str]:
+def _copy(
+    name: str, rows: list[list[int]], into_scratch: bool, by_design: bool = False
+) -> list[str]:
     """A loop over an array's rows, each copied between the array and its scratch row: the
     inputs chunk-relative (the constants at column ``(b0_ + l_)·ks``), the outputs into the
     whole solve's arrays from ``s0``, by streaming stores (`streaming`:
-    they read no line they write). (The loop's own names end in ``_``: the generated loop's
-    never do.)"""
+    they read no line they write); ``by_design``: the constants at the sample's design's
+    column (``J_``, made for the block). (The loop's own names end in ``_``: the
+    generated loop's never do.)"""
     lead = len(rows[0]) - 1
     row = f"{name}[{', '.join(f'T_{name}[k_, {k}]' for k in range(lead))}]" if lead else name
     scratch = f"S_[T_{name}[k_, {lead}] * {WIDTH} + l_]"
     if into_scratch:  # the element read whole (a row's view made here slowed the loop 4×)
         inputs = "s0 + b0_ + l_" if name in _WRITTEN else "b0_ + l_"
-        sample = "(b0_ + l_) * ks" if name == "K" else inputs
+        column = "J_[l_]" if by_design else "(b0_ + l_) * ks"
+        sample = column if name == "K" else inputs
         copy = f"{scratch} = {row}[{sample}]"
     else:
         copy = f"stream(row_, s0 + b0_ + l_, {scratch})"
     view = [] if into_scratch else [f"            row_ = {row}"]
+    loop = [*view, "            for l_ in range(nb_):", f"                {copy}"]
+    if by_design and not into_scratch and name in _KIND:  # a row not kept is not written
+        loop = [f"            if keep[T_{name}[k_, {lead}]]:", *(f"    {line}" for line in loop)]
+    return [f"        for k_ in range({len(rows)}):", *loop]
+
+
+#: the precision check's kinds of quantity (`excavkin.kinematics.precision.KINDS`: length,
+#: velocity, acceleration, angle, angular velocity, angular acceleration) of each written
+#: array's rows, by its first index where that decides it
+_KIND = {
+    "x": (0,), "v": (1,), "a": (2,), "trans": (3,), "body": (3, 4, 5),
+    "element": (0, 1, 2, 3, 4, 5),
+}  # fmt: skip
+
+
+def _kinds(writes: dict[str, list[list[int]]], n_rows: int) -> list[int]:
+    """Each scratch row's kind of quantity (`_KIND`), −1 for none (an input, a constant, a
+    status)."""
+    out = [-1] * n_rows
+    for name, rows in writes.items():
+        kinds = _KIND.get(name)
+        if kinds is None:
+            continue
+        for row in rows:
+            out[row[-1]] = kinds[row[0]] if len(kinds) > 1 else kinds[0]
+    return out
+
+
+def _tops(status: int, near: int, n_rows: int) -> list[str]:
+    """The block's far samples' (solved, no nearer a dead position than ``near_at``)
+    largest magnitude of each kind of quantity, kept in ``tops`` as a float's bits without
+    its sign (integers that order as the magnitudes do:
+    `excavkin.kinematics.precision.largest`'s arithmetic), from the rows in the scratch. A
+    solved sample's values are all finite (the finiteness check), so that each is taken
+    as it is, or as 0 for a sample not far (an integer maximum, which the compiler
+    vectorises)."""
     return [
-        f"        for k_ in range({len(rows)}):",
-        *view,
-        "            for l_ in range(nb_):",
-        f"                {copy}",
+        "        for l_ in range(nb_):",
+        f"            ok_ = S_[{status * WIDTH} + l_] == 0.0",
+        f"            far_ = ok_ & (S_[{near * WIDTH} + l_] >= near_at)",
+        "            M_[l_] = 0x7FFFFFFFFFFFFFFF if far_ else 0",
+        f"        for r_ in range({n_rows}):",
+        "            kind_ = KIND_[r_]",
+        "            if kind_ >= 0:",
+        "                top_ = tops[kind_]",
+        "                for l_ in range(nb_):",
+        f"                    top_ = max(top_, SB_[r_ * {WIDTH} + l_] & M_[l_])",
+        "                tops[kind_] = top_",
     ]
+
+
+@functools.lru_cache(maxsize=16)
+def written_rows(text: str) -> tuple[dict[tuple[str, tuple[int, ...]], int], int]:
+    """A kernel's rows (`vectorised` ``by_design``): each written array element's scratch
+    row, by the array's name and its indices before the sample's (``("x", (3, 0))``), and
+    the number of scratch rows, read from its tables.
+
+    Parameters
+    ----------
+    text : str
+        The kernel's source.
+
+    Returns
+    -------
+    rows : dict of (str, tuple of int) to int
+        (One object per source text, kept: not to be changed.)
+    n_rows : int
+    """
+    rows: dict[tuple[str, tuple[int, ...]], int] = {}
+    for line in text.splitlines():
+        if line.startswith("T_") and " = np.array(" in line:
+            name, _, rest = line.partition(" = np.array(")
+            name = name.removeprefix("T_")
+            if name in _KIND:
+                for row in ast.literal_eval(rest.rpartition(", dtype")[0]):
+                    rows[(name, tuple(row[:-1]))] = row[-1]
+    n_rows = next(
+        int(line.split("np.empty(")[1].split(")")[0]) // WIDTH
+        for line in text.splitlines()
+        if line.startswith("    S_ = np.empty(")
+    )
+    return rows, n_rows
 
 
 def _name(node: ast.expr) -> str | None:

@@ -19,11 +19,26 @@ metrics on a closed-form plan:
 So memory is bounded by a workspace per thread plus the metrics' series of the chunk, and the
 table is the one `evaluate` gives, to the bit (tested for every kind of metric a study file
 can name).
+
+Where numba solves (`excavkin.backends.choose`: ``"auto"`` with the kernel cached or the
+batch large, or ``"numba"``), a pose set takes the study's own kernel instead
+(`excavkin.kinematics.compiled.run_designs`): the inputs are checked once for the set; each
+design's constants are one column of a table made once, read by its poses; the kernel writes
+out only the rows the metrics read (`SPAN` samples into one kept workspace, the other rows'
+pages never touched) and keeps each block's far samples' largest magnitudes, the block's
+share of its precision scales; a block is one kernel call, without the GIL. The samples near
+a dead position are solved again, whole, by the same kernel and checked together
+(`excavkin.kinematics.precision.check_picked`), each against its own block's scales, and
+the metrics are reduced per design in one compiled pass (`excavkin.studies.reductions`).
+The same numbers, to the bit: the same arithmetic sample by sample, the same maxima, NumPy's
+own order of summation. ``backend="numpy"``, a device, or numba that cannot be imported keep
+the blocks above.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 import threading
 from collections.abc import Mapping, Sequence
@@ -32,12 +47,26 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from excavkin import backends
 from excavkin.arrays import FloatArray as F
+from excavkin.backends import Kernel
 from excavkin.errors import InputError
 from excavkin.execution import current
-from excavkin.kinematics.solve import BLOCK, Workspace, solve_part
+from excavkin.kinematics import compiled, precision
+from excavkin.kinematics.kernels import Chunk, Code
+from excavkin.kinematics.result import KinematicResult, Status
+from excavkin.kinematics.solve import (
+    BLOCK,
+    Tolerances,
+    Workspace,
+    check_finite,
+    check_inputs,
+    solve_part,
+)
 from excavkin.kinematics.threads import over_chunks
+from excavkin.kinematics.vectorise import written_rows
 from excavkin.structure.design import take, vary
+from excavkin.studies import reductions
 from excavkin.studies.metrics import (
     Constraint,
     Metric,
@@ -154,14 +183,57 @@ def evaluate_fused(
     series: dict[str, F] = {}
     oks: dict[str | None, NDArray[np.bool_]] = {}
     angles: set[str] = set()
+    reduced: dict[str, F] = {}
+    kernel = _study_kernel(mech, d * max(s.count for s in sets.values()))
     for name, pose_set in sets.items():
         wanted = [m for m in metrics if m.poses == name]
         p = pose_set.count
-        got, oks[name], kinds = _solve_set(mech, varied, sketch, unbuildable, pose_set, d, wanted)
+        if kernel is None:
+            got, oks[name], kinds = _solve_set(
+                mech, varied, sketch, unbuildable, pose_set, d, wanted
+            )
+        else:
+            got, oks[name], kinds = _solve_set_compiled(
+                mech, kernel, varied, sketch, unbuildable, pose_set, d, wanted
+            )
         angles |= kinds
         for m in wanted:
             series[m.key] = got[m.key].reshape(d, p)
-    return tabulate_sets(arrays, series, oks, metrics, constraints, angles)
+            if kernel is not None and reductions.compiled(m, kinds):
+                reduced[m.name] = reductions.reduce_designs(series[m.key], oks[name], m)
+    return tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class _StudyKernel:
+    """A plan's study kernel, its written rows (by array and indices) and its scratch rows
+    (`excavkin.kinematics.vectorise.written_rows`)."""
+
+    kernel: Kernel
+    rows: dict[tuple[str, tuple[int, ...]], int]
+    n_rows: int
+
+
+def _study_kernel(mech: Mechanism, n: int) -> _StudyKernel | None:
+    """The plan's kernel for a study's samples (constants a column per design,
+    `excavkin.kinematics.compiled.run_designs`), where the backend in use compiles the
+    solve (`excavkin.backends.choose`, as a solve of ``n`` samples chooses); None: the
+    blocks solve as a solve does (NumPy, or a device)."""
+    backend = current().backend
+    plan = mech.plan
+    if backend not in ("auto", "numba") or compiled.unsupported(plan) is not None:
+        return None
+    job = backends.Job(
+        "kinematics",
+        lambda: compiled.kernel_source(plan, by_design=True),
+        lambda: None,
+        lambda kernel: None,
+        unasked=compiled.size(plan) <= compiled.AUTO_POINTS,
+    )
+    if backends.choose(backend, job, n).name != "numba":
+        return None
+    text = job.source()
+    return _StudyKernel(backends.kernel_of(text, "kinematics"), *written_rows(text))
 
 
 def _check_designs(mech: Mechanism, designs: Mapping[str, Any]) -> dict[str, F]:
@@ -267,6 +339,195 @@ def _solve_set(
     return out, ok.reshape(d, p), angles[0] if angles else set()
 
 
+def _solve_set_compiled(
+    mech: Mechanism,
+    kernel: _StudyKernel,
+    varied: SolvePlan,
+    sketch: list[Any],
+    unbuildable: NDArray[np.bool_],
+    poses: Poses,
+    d: int,
+    metrics: Sequence[Metric],
+) -> tuple[dict[str, F], NDArray[np.bool_], set[str]]:
+    """`_solve_set` by the study's kernel: the inputs checked once for the set, each
+    design's constants a column of one table read by its poses, a block one kernel call
+    (only the metrics' rows written out, its far samples' precision scales kept), the
+    metrics' series taken once a `SPAN`, and the samples near a dead position of every
+    block solved again and checked together; the same numbers, to the bit, as the blocks
+    solved by `solve_part`."""
+    plan = mech.plan
+    p = poses.count
+    n = d * p
+    tol = Tolerances()
+    consts, stride = compiled.table(compiled.constants(varied), d)
+    if not stride:  # (no constant varies: every design reads the one column)
+        consts = np.broadcast_to(consts, (consts.shape[0], max(d, 1)))
+    q, qd, qdd = _inputs(plan, poses, sketch, d)
+    status = np.zeros(n, dtype=np.int8)
+    bad = np.repeat(unbuildable, p) if unbuildable.any() else None
+    solving = check_inputs(plan, q, qd, qdd, status, bad)
+    out = {m.key: np.empty(n) for m in metrics}
+    ok = np.empty(n, dtype=bool)
+    angles: list[set[str]] = []
+    names = {
+        f"{pt}.{axis}" for m in metrics if m.clearance for pt in m.clearance for axis in "xy"
+    } | {m.column for m in metrics if m.clearance is None}
+
+    keep = _kept(plan, kernel, names)
+    picked: dict[int, tuple[NDArray[np.intp], dict[str, float]]] = {}
+    span = max(1, min(n, SPAN))
+
+    def one(s: int, s0: int, e0: int, here: Workspace, tops: Any) -> None:
+        e = min(s + BLOCK, e0 - s0)
+        first, last = (s0 + s) // p, (s0 + e - 1) // p
+        c = Chunk(
+            here.x, here.v, here.a, solving[:, s0 + s : s0 + e], qd[:, s0 + s : s0 + e],
+            qdd[:, s0 + s : s0 + e], here.trans, here.status, here.failed, tol.close,
+            tol.singular,
+        )  # fmt: skip
+        compiled.run_designs(
+            kernel.kernel, consts[:, first : last + 1], p, s0 + s - first * p, c,
+            here.derived.body, here.derived.element, here.near, here.near_step, keep,
+            tops[s // BLOCK], precision.NEAR, s,
+        )  # fmt: skip
+
+    for s0 in range(0, n, span):
+        e0 = min(s0 + span, n)
+        # only the rows kept, and the statuses, are written: the others' pages are never
+        # touched (a workspace kept from a set before has its pages already)
+        here = _borrow(plan, e0 - s0)
+        try:
+            here.status[:] = status[s0:e0]
+            here.failed.fill(-1)
+            tops = np.zeros((-(-(e0 - s0) // BLOCK), len(precision.KINDS)), dtype=np.int64)
+            over_chunks(
+                e0 - s0, BLOCK, current().workers,
+                functools.partial(one, s0=s0, e0=e0, here=here, tops=tops),
+            )  # fmt: skip
+            pick = np.flatnonzero((here.status == Code.OK) & (here.near < precision.NEAR))
+            for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
+                # solved again and checked with every block's, below
+                upto = np.searchsorted(pick, (b + 1) * BLOCK)
+                far = tops[b].view(np.float64).tolist()
+                picked[s0 + b * BLOCK] = (
+                    pick[at:upto] + s0,
+                    dict(zip(precision.KINDS, far, strict=True)),
+                )
+            res = KinematicResult.build(
+                plan, here.x, here.v, here.a, q[:, s0:e0], qd[:, s0:e0], qdd[:, s0:e0],
+                here.trans, here.derived, Status(here.status, here.failed, plan),
+            )  # fmt: skip
+            cols = res.columns_named(names)
+            for m in metrics:
+                out[m.key][s0:e0] = _series(cols, m)
+            ok[s0:e0] = res.status.solved
+            if not angles:
+                angles.append({c.name for c in res.columns if c.kind == "angle"})
+        finally:
+            _give_back(plan, here)
+    if picked:  # the samples near a dead position, every block's at once
+        blocks = [picked[s] for s in sorted(picked)]
+        index = np.concatenate([b[0] for b in blocks])
+        k = index.size
+        solved = Workspace.of(plan, k)  # their whole state, as their blocks' solve made it
+        solved.status[:] = status[index]
+        solved.failed.fill(-1)
+        inputs = (q[:, index], qd[:, index], qdd[:, index])
+        c = Chunk(
+            solved.x, solved.v, solved.a, solving[:, index], inputs[1], inputs[2],
+            solved.trans, solved.status, solved.failed, tol.close, tol.singular,
+        )  # fmt: skip
+        compiled.run_designs(
+            kernel.kernel, np.ascontiguousarray(consts[:, index // p]), 1, 0, c,
+            solved.derived.body, solved.derived.element, solved.near, solved.near_step,
+            np.ones_like(keep), np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
+        )  # fmt: skip
+        arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            error, code, step = precision.check_picked(
+                take(varied, index // p), inputs, arrays, (solved.near, solved.near_step),
+                (tol.close, tol.singular), [(len(b[0]), b[1]) for b in blocks],
+            )  # fmt: skip
+        check_finite(arrays, code, np.isfinite(error))
+        part = KinematicResult.build(
+            plan, arrays.x, arrays.v, arrays.a, *inputs, arrays.trans, arrays.derived,
+            Status(code, step, plan),
+        )  # fmt: skip
+        cols = part.columns_named(names)
+        for m in metrics:
+            out[m.key][index] = _series(cols, m)
+        ok[index] = part.status.solved
+    return out, ok.reshape(d, p), angles[0] if angles else set()
+
+
+def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.int8]:
+    """The kernel's rows that hold the columns ``names`` (1; the statuses are always
+    written): found by solving nothing — each written row of a one-sample workspace marked
+    with its own number, the inputs with negative ones, the columns read back. A column
+    that is no row's (a driven length is its input's) needs none; one that is computed
+    from several keeps every row."""
+    keep = np.zeros(kernel.n_rows, dtype=np.int8)
+    ws = Workspace.of(plan, 1)
+    arrays = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
+    arrays |= {"body": ws.derived.body, "element": ws.derived.element}
+    for (name, lead), row in kernel.rows.items():
+        arrays[name][(*lead, 0)] = 1000.0 + row
+    n_in = len(plan.inputs)
+    marks = -1.0 - np.arange(3 * n_in, dtype=np.float64).reshape(3, n_in, 1)
+    res = KinematicResult.build(
+        plan, ws.x, ws.v, ws.a, marks[0], marks[1], marks[2], ws.trans, ws.derived,
+        Status(ws.status, ws.failed, plan),
+    )  # fmt: skip
+    for value in res.columns_named(names).values():
+        mark = float(value[0])
+        if mark >= 1000.0 and mark - 1000.0 < kernel.n_rows and mark.is_integer():
+            keep[int(mark) - 1000] = 1
+        elif not (mark < 0.0 and mark.is_integer()):
+            keep[:] = 1  # (not a row of its own: every row, to be sure)
+    return keep
+
+
+def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F, F, F]:
+    """A pose set's inputs, rates and accelerations at every design's every pose
+    (design-major, shape (n_inputs, d·p) each, a broadcast where one value serves all), as
+    `_solve_set`'s blocks take them: a driver the set does not give held at each design's
+    sketch value, its rate 0 (1 where swept without a rate given)."""
+    p = poses.count
+    rows: list[list[Any]] = [[], [], []]
+    for i, name in enumerate(plan.inputs):
+        val = poses.values.get(name)
+        rate = poses.rates.get(name)
+        accel = poses.accels.get(name)
+        swept = val is not None and np.ndim(val) == 1
+        given = (
+            sketch[i] if val is None else val,
+            (1.0 if swept else 0.0) if rate is None else rate,
+            0.0 if accel is None else accel,
+        )
+        for k, v in enumerate(given):
+            a = np.asarray(v, dtype=np.float64)
+            if a.ndim and (val is None and k == 0):
+                rows[k].append(a[:, None])  # a design's own value at each of its poses
+            elif a.ndim:
+                rows[k].append(a[None, :])  # a pose's value for every design
+            else:
+                rows[k].append(float(a))
+    q, qd, qdd = (_full(r, d, p) for r in rows)
+    return q, qd, qdd
+
+
+def _full(values: list[Any], d: int, p: int) -> F:
+    """Rows of ``d·p`` samples (`_rows` for the whole set), each value broadcast over the
+    designs × poses."""
+    if all(np.ndim(v) == 0 for v in values):
+        shape = (len(values), d * p)
+        return np.broadcast_to(np.array(values, dtype=np.float64).reshape(-1, 1), shape)
+    out = np.empty((len(values), d, p))
+    for i, v in enumerate(values):
+        out[i] = v
+    return out.reshape(len(values), d * p)
+
+
 def _series(cols: Mapping[str, F], m: Metric) -> F:
     """A metric's per-sample series from the block's columns, as
     [`metric_series`][excavkin.studies.metrics.metric_series] takes it from a result."""
@@ -288,6 +549,10 @@ def _rows(values: list[Any], k: int) -> F:
         out[i] = v
     return out
 
+
+#: samples of a pose set that a study's kernel solves into one workspace (16 blocks), of
+#: which it writes only the rows its metrics read: the pages of the others are never touched
+SPAN = 16 * BLOCK
 
 #: free workspaces, by the plan they were made for: a study's blocks take them in turn
 _free: list[tuple[SolvePlan, Workspace]] = []

@@ -420,6 +420,7 @@ def tabulate_sets(
     metrics: Sequence[Metric],
     constraints: Sequence[Constraint] = (),
     angles: Collection[str] = (),
+    reduced: Mapping[str, F] | None = None,
 ) -> pd.DataFrame:
     """`tabulate` over several pose sets: each metric's series (by `Metric.key`, shape
     (designs, poses of its set)) reduced over its set's poses that solved (``oks``: set name →
@@ -436,6 +437,9 @@ def tabulate_sets(
     metrics, constraints
     angles : collection of str
         The angle columns (their ``change`` is followed along the poses).
+    reduced : mapping of str to ndarray, shape (d,), optional
+        Metrics already reduced, by name, as they would be here (a study's compiled pass,
+        `excavkin.studies.reductions`): their series are not read.
 
     Returns
     -------
@@ -447,6 +451,9 @@ def tabulate_sets(
     d = next(iter(oks.values())).shape[0]
     out: dict[str, Any] = {f"design.{k}": np.asarray(v) for k, v in designs.items()}
     for m in metrics:
+        if reduced is not None and m.name in reduced:
+            out[m.name] = reduced[m.name]
+            continue
         ok = oks[m.poses]
         col = columns[m.key]
         if m.reduce == "sumsq" or m.target is not None:
