@@ -84,7 +84,8 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
     imports = "import math\n\nimport numpy as np\n"
     stores = f"from excavkin.kinematics.streaming import fence, stream  # {_STREAMING}\n"
     prelude = prelude.replace("import math\n", imports, 1)
-    out = [prelude.replace("import numba\n", "import numba\n" + stores, 1), ""]
+    prelude = _inlined_straight(prelude).replace("import numba\n", "import numba\n" + stores, 1)
+    out = [prelude.replace("\n\n@numba.njit(", _SELECT + "\n@numba.njit(", 1), ""]
     # each array's rows: its indices before the sample's, and the scratch row (constants)
     tables = {**reads, **writes}  # (status and failed are both: one row each)
     out += [f"T_{name} = np.array({rows!r}, dtype=np.int64)" for name, rows in tables.items()]
@@ -114,6 +115,7 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
         out += ["        for l_ in range(nb_):", "            J_[l_] = (r0_ + b0_ + l_) // ks"]
     for name, rows in reads.items():
         out += _copy(name, rows, into_scratch=True, by_design=by_design)
+    body = straight_line(body)
     out += ["        for l_ in range(nb_):", *(f"            {line}" for line in body)]
     if by_design:
         out += _tops(r.rows["status[i]"], r.rows["near[i]"], len(r.rows))
@@ -122,6 +124,17 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
     out.append("    fence()")
     return "\n".join(out) + "\n"
 
+
+#: a select as a function, not an ``if`` expression: numba gives each ``if`` expression blocks
+#: of its own, and its SSA pass walks them recursively (a large model's thousands passed the
+#: recursion limit, and took minutes below it); a call is one instruction there, and LLVM
+#: inlines it into a select
+_SELECT = """
+@numba.njit(error_model="numpy", cache=True)
+def _sel(c, a, b):
+    return a if c else b
+
+"""
 
 #: a kernel for one design reads its constants once: it refuses a table of one per sample
 _ONE_DESIGN = [
@@ -249,6 +262,98 @@ def written_rows(text: str) -> tuple[dict[tuple[str, tuple[int, ...]], int], int
 
 def _name(node: ast.expr) -> str | None:
     return node.id if isinstance(node, ast.Name) else None
+
+
+def straight_line(lines: list[str]) -> list[str]:
+    """Statements rewritten so that numba sees one block of single assignments: every ``if``
+    expression a call of the select ``_sel`` (both sides are evaluated: they are arithmetic,
+    which cannot raise under the kernels' error model), every ``and``/``or`` a ``&``/``|``,
+    and a name assigned again a new name (``st`` then ``st_2_``, ``st_3_`` …), each later
+    read taking the newest.
+
+    The same values in the same order, to the bit. But numba's SSA pass, which does the
+    renaming itself, walks the blocks of every ``if`` expression recursively and scans a block
+    once per use of a name assigned more than once: a large model's loop body (tens of
+    thousands of statements, each step reusing its temporaries' names) passed the recursion
+    limit, and took minutes below it. A name read before its first assignment (an argument,
+    or a value carried from the loop's previous pass) keeps its one name throughout.
+
+    Parameters
+    ----------
+    lines : list of str
+        Statements, each an assignment (``=`` or an augmented one) of one target or a
+        ``return``.
+
+    Returns
+    -------
+    list of str
+    """
+    trees = [_Selects().visit(ast.parse(line).body[0]) for line in lines]
+    stored: set[str] = set()
+    carried: set[str] = set()
+    for st in trees:  # names read before they are first assigned keep one name
+        for node in ast.walk(st):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load):
+                if node.id not in stored:
+                    carried.add(node.id)
+        for target in _targets(st):
+            stored.add(target.id)
+    current: dict[str, str] = {}
+    count: dict[str, int] = {}
+    out = []
+    for st in trees:
+        for node in ast.walk(st):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load):
+                node.id = current.get(node.id, node.id)
+        if isinstance(st, ast.AugAssign) and isinstance(st.target, ast.Name):
+            old = ast.Name(current.get(st.target.id, st.target.id), ast.Load())
+            st = ast.Assign([st.target], ast.BinOp(old, st.op, st.value), lineno=0)
+        for target in _targets(st):
+            name = target.id
+            if name not in carried:
+                count[name] = count.get(name, 0) + 1
+                current[name] = name if count[name] == 1 else f"{name}_{count[name]}_"
+                target.id = current[name]
+        out.append(ast.unparse(st))
+    return out
+
+
+def _inlined_straight(prelude: str) -> str:
+    """The prelude's functions that numba inlines into the kernel (the arctangent), each
+    body made `straight_line`: inlined as they were, their ``if`` expressions would bring
+    the kernel's blocks back, once per call."""
+    tree = ast.parse(prelude)
+    for fn in tree.body:
+        if isinstance(fn, ast.FunctionDef) and "inline=" in ast.unparse(fn.decorator_list[0]):
+            doc = fn.body[:1] if isinstance(fn.body[0], ast.Expr) else []
+            lines = [ast.unparse(st) for st in fn.body[len(doc) :]]
+            fn.body = [*doc, *(ast.parse(line).body[0] for line in straight_line(lines))]
+    return ast.unparse(tree) + "\n"
+
+
+class _Selects(ast.NodeTransformer):
+    """``a if c else b`` to ``_sel(c, a, b)``; ``and``/``or`` to ``&``/``|``."""
+
+    def visit_IfExp(self, node: ast.IfExp) -> ast.AST:
+        self.generic_visit(node)
+        return ast.Call(ast.Name("_sel", ast.Load()), [node.test, node.body, node.orelse], [])
+
+    def visit_BoolOp(self, node: ast.BoolOp) -> ast.AST:
+        self.generic_visit(node)
+        op: ast.operator = ast.BitAnd() if isinstance(node.op, ast.And) else ast.BitOr()
+        out = node.values[0]
+        for v in node.values[1:]:
+            out = ast.BinOp(out, op, v)
+        return out
+
+
+def _targets(st: ast.stmt) -> list[ast.Name]:
+    """The names a statement assigns (a scratch row's store assigns none)."""
+    if isinstance(st, ast.Assign):
+        return [t for t in st.targets if isinstance(t, ast.Name)]
+    if isinstance(st, ast.AugAssign) and isinstance(st.target, ast.Name):
+        return [st.target]
+    return []
 
 
 class _Rewriter(ast.NodeTransformer):
