@@ -444,7 +444,7 @@ def kernel_of(text: str, what: str = "kernel") -> Kernel:
             if first:
                 log.info("compiling the %s kernel %s (once; kept in %s)", what, key, cache_dir())
             start = time.perf_counter()
-            kernel = _load(text, key)
+            kernel = _compile(text, key, what)
             _kernels[key] = kernel
             if first:
                 log.info(
@@ -453,6 +453,28 @@ def kernel_of(text: str, what: str = "kernel") -> Kernel:
             with contextlib.suppress(OSError):  # what a later process's is_cached reads
                 marker.touch()
     return kernel
+
+
+#: Python's recursion limit while numba compiles a kernel: its SSA pass recurses once per
+#: block between a name's uses and its assignments, and a scalar loop's branches (the
+#: tangents' and forces' kernels) of a plan of 30-odd points pass the default 1,000
+COMPILE_RECURSION = 20_000
+
+
+def _compile(text: str, key: str, what: str) -> Kernel:
+    """`_load` with room for numba's recursion; where even that is not enough, one message."""
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(limit, COMPILE_RECURSION))
+    try:
+        return _load(text, key)
+    except RecursionError:
+        raise InputError(
+            f"numba cannot compile the {what} kernel of this plan (its compiler passed "
+            f"Python's recursion limit of {COMPILE_RECURSION}: the plan is too large for one "
+            "kernel); backend='numpy' solves it"
+        ) from None
+    finally:
+        sys.setrecursionlimit(limit)
 
 
 def _load(text: str, key: str) -> Kernel:

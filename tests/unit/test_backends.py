@@ -321,6 +321,25 @@ def test_a_first_compile_is_announced_with_its_time(
     assert quiet.getvalue() == ""
 
 
+def test_a_kernel_past_the_compilers_recursion_is_one_clear_error(
+    fresh_cache: None, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """numba compiles with room for its recursion (`COMPILE_RECURSION`), the limit put back
+    after; a kernel that needs even more is one message naming it, never a traceback."""
+    seen: list[int] = []
+
+    def load(text: str, key: str) -> backends.Kernel:
+        seen.append(sys.getrecursionlimit())
+        raise RecursionError("maximum recursion depth exceeded")
+
+    before = sys.getrecursionlimit()
+    monkeypatch.setattr(backends, "_load", load)
+    with pytest.raises(InputError, match=r"cannot compile the tangents kernel .*backend='numpy'"):
+        backends.kernel_of("# a large source\n", "tangents")
+    assert seen == [max(before, backends.COMPILE_RECURSION)]
+    assert sys.getrecursionlimit() == before
+
+
 def test_the_device_rewrite_changes_the_loop_and_nothing_else() -> None:
     """Each workload's generated source, rewritten for the CUDA target: its loop one thread a
     sample, its decorators CUDA's, its two-number max a device function; every other line

@@ -41,6 +41,12 @@ from excavkin.structure.plan import SolvePlan
 #: per plan has no way to split it yet (a kernel compiled before is used all the same)
 AUTO_POINTS = 40
 
+#: a plan of more points is not compiled at all (`too_large`): as one kernel, numba's compile
+#: grows about as the square of its length — a chain of 34 points 12–23 s, of 68 points 86 s
+#: and 0.9 GB, of 300 points not done in 15 minutes at 8 GB — and a kernel split in parts is
+#: not built yet; NumPy solves such a plan at 60–70 ns a sample a point
+COMPILE_POINTS = 100
+
 #: a cam table's pieces compile as a point's steps do, two pieces for a point (a piece is six
 #: lines of the kernel: its knot's test, its weight and its share of five sums)
 PIECES_PER_POINT = 2
@@ -71,8 +77,31 @@ def supports(plan: SolvePlan) -> bool:
     return unsupported(plan) is None
 
 
+def too_large(points: int) -> str | None:
+    """Why a plan or model of ``points`` points (cams' table pieces counted, `size`) is not
+    compiled (None: it may be), for `excavkin.backends.Job`: more than `COMPILE_POINTS`.
+
+    Parameters
+    ----------
+    points : int
+
+    Returns
+    -------
+    str or None
+    """
+    if points <= COMPILE_POINTS:
+        return None
+    return (
+        f"of this plan ({points} points) would take the compiler too long: more than "
+        f"{COMPILE_POINTS} points are solved in NumPy"
+    )
+
+
 def unsupported(plan: SolvePlan) -> str | None:
     """Why the plan cannot be compiled (None: it can), for `excavkin.backends.Job`."""
+    big = too_large(size(plan))
+    if big is not None:
+        return big
     for st in plan.steps:
         kind = kind_of(st)
         why = kind.uncompiled(st)

@@ -293,9 +293,9 @@ def straight_line(lines: list[str]) -> list[str]:
     carried: set[str] = set()
     for st in trees:  # names read before they are first assigned keep one name
         for node in ast.walk(st):
-            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load):
-                if node.id not in stored:
-                    carried.add(node.id)
+            loaded = isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)
+            if loaded and node.id not in stored:  # type: ignore[attr-defined]
+                carried.add(node.id)  # type: ignore[attr-defined]
         for target in _targets(st):
             stored.add(target.id)
     current: dict[str, str] = {}

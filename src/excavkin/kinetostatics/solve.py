@@ -23,7 +23,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.backends import Job, Kernel
 from excavkin.errors import InputError
 from excavkin.execution import Execution, settings
-from excavkin.kinematics.compiled import AUTO_POINTS, PIECES_PER_POINT
+from excavkin.kinematics.compiled import AUTO_POINTS, PIECES_PER_POINT, too_large
 from excavkin.kinematics.result import KinematicResult
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
@@ -260,7 +260,8 @@ def _solve_chosen(
 
     sy = known[0].system
     pieces = sum(max(len(getattr(cm.law, "knots", ())) - 1, 0) for cm in sy.cams)
-    big = len(sy.points) + -(-pieces // PIECES_PER_POINT) > AUTO_POINTS
+    points = len(sy.points) + -(-pieces // PIECES_PER_POINT)
+    big = points > AUTO_POINTS
     if big and execution.backend == "auto":
         _solve_sparse(known, motion, out, singular, chunk)
         return
@@ -270,7 +271,7 @@ def _solve_chosen(
         numpy=lambda: _solve_sparse(known, motion, out, singular, chunk),
         compiled=compiled,
         # a cam's lift law given as a function cannot be traced
-        unsupported=None
+        unsupported=too_large(points)
         if kernel.traceable(known[0].system)
         else "of a model with a cam whose lift law is a function, solved in NumPy",
         unasked=not big,
