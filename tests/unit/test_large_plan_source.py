@@ -8,6 +8,7 @@ from __future__ import annotations
 import ast
 
 import numpy as np
+import pytest
 
 from excavkin import Body, Mechanism, Model, RotaryDriver, backends
 from excavkin.kinematics import compiled
@@ -67,3 +68,39 @@ def test_a_large_chain_solves_by_default_at_a_compiled_size() -> None:
     assert result.status.all_ok
     small = mech.solve({"crank": q[::4096]})
     np.testing.assert_array_equal(result.positions[::4096], small.positions)
+
+
+def test_a_kernel_cut_in_passes_gives_the_same_numbers(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A large plan's loop body is cut into passes of `vectorise.PASS` statements, the values
+    carried between them in typed scratch rows: cut small here, the four-bar's kernel (and a
+    family of designs') gives the one-pass kernel's numbers and statuses to the bit, failing
+    samples included, and numba sees no name assigned twice."""
+    from excavkin import example_path, load
+    from excavkin.kinematics import vectorise
+
+    def solve() -> list[np.ndarray]:
+        vectorise.vectorised.cache_clear()
+        mech = load(example_path("fourbar"))
+        q = {"crank": np.linspace(0.0, 12.0, 3000)}
+        r = {"crank": np.full(3000, 0.7)}
+        one = mech.solve(q, r, backend="numba")
+        params = {"A-B": np.linspace(0.5, 4.0, 3000) * mech.parameters["A-B"]}
+        fam = mech.solve(q, r, params=params, backend="numba")
+        return [
+            *(getattr(res, f) for res in (one, fam) for f in ("positions", "accelerations")),
+            one.body_angle, one.transmission, one.status.code, fam.status.code,
+        ]  # fmt: skip
+
+    whole = solve()
+    monkeypatch.setattr(vectorise, "PASS", 23)
+    text = vectorised(compiled.source(Mechanism(chain(1)).plan, write_at_rest=False), False)
+    assert text.count("for l") > 10 and "SL_" in text  # passes, booleans carried
+    tree = ast.parse(text)
+    kernel = next(f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel")
+    assigned = [t.id for n in ast.walk(kernel) if isinstance(n, ast.Assign) for t in n.targets
+                if isinstance(t, ast.Name)]  # fmt: skip
+    assert len(assigned) == len(set(assigned))
+    cut = solve()
+    assert (np.asarray(whole[-1]) != 0).any()  # some designs fail
+    for a, b in zip(whole, cut, strict=True):
+        np.testing.assert_array_equal(a, b)

@@ -24,6 +24,7 @@ from __future__ import annotations
 import ast
 import functools
 import hashlib
+import re
 from pathlib import Path
 
 #: samples a block: its scratch (a few hundred rows at most) stays in the core's L2 cache
@@ -96,11 +97,17 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
             "numba.int64, numba.int64,\n    numba.int8[::1], numba.int64[::1], numba.float64,\n)",
         )
         head = head.replace("near_step, s0):", "near_step, s0, r0_, keep, tops, near_at):")
+    passes, spilled = in_passes(straight_line(body), len(r.rows))
     out += [
         head,
         *([] if per_sample else _ONE_DESIGN),
         *(f"    {name} = K[{c}, 0]" for name, c in r.hoisted.items()),
-        f"    S_ = np.empty({len(r.rows) * WIDTH})",
+        f"    S_ = np.empty({(len(r.rows) + spilled['f']) * WIDTH})",
+        *(
+            f"    {_SPILL[t]} = np.empty({spilled[t] * WIDTH}, dtype=np.{_DTYPE[t]})"
+            for t in "ib"
+            if spilled[t]
+        ),
         "    n_ = q.shape[1]",
         f"    for b0_ in range(0, n_, {WIDTH}):",
         f"        nb_ = min({WIDTH}, n_ - b0_)",
@@ -115,14 +122,187 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
         out += ["        for l_ in range(nb_):", "            J_[l_] = (r0_ + b0_ + l_) // ks"]
     for name, rows in reads.items():
         out += _copy(name, rows, into_scratch=True, by_design=by_design)
-    body = straight_line(body)
-    out += ["        for l_ in range(nb_):", *(f"            {line}" for line in body)]
+    out += passes
     if by_design:
         out += _tops(r.rows["status[i]"], r.rows["near[i]"], len(r.rows))
     for name, rows in writes.items():
         out += _copy(name, rows, into_scratch=False, by_design=by_design)
     out.append("    fence()")
-    return "\n".join(out) + "\n"
+    return "\n".join(_own_indices(out)) + "\n"
+
+
+def _own_indices(lines: list[str]) -> list[str]:
+    """Each loop of the kernel with names of its own: its index (``l_`` → ``l1_``, ``l2_``
+    …, ``k_`` → ``k3_`` …) and a copy loop's row (``row_``). A name assigned in several
+    loops is one that numba's SSA pass renames itself, walking every statement of the kernel
+    once for each such name: the loops over a block's samples and the copies share their
+    names, and a large plan's kernel has tens of thousands of statements."""
+    out: list[str] = []
+    scopes: list[tuple[int, dict[str, str]]] = []  # (a loop's indent, its renames)
+    count = 0
+    for line in lines:
+        indent = len(line) - len(line.lstrip())
+        while scopes and line.strip() and indent <= scopes[-1][0]:
+            scopes.pop()
+        head = _LOOP.match(line)
+        if head is not None and head["index"] in _OWN:
+            count += 1
+            renames = {n: f"{n[:-1]}{count}_" for n in _OWN[head["index"]]}
+            line = _rename(line, {**_merged(scopes), **renames}, head["index"])
+            scopes.append((indent, renames))
+            out.append(line)
+            continue
+        out.append(_rename(line, _merged(scopes)))
+    return out
+
+
+def _merged(scopes: list[tuple[int, dict[str, str]]]) -> dict[str, str]:
+    merged: dict[str, str] = {}
+    for _, renames in scopes:
+        merged.update(renames)
+    return merged
+
+
+def _rename(line: str, renames: dict[str, str], skip: str | None = None) -> str:
+    """``line`` with each name of ``renames`` replaced (``skip``: only after ``in``, the
+    loop's own header renames its index where it is bound)."""
+    for old, new in renames.items():
+        line = re.sub(rf"\b{old}(?![0-9A-Za-z_])", new, line)
+    return line
+
+
+#: a loop's header, and the names each kind of loop binds
+_LOOP = re.compile(r"^\s*for (?P<index>\w+) in range\(")
+_OWN = {"l_": ("l_",), "k_": ("k_", "row_")}
+
+
+#: statements of the loop's body in one pass over a block, at most: a large plan's body is cut
+#: into passes, its values carried from one to the next in rows of the scratch, so that the
+#: compiler optimises loops of bounded size (its time grows faster than a loop's length)
+PASS = 2000
+
+#: the scratch of each type of value carried between passes (float: the block's own)
+_SPILL = {"f": "S_", "i": "SI_", "b": "SL_"}
+_DTYPE = {"i": "int64", "b": "bool_"}
+
+
+def in_passes(body: list[str], rows: int) -> tuple[list[str], dict[str, int]]:
+    """The loop over a block's samples of `straight_line` statements, as one pass, or cut into
+    passes of at most `PASS` statements for a large plan: a name assigned in one pass and
+    read in a later one is stored in a scratch row of its type (`value_types`) at the end of
+    the first and read back at the start of each later one. The same values, to the bit.
+
+    Parameters
+    ----------
+    body : list of str
+        The loop's statements (`straight_line`).
+    rows : int
+        The float rows of the scratch before these (the carried floats follow them).
+
+    Returns
+    -------
+    lines : list of str
+        The loops, indented in the kernel's block loop.
+    spilled : dict
+        Rows added per type (``"f"``, ``"i"``, ``"b"``).
+    """
+    cuts = [body[k : k + PASS] for k in range(0, len(body), PASS)]
+    spilled = {"f": 0, "i": 0, "b": 0}
+    if len(cuts) == 1:
+        return ["        for l_ in range(nb_):", *(f"            {line}" for line in body)], spilled
+    trees = [[ast.parse(line).body[0] for line in cut] for cut in cuts]
+    made: dict[str, int] = {}  # each name's pass (single assignments: one)
+    for k, cut in enumerate(trees):
+        for st in cut:
+            for target in _targets(st):
+                made[target.id] = k
+    types = value_types([st for cut in trees for st in cut])
+    slot: dict[str, str] = {}  # a carried name's scratch element
+    reads: list[list[str]] = [[] for _ in cuts]
+    for k, cut in enumerate(trees):
+        used = {
+            n.id
+            for st in cut
+            for n in ast.walk(st)
+            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)
+        }
+        for name in sorted(used):
+            if made.get(name, k) < k:
+                if name not in slot:
+                    kind = types[name]
+                    row = spilled[kind] + (rows if kind == "f" else 0)
+                    spilled[kind] += 1
+                    slot[name] = f"{_SPILL[kind]}[{row * WIDTH} + l_]"
+                reads[k].append(name)
+    out: list[str] = []
+    for k, cut in enumerate(trees):
+        stores = [n for n, m in made.items() if m == k and n in slot]
+        own = {name: f"{name}p{k}_" for name in reads[k]}  # read back under names of its own
+        for st in cut:
+            for node in ast.walk(st):
+                if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load):
+                    node.id = own.get(node.id, node.id)
+        out += [
+            "        for l_ in range(nb_):",
+            *(f"            {own[name]} = {slot[name]}" for name in reads[k]),
+            *(f"            {ast.unparse(st)}" for st in cut),
+            *(f"            {slot[name]} = {name}" for name in stores),
+        ]
+    return out, spilled
+
+
+def value_types(body: list[ast.stmt]) -> dict[str, str]:
+    """Each assigned name's type as numba will type it: ``"f"`` (float64), ``"i"`` (int64) or
+    ``"b"`` (bool), from the statements' expressions (the kernels' arithmetic: numbers,
+    comparisons, ``&``/``|``/``not``, selects, ``abs``/``max``/``min``, the math module's
+    functions, scratch reads).
+
+    Parameters
+    ----------
+    body : list of ast.stmt
+
+    Returns
+    -------
+    dict
+    """
+    env: dict[str, str] = {}
+
+    def unify(*ts: str) -> str:
+        return "f" if "f" in ts else "i" if "i" in ts else "b"
+
+    def of(e: ast.expr) -> str:
+        if isinstance(e, ast.Constant):
+            v = e.value
+            return "b" if isinstance(v, bool) else "i" if isinstance(v, int) else "f"
+        if isinstance(e, ast.Name):
+            return env.get(e.id, "i" if e.id in ("l_", "b0_", "nb_", "ks", "s0") else "f")
+        if isinstance(e, ast.Compare):
+            return "b"
+        if isinstance(e, ast.UnaryOp):
+            return "b" if isinstance(e.op, ast.Not) else of(e.operand)
+        if isinstance(e, ast.BinOp):
+            a, b = of(e.left), of(e.right)
+            if isinstance(e.op, ast.BitAnd | ast.BitOr):
+                return "b" if a == b == "b" else "i"
+            if isinstance(e.op, ast.Div):
+                return "f"
+            return unify(a, b, "i")
+        if isinstance(e, ast.Call) and isinstance(e.func, ast.Name):
+            if e.func.id == "_sel":
+                return unify(of(e.args[1]), of(e.args[2]))
+            if e.func.id in ("abs", "max", "min"):
+                return unify(*(of(a) for a in e.args))
+            if e.func.id == "int":
+                return "i"
+        if isinstance(e, ast.Subscript) and isinstance(e.value, ast.Name):
+            return "f" if e.value.id == "S_" else "i"
+        return "f"  # the math module's functions, the arctangent
+
+    for st in body:
+        if isinstance(st, ast.Assign):
+            for t in _targets(st):
+                env[t.id] = of(st.value)
+    return env
 
 
 #: a select as a function, not an ``if`` expression: numba gives each ``if`` expression blocks
