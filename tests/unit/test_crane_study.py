@@ -98,6 +98,17 @@ def test_each_distinct_design_is_rated_once_and_a_broken_one_is_not_ok(crane) ->
     assert cols["mass"][0] == crane.mass - 500.0 and np.isnan(cols["mass"][2])
 
 
+def test_an_unknown_column_is_an_error_and_no_parameters_the_nominal_crane(crane) -> None:
+    """A column that is not one is refused before any design is rated (it was a column of NaN,
+    the error swallowed as a design that cannot be rated); no parameters rate the nominal
+    crane n times (it raised ValueError)."""
+    params = {"turning.counterweight.mass": np.array([4000.0, 5000.0])}
+    with pytest.raises(InputError, match="nonsense"):
+        crane_columns(crane, params, ["mass", "nonsense"], 2)
+    cols, ok = crane_columns(crane, {}, ["mass"], 3)
+    assert ok.all() and (cols["mass"] == crane.mass).all()
+
+
 def test_the_study_runs_and_its_optimum_reloads_with_its_figures(tmp_path) -> None:
     study = load_crane_study(excavkin.example_path(STUDY))
     assert study.family.name == "crane"

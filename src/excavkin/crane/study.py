@@ -55,6 +55,7 @@ from excavkin.machinery.designs import (
     model_parameter,
     model_with,
     rate_designs,
+    unposed,
 )
 from excavkin.studies import machine_study as ms
 from excavkin.studies.machine_study import MachineStudy
@@ -236,7 +237,14 @@ def crane_columns(
     columns : dict of str to ndarray, shape (n,)
     ok : ndarray of bool, shape (n,)
     """
-    return rate_designs(params, names, n, lambda p: crane_figures(design_crane(machine, p), names))
+    return rate_designs(
+        params,
+        names,
+        n,
+        lambda p: crane_figures(design_crane(machine, p), names),
+        COLUMNS,
+        "crane column",
+    )
 
 
 def _load(path: Path) -> Crane:
@@ -246,18 +254,18 @@ def _load(path: Path) -> Crane:
     return load_machine(path)
 
 
-def _evaluate(
-    machine: Crane, lengths: F, params: Mapping[str, F], names: Sequence[str]
-) -> tuple[dict[str, F], NDArray[np.bool_]]:
-    """`crane_columns` of ``len(lengths)`` designs (the lengths have no columns)."""
-    return crane_columns(machine, params, names, len(lengths))
-
-
 #: The crane as a family of designs
 #: ([`DesignFamily`][excavkin.machinery.designs.DesignFamily]): the parameters of
 #: `crane_parameters`, the columns `COLUMNS`, no poses.
 FAMILY = Family(
-    "crane", COLUMNS, frozenset(), False, _load, crane_parameters, crane_parameter_kind, _evaluate
+    "crane",
+    COLUMNS,
+    frozenset(),
+    False,
+    _load,
+    crane_parameters,
+    crane_parameter_kind,
+    unposed(crane_columns),
 )
 
 

@@ -60,6 +60,7 @@ from excavkin.machinery.designs import (
     model_parameter,
     model_with,
     rate_designs,
+    unposed,
 )
 from excavkin.studies import machine_study as ms
 from excavkin.studies.machine_study import MachineStudy, optimize_machine
@@ -291,9 +292,13 @@ def loader_columns(
     columns : dict of str to ndarray, shape (n,)
     ok : ndarray of bool, shape (n,)
     """
-    require_known("loader column", names, COLUMNS)
     return rate_designs(
-        params, names, n, lambda p: loader_figures(design_loader(machine, p), names)
+        params,
+        names,
+        n,
+        lambda p: loader_figures(design_loader(machine, p), names),
+        COLUMNS,
+        "loader column",
     )
 
 
@@ -304,18 +309,18 @@ def _load(path: Path) -> Loader:
     return load_machine(path)
 
 
-def _evaluate(
-    machine: Loader, lengths: F, params: Mapping[str, F], names: Sequence[str]
-) -> tuple[dict[str, F], NDArray[np.bool_]]:
-    """`loader_columns` of ``len(lengths)`` designs (the lengths have no columns)."""
-    return loader_columns(machine, params, names, len(lengths))
-
-
 #: The wheel loader as a family of designs
 #: ([`DesignFamily`][excavkin.machinery.designs.DesignFamily]): the parameters of
 #: `loader_parameters`, the columns `COLUMNS`, no poses.
 FAMILY = Family(
-    "loader", COLUMNS, ANGLES, False, _load, loader_parameters, loader_parameter_kind, _evaluate
+    "loader",
+    COLUMNS,
+    ANGLES,
+    False,
+    _load,
+    loader_parameters,
+    loader_parameter_kind,
+    unposed(loader_columns),
 )
 
 

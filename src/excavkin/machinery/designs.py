@@ -340,6 +340,8 @@ def rate_designs(
     names: Sequence[str],
     n: int,
     rate: Callable[[dict[str, float]], Mapping[str, float]],
+    known: Mapping[str, str],
+    what: str,
 ) -> tuple[dict[str, F], NDArray[np.bool_]]:
     """The columns ``names`` of n designs, each distinct design rated once by ``rate``, for a
     family whose every design finds its own poses (one machine a design): design i is
@@ -348,27 +350,38 @@ def rate_designs(
     Parameters
     ----------
     params : mapping of str to ndarray, shape (n,)
-        Parameter → its SI value in each design.
+        Parameter → its SI value in each design (none: n copies of the nominal design).
     names : sequence of str
-        The columns asked for.
+        The columns asked for, each one of ``known``: checked before any design is rated, so
+        that a name that is not one is an error, not a column of NaN.
     n : int
         The designs.
     rate : callable
         ``rate(design) -> {column: value}`` for one design's parameters; an `ExcavkinError`
         (a design that cannot be built or rated) makes that design's row NaN.
+    known : mapping of str to str
+        The family's columns (name → kind).
+    what : str
+        What a column is called in the message (``"crane column"``).
 
     Returns
     -------
     columns : dict of str to ndarray, shape (n,)
     ok : ndarray of bool, shape (n,)
         The design was rated and every column asked for is finite.
-    """
-    from excavkin.errors import ExcavkinError
 
+    Raises
+    ------
+    InputError
+        A name not among ``known``.
+    """
+    from excavkin.errors import ExcavkinError, require_known
+
+    require_known(what, names, known)
     keys = sorted(params)
     rows = np.column_stack(
-        [np.broadcast_to(np.asarray(params[k], float), (n,)) for k in keys] or [np.zeros(n)]
-    )
+        [np.broadcast_to(np.asarray(params[k], float), (n,)) for k in keys]
+    ) if keys else np.zeros((n, 0))  # fmt: skip
     designs, which = np.unique(rows, axis=0, return_inverse=True)
     values = np.full((len(designs), len(names)), np.nan)
     for i, row in enumerate(designs):  # each design finds its own poses: one machine each
@@ -380,3 +393,27 @@ def rate_designs(
     at = values[which.reshape(-1)]
     ok = np.asarray(np.isfinite(at).all(axis=1))
     return {k: np.asarray(at[:, j]) for j, k in enumerate(names)}, ok
+
+
+def unposed(
+    columns: Callable[[Any, Mapping[str, F], Sequence[str], int], tuple[dict[str, F], Any]],
+) -> Callable[[Any, F, Mapping[str, F], Sequence[str]], tuple[dict[str, F], Any]]:
+    """`Family.evaluate` of a family whose designs find their own poses (no pose lengths):
+    ``columns(machine, params, names, n)`` of as many designs as lengths.
+
+    Parameters
+    ----------
+    columns : callable
+        The family's columns of n designs (``crane_columns`` …).
+
+    Returns
+    -------
+    callable
+    """
+
+    def evaluate(
+        machine: Any, lengths: F, params: Mapping[str, F], names: Sequence[str]
+    ) -> tuple[dict[str, F], Any]:
+        return columns(machine, params, names, len(lengths))
+
+    return evaluate

@@ -49,7 +49,7 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import require_known
-from excavkin.machinery.designs import Family, model_parameter, model_with, rate_designs
+from excavkin.machinery.designs import Family, model_parameter, model_with, rate_designs, unposed
 from excavkin.shovel.machine import Shovel
 from excavkin.studies import machine_study as ms
 
@@ -283,9 +283,13 @@ def shovel_columns(
     columns : dict of str to ndarray, shape (n,)
     ok : ndarray of bool, shape (n,)
     """
-    require_known("shovel column", names, COLUMNS)
     return rate_designs(
-        params, names, n, lambda p: shovel_figures(design_shovel(machine, p), names)
+        params,
+        names,
+        n,
+        lambda p: shovel_figures(design_shovel(machine, p), names),
+        COLUMNS,
+        "shovel column",
     )
 
 
@@ -299,17 +303,11 @@ def _load(path: Path) -> Shovel:
     return machine
 
 
-def _evaluate(
-    machine: Shovel, lengths: F, params: Mapping[str, F], names: Sequence[str]
-) -> tuple[dict[str, F], NDArray[np.bool_]]:
-    return shovel_columns(machine, params, names, len(lengths))
-
-
 #: The rope shovel as a family of designs: the parameters of `shovel_parameters`, the columns
 #: `COLUMNS`, no poses.
 FAMILY = Family(
     "shovel", COLUMNS, frozenset(), False, _load, shovel_parameters, shovel_parameter_kind,
-    _evaluate,
+    unposed(shovel_columns),
 )  # fmt: skip
 
 
