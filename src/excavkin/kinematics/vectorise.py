@@ -132,43 +132,28 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
 
 
 def _own_indices(lines: list[str]) -> list[str]:
-    """Each loop of the kernel with names of its own: its index (``l_`` → ``l1_``, ``l2_``
-    …, ``k_`` → ``k3_`` …) and a copy loop's row (``row_``). A name assigned in several
+    """Each loop of the kernel with names of its own, numbered by the loop's line: its index
+    (``l_`` → ``l40_``, ``k_`` → ``k38_`` …) and a copy loop's row (``row_``). A name assigned in several
     loops is one that numba's SSA pass renames itself, walking every statement of the kernel
     once for each such name: the loops over a block's samples and the copies share their
     names, and a large plan's kernel has tens of thousands of statements."""
     out: list[str] = []
     scopes: list[tuple[int, dict[str, str]]] = []  # (a loop's indent, its renames)
-    count = 0
     for line in lines:
         indent = len(line) - len(line.lstrip())
         while scopes and line.strip() and indent <= scopes[-1][0]:
             scopes.pop()
+        renames = {k: v for _, names in scopes for k, v in names.items()}
         head = _LOOP.match(line)
-        if head is not None and head["index"] in _OWN:
-            count += 1
-            renames = {n: f"{n[:-1]}{count}_" for n in _OWN[head["index"]]}
-            line = _rename(line, {**_merged(scopes), **renames}, head["index"])
-            scopes.append((indent, renames))
-            out.append(line)
-            continue
-        out.append(_rename(line, _merged(scopes)))
+        if head is not None and head["index"] in _OWN:  # its header binds the new names
+            count = len(out) + 1  # (a line's number: unique)
+            own = {n: f"{n[:-1]}{count}_" for n in _OWN[head["index"]]}
+            renames.update(own)
+            scopes.append((indent, own))
+        for old, new in renames.items():
+            line = re.sub(rf"\b{old}(?![0-9A-Za-z_])", new, line)
+        out.append(line)
     return out
-
-
-def _merged(scopes: list[tuple[int, dict[str, str]]]) -> dict[str, str]:
-    merged: dict[str, str] = {}
-    for _, renames in scopes:
-        merged.update(renames)
-    return merged
-
-
-def _rename(line: str, renames: dict[str, str], skip: str | None = None) -> str:
-    """``line`` with each name of ``renames`` replaced (``skip``: only after ``in``, the
-    loop's own header renames its index where it is bound)."""
-    for old, new in renames.items():
-        line = re.sub(rf"\b{old}(?![0-9A-Za-z_])", new, line)
-    return line
 
 
 #: a loop's header, and the names each kind of loop binds
