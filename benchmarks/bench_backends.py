@@ -7,7 +7,11 @@ Run: ``python benchmarks/bench_backends.py [N]`` (default N = 10 000 samples). P
   picks and takes): ns a sample, best of rounds taken in turn;
 - the first compile of each model's kinematic kernel, in a fresh cache folder (what a user
   waits for once per model structure, announced by the CLI), and the load of that cached
-  kernel by a new process (numba's import included), which ``"auto"`` pays once per process.
+  kernel by a new process (numba's import included), which ``"auto"`` pays once per process;
+- with ``--large``: the first compile of larger models' kinematic kernels (chains of four-bars
+  of about 34 and 67 points, each in a fresh process and cache), its peak memory and its
+  growth exponent, and what ``backend="numba"`` says of a model over
+  `excavkin.kinematics.compiled.COMPILE_POINTS` points.
 
 Not a test: machines differ; the ratios are what is tracked.
 """
@@ -84,6 +88,44 @@ def first_compile_and_load(name: str) -> None:
     )
 
 
+LARGE = """
+import resource, sys, time, numpy as np, excavkin, excavkin.errors
+mech = excavkin.load(sys.argv[1])
+q = {k: np.full(8, v) for k, v in mech.sketch_values().items()}
+t = time.perf_counter()
+try:
+    mech.solve(q, backend="numba")
+    print(time.perf_counter() - t, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20)
+except excavkin.errors.InputError as e:
+    print("refused:", e)
+"""
+
+
+def large_compiles(points: tuple[int, ...] = (34, 67, 301)) -> None:
+    """The kinematic kernel's first compile of chains of four-bars (3·stages + 1 points)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the tests' generators
+    from tests.models import fourbar_chain
+
+    seen: list[tuple[int, float]] = []
+    for n in points:
+        with tempfile.TemporaryDirectory() as cache:
+            model = Path(cache) / "chain.toml"
+            model.write_text(fourbar_chain((n - 1) // 3))
+            env = {**os.environ, "EXCAVKIN_CACHE_DIR": cache, "PYTHONPATH": SRC}
+            run = [sys.executable, "-c", LARGE, str(model)]
+            done = subprocess.run(run, env=env, check=True, capture_output=True, text=True)
+        out = done.stdout.strip()
+        if out.startswith("refused"):
+            print(f"  {n:4d} points: {out}")
+            continue
+        seconds, gib = (float(v) for v in out.split())
+        seen.append((n, seconds))
+        print(f"  {n:4d} points: first compile {seconds:6.1f} s, peak memory {gib:.2f} GiB")
+    if len(seen) >= 2:
+        (n1, t1), (n2, t2) = seen[0], seen[-1]
+        print(f"  growth exponent of the compile time: {np.log(t2 / t1) / np.log(n2 / n1):.2f}")
+
+
 def main(n: int) -> None:
     print(f"the kinematics at a small batch, {os.cpu_count()} cores")
     for name in ("fourbar", "excavator"):
@@ -94,4 +136,8 @@ def main(n: int) -> None:
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 10_000)
+    if "--large" in sys.argv:
+        print(f"larger models' kinematic kernels, first compile, {os.cpu_count()} cores")
+        large_compiles()
+    else:
+        main(int(sys.argv[1]) if len(sys.argv) > 1 else 10_000)

@@ -42,9 +42,9 @@ from excavkin.structure.plan import SolvePlan
 AUTO_POINTS = 40
 
 #: a plan of more points is not compiled at all (`too_large`): as one kernel, numba's compile
-#: grows about as the square of its length — a chain of 34 points 12–23 s, of 68 points 86 s
-#: and 0.9 GB, of 300 points not done in 15 minutes at 8 GB — and a kernel split in parts is
-#: not built yet; NumPy solves such a plan at 60–70 ns a sample a point
+#: grows faster than its length — a chain of 34 points 14 s, of 67 points 39 s
+#: (`bench_backends.py --large`), of 300 points not done in 15 minutes — and a kernel split
+#: into functions is not built yet; NumPy solves such a plan at 60–70 ns a sample a point
 COMPILE_POINTS = 100
 
 #: a cam table's pieces compile as a point's steps do, two pieces for a point (a piece is six
