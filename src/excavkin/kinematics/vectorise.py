@@ -133,10 +133,10 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
 
 def _own_indices(lines: list[str]) -> list[str]:
     """Each loop of the kernel with names of its own, numbered by the loop's line: its index
-    (``l_`` → ``l40_``, ``k_`` → ``k38_`` …) and a copy loop's row (``row_``). A name assigned in several
-    loops is one that numba's SSA pass renames itself, walking every statement of the kernel
-    once for each such name: the loops over a block's samples and the copies share their
-    names, and a large plan's kernel has tens of thousands of statements."""
+    (``l_`` → ``l40_``, ``k_`` → ``k38_`` …) and a copy loop's row (``row_``). A name
+    assigned in several loops is one that numba's SSA pass renames itself, walking every
+    statement of the kernel once for each such name: the loops over a block's samples and the
+    copies share their names, and a large plan's kernel has tens of thousands of statements."""
     out: list[str] = []
     scopes: list[tuple[int, dict[str, str]]] = []  # (a loop's indent, its renames)
     for line in lines:
