@@ -8,12 +8,17 @@ Run: ``python benchmarks/bench_files.py [--large]``. On ``examples/fourbar.toml`
 * **to_frame** of 10⁶ samples against their solve. Target: ≤ 1× (no copies).
 * **columns=**: writing 10⁶ samples' whole table against 3 columns of it (``columns=``), CSV
   and Parquet, as the ratio of their times.
+* **parts**: 2·10⁶ rows of the whole table, in parts of 262 144, written as one Parquet file
+  (one encoding thread) and as a folder of parts (``write_parts``, a thread a core).
 * **excavkin solve** of 10⁶ samples to CSV and to Parquet, end to end (a process each).
 * with ``--large`` (about 4 GB of memory and 20 GB of disk for a while): the in-memory solve's
   time per sample at 10⁷ against 10⁶ (target ≤ 1.3×; beside it, for reference, the same with
   NumPy's huge-page advice on the result's arrays), and ``excavkin solve`` streaming 10⁸
-  samples to Parquet: time, file size and peak memory (``/usr/bin/time -v``). Every file is
-  removed afterwards.
+  samples to Parquet: time, file size and peak memory (``/usr/bin/time -v``); then the same
+  with three columns (``--columns B.x,B.y,rocker.angle``) against the solve of those 10⁸
+  samples streamed in parts and not written, plus the disk's time to write the file's bytes
+  (the same number of bytes written by plain ``write`` calls of 64 MiB). Target ≤ 2×. Every
+  file is removed afterwards.
 
 Best of several repeats in the same process. Not a test: machines differ; the ratios are what
 is tracked.
@@ -89,6 +94,28 @@ def selected(n: int, folder: Path) -> None:
               f"   ratio {t_all / t_some:5.1f}")  # fmt: skip
 
 
+def parted(n: int, size: int, folder: Path) -> None:
+    """The same frames written as one Parquet file and as a folder of parts on threads."""
+    import shutil
+
+    from excavkin.outputs.table_parts import part_threads, write_parts
+    from excavkin.outputs.tables import write_tables
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    frame = mech.solve({"crank": np.linspace(0.0, 6.0 * np.pi, n)}, {"crank": 31.416}).to_frame()
+    pieces = [frame.iloc[at : at + size] for at in range(0, n, size)]
+    for piece in pieces:
+        piece.attrs = frame.attrs
+    one = folder / "one.parquet"
+    t_one = best_of(lambda: write_tables(pieces, one, force=True), repeat=2)
+    t_parts = best_of(lambda: write_parts(pieces, folder / "parts", force=True), repeat=2)
+    shutil.rmtree(folder / "parts")
+    one.unlink()
+    print(f"{n:,} rows × {frame.shape[1]} columns in {len(pieces)} parts to Parquet: one file "
+          f"{t_one:5.2f} s, a folder of parts on {part_threads()} threads {t_parts:5.2f} s; "
+          f"ratio {t_one / t_parts:4.2f}")  # fmt: skip
+
+
 def command(args: list[str], suffix: str, folder: Path) -> tuple[float, int, int]:
     """Seconds, peak resident memory (bytes) and the file's size of an ``excavkin`` run
     writing a table of that suffix."""
@@ -156,6 +183,43 @@ def large(folder: Path) -> None:
     print(f"excavkin solve, {n:,} samples streamed to Parquet")
     print(f"  {seconds:6.1f} s  {n / seconds:12,.0f} samples/s  file {size / 2**30:6.2f} GiB  "
           f"peak memory {peak / 2**20:6,.0f} MiB")  # fmt: skip
+    selected_large(mech, n, folder)
+
+
+def disk_write(nbytes: int, folder: Path) -> float:
+    """Seconds to write ``nbytes`` to a new file of ``folder`` by plain 64 MiB writes."""
+    block = np.random.default_rng(0).bytes(64 * 2**20)
+    target = folder / "disk.bin"
+    t0 = time.perf_counter()
+    with target.open("wb") as out:
+        for at in range(0, nbytes, len(block)):
+            out.write(block[: min(len(block), nbytes - at)])
+    seconds = time.perf_counter() - t0
+    target.unlink()
+    return seconds
+
+
+def selected_large(mech: excavkin.Mechanism, n: int, folder: Path) -> None:
+    """Three columns of ``n`` samples to Parquet, end to end, against the solve of the same
+    samples (streamed, nothing written) plus the disk's time to write the file's bytes."""
+    from excavkin.sweeps import Linspace
+
+    columns = "B.x,B.y,rocker.angle"
+    seconds, peak, size = command(
+        ["solve", "fourbar", "--sweep", f"crank=0deg:3600deg:{n}", "--columns", columns],
+        ".parquet",
+        folder,
+    )
+    sweep = {"crank": Linspace(0.0, 20.0 * np.pi, n)}
+    t0 = time.perf_counter()
+    for _ in mech.solve_stream(sweep):
+        pass
+    solving = time.perf_counter() - t0
+    disk = disk_write(size, folder)
+    print(f"excavkin solve, {n:,} samples, --columns {columns}, to Parquet")
+    print(f"  {seconds:6.1f} s end to end (file {size / 2**30:5.2f} GiB, peak memory "
+          f"{peak / 2**20:5,.0f} MiB); the solve alone {solving:5.1f} s, the disk's write "
+          f"{disk:4.1f} s; ratio {seconds / (solving + disk):4.2f}  (target ≤ 2)")  # fmt: skip
 
 
 def main() -> None:
@@ -165,6 +229,7 @@ def main() -> None:
         writing(200_000, folder)
         frames(1_000_000)
         selected(1_000_000, folder)
+        parted(2_000_000, 262_144, folder)
         end_to_end(1_000_000, folder)
         if big:
             large(folder)

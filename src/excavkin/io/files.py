@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import glob
 import os
+import shutil
 import signal
 import stat
 from collections.abc import Callable, Iterator
@@ -174,6 +175,66 @@ def write_atomic(path: str | Path, writer: Callable[[Path], None]) -> Path:
     return p
 
 
+def write_folder_atomic(
+    path: str | Path,
+    writer: Callable[[Path], None],
+    replaceable: Callable[[Path], bool],
+) -> Path:
+    """Call ``writer(tmp)`` to fill a temporary folder, then move it onto ``path``, as
+    `write_atomic` does a file: the folder appears whole or not at all.
+
+    An existing folder at ``path`` (checked by `check_target`, with ``force``) is replaced
+    only if ``replaceable(path)`` says it holds nothing but what such a write makes: a folder
+    a user keeps other files in is never removed.
+
+    Parameters
+    ----------
+    path : str or Path
+        The folder to make.
+    writer : callable
+        ``writer(tmp)`` writes the folder's files into the existing, empty folder ``tmp``.
+    replaceable : callable
+        ``replaceable(folder) -> bool``: whether an existing folder may be replaced.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    OutputError
+        An existing folder that is not ``replaceable``, or a file in the folder's place.
+    """
+    p = Path(path)
+    if p.is_symlink() or (p.exists() and not p.is_dir()):
+        raise OutputError(f"{p} exists and is not a folder; not replaced")
+    if p.exists() and not replaceable(p):
+        raise OutputError(
+            f"{p} is a folder that holds other files than a table's parts; not replaced"
+        )
+    remove_leftovers(p)
+    tmp = p.parent / _TMP.format(name=p.name, pid=os.getpid(), suffix="")
+    old = p.parent / _TMP.format(name=p.name, pid=os.getpid(), suffix=".old")
+    with _terminate_as_exit():
+        try:
+            tmp.mkdir()
+            writer(tmp)
+            if p.exists():  # moved aside, and back if the new one cannot take its place
+                os.replace(p, old)
+                try:
+                    os.replace(tmp, p)
+                except BaseException:
+                    os.replace(old, p)
+                    raise
+                shutil.rmtree(old, ignore_errors=True)
+            else:
+                os.replace(tmp, p)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+    return p
+
+
 def write_toml_from(
     source: str | PathLike[str],
     out: str | PathLike[str],
@@ -225,7 +286,10 @@ def remove_leftovers(target: Path) -> list[Path]:
     for leftover in target.parent.glob(f".{glob.escape(target.name)}.excavkin-*.tmp*"):
         pid_text = leftover.name[len(target.name) + 11 :].split(".tmp", 1)[0]
         if pid_text.isdigit() and not _alive(int(pid_text)):
-            leftover.unlink(missing_ok=True)
+            if leftover.is_dir() and not leftover.is_symlink():  # a folder of parts
+                shutil.rmtree(leftover, ignore_errors=True)
+            else:
+                leftover.unlink(missing_ok=True)
             removed.append(leftover)
     return removed
 

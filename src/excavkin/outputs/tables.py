@@ -207,6 +207,8 @@ class TableWriter:
         self.columns: list[str] | None = None
         self.rows = 0
         self._parquet: Any = None
+        self._schema: Any = None
+        self._text: list[str] = []
         self._file: Any = None if parquet else pa.OSFile(str(path), "wb")
 
     def __enter__(self) -> TableWriter:
@@ -295,8 +297,35 @@ class TableWriter:
             },
         )
         # dictionaries only for text: tried on every float column they cost 3× the time
-        text = [f.name for f in schema if pa.types.is_string(f.type)]
-        self._parquet = pq.ParquetWriter(str(self.path), schema, use_dictionary=text)
+        self._schema = schema
+        self._text = [f.name for f in schema if pa.types.is_string(f.type)]
+        self._parquet = pq.ParquetWriter(str(self.path), schema, use_dictionary=self._text)
+
+    def sibling(self, path: Path) -> TableWriter:
+        """A writer of the same table to another Parquet file: its columns, schema (units and
+        kinds) and encodings fixed by this one's first frame, so that the files are parts of
+        one table (`excavkin.outputs.table_parts.write_parts`). This writer may be closed
+        already.
+
+        Parameters
+        ----------
+        path : Path
+            The other file.
+
+        Returns
+        -------
+        TableWriter
+        """
+        import pyarrow.parquet as pq
+
+        if not self.parquet or self._schema is None:
+            raise OutputError(f"{self.path}: a sibling needs a Parquet table already started")
+        other = TableWriter(path, parquet=True)
+        other.columns = self.columns
+        other._schema = self._schema
+        other._text = self._text
+        other._parquet = pq.ParquetWriter(str(path), self._schema, use_dictionary=self._text)
+        return other
 
     def close(self) -> None:
         """Finish the file (a CSV file with no frame written is empty; a Parquet one cannot

@@ -30,6 +30,7 @@ from excavkin.cli.tally import Tally
 from excavkin.errors import InputError
 from excavkin.kinematics import KinematicResult
 from excavkin.mechanism import Mechanism
+from excavkin.outputs.table_parts import check_parts_target, write_parts
 from excavkin.outputs.tables import TABLE_SUFFIXES, check_target, write_tables
 from excavkin.sweeps import Lazy
 from excavkin.sweeps import grid as sweep_grid
@@ -243,8 +244,8 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     "-o",
     "--out",
     required=True,
-    type=click.Path(dir_okay=False),
-    help="Output table, .csv or .parquet.",
+    type=click.Path(),
+    help="Output table, .csv or .parquet (with --parts: a folder).",
 )
 @click.option(
     "--keep-going",
@@ -304,6 +305,12 @@ def with_sweep_options(fn: click.decorators.FC) -> click.decorators.FC:
     help="Write only these columns, comma-separated names or patterns, e.g. "
     "'B.*,*.x,crank.value' (in the model's column order; status always).",
 )
+@click.option(
+    "--parts",
+    is_flag=True,
+    help="Write OUT as a folder of Parquet files, one a part of the sweep, encoded on "
+    "threads while the next parts are solved (read it whole with pandas.read_parquet(OUT)).",
+)
 @backend_option
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @handle_errors
@@ -325,6 +332,7 @@ def command(
     params: tuple[str, ...],
     sensitivities: tuple[str, ...],
     columns_text: str | None,
+    parts: bool,
     backend: str,
     quiet: bool,
 ) -> None:
@@ -339,7 +347,12 @@ def command(
 
     require(backend, f"--backend {backend}")
     selection = parse_columns(columns_text)
-    target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
+    if parts:
+        if units_row:
+            raise InputError("--units-row is a CSV header row; --parts writes Parquet")
+        target = check_parts_target(out, force=force)
+    else:
+        target = check_target(out, force=force, suffixes=TABLE_SUFFIXES)
     mech = excavkin.load(model_path(model))
     values, rate_v, accel_v = build_inputs(
         mech, sweeps, sets, rates, accels, grid, params, lazy=True
@@ -364,7 +377,7 @@ def command(
         default=1,
     )
     columns = _columns_per_sample(mech, with_forces) * (1 + len(sensitivities))
-    check_disk(target, n, columns)
+    check_disk(target, n, columns, parts)
     loads = None
     if with_forces:
         from excavkin.kinetostatics import model_loads
@@ -410,7 +423,10 @@ def command(
             if singular:
                 click.echo(f"excavkin: warning: {singular}", err=True)
 
-    write_tables(frames(), target, force=force, units_row=units_row)
+    if parts:
+        write_parts(frames(), target, force=force)
+    else:
+        write_tables(frames(), target, force=force, units_row=units_row)
     click.echo(f"wrote {tally.n} samples × {shape[0]} columns to {target}")
     if motion[0] and not quiet:
         click.echo(f"excavkin: note: {motion[0]}", err=True)
@@ -469,14 +485,15 @@ def _motion_note(result: KinematicResult | ForceResult) -> str:
     return note.replace("no rate given", "no --rate given")
 
 
-def check_disk(target: Path, n: int, columns: int) -> None:
+def check_disk(target: Path, n: int, columns: int, parts: bool = False) -> None:
     """Before anything is solved: refuse a CSV table that cannot fit on the target's disk
     (about 20 characters a value), and warn of a Parquet one whose values, uncompressed (8
     bytes each), would not — Parquet compresses (a ground point's columns to nothing), so it
-    is tried; should the disk fill, the temporary file is removed and nothing is written."""
+    is tried; should the disk fill, the temporary file is removed and nothing is written.
+    ``parts``: the target is a folder of Parquet parts."""
     import shutil
 
-    parquet = target.suffix.lower() == ".parquet"
+    parquet = parts or target.suffix.lower() == ".parquet"
     need = n * columns * (8 if parquet else 20)
     free = shutil.disk_usage(target.parent).free
     if need <= free:
