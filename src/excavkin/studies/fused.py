@@ -66,11 +66,12 @@ from excavkin.kinematics.solve import (
 from excavkin.kinematics.threads import over_chunks
 from excavkin.kinematics.vectorise import written_rows
 from excavkin.structure.design import take, vary
-from excavkin.studies import reductions
+from excavkin.studies import device, reductions
 from excavkin.studies.metrics import (
     Constraint,
     Metric,
     Poses,
+    SolvedPoses,
     check_pose_sets,
     evaluate,
     pose_sets_of,
@@ -181,26 +182,34 @@ def evaluate_fused(
     varied, sketch, bad = vary(mech.plan, arrays)  # once per design
     unbuildable = np.broadcast_to(np.asarray(bad, dtype=bool), (d,))
     series: dict[str, F] = {}
-    oks: dict[str | None, NDArray[np.bool_]] = {}
+    oks: dict[str | None, NDArray[np.bool_] | SolvedPoses] = {}
     angles: set[str] = set()
     reduced: dict[str, F] = {}
     kernel = _study_kernel(mech, d * max(s.count for s in sets.values()))
+    on_device = _device_solver(mech, metrics) if kernel is None else None
     for name, pose_set in sets.items():
         wanted = [m for m in metrics if m.poses == name]
         p = pose_set.count
-        if kernel is None:
-            got, oks[name], kinds = _solve_set(
-                mech, varied, sketch, unbuildable, pose_set, d, wanted
+        if on_device is not None:
+            lay = on_device.layout
+            metric_of, oks[name] = _solve_set_device(
+                mech, on_device, varied, sketch, unbuildable, pose_set, d, wanted
             )
+            reduced |= metric_of
+            angles |= lay.angles
+            continue
+        if kernel is None:
+            got, ok, kinds = _solve_set(mech, varied, sketch, unbuildable, pose_set, d, wanted)
         else:
-            got, oks[name], kinds = _solve_set_compiled(
+            got, ok, kinds = _solve_set_compiled(
                 mech, kernel, varied, sketch, unbuildable, pose_set, d, wanted
             )
+        oks[name] = ok
         angles |= kinds
         for m in wanted:
             series[m.key] = got[m.key].reshape(d, p)
             if kernel is not None and reductions.compiled(m, kinds):
-                reduced[m.name] = reductions.reduce_designs(series[m.key], oks[name], m)
+                reduced[m.name] = reductions.reduce_designs(series[m.key], ok, m)
     return tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
 
 
@@ -212,6 +221,85 @@ class _StudyKernel:
     kernel: Kernel
     rows: dict[tuple[str, tuple[int, ...]], int]
     n_rows: int
+
+
+def _device_solver(mech: Mechanism, metrics: Sequence[Metric]) -> device.Solver | None:
+    """The study's solver on the device (`excavkin.studies.device`), where ``backend="cuda"``
+    is asked for, the plan compiles and every metric's series is one row of the state or of
+    the inputs (a clearance, or a column computed from several, is not: such a study's
+    blocks solve as a solve does, on the device, their state copied back); None: not so."""
+    if current().backend != "cuda" or compiled.unsupported(mech.plan) is not None:
+        return None
+    backends.require("cuda")
+    lay = device.layout(mech.plan)
+    if any(lay.row_of(m) is None for m in metrics):
+        return None
+    return device.Solver(mech.plan, lay)
+
+
+def _cpu_kernel(plan: SolvePlan) -> _StudyKernel:
+    """The plan's study kernel on the CPU (numba), whatever the backend: the one that solves
+    the samples near a dead position again."""
+    text = compiled.kernel_source(plan, by_design=True)
+    return _StudyKernel(backends.kernel_of(text, "kinematics"), *written_rows(text))
+
+
+def _solve_set_device(
+    mech: Mechanism,
+    solver: device.Solver,
+    varied: SolvePlan,
+    sketch: list[Any],
+    unbuildable: NDArray[np.bool_],
+    poses: Poses,
+    d: int,
+    metrics: Sequence[Metric],
+) -> tuple[dict[str, F], SolvedPoses]:
+    """`_solve_set_compiled` on the device, a chunk of whole designs at a time: the chunk's
+    inputs checked on the host as there, its samples solved on the device, the samples near
+    a dead position (and their blocks' scales) brought back, solved again and checked on
+    the host as there and written back, the metrics reduced on the device; only each
+    design's metrics and count of poses solved come back. The metrics by name, and the
+    poses solved."""
+    plan = mech.plan
+    lay = solver.layout
+    p = poses.count
+    tol = Tolerances()
+    consts, stride = compiled.table(compiled.constants(varied), d)
+    if not stride:  # (no constant varies: every design reads the one column)
+        consts = np.broadcast_to(consts, (consts.shape[0], max(d, 1)))
+    names = {m.column for m in metrics}
+    out = {m.name: np.empty(d) for m in metrics}
+    solved = np.empty(d, dtype=np.int64)
+    per = device.designs_per_chunk(d, p, solver.bytes_per_sample)
+    for d0 in range(0, d, per):
+        d1 = min(d, d0 + per)
+        part_sketch = [v[d0:d1] if np.ndim(v) else v for v in sketch]
+        q, qd, qdd = _inputs(plan, poses, part_sketch, d1 - d0)
+        status = np.zeros((d1 - d0) * p, dtype=np.int8)
+        bad = np.repeat(unbuildable[d0:d1], p) if unbuildable[d0:d1].any() else None
+        solving = check_inputs(plan, q, qd, qdd, status, bad)
+        state = solver.solve(
+            consts[:, d0:d1], p, (solving, qd, qdd), status, (tol.close, tol.singular)
+        )
+        pick, tops = state.scan(precision.NEAR)
+        if pick.size:  # (the chunk starts on a block's boundary: its blocks are the set's)
+            blocks = []
+            for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
+                upto = int(np.searchsorted(pick, (b + 1) * BLOCK))
+                far = dict(zip(precision.KINDS, tops[b].tolist(), strict=True))
+                blocks.append((upto - int(at), far))
+            part = _check_near(
+                plan, _cpu_kernel(plan), varied, consts, d0 + pick // p, status[pick],
+                (q[:, pick], qd[:, pick], qdd[:, pick]), solving[:, pick], blocks, tol,
+            )  # fmt: skip
+            cols = part.columns_named(names)
+            rows = {lay.columns[m.column]: _series(cols, m) for m in metrics}
+            state.patch(pick, part.status.code, rows)
+        for m in metrics:
+            where = lay.columns[m.column]
+            out[m.name][d0:d1] = state.reduce(where, m, p, m.column in lay.angles)
+        solved[d0:d1] = state.solved(p)
+    return out, SolvedPoses(solved, p)
 
 
 def _study_kernel(mech: Mechanism, n: int) -> _StudyKernel | None:
@@ -232,8 +320,7 @@ def _study_kernel(mech: Mechanism, n: int) -> _StudyKernel | None:
     )
     if backends.choose(backend, job, n).name != "numba":
         return None
-    text = job.source()
-    return _StudyKernel(backends.kernel_of(text, "kinematics"), *written_rows(text))
+    return _cpu_kernel(plan)
 
 
 def _check_designs(mech: Mechanism, designs: Mapping[str, Any]) -> dict[str, F]:
@@ -428,36 +515,59 @@ def _solve_set_compiled(
     if picked:  # the samples near a dead position, every block's at once
         blocks = [picked[s] for s in sorted(picked)]
         index = np.concatenate([b[0] for b in blocks])
-        k = index.size
-        solved = Workspace.of(plan, k)  # their whole state, as their blocks' solve made it
-        solved.status[:] = status[index]
-        solved.failed.fill(-1)
-        inputs = (q[:, index], qd[:, index], qdd[:, index])
-        c = Chunk(
-            solved.x, solved.v, solved.a, solving[:, index], inputs[1], inputs[2],
-            solved.trans, solved.status, solved.failed, tol.close, tol.singular,
-        )  # fmt: skip
-        compiled.run_designs(
-            kernel.kernel, np.ascontiguousarray(consts[:, index // p]), 1, 0, c,
-            solved.derived.body, solved.derived.element, solved.near, solved.near_step,
-            np.ones_like(keep), np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
-        )  # fmt: skip
-        arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            error, code, step = precision.check_picked(
-                take(varied, index // p), inputs, arrays, (solved.near, solved.near_step),
-                (tol.close, tol.singular), [(len(b[0]), b[1]) for b in blocks],
-            )  # fmt: skip
-        check_finite(arrays, code, np.isfinite(error))
-        part = KinematicResult.build(
-            plan, arrays.x, arrays.v, arrays.a, *inputs, arrays.trans, arrays.derived,
-            Status(code, step, plan),
+        part = _check_near(
+            plan, kernel, varied, consts, index // p, status[index],
+            (q[:, index], qd[:, index], qdd[:, index]), solving[:, index],
+            [(len(b[0]), b[1]) for b in blocks], tol,
         )  # fmt: skip
         cols = part.columns_named(names)
         for m in metrics:
             out[m.key][index] = _series(cols, m)
         ok[index] = part.status.solved
     return out, ok.reshape(d, p), angles[0] if angles else set()
+
+
+def _check_near(
+    plan: SolvePlan,
+    kernel: _StudyKernel,
+    varied: SolvePlan,
+    consts: F,
+    designs: NDArray[np.intp],
+    status: NDArray[np.int8],
+    inputs: tuple[F, F, F],
+    solving: F,
+    blocks: list[tuple[int, dict[str, float]]],
+    tol: Tolerances,
+) -> KinematicResult:
+    """The samples picked near a dead position (their designs ``designs``, columns of
+    ``consts`` and of ``varied``'s constants), solved again whole by the study's kernel and
+    checked together, each against its own block's scales (``blocks``: per block, in the
+    picks' order, how many are its and its far samples' tops): their result."""
+    k = designs.size
+    solved = Workspace.of(plan, k)  # their whole state, as their blocks' solve made it
+    solved.status[:] = status
+    solved.failed.fill(-1)
+    c = Chunk(
+        solved.x, solved.v, solved.a, solving, inputs[1], inputs[2],
+        solved.trans, solved.status, solved.failed, tol.close, tol.singular,
+    )  # fmt: skip
+    compiled.run_designs(
+        kernel.kernel, np.ascontiguousarray(consts[:, designs]), 1, 0, c,
+        solved.derived.body, solved.derived.element, solved.near, solved.near_step,
+        np.ones(kernel.n_rows, dtype=np.int8),
+        np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
+    )  # fmt: skip
+    arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        error, code, step = precision.check_picked(
+            take(varied, designs), inputs, arrays, (solved.near, solved.near_step),
+            (tol.close, tol.singular), blocks,
+        )  # fmt: skip
+    check_finite(arrays, code, np.isfinite(error))
+    return KinematicResult.build(
+        plan, arrays.x, arrays.v, arrays.a, *inputs, arrays.trans, arrays.derived,
+        Status(code, step, plan),
+    )  # fmt: skip
 
 
 def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.int8]:
