@@ -222,3 +222,25 @@ def test_the_device_source_reads_a_column_a_design(name: str) -> None:
     assert "j = i // ks" in text and "j = i * ks" not in text
     with pytest.raises(ValueError, match="one column index"):
         device_source(text.replace("j = i // ks", "j = 0"), by_design=True)
+
+
+def test_the_device_benchmark_runs_on_the_simulated_gpu(tmp_path: Path) -> None:
+    """`benchmarks/bench_study.py --device` with a tiny study (a smoke test: its figures mean
+    nothing in the simulator): samples/s of both, their ratio, the table the CPU's."""
+    env = {
+        **os.environ,
+        "NUMBA_ENABLE_CUDASIM": "1",
+        "EXCAVKIN_CACHE_DIR": str(tmp_path / "kernels"),
+        "PYTHONPATH": os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")]),
+    }
+    script = ROOT / "benchmarks" / "bench_study.py"
+    args = ["--device", "5", "--poses=4", "--call=2", "--repeat=1"]
+    r = subprocess.run(
+        [sys.executable, str(script), *args], env=env, capture_output=True, text=True,
+        timeout=600,
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr[-3000:]
+    out = r.stdout
+    assert "5 designs × 4 poses" in out and "calls of 2 designs" in out
+    assert out.count("M samples/s") == 2 and "device samples/s / engine's" in out
+    assert "rows equal to the bit: True" in out
