@@ -3,8 +3,10 @@ each design's metrics, and what the precision check needs, come back to the host
 
 `excavkin.studies.fused` drives it, a chunk of whole designs at a time (`designs_per_chunk`):
 
-- `Solver.solve`: the chunk's inputs (one column a sample, as the CPU study makes them) and
-  its designs' constants (a column a design) go to the device; the plan's kinematics source
+- `Solver.solve`: the pose set's inputs as tables (`Inputs`: a row a pose's, or a
+  design's own) and the chunk's designs' constants (a column a design) go to the device; a
+  thread a sample makes its inputs and checks them as
+  `excavkin.kinematics.solve.check_inputs` does; the plan's kinematics source
   (`excavkin.kinematics.compiled.source`), rewritten by `excavkin.gpu.device_source` with
   ``by_design`` (sample ``i`` reads design ``i // poses``'s column), solves every sample, a
   thread each, into a state kept on the device (`DeviceState`): every row of the points'
@@ -49,7 +51,9 @@ from excavkin.kinematics.solve import BLOCK, Workspace
 from excavkin.structure.plan import SolvePlan
 from excavkin.studies.metrics import Metric, target_of
 
-__all__ = ["CHUNK_BYTES", "DeviceState", "Layout", "Solver", "designs_per_chunk", "layout"]
+__all__ = [
+    "CHUNK_BYTES", "DeviceState", "Inputs", "Layout", "Solver", "designs_per_chunk", "layout",
+]  # fmt: skip
 
 #: device memory a chunk's state and inputs take at most (whole precision blocks of whole
 #: designs: more where one block of designs is larger)
@@ -199,6 +203,7 @@ class Solver:
     def __init__(self, plan: SolvePlan, lay: Layout) -> None:
         text = gpu.device_source(compiled.source(plan, write_at_rest=False), by_design=True)
         self.kernel: Any = backends.kernel_of(text, "study kinematics (CUDA)")
+        self.plan = plan
         self.layout = lay
         self._states: dict[int, DeviceState] = {}
 
@@ -209,10 +214,11 @@ class Solver:
         return 8 * (self.layout.rows + 3 * self.layout.inputs) + 1 + 2 + 8 + 2 + 8
 
     def solve(
-        self, consts: F, p: int, inputs: tuple[F, F, F], status: NDArray[np.int8],
+        self, consts: F, p: int, tables: Inputs, unbuildable: NDArray[np.bool_],
         tol: tuple[float, float],
     ) -> DeviceState:  # fmt: skip
-        """Solve a chunk of whole designs on the device, its state kept there.
+        """Solve a chunk of whole designs on the device, its state kept there: each
+        sample's inputs made and checked there (`Inputs`), then solved.
 
         Parameters
         ----------
@@ -220,11 +226,10 @@ class Solver:
             The chunk's designs' constants, a column a design.
         p : int
             Poses per design.
-        inputs : (ndarray, ndarray, ndarray), each shape (n_inputs, designs · p)
-            The values to solve (`excavkin.kinematics.solve.check_inputs`'s), rates and
-            accelerations of every sample.
-        status : ndarray of int8, shape (designs · p,)
-            Each sample's status before the solve (its inputs' checks).
+        tables : Inputs
+            The pose set's inputs, the chunk's designs' own.
+        unbuildable : ndarray of bool, shape (designs,)
+            The chunk's designs that build no mechanism.
         tol : (float, float)
             ``(close, singular)``.
 
@@ -235,28 +240,83 @@ class Solver:
         """
         from numba import cuda
 
-        n = status.shape[0]
+        lay = self.layout
+        d = consts.shape[1]
+        n = d * p
         state = self._states.get(n)
         if state is None:
             if len(self._states) >= 2:  # (whole chunks and the last: two sizes)
                 self._states.clear()
-            state = self._states[n] = DeviceState(self.layout, n)
-        lay = self.layout
-        ins = np.empty((3, lay.inputs, n))
-        for k, part in enumerate(inputs):
-            ins[k] = part
-        state.ins.copy_to_device(ins.reshape(3 * lay.inputs, n))
-        state.status.copy_to_device(np.ascontiguousarray(status))
+            state = self._states[n] = DeviceState(lay, n)
+        k = _kernels()
+        lengths = np.array([kind == "length" for kind in self.plan.input_kinds], dtype=np.int8)
+        k.inputs[_blocks(n), gpu.THREADS](
+            cuda.to_device(tables.by_pose), cuda.to_device(np.ascontiguousarray(tables.by_design)),
+            cuda.to_device(tables.design), cuda.to_device(lengths),
+            cuda.to_device(np.ascontiguousarray(unbuildable, dtype=np.int8)), p, state.ins,
+            state.status,
+        )  # fmt: skip
         state.fill_failed()
         x, v, a, trans, body, element = state.views()
-        k = cuda.to_device(np.ascontiguousarray(consts))
-        ins_d = state.ins
-        q, qd, qdd = (ins_d[i * lay.inputs : (i + 1) * lay.inputs] for i in range(3))
+        q, qd, qdd = (state.ins[i * lay.inputs : (i + 1) * lay.inputs] for i in range(3))
         self.kernel[_blocks(n), gpu.THREADS](
-            q, qd, qdd, k, p, x, v, a, trans, body, element, state.status, state.failed,
-            tol[0], tol[1], state.near, state.near_step,
+            q, qd, qdd, cuda.to_device(np.ascontiguousarray(consts)), p, x, v, a, trans, body,
+            element, state.status, state.failed, tol[0], tol[1], state.near, state.near_step,
         )  # fmt: skip
         return state
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class Inputs:
+    """A pose set's inputs, rates and accelerations as tables: each (kind, input) row one
+    value a pose or one a design, as a study's samples take them (a driver the set does not
+    give held at each design's own value).
+
+    Attributes
+    ----------
+    by_pose : ndarray, shape (3, n_inputs, poses)
+        Values, rates and accelerations a pose (one value for all: repeated).
+    by_design : ndarray, shape (3, n_inputs, designs)
+        Those that are each design's own (0 elsewhere).
+    design : ndarray of int8, shape (3, n_inputs)
+        1 where the row is ``by_design``'s.
+    """
+
+    by_pose: F
+    by_design: F
+    design: NDArray[np.int8]
+
+    def part(self, d0: int, d1: int) -> Inputs:
+        """The designs ``d0`` to ``d1`` (exclusive).
+
+        Parameters
+        ----------
+        d0, d1 : int
+
+        Returns
+        -------
+        Inputs
+        """
+        return Inputs(self.by_pose, self.by_design[:, :, d0:d1], self.design)
+
+    def at(self, samples: NDArray[np.intp], p: int) -> tuple[F, F, F]:
+        """The values, rates and accelerations of the given samples (designs × ``p``
+        poses, design-major), each shape (n_inputs, k).
+
+        Parameters
+        ----------
+        samples : ndarray of intp
+        p : int
+
+        Returns
+        -------
+        (ndarray, ndarray, ndarray)
+        """
+        design, pose = np.divmod(samples, p)
+        out = np.where(
+            self.design[:, :, None] == 1, self.by_design[:, :, design], self.by_pose[:, :, pose]
+        )
+        return out[0], out[1], out[2]
 
 
 class DeviceState:
@@ -372,7 +432,9 @@ class DeviceState:
         grid = _blocks(index.size)
         k.patch[grid, gpu.THREADS](self.status, at, cuda.to_device(status.astype(np.int8)))
         for where, values in rows.items():
-            k.patch[grid, gpu.THREADS](self.row(where), at, cuda.to_device(values))
+            k.patch[grid, gpu.THREADS](
+                self.row(where), at, cuda.to_device(np.ascontiguousarray(values))
+            )
 
     def reduce(self, where: tuple[int, int], m: Metric, p: int, angle: bool) -> F:
         """A metric of each design of the chunk, reduced on the device.
@@ -441,7 +503,12 @@ def _kernels() -> SimpleNamespace:
 
         _made.append(
             SimpleNamespace(
-                fill=k.fill, patch=k.patch, scan=k.scan, reduce=k.reduce, solved=k.solved
+                fill=k.fill,
+                inputs=k.inputs,
+                patch=k.patch,
+                scan=k.scan,
+                reduce=k.reduce,
+                solved=k.solved,
             )
         )
     return _made[0]

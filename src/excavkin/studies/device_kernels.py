@@ -11,8 +11,9 @@ from numba import cuda
 
 from excavkin import gpu
 from excavkin.kinematics import precision
+from excavkin.kinematics.kernels import Code
 
-__all__ = ["fill", "patch", "reduce", "scan", "solved"]
+__all__ = ["fill", "inputs", "patch", "reduce", "scan", "solved"]
 
 #: threads per block (`excavkin.gpu.THREADS`), the scan's shared rows
 THREADS = gpu.THREADS
@@ -20,6 +21,9 @@ THREADS = gpu.THREADS
 KINDS = len(precision.KINDS)
 PI = math.pi
 TAU = 2.0 * math.pi
+BAD_INPUT = int(Code.BAD_INPUT)
+BAD_LENGTH = int(Code.BAD_LENGTH)
+BAD_DESIGN = int(Code.BAD_DESIGN)
 
 
 @cuda.jit
@@ -27,6 +31,42 @@ def fill(arr, value):
     i = cuda.grid(1)
     if i < arr.shape[0]:
         arr[i] = value
+
+
+@cuda.jit
+def inputs(by_pose, by_design, design, is_length, unbuildable, p, ins, status):
+    # a thread a sample: its inputs, rates and accelerations from its pose's and its
+    # design's tables, checked as excavkin.kinematics.solve.check_inputs checks them: not
+    # finite, a driven length not positive (its values NaN), a design that builds no
+    # mechanism (its values NaN)
+    i = cuda.grid(1)
+    if i >= status.shape[0]:
+        return
+    des = i // p
+    pose = i - des * p
+    n_in = design.shape[1]
+    finite = True
+    for k in range(3):
+        for r in range(n_in):
+            v = by_design[k, r, des] if design[k, r] == 1 else by_pose[k, r, pose]
+            ins[k * n_in + r, i] = v
+            finite = finite and math.isfinite(v)
+    st = 0 if finite else BAD_INPUT
+    blank = False
+    if st == 0:
+        for r in range(n_in):
+            if is_length[r] == 1 and not ins[r, i] > 0.0:
+                blank = True
+        if blank:
+            st = BAD_LENGTH
+    if unbuildable[des] == 1:
+        if st == 0:
+            st = BAD_DESIGN
+        blank = True
+    if blank:
+        for r in range(n_in):
+            ins[r, i] = math.nan
+    status[i] = st
 
 
 @cuda.jit

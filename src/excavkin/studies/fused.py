@@ -254,12 +254,12 @@ def _solve_set_device(
     d: int,
     metrics: Sequence[Metric],
 ) -> tuple[dict[str, F], SolvedPoses]:
-    """`_solve_set_compiled` on the device, a chunk of whole designs at a time: the chunk's
-    inputs checked on the host as there, its samples solved on the device, the samples near
-    a dead position (and their blocks' scales) brought back, solved again and checked on
-    the host as there and written back, the metrics reduced on the device; only each
-    design's metrics and count of poses solved come back. The metrics by name, and the
-    poses solved."""
+    """`_solve_set_compiled` on the device, a chunk of whole designs at a time: the pose
+    set's inputs go there as tables (a row a pose's or a design's), each sample's made and
+    checked there as `check_inputs` checks them and solved; the samples near a dead
+    position (and their blocks' scales) come back, are solved again and checked on the host
+    as there and written back; the metrics are reduced on the device. Only each design's
+    metrics and count of poses solved come back: the metrics by name, and the counts."""
     plan = mech.plan
     lay = solver.layout
     p = poses.count
@@ -271,16 +271,13 @@ def _solve_set_device(
     out = {m.name: np.empty(d) for m in metrics}
     solved = np.empty(d, dtype=np.int64)
     per = device.designs_per_chunk(d, p, solver.bytes_per_sample)
+    tables = _input_tables(plan, poses, sketch, d)
     for d0 in range(0, d, per):
         d1 = min(d, d0 + per)
-        part_sketch = [v[d0:d1] if np.ndim(v) else v for v in sketch]
-        q, qd, qdd = _inputs(plan, poses, part_sketch, d1 - d0)
-        status = np.zeros((d1 - d0) * p, dtype=np.int8)
-        bad = np.repeat(unbuildable[d0:d1], p) if unbuildable[d0:d1].any() else None
-        solving = check_inputs(plan, q, qd, qdd, status, bad)
         state = solver.solve(
-            consts[:, d0:d1], p, (solving, qd, qdd), status, (tol.close, tol.singular)
-        )
+            consts[:, d0:d1], p, tables.part(d0, d1), unbuildable[d0:d1],
+            (tol.close, tol.singular),
+        )  # fmt: skip
         pick, tops = state.scan(precision.NEAR)
         if pick.size:  # (the chunk starts on a block's boundary: its blocks are the set's)
             blocks = []
@@ -288,9 +285,10 @@ def _solve_set_device(
                 upto = int(np.searchsorted(pick, (b + 1) * BLOCK))
                 far = dict(zip(precision.KINDS, tops[b].tolist(), strict=True))
                 blocks.append((upto - int(at), far))
+            inputs = tables.at(pick + d0 * p, p)  # (solved: their inputs passed the checks)
             part = _check_near(
-                plan, _cpu_kernel(plan), varied, consts, d0 + pick // p, status[pick],
-                (q[:, pick], qd[:, pick], qdd[:, pick]), solving[:, pick], blocks, tol,
+                plan, _cpu_kernel(plan), varied, consts, d0 + pick // p,
+                np.zeros(pick.size, dtype=np.int8), inputs, inputs[0], blocks, tol,
             )  # fmt: skip
             cols = part.columns_named(names)
             rows = {lay.columns[m.column]: _series(cols, m) for m in metrics}
@@ -624,6 +622,34 @@ def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F
                 rows[k].append(float(a))
     q, qd, qdd = (_full(r, d, p) for r in rows)
     return q, qd, qdd
+
+
+def _input_tables(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> device.Inputs:
+    """`_inputs` as tables (`excavkin.studies.device.Inputs`): a row a pose's or a
+    design's, not a sample's."""
+    p = poses.count
+    n_in = len(plan.inputs)
+    by_pose = np.zeros((3, n_in, max(p, 1)))
+    by_design = np.zeros((3, n_in, max(d, 1)))
+    design = np.zeros((3, n_in), dtype=np.int8)
+    for i, name in enumerate(plan.inputs):
+        val = poses.values.get(name)
+        rate = poses.rates.get(name)
+        accel = poses.accels.get(name)
+        swept = val is not None and np.ndim(val) == 1
+        given = (
+            sketch[i] if val is None else val,
+            (1.0 if swept else 0.0) if rate is None else rate,
+            0.0 if accel is None else accel,
+        )
+        for k, v in enumerate(given):
+            a = np.asarray(v, dtype=np.float64)
+            if a.ndim and (val is None and k == 0):
+                by_design[k, i] = a  # a design's own value at each of its poses
+                design[k, i] = 1
+            else:
+                by_pose[k, i] = a  # a pose's value, or one for all
+    return device.Inputs(by_pose, by_design, design)
 
 
 def _full(values: list[Any], d: int, p: int) -> F:
