@@ -2,8 +2,9 @@
 against the CPU's compiled study (``backend="numba"``), in numba's CUDA simulator: the same
 table, to the bit, for every reduction a study file can name — with failing poses, a
 design that builds no mechanism, samples near a dead position (solved again and checked on
-the host, patched into the device's state), pose sets with a held driver, and a set taken
-in several chunks of designs.
+the host, patched into the device's state), pose sets with a held driver, inputs refused
+sample by sample, and a set taken in several chunks of designs; a clearance metric (not
+one row of the state) keeps the blocks' solve.
 
 The simulator must be chosen before numba is imported (``NUMBA_ENABLE_CUDASIM=1``), so each
 check runs in a fresh interpreter, with a cache folder of its own."""
@@ -134,6 +135,16 @@ elif case == "pose sets":
     ref = both(mech, designs, poses, metrics, pose_sets={"tilt": tilt})
     report["failed"] = ref["poses_failed"].tolist()
     report["status"] = ref["status"].tolist()
+elif case == "clearance":  # not one row: the blocks solved as a solve does, on the device
+    from excavkin.studies.metrics import clearance_metric
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    designs = sample_designs({"A-B": (0.09, 0.14), "O4-B": (0.07, 0.11)}, 4, "halton", 3)
+    poses = Poses({"crank": np.linspace(0.0, 2 * np.pi, 5)}, {"crank": 3.0}, {})
+    metrics = [Metric("g", "B.transmission", "min"),
+               clearance_metric("gap", ("A", "B"), ("O2", "O4"))]
+    ref = both(mech, designs, poses, metrics)
+    report["failed"] = ref["poses_failed"].tolist()
+    report["status"] = ref["status"].tolist()
 else:  # several chunks of designs: blocks of 32 samples, a budget of one block a chunk
     device.BLOCK = 32
     device.CHUNK_BYTES = 1
@@ -186,6 +197,12 @@ def test_a_set_in_several_chunks_on_the_simulated_gpu(tmp_path: Path) -> None:
     report = simulate(tmp_path, "chunks")
     assert len(report["scan"]) == 5  # 18 designs of 8 poses, 4 designs (32 samples) a chunk
     assert report["reduce"] == 15
+
+
+def test_a_clearance_keeps_the_blocks_solve_on_the_simulated_gpu(tmp_path: Path) -> None:
+    report = simulate(tmp_path, "clearance")
+    assert report["scan"] == [] and report["reduce"] == 0  # not the device's study
+    assert len(report["failed"]) == 4
 
 
 def test_a_chunk_is_whole_designs_on_whole_blocks() -> None:
