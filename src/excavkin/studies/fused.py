@@ -31,8 +31,17 @@ a dead position are solved again, whole, by the same kernel and checked together
 (`excavkin.kinematics.precision.check_picked`), each against its own block's scales, and
 the metrics are reduced per design in one compiled pass (`excavkin.studies.reductions`).
 The same numbers, to the bit: the same arithmetic sample by sample, the same maxima, NumPy's
-own order of summation. ``backend="numpy"``, a device, or numba that cannot be imported keep
-the blocks above.
+own order of summation. ``backend="numpy"``, or numba that cannot be imported, keep the
+blocks above.
+
+With ``backend="cuda"`` a pose set is solved and its metrics reduced on the GPU
+(`excavkin.studies.device`), a chunk of whole designs at a time: its inputs made and
+checked there from the pose set's and the designs' tables, its state kept there, the
+samples near a dead position solved again and checked here by the study's kernel as above
+and written back, each design's metrics and count of poses solved the only numbers that
+come back (the same table, to the bit, in numba's CUDA simulator). A metric that is not one
+row of the state or of the inputs (a clearance) keeps the blocks above, solved on the
+device a block at a time.
 """
 
 from __future__ import annotations
