@@ -135,6 +135,25 @@ elif case == "pose sets":
     ref = both(mech, designs, poses, metrics, pose_sets={"tilt": tilt})
     report["failed"] = ref["poses_failed"].tolist()
     report["status"] = ref["status"].tolist()
+elif case == "run_study":  # a study file's run: its chunks on two threads, each on the device
+    import dataclasses, tempfile
+    from excavkin.studies.study import Study, run_study
+    s = Study(
+        model=excavkin.example_path("fourbar"),
+        bounds={"A-B": (-0.01, 0.16), "O4-B": (0.07, 0.11)},
+        poses=Poses({"crank": np.linspace(0.0, 2 * np.pi, 6)}, {"crank": 3.0}, {}),
+        metrics=(Metric("g", "B.transmission", "min"), Metric("w", "rocker.omega", "absmax")),
+        samples=12,
+    )
+    with tempfile.TemporaryDirectory() as tmp:
+        tables = {}
+        for backend in ("numba", "cuda"):
+            out = run_study(s, f"{tmp}/{backend}.parquet", execution=Execution(workers=2),
+                            backend=backend, chunk_samples=24)  # four designs a chunk
+            tables[backend] = pd.read_parquet(out)
+    pd.testing.assert_frame_equal(tables["cuda"], tables["numba"], check_exact=True)
+    report["failed"] = tables["cuda"]["poses_failed"].tolist()
+    report["status"] = tables["cuda"]["status"].tolist()
 elif case == "clearance":  # not one row: the blocks solved as a solve does, on the device
     from excavkin.studies.metrics import clearance_metric
     mech = excavkin.load(excavkin.example_path("fourbar"))
@@ -197,6 +216,12 @@ def test_a_set_in_several_chunks_on_the_simulated_gpu(tmp_path: Path) -> None:
     report = simulate(tmp_path, "chunks")
     assert len(report["scan"]) == 5  # 18 designs of 8 poses, 4 designs (32 samples) a chunk
     assert report["reduce"] == 15
+
+
+def test_a_study_run_on_threads_on_the_simulated_gpu(tmp_path: Path) -> None:
+    report = simulate(tmp_path, "run_study")
+    assert len(report["scan"]) >= 3 and report["reduce"] == 2 * len(report["scan"])
+    assert len(report["failed"]) == 12 and any(f == 6 for f in report["failed"])
 
 
 def test_a_clearance_keeps_the_blocks_solve_on_the_simulated_gpu(tmp_path: Path) -> None:

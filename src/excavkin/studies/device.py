@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import threading
 from collections.abc import Mapping
 from types import SimpleNamespace
 from typing import Any
@@ -52,8 +53,13 @@ from excavkin.structure.plan import SolvePlan
 from excavkin.studies.metrics import Metric, target_of
 
 __all__ = [
-    "CHUNK_BYTES", "DeviceState", "Inputs", "Layout", "Solver", "designs_per_chunk", "layout",
+    "CHUNK_BYTES", "LOCK", "DeviceState", "Inputs", "Layout", "Solver", "designs_per_chunk",
+    "layout",
 ]  # fmt: skip
+
+#: held while a chunk is on the device: a study's chunks solved on threads take it in turn
+#: (the device runs one at a time anyway, and numba's simulator refuses two at once)
+LOCK = threading.Lock()
 
 #: device memory a chunk's state and inputs take at most (whole precision blocks of whole
 #: designs: more where one block of designs is larger)

@@ -270,43 +270,66 @@ def _solve_set_device(
     as there and written back; the metrics are reduced on the device. Only each design's
     metrics and count of poses solved come back: the metrics by name, and the counts."""
     plan = mech.plan
-    lay = solver.layout
     p = poses.count
     tol = Tolerances()
     consts, stride = compiled.table(compiled.constants(varied), d)
     if not stride:  # (no constant varies: every design reads the one column)
         consts = np.broadcast_to(consts, (consts.shape[0], max(d, 1)))
-    names = {m.column for m in metrics}
     out = {m.name: np.empty(d) for m in metrics}
     solved = np.empty(d, dtype=np.int64)
     per = device.designs_per_chunk(d, p, solver.bytes_per_sample)
     tables = _input_tables(plan, poses, sketch, d)
     for d0 in range(0, d, per):
-        d1 = min(d, d0 + per)
-        state = solver.solve(
-            consts[:, d0:d1], p, tables.part(d0, d1), unbuildable[d0:d1],
-            (tol.close, tol.singular),
-        )  # fmt: skip
-        pick, tops = state.scan(precision.NEAR)
-        if pick.size:  # (the chunk starts on a block's boundary: its blocks are the set's)
-            blocks = []
-            for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
-                upto = int(np.searchsorted(pick, (b + 1) * BLOCK))
-                far = dict(zip(precision.KINDS, tops[b].tolist(), strict=True))
-                blocks.append((upto - int(at), far))
-            inputs = tables.at(pick + d0 * p, p)  # (solved: their inputs passed the checks)
-            part = _check_near(
-                plan, _cpu_kernel(plan), varied, consts, d0 + pick // p,
-                np.zeros(pick.size, dtype=np.int8), inputs, inputs[0], blocks, tol,
+        with device.LOCK:  # (a study's chunks on threads: one at a time on the device)
+            _device_chunk(
+                plan, solver, varied, consts, tables, unbuildable, p, d0, min(d, d0 + per),
+                metrics, tol, out, solved,
             )  # fmt: skip
-            cols = part.columns_named(names)
-            rows = {lay.columns[m.column]: _series(cols, m) for m in metrics}
-            state.patch(pick, part.status.code, rows)
-        for m in metrics:
-            where = lay.columns[m.column]
-            out[m.name][d0:d1] = state.reduce(where, m, p, m.column in lay.angles)
-        solved[d0:d1] = state.solved(p)
     return out, SolvedPoses(solved, p)
+
+
+def _device_chunk(
+    plan: SolvePlan,
+    solver: device.Solver,
+    varied: SolvePlan,
+    consts: F,
+    tables: device.Inputs,
+    unbuildable: NDArray[np.bool_],
+    p: int,
+    d0: int,
+    d1: int,
+    metrics: Sequence[Metric],
+    tol: Tolerances,
+    out: dict[str, F],
+    solved: NDArray[np.int64],
+) -> None:
+    """`_solve_set_device`'s designs ``d0`` to ``d1``: their metrics into ``out`` and their
+    counts of poses solved into ``solved``."""
+    lay = solver.layout
+    names = {m.column for m in metrics}
+    state = solver.solve(
+        consts[:, d0:d1], p, tables.part(d0, d1), unbuildable[d0:d1],
+        (tol.close, tol.singular),
+    )  # fmt: skip
+    pick, tops = state.scan(precision.NEAR)
+    if pick.size:  # (the chunk starts on a block's boundary: its blocks are the set's)
+        blocks = []
+        for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
+            upto = int(np.searchsorted(pick, (b + 1) * BLOCK))
+            far = dict(zip(precision.KINDS, tops[b].tolist(), strict=True))
+            blocks.append((upto - int(at), far))
+        inputs = tables.at(pick + d0 * p, p)  # (solved: their inputs passed the checks)
+        part = _check_near(
+            plan, _cpu_kernel(plan), varied, consts, d0 + pick // p,
+            np.zeros(pick.size, dtype=np.int8), inputs, inputs[0], blocks, tol,
+        )  # fmt: skip
+        cols = part.columns_named(names)
+        rows = {lay.columns[m.column]: _series(cols, m) for m in metrics}
+        state.patch(pick, part.status.code, rows)
+    for m in metrics:
+        where = lay.columns[m.column]
+        out[m.name][d0:d1] = state.reduce(where, m, p, m.column in lay.angles)
+    solved[d0:d1] = state.solved(p)
 
 
 def _study_kernel(mech: Mechanism, n: int) -> _StudyKernel | None:
