@@ -174,6 +174,12 @@ else:  # several chunks of designs: blocks of 32 samples, a budget of one block 
     ref = both(mech, designs, poses, [Metric(m.reduce, m.column, m.reduce) for m in metrics])
     report["failed"] = ref["poses_failed"].tolist()
     report["status"] = ref["status"].tolist()
+    # no designs, a set of no poses, one design at one pose
+    edges = [Metric("g", "B.transmission", "min"), Metric("s", "rocker.angle", "change"),
+             Metric("m", "B.x", "mean")]
+    for d, p in ((0, 3), (2, 0), (1, 1)):
+        crank = Poses({"crank": np.linspace(0.0, 1.0, p)}, {}, {})
+        both(mech, {"A-B": np.full(d, 0.12)}, crank, edges)
 report["scan"] = calls["scan"]
 report["reduce"] = calls["reduce"]
 print(json.dumps(report))
@@ -214,8 +220,9 @@ def test_pose_sets_and_a_held_driver_on_the_simulated_gpu(tmp_path: Path) -> Non
 
 def test_a_set_in_several_chunks_on_the_simulated_gpu(tmp_path: Path) -> None:
     report = simulate(tmp_path, "chunks")
-    assert len(report["scan"]) == 5  # 18 designs of 8 poses, 4 designs (32 samples) a chunk
-    assert report["reduce"] == 15
+    # 18 designs of 8 poses, 4 designs (32 samples) a chunk; then the one design at one pose
+    assert len(report["scan"]) == 5 + 1
+    assert report["reduce"] == 15 + 3
 
 
 def test_a_study_run_on_threads_on_the_simulated_gpu(tmp_path: Path) -> None:

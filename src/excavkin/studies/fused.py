@@ -271,6 +271,12 @@ def _solve_set_device(
     metrics and count of poses solved come back: the metrics by name, and the counts."""
     plan = mech.plan
     p = poses.count
+    if p == 0:  # no poses: no value (an angle's change, a sum of none: 0), none solved
+        angles = solver.layout.angles
+        return {
+            m.name: np.full(d, 0.0 if m.reduce == "change" and m.column in angles else np.nan)
+            for m in metrics
+        }, SolvedPoses(np.zeros(d, dtype=np.int64), 0)
     tol = Tolerances()
     consts, stride = compiled.table(compiled.constants(varied), d)
     if not stride:  # (no constant varies: every design reads the one column)
