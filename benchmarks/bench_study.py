@@ -16,8 +16,9 @@ designs × 100 poses = 2·10⁶ samples). Prints, best of N runs each (default 3
   taken off);
 - with ``--dask``, a local Dask cluster's time on the same cores.
 
-``python benchmarks/bench_study.py --device [DESIGNS] [--poses=P] [--call=K] [--repeat N]``
-(default 10⁹ designs × 100 poses, K = 10⁶ designs a call): the study on an NVIDIA GPU
+``python benchmarks/bench_study.py --device [DESIGNS] [--poses=P] [--call=K] [--repeat=N]``
+(default 10⁹ designs × 100 poses, K = 10⁶ designs a call, N = 1; a run of fewer designs,
+such as 10⁷, projects the time of 10⁹ from its own): the study on an NVIDIA GPU
 (``backend="cuda"``, `excavkin.studies.device`: solved and reduced on the device, only the
 metrics brought back), DESIGNS designs in calls of K (one set of K designs, drawn once,
 evaluated again each call, so that the time is the study's and not the drawing's), against
@@ -204,16 +205,17 @@ def on_device(designs: int = 10**9, poses: int = POSES, call: int = 10**6, repea
     print(f"  device study          : {g:9.3f} s  {n / g / 1e6:9.2f} M samples/s  "
           f"{designs / g:14,.0f} designs/s")  # fmt: skip
     print(f"  ratio                 : {(n / g) / (m / e):9.2f}  (device samples/s / engine's)")
+    print(f"  10⁹ designs           : {g * 1e9 / designs / 60:9.1f} min projected")
     print(f"  against the CPU study : largest difference {max(gaps):.2e} of a metric's scale, "
           f"rows equal to the bit: {got.equals(want)}")  # fmt: skip
 
 
 if __name__ == "__main__":
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    reps = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--repeat=")), 3)
+    reps = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--repeat=")), 0)
     if "--device" in sys.argv:
         P = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--poses=")), POSES)
         K = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--call=")), 10**6)
-        on_device(int(float(args[0])) if args else 10**9, P, K, reps)
+        on_device(int(float(args[0])) if args else 10**9, P, K, reps or 1)
     else:
-        main(int(args[0]) if args else 20_000, "--dask" in sys.argv, reps)
+        main(int(args[0]) if args else 20_000, "--dask" in sys.argv, reps or 3)
