@@ -164,8 +164,8 @@ elif case == "clearance":  # not one row: the blocks solved as a solve does, on 
     ref = both(mech, designs, poses, metrics)
     report["failed"] = ref["poses_failed"].tolist()
     report["status"] = ref["status"].tolist()
-else:  # several chunks of designs: blocks of 32 samples, a budget of one block a chunk
-    device.BLOCK = 32
+else:  # several chunks of designs: blocks of 128 samples, a budget of one block a chunk
+    device.BLOCK = 128
     device.CHUNK_BYTES = 1
     mech = excavkin.load(excavkin.example_path("fourbar"))
     designs = sample_designs({"A-B": (0.09, 0.14), "O4-B": (0.07, 0.11)}, 18, "halton", 3)
@@ -220,9 +220,9 @@ def test_pose_sets_and_a_held_driver_on_the_simulated_gpu(tmp_path: Path) -> Non
 
 def test_a_set_in_several_chunks_on_the_simulated_gpu(tmp_path: Path) -> None:
     report = simulate(tmp_path, "chunks")
-    # 18 designs of 8 poses, 4 designs (32 samples) a chunk; then the one design at one pose
-    assert len(report["scan"]) == 5 + 1
-    assert report["reduce"] == 15 + 3
+    # 18 designs of 8 poses, 16 designs (128 samples) a chunk; then one design at one pose
+    assert len(report["scan"]) == 2 + 1
+    assert report["reduce"] == 3 * 2 + 3
 
 
 def test_a_study_run_on_threads_on_the_simulated_gpu(tmp_path: Path) -> None:

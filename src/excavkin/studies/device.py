@@ -402,6 +402,8 @@ class DeviceState:
         """
         from numba import cuda
 
+        if BLOCK % gpu.THREADS:  # (a thread block's samples are one precision block's)
+            raise ValueError(f"a precision block of {BLOCK} samples is not whole thread blocks")
         k = _kernels()
         blocks = -(-self.n // BLOCK)
         tops = cuda.to_device(np.zeros((blocks, len(precision.KINDS))))

@@ -320,8 +320,9 @@ def _device_chunk(
     pick, tops = state.scan(precision.NEAR)
     if pick.size:  # (the chunk starts on a block's boundary: its blocks are the set's)
         blocks = []
-        for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
-            upto = int(np.searchsorted(pick, (b + 1) * BLOCK))
+        block = device.BLOCK  # (the scan's blocks: the solve's)
+        for b, at in zip(*np.unique(pick // block, return_index=True), strict=True):
+            upto = int(np.searchsorted(pick, (b + 1) * block))
             far = dict(zip(precision.KINDS, tops[b].tolist(), strict=True))
             blocks.append((upto - int(at), far))
         inputs = tables.at(pick + d0 * p, p)  # (solved: their inputs passed the checks)
