@@ -53,7 +53,7 @@ from excavkin.structure.plan import SolvePlan
 from excavkin.studies.metrics import Metric, target_of
 
 __all__ = [
-    "CHUNK_BYTES", "LOCK", "DeviceState", "Inputs", "Layout", "Solver", "designs_per_chunk",
+    "BLOCK", "CHUNK_BYTES", "LOCK", "DeviceState", "Inputs", "Layout", "Solver", "designs_per_chunk",
     "layout",
 ]  # fmt: skip
 
