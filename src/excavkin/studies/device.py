@@ -53,8 +53,8 @@ from excavkin.structure.plan import SolvePlan
 from excavkin.studies.metrics import Metric, target_of
 
 __all__ = [
-    "BLOCK", "CHUNK_BYTES", "LOCK", "DeviceState", "Inputs", "Layout", "Solver", "designs_per_chunk",
-    "layout",
+    "BLOCK", "CHUNK_BYTES", "LOCK", "DeviceState", "Inputs", "Layout", "Solver",
+    "designs_per_chunk", "layout",
 ]  # fmt: skip
 
 #: held while a chunk is on the device: a study's chunks solved on threads take it in turn
