@@ -15,6 +15,20 @@ designs × 100 poses = 2·10⁶ samples). Prints, best of N runs each (default 3
   the share of the time it is held; the probe's own idle overshoot is measured first and
   taken off);
 - with ``--dask``, a local Dask cluster's time on the same cores.
+
+``python benchmarks/bench_study.py --device [DESIGNS] [--poses=P] [--call=K] [--repeat=N]``
+(default 10⁹ designs × 100 poses, K = 10⁶ designs a call, N = 1; a run of fewer designs,
+such as 10⁷, projects the time of 10⁹ from its own): the study on an NVIDIA GPU
+(``backend="cuda"``, `excavkin.studies.device`: solved and reduced on the device, only the
+metrics brought back), DESIGNS designs in calls of K (one set of K designs, drawn once,
+evaluated again each call, so that the time is the study's and not the drawing's), against
+the CPU engine (one design's full state, compiled, every core) on min(DESIGNS · P, 2·10⁶)
+samples: each one's samples/s and their ratio, and the first call's table against the
+CPU's study of the same designs (the largest difference of a metric, relative to its
+column's largest magnitude: a GPU's fused multiply-adds and its own sine and cosine differ
+from the CPU's in the last bits). ``NUMBA_ENABLE_CUDASIM=1`` runs it in numba's CUDA
+simulator, one thread at a time in Python: a smoke test with a tiny DESIGNS and P, its
+figures meaningless.
 """
 
 from __future__ import annotations
@@ -142,7 +156,66 @@ def main(designs: int = 20_000, dask: bool = False, repeat: int = 3) -> None:
                   "(local time / Dask time, same cores)")  # fmt: skip
 
 
+def on_device(designs: int = 10**9, poses: int = POSES, call: int = 10**6, repeat: int = 1) -> None:
+    """The study on the device (``backend="cuda"``), DESIGNS designs in calls of ``call``,
+    against the CPU engine's samples/s (see the module's text)."""
+    from excavkin.execution import Execution, use
+    from excavkin.studies.fused import evaluate_fused
+
+    s = study(1)
+    mech = excavkin.load(s.model)
+    pose_set = Poses({"crank": np.linspace(0.0, 2 * np.pi, poses)}, {"crank": 31.4}, {})
+    k = min(call, designs)
+    rng = np.random.default_rng(0)
+    drawn = {name: rng.uniform(lo, hi, k) for name, (lo, hi) in s.bounds.items()}
+    n = designs * poses
+    m = min(n, 2 * 10**6)
+    crank = np.resize(np.linspace(0.0, 2 * np.pi, poses), m)
+
+    def engine() -> None:
+        mech.solve({"crank": crank}, {"crank": 31.4}, backend="numba")
+
+    def gpu() -> None:
+        with use(Execution(backend="cuda")):
+            for start in range(0, designs, k):
+                part = {name: v[: min(k, designs - start)] for name, v in drawn.items()}
+                evaluate_fused(mech, part, pose_set, s.metrics)
+
+    with use(Execution(backend="cuda")):
+        got = evaluate_fused(mech, drawn, pose_set, s.metrics)  # (the kernels compiled)
+    with use(Execution(backend="numba")):
+        want = evaluate_fused(mech, drawn, pose_set, s.metrics)
+    engine()
+    gaps = []
+    for metric in s.metrics:
+        a, b = got[metric.name].to_numpy(), want[metric.name].to_numpy()
+        scale = max(float(np.nanmax(np.abs(b), initial=0.0)), 1e-300)
+        same = np.array_equal(np.isnan(a), np.isnan(b))
+        gaps.append(float(np.nanmax(np.abs(a - b), initial=0.0)) / scale if same else np.inf)
+    times: dict[str, list[float]] = {"engine": [], "device": []}
+    for _ in range(repeat):
+        for name, run in (("engine", engine), ("device", gpu)):
+            t = time.perf_counter()
+            run()
+            times[name].append(time.perf_counter() - t)
+    e, g = min(times["engine"]), min(times["device"])
+    print(f"study on the device: {designs:,} designs × {poses} poses of the four-bar, "
+          f"{len(s.metrics)} metrics, calls of {k:,} designs, best of {repeat}")  # fmt: skip
+    print(f"  CPU engine, one design: {e:9.3f} s  {m / e / 1e6:9.2f} M samples/s ({m:,} samples)")
+    print(f"  device study          : {g:9.3f} s  {n / g / 1e6:9.2f} M samples/s  "
+          f"{designs / g:14,.0f} designs/s")  # fmt: skip
+    print(f"  ratio                 : {(n / g) / (m / e):9.2f}  (device samples/s / engine's)")
+    print(f"  10⁹ designs           : {g * 1e9 / designs / 60:9.1f} min projected")
+    print(f"  against the CPU study : largest difference {max(gaps):.2e} of a metric's scale, "
+          f"rows equal to the bit: {got.equals(want)}")  # fmt: skip
+
+
 if __name__ == "__main__":
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    reps = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--repeat=")), 3)
-    main(int(args[0]) if args else 20_000, "--dask" in sys.argv, reps)
+    reps = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--repeat=")), 0)
+    if "--device" in sys.argv:
+        P = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--poses=")), POSES)
+        K = next((int(a.split("=")[1]) for a in sys.argv[1:] if a.startswith("--call=")), 10**6)
+        on_device(int(float(args[0])) if args else 10**9, P, K, reps or 1)
+    else:
+        main(int(args[0]) if args else 20_000, "--dask" in sys.argv, reps or 3)

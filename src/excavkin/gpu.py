@@ -70,7 +70,7 @@ def why_not() -> str | None:
     return None
 
 
-def device_source(text: str) -> str:
+def device_source(text: str, by_design: bool = False) -> str:
     """A generated CPU source rewritten for numba's CUDA target.
 
     Parameters
@@ -79,6 +79,12 @@ def device_source(text: str) -> str:
         A generated source: a ``kernel`` decorated ``@numba.njit(SIGNATURE, ...)`` whose body
         is one loop ``for i in range(BOUND):`` over samples, and helper functions decorated
         ``@numba.njit(inline="always", ...)``.
+    by_design : bool
+        The samples are a study's designs × poses (design-major): sample ``i`` reads the
+        constants' column ``i // ks`` (``ks`` the poses per design, a column per design)
+        instead of ``i * ks`` (a column per sample, or ``ks`` 0: one for all). Only for the
+        kinematics' source (`excavkin.kinematics.compiled.source`), whose one column index
+        is ``j = i * ks``.
 
     Returns
     -------
@@ -91,6 +97,10 @@ def device_source(text: str) -> str:
     ValueError
         The text is not such a source.
     """
+    if by_design:
+        text, columns = re.subn(r"^(\s+)j = i \* ks$", r"\1j = i // ks", text, flags=re.M)
+        if columns != 1:
+            raise ValueError("not a kinematics source: one column index j = i * ks")
     out = text.replace("import numba\n", "import numba\nfrom numba import cuda\n" + _MAX2, 1)
     out = re.sub(r"\bmax\(", "_max2(", out)
     out, helpers = re.subn(

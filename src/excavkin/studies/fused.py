@@ -31,8 +31,17 @@ a dead position are solved again, whole, by the same kernel and checked together
 (`excavkin.kinematics.precision.check_picked`), each against its own block's scales, and
 the metrics are reduced per design in one compiled pass (`excavkin.studies.reductions`).
 The same numbers, to the bit: the same arithmetic sample by sample, the same maxima, NumPy's
-own order of summation. ``backend="numpy"``, a device, or numba that cannot be imported keep
-the blocks above.
+own order of summation. ``backend="numpy"``, or numba that cannot be imported, keep the
+blocks above.
+
+With ``backend="cuda"`` a pose set is solved and its metrics reduced on the GPU
+(`excavkin.studies.device`), a chunk of whole designs at a time: its inputs made and
+checked there from the pose set's and the designs' tables, its state kept there, the
+samples near a dead position solved again and checked here by the study's kernel as above
+and written back, each design's metrics and count of poses solved the only numbers that
+come back (the same table, to the bit, in numba's CUDA simulator). A metric that is not one
+row of the state or of the inputs (a clearance) keeps the blocks above, solved on the
+device a block at a time.
 """
 
 from __future__ import annotations
@@ -66,11 +75,12 @@ from excavkin.kinematics.solve import (
 from excavkin.kinematics.threads import over_chunks
 from excavkin.kinematics.vectorise import written_rows
 from excavkin.structure.design import take, vary
-from excavkin.studies import reductions
+from excavkin.studies import device, reductions
 from excavkin.studies.metrics import (
     Constraint,
     Metric,
     Poses,
+    SolvedPoses,
     check_pose_sets,
     evaluate,
     pose_sets_of,
@@ -181,26 +191,34 @@ def evaluate_fused(
     varied, sketch, bad = vary(mech.plan, arrays)  # once per design
     unbuildable = np.broadcast_to(np.asarray(bad, dtype=bool), (d,))
     series: dict[str, F] = {}
-    oks: dict[str | None, NDArray[np.bool_]] = {}
+    oks: dict[str | None, NDArray[np.bool_] | SolvedPoses] = {}
     angles: set[str] = set()
     reduced: dict[str, F] = {}
     kernel = _study_kernel(mech, d * max(s.count for s in sets.values()))
+    on_device = _device_solver(mech, metrics) if kernel is None else None
     for name, pose_set in sets.items():
         wanted = [m for m in metrics if m.poses == name]
         p = pose_set.count
-        if kernel is None:
-            got, oks[name], kinds = _solve_set(
-                mech, varied, sketch, unbuildable, pose_set, d, wanted
+        if on_device is not None:
+            lay = on_device.layout
+            metric_of, oks[name] = _solve_set_device(
+                mech, on_device, varied, sketch, unbuildable, pose_set, d, wanted
             )
+            reduced |= metric_of
+            angles |= lay.angles
+            continue
+        if kernel is None:
+            got, ok, kinds = _solve_set(mech, varied, sketch, unbuildable, pose_set, d, wanted)
         else:
-            got, oks[name], kinds = _solve_set_compiled(
+            got, ok, kinds = _solve_set_compiled(
                 mech, kernel, varied, sketch, unbuildable, pose_set, d, wanted
             )
+        oks[name] = ok
         angles |= kinds
         for m in wanted:
             series[m.key] = got[m.key].reshape(d, p)
             if kernel is not None and reductions.compiled(m, kinds):
-                reduced[m.name] = reductions.reduce_designs(series[m.key], oks[name], m)
+                reduced[m.name] = reductions.reduce_designs(series[m.key], ok, m)
     return tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
 
 
@@ -212,6 +230,113 @@ class _StudyKernel:
     kernel: Kernel
     rows: dict[tuple[str, tuple[int, ...]], int]
     n_rows: int
+
+
+def _device_solver(mech: Mechanism, metrics: Sequence[Metric]) -> device.Solver | None:
+    """The study's solver on the device (`excavkin.studies.device`), where ``backend="cuda"``
+    is asked for, the plan compiles and every metric's series is one row of the state or of
+    the inputs (a clearance, or a column computed from several, is not: such a study's
+    blocks solve as a solve does, on the device, their state copied back); None: not so."""
+    if current().backend != "cuda" or compiled.unsupported(mech.plan) is not None:
+        return None
+    backends.require("cuda")
+    lay = device.layout(mech.plan)
+    if any(lay.row_of(m) is None for m in metrics):
+        return None
+    return device.Solver(mech.plan, lay)
+
+
+def _cpu_kernel(plan: SolvePlan) -> _StudyKernel:
+    """The plan's study kernel on the CPU (numba), whatever the backend: the one that solves
+    the samples near a dead position again."""
+    text = compiled.kernel_source(plan, by_design=True)
+    return _StudyKernel(backends.kernel_of(text, "kinematics"), *written_rows(text))
+
+
+def _solve_set_device(
+    mech: Mechanism,
+    solver: device.Solver,
+    varied: SolvePlan,
+    sketch: list[Any],
+    unbuildable: NDArray[np.bool_],
+    poses: Poses,
+    d: int,
+    metrics: Sequence[Metric],
+) -> tuple[dict[str, F], SolvedPoses]:
+    """`_solve_set_compiled` on the device, a chunk of whole designs at a time: the pose
+    set's inputs go there as tables (a row a pose's or a design's), each sample's made and
+    checked there as `check_inputs` checks them and solved; the samples near a dead
+    position (and their blocks' scales) come back, are solved again and checked on the host
+    as there and written back; the metrics are reduced on the device. Only each design's
+    metrics and count of poses solved come back: the metrics by name, and the counts."""
+    plan = mech.plan
+    p = poses.count
+    if p == 0:  # no poses: no value (an angle's change, a sum of none: 0), none solved
+        angles = solver.layout.angles
+        return {
+            m.name: np.full(d, 0.0 if m.reduce == "change" and m.column in angles else np.nan)
+            for m in metrics
+        }, SolvedPoses(np.zeros(d, dtype=np.int64), 0)
+    tol = Tolerances()
+    consts, stride = compiled.table(compiled.constants(varied), d)
+    if not stride:  # (no constant varies: every design reads the one column)
+        consts = np.broadcast_to(consts, (consts.shape[0], max(d, 1)))
+    out = {m.name: np.empty(d) for m in metrics}
+    solved = np.empty(d, dtype=np.int64)
+    per = device.designs_per_chunk(d, p, solver.bytes_per_sample)
+    tables = _input_tables(plan, poses, sketch, d)
+    for d0 in range(0, d, per):
+        with device.LOCK:  # (a study's chunks on threads: one at a time on the device)
+            _device_chunk(
+                plan, solver, varied, consts, tables, unbuildable, p, d0, min(d, d0 + per),
+                metrics, tol, out, solved,
+            )  # fmt: skip
+    return out, SolvedPoses(solved, p)
+
+
+def _device_chunk(
+    plan: SolvePlan,
+    solver: device.Solver,
+    varied: SolvePlan,
+    consts: F,
+    tables: device.Inputs,
+    unbuildable: NDArray[np.bool_],
+    p: int,
+    d0: int,
+    d1: int,
+    metrics: Sequence[Metric],
+    tol: Tolerances,
+    out: dict[str, F],
+    solved: NDArray[np.int64],
+) -> None:
+    """`_solve_set_device`'s designs ``d0`` to ``d1``: their metrics into ``out`` and their
+    counts of poses solved into ``solved``."""
+    lay = solver.layout
+    names = {m.column for m in metrics}
+    state = solver.solve(
+        consts[:, d0:d1], p, tables.part(d0, d1), unbuildable[d0:d1],
+        (tol.close, tol.singular),
+    )  # fmt: skip
+    pick, tops = state.scan(precision.NEAR)
+    if pick.size:  # (the chunk starts on a block's boundary: its blocks are the set's)
+        blocks = []
+        block = device.BLOCK  # (the scan's blocks: the solve's)
+        for b, at in zip(*np.unique(pick // block, return_index=True), strict=True):
+            upto = int(np.searchsorted(pick, (b + 1) * block))
+            far = dict(zip(precision.KINDS, tops[b].tolist(), strict=True))
+            blocks.append((upto - int(at), far))
+        inputs = tables.at(pick + d0 * p, p)  # (solved: their inputs passed the checks)
+        part = _check_near(
+            plan, _cpu_kernel(plan), varied, consts, d0 + pick // p,
+            np.zeros(pick.size, dtype=np.int8), inputs, inputs[0], blocks, tol,
+        )  # fmt: skip
+        cols = part.columns_named(names)
+        rows = {lay.columns[m.column]: _series(cols, m) for m in metrics}
+        state.patch(pick, part.status.code, rows)
+    for m in metrics:
+        where = lay.columns[m.column]
+        out[m.name][d0:d1] = state.reduce(where, m, p, m.column in lay.angles)
+    solved[d0:d1] = state.solved(p)
 
 
 def _study_kernel(mech: Mechanism, n: int) -> _StudyKernel | None:
@@ -232,8 +357,7 @@ def _study_kernel(mech: Mechanism, n: int) -> _StudyKernel | None:
     )
     if backends.choose(backend, job, n).name != "numba":
         return None
-    text = job.source()
-    return _StudyKernel(backends.kernel_of(text, "kinematics"), *written_rows(text))
+    return _cpu_kernel(plan)
 
 
 def _check_designs(mech: Mechanism, designs: Mapping[str, Any]) -> dict[str, F]:
@@ -428,36 +552,59 @@ def _solve_set_compiled(
     if picked:  # the samples near a dead position, every block's at once
         blocks = [picked[s] for s in sorted(picked)]
         index = np.concatenate([b[0] for b in blocks])
-        k = index.size
-        solved = Workspace.of(plan, k)  # their whole state, as their blocks' solve made it
-        solved.status[:] = status[index]
-        solved.failed.fill(-1)
-        inputs = (q[:, index], qd[:, index], qdd[:, index])
-        c = Chunk(
-            solved.x, solved.v, solved.a, solving[:, index], inputs[1], inputs[2],
-            solved.trans, solved.status, solved.failed, tol.close, tol.singular,
-        )  # fmt: skip
-        compiled.run_designs(
-            kernel.kernel, np.ascontiguousarray(consts[:, index // p]), 1, 0, c,
-            solved.derived.body, solved.derived.element, solved.near, solved.near_step,
-            np.ones_like(keep), np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
-        )  # fmt: skip
-        arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            error, code, step = precision.check_picked(
-                take(varied, index // p), inputs, arrays, (solved.near, solved.near_step),
-                (tol.close, tol.singular), [(len(b[0]), b[1]) for b in blocks],
-            )  # fmt: skip
-        check_finite(arrays, code, np.isfinite(error))
-        part = KinematicResult.build(
-            plan, arrays.x, arrays.v, arrays.a, *inputs, arrays.trans, arrays.derived,
-            Status(code, step, plan),
+        part = _check_near(
+            plan, kernel, varied, consts, index // p, status[index],
+            (q[:, index], qd[:, index], qdd[:, index]), solving[:, index],
+            [(len(b[0]), b[1]) for b in blocks], tol,
         )  # fmt: skip
         cols = part.columns_named(names)
         for m in metrics:
             out[m.key][index] = _series(cols, m)
         ok[index] = part.status.solved
     return out, ok.reshape(d, p), angles[0] if angles else set()
+
+
+def _check_near(
+    plan: SolvePlan,
+    kernel: _StudyKernel,
+    varied: SolvePlan,
+    consts: F,
+    designs: NDArray[np.intp],
+    status: NDArray[np.int8],
+    inputs: tuple[F, F, F],
+    solving: F,
+    blocks: list[tuple[int, dict[str, float]]],
+    tol: Tolerances,
+) -> KinematicResult:
+    """The samples picked near a dead position (their designs ``designs``, columns of
+    ``consts`` and of ``varied``'s constants), solved again whole by the study's kernel and
+    checked together, each against its own block's scales (``blocks``: per block, in the
+    picks' order, how many are its and its far samples' tops): their result."""
+    k = designs.size
+    solved = Workspace.of(plan, k)  # their whole state, as their blocks' solve made it
+    solved.status[:] = status
+    solved.failed.fill(-1)
+    c = Chunk(
+        solved.x, solved.v, solved.a, solving, inputs[1], inputs[2],
+        solved.trans, solved.status, solved.failed, tol.close, tol.singular,
+    )  # fmt: skip
+    compiled.run_designs(
+        kernel.kernel, np.ascontiguousarray(consts[:, designs]), 1, 0, c,
+        solved.derived.body, solved.derived.element, solved.near, solved.near_step,
+        np.ones(kernel.n_rows, dtype=np.int8),
+        np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
+    )  # fmt: skip
+    arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        error, code, step = precision.check_picked(
+            take(varied, designs), inputs, arrays, (solved.near, solved.near_step),
+            (tol.close, tol.singular), blocks,
+        )  # fmt: skip
+    check_finite(arrays, code, np.isfinite(error))
+    return KinematicResult.build(
+        plan, arrays.x, arrays.v, arrays.a, *inputs, arrays.trans, arrays.derived,
+        Status(code, step, plan),
+    )  # fmt: skip
 
 
 def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.int8]:
@@ -514,6 +661,34 @@ def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F
                 rows[k].append(float(a))
     q, qd, qdd = (_full(r, d, p) for r in rows)
     return q, qd, qdd
+
+
+def _input_tables(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> device.Inputs:
+    """`_inputs` as tables (`excavkin.studies.device.Inputs`): a row a pose's or a
+    design's, not a sample's."""
+    p = poses.count
+    n_in = len(plan.inputs)
+    by_pose = np.zeros((3, n_in, max(p, 1)))
+    by_design = np.zeros((3, n_in, max(d, 1)))
+    design = np.zeros((3, n_in), dtype=np.int8)
+    for i, name in enumerate(plan.inputs):
+        val = poses.values.get(name)
+        rate = poses.rates.get(name)
+        accel = poses.accels.get(name)
+        swept = val is not None and np.ndim(val) == 1
+        given = (
+            sketch[i] if val is None else val,
+            (1.0 if swept else 0.0) if rate is None else rate,
+            0.0 if accel is None else accel,
+        )
+        for k, v in enumerate(given):
+            a = np.asarray(v, dtype=np.float64)
+            if a.ndim and (val is None and k == 0):
+                by_design[k, i] = a  # a design's own value at each of its poses
+                design[k, i] = 1
+            else:
+                by_pose[k, i] = a  # a pose's value, or one for all
+    return device.Inputs(by_pose, by_design, design)
 
 
 def _full(values: list[Any], d: int, p: int) -> F:

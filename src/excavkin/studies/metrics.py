@@ -413,10 +413,27 @@ def tabulate(
     return tabulate_sets(designs, columns, {None: ok}, metrics, constraints, angles)
 
 
+@dataclass(frozen=True, slots=True)
+class SolvedPoses:
+    """How many poses of a set each design solved, where the per-pose statuses stay where
+    they were made (a study reduced on a device, `excavkin.studies.device`).
+
+    Attributes
+    ----------
+    solved : ndarray of int64, shape (designs,)
+        Each design's poses that solved.
+    poses : int
+        The set's poses.
+    """
+
+    solved: NDArray[np.int64]
+    poses: int
+
+
 def tabulate_sets(
     designs: Mapping[str, F],
     columns: Mapping[str, F],
-    oks: Mapping[str | None, NDArray[np.bool_]],
+    oks: Mapping[str | None, NDArray[np.bool_] | SolvedPoses],
     metrics: Sequence[Metric],
     constraints: Sequence[Constraint] = (),
     angles: Collection[str] = (),
@@ -432,8 +449,9 @@ def tabulate_sets(
     designs : mapping of str to ndarray, shape (d,)
     columns : mapping of str to ndarray, shape (d, p_set)
         Each metric's series by its key.
-    oks : mapping of (str or None) to ndarray of bool, shape (d, p_set)
-        Whether each pose of each set solved.
+    oks : mapping of (str or None) to (ndarray of bool, shape (d, p_set), or SolvedPoses)
+        Whether each pose of each set solved (`SolvedPoses`: how many, each of the set's
+        metrics in ``reduced``).
     metrics, constraints
     angles : collection of str
         The angle columns (their ``change`` is followed along the poses).
@@ -448,13 +466,16 @@ def tabulate_sets(
     """
     import pandas as pd
 
-    d = next(iter(oks.values())).shape[0]
+    first = next(iter(oks.values()))
+    d = first.solved.shape[0] if isinstance(first, SolvedPoses) else first.shape[0]
     out: dict[str, Any] = {f"design.{k}": np.asarray(v) for k, v in designs.items()}
     for m in metrics:
         if reduced is not None and m.name in reduced:
             out[m.name] = reduced[m.name]
             continue
         ok = oks[m.poses]
+        if isinstance(ok, SolvedPoses):
+            raise ValueError(f"metric {m.name!r}: its set's poses are counted, not given")
         col = columns[m.key]
         if m.reduce == "sumsq" or m.target is not None:
             col = col - target_of(m, ok.shape[1])
@@ -465,13 +486,14 @@ def tabulate_sets(
     failed = np.zeros(d, dtype=np.int64)
     why = np.full(d, "", dtype=object)
     for name, ok in oks.items():
-        miss = ok.shape[1] - np.count_nonzero(ok, axis=1)
+        if isinstance(ok, SolvedPoses):
+            total, miss = ok.poses, ok.poses - ok.solved
+        else:
+            total, miss = ok.shape[1], ok.shape[1] - np.count_nonzero(ok, axis=1)
         where = "" if name is None else f" of set {name!r}"
         told = np.flatnonzero((why == "") & (miss > 0))  # (the text made for these alone)
         if told.size:
-            text = np.char.add(
-                miss[told].astype(str), f" of {ok.shape[1]} poses{where} do not solve"
-            )
+            text = np.char.add(miss[told].astype(str), f" of {total} poses{where} do not solve")
             why[told] = text
         failed += miss
     out["poses_failed"] = failed
