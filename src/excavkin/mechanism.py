@@ -32,6 +32,7 @@ from excavkin.sweeps import Lazy, part_of
 if TYPE_CHECKING:
     import pandas as pd
 
+    from excavkin.kinematics.selection import SelectedResult
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
 
 
@@ -136,9 +137,12 @@ class SolvedPart:
     start : int
         The first sample's number in the sweep: row ``i`` of ``result`` is sample
         ``start + i``.
-    result : KinematicResult or ForceResult
+    result : KinematicResult, SelectedResult or ForceResult
         The part's result. Its change points are numbered in the whole sweep (one whose two
-        samples lie in two parts is the later part's).
+        samples lie in two parts is the later part's). A kinematic stream of some columns
+        (``columns=``) gives a
+        [`SelectedResult`][excavkin.kinematics.selection.SelectedResult]: those columns
+        alone, and every sample's status (the whole sample's).
     total : int
         The number of samples in the whole sweep.
     columns : tuple of str, optional
@@ -146,7 +150,7 @@ class SolvedPart:
     """
 
     start: int
-    result: KinematicResult | ForceResult
+    result: KinematicResult | SelectedResult | ForceResult
     total: int
     columns: tuple[str, ...] | None = None
 
@@ -167,10 +171,17 @@ class SolvedPart:
 
 
 def _selected(parts: Iterator[SolvedPart], columns: tuple[str, ...]) -> Iterator[SolvedPart]:
-    """The parts, each to make a table of only ``columns``; the names checked on the first."""
+    """The parts, each to make a table of only ``columns``; the names checked on the first.
+    A kinematic part's result gives those columns alone
+    (`excavkin.kinematics.selection.SelectedResult`: its other rows may hold no values)."""
+    from excavkin.kinematics.selection import SelectedResult
+
     for i, part in enumerate(parts):
         if i == 0:
             part.result.to_frame(columns=columns)  # views only: raises on a name unknown
+        if isinstance(part.result, KinematicResult):
+            selected = SelectedResult.of(part.result, columns)
+            part = dataclasses.replace(part, result=selected)
         yield dataclasses.replace(part, columns=columns)
 
 
@@ -660,9 +671,14 @@ class Mechanism:
             for s in range(0, n, span):
                 yield batch.part(s, min(s + span, n))
 
+        asked = None  # the kinematic columns asked: only their rows are written out
+        if columns is not None and loads is None and not sensitivities:
+            from excavkin.kinematics.selection import asked_names
+
+            asked = asked_names(self.plan, (columns,) if isinstance(columns, str) else columns)
         kinematics = solve_parts(
             self.plan, self.assembly, parts, total=n, tol=tol or Tolerances(), execution=run,
-            continuation=continuation,
+            continuation=continuation, columns=asked,
         )  # fmt: skip
         given = None if loads is None or loads == "model" else list(loads)  # type: ignore[arg-type]
         # the inputs are checked above, at the call; the parts come as they are asked for

@@ -13,7 +13,7 @@ import dataclasses
 import importlib
 import os
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Collection, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -189,6 +189,7 @@ def solve_part(
     carry: Carry | None = None,
     workspace: Workspace | None = None,
     change_points: bool = True,
+    columns: Collection[str] | None = None,
 ) -> tuple[KinematicResult, Carry]:
     """Positions, velocities and accelerations of every point for consecutive samples of a
     sweep, each dyad on its sketch side.
@@ -222,6 +223,14 @@ def solve_part(
     change_points : bool
         Search the change points (default); False: the result lists none (a family of
         designs one after another, whose neighbouring samples are not a path).
+    columns : collection of str, optional
+        Only these kinematic columns (names, `excavkin.kinematics.selection.asked_names`)
+        are asked: where the plan's compiled kernel solves (a closed-form plan, one design
+        or a column of constants a sample, not in a workspace), it writes out only their
+        rows and those the checks read back (`solve_selected`), and the result's other rows
+        hold no values — to be read through
+        `excavkin.kinematics.selection.SelectedResult`. Every status is the full solve's.
+        None, or another path: every row.
 
     Returns
     -------
@@ -231,6 +240,13 @@ def solve_part(
         For the part after.
     """
     carry = carry or Carry()
+    if columns is not None and workspace is None and designs is None:
+        selected = solve_selected(
+            plan, q, qd, qdd, columns, tol=tol, execution=execution, unbuildable=unbuildable,
+            carry=carry, change_points=change_points,
+        )  # fmt: skip
+        if selected is not None:
+            return selected
     n_in, n = q.shape
     workspace = _prepared(plan, n, workspace)
     x, v, a, trans = workspace.x, workspace.v, workspace.a, workspace.trans
@@ -270,6 +286,167 @@ def solve_part(
     )
     result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
     return result, Carry(carry.start + n, tail, reached)
+
+
+def solve_selected(
+    plan: SolvePlan,
+    q: F,
+    qd: F,
+    qdd: F,
+    columns: Collection[str],
+    *,
+    tol: Tolerances = Tolerances(),
+    execution: Execution = DEFAULT,
+    unbuildable: np.ndarray | None = None,
+    carry: Carry | None = None,
+    change_points: bool = True,
+) -> tuple[KinematicResult, Carry] | None:
+    """`solve_part` of some columns by the compiled kernel made for a study
+    (`excavkin.kinematics.compiled.run_designs`, one design, or a column of constants a
+    sample), where the backend solves this plan compiled; None where it does not (NumPy, a
+    device, a plan with Newton groups or one that does not compile, a part that does not
+    start a block): then `solve_part` solves every column.
+
+    Every sample is solved whole, in registers, and checked as the full solve checks it: the
+    finiteness of every value in the kernel; the precision check's scales kept by the kernel
+    (its ``tops``), each block's, and the samples near a dead position solved again whole and
+    checked together (`excavkin.kinematics.precision.check_picked`), their improved values
+    copied to the rows kept; the change points searched in the rows they read, which are
+    kept (`excavkin.kinematics.selection.kept_rows`). So every status, error estimate and
+    change point, and every value of a row kept, is the full solve's to the bit. Only the
+    kept rows of the result's arrays are written (the others are never touched: their pages
+    are never faulted in), and hold values.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        The plan (its constants one value each, or one a sample).
+    q, qd, qdd : ndarray, shape (n_inputs, n)
+        Driver values, rates and accelerations, SI, in ``plan.inputs`` order.
+    columns : collection of str
+        The kinematic columns asked (`excavkin.kinematics.selection.asked_names`).
+    tol, execution, unbuildable, carry, change_points
+        As for `solve_part`.
+
+    Returns
+    -------
+    (KinematicResult, Carry) or None
+        The result (only the kept rows of its arrays hold values) and the carry for the
+        part after.
+    """
+    from excavkin.kinematics.selection import kept_rows
+    from excavkin.kinematics.vectorise import written_rows
+
+    carry = carry or Carry()
+    n = q.shape[1]
+    if plan.has_newton or n == 0 or carry.start % BLOCK:
+        return None
+    each = compiled_plan.per_sample(plan)
+    plain = compiled_plan.job(plan, each)
+    if plain.unsupported is not None:
+        return None
+    if backends.choose(execution.backend, plain, n).name != "numba":
+        return None  # (the backend a full solve takes: the same numbers)
+    text = compiled_plan.kernel_source(plan, by_design=True)
+    kernel = backends.kernel_of(text, "kinematics")
+    rows, n_rows = written_rows(text)
+    keep = kept_rows(plan, rows, n_rows, columns, change_points)
+    ws = _prepared(plan, n, None)
+    consts, stride = compiled_plan.table(compiled_plan.constants(plan), n)
+    poses = 1 if stride else n  # one column: every sample's design is the first
+    tops = np.zeros((-(-n // BLOCK), len(precision.KINDS)), dtype=np.int64)
+    report = _Reporter(execution.progress, n)
+    derived = ws.derived
+
+    def one(s: int) -> None:
+        e = min(s + BLOCK, n)
+        part = slice(s, e)
+        ws.failed[part] = -1
+        bad = None if unbuildable is None else unbuildable[part]
+        qb = check_inputs(plan, q[:, part], qd[:, part], qdd[:, part], ws.status[part], bad)
+        c = Chunk(
+            ws.x, ws.v, ws.a, qb, qd[:, part], qdd[:, part], ws.trans, ws.status, ws.failed,
+            tol.close, tol.singular,
+        )  # fmt: skip
+        compiled_plan.run_designs(
+            kernel, consts[:, part] if stride else consts, poses, 0, c, derived.body,
+            derived.element, ws.near, ws.near_step, keep, tops[s // BLOCK], precision.NEAR, s,
+        )  # fmt: skip
+        report(e - s)
+
+    over_chunks(n, BLOCK, execution.workers, one)
+    error = np.full(n, np.nan)
+    pick = np.flatnonzero((ws.status == Code.OK) & (ws.near < precision.NEAR))
+    if pick.size:  # the samples near a dead position: solved again whole, checked together
+        _check_picked(plan, kernel, (consts, stride), (q, qd, qdd), pick, tops, tol, ws,
+                      error, keep, rows)  # fmt: skip
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    if change_points:
+        found, tail = _search_blocks(
+            plan, (ws.x, ws.v, q, qd, ws.trans), carry, _blocks(carry.start, n)
+        )
+    result = KinematicResult.build(
+        plan, ws.x, ws.v, ws.a, q, qd, qdd, ws.trans, derived, Status(ws.status, ws.failed, plan)
+    )
+    result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
+    return result, Carry(carry.start + n, tail, carry.reached)
+
+
+def _check_picked(
+    plan: SolvePlan,
+    kernel: Kernel,
+    consts: tuple[F, int],
+    inputs: tuple[F, F, F],
+    pick: np.ndarray,
+    tops: np.ndarray,
+    tol: Tolerances,
+    ws: Workspace,
+    error: F,
+    keep: np.ndarray,
+    rows: dict[tuple[str, tuple[int, ...]], int],
+) -> None:
+    """`solve_selected`'s precision check: the samples ``pick`` (ok, near a dead position)
+    solved again whole by ``kernel`` and checked together, each against its block's scales
+    (``tops``); their statuses, failed steps and error estimates set in ``ws`` and
+    ``error``, and their improved values copied to the rows ``keep`` (`written_rows`'
+    ``rows``)."""
+    table, stride = consts
+    q, qd, qdd = inputs
+    k = pick.size
+    blocks = []
+    for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
+        upto = int(np.searchsorted(pick, (b + 1) * BLOCK))
+        far = tops[b].view(np.float64).tolist()
+        blocks.append((upto - int(at), dict(zip(precision.KINDS, far, strict=True))))
+    solved = Workspace.of(plan, k)
+    solved.failed.fill(-1)
+    picked = (q[:, pick], qd[:, pick], qdd[:, pick])
+    c = Chunk(
+        solved.x, solved.v, solved.a, *picked, solved.trans, solved.status, solved.failed,
+        tol.close, tol.singular,
+    )  # fmt: skip
+    compiled_plan.run_designs(
+        kernel, np.ascontiguousarray(table[:, pick]) if stride else table, 1 if stride else k,
+        0, c, solved.derived.body, solved.derived.element, solved.near, solved.near_step,
+        np.ones_like(keep), np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
+    )  # fmt: skip
+    arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        err, code, step = precision.check_picked(
+            take(plan, pick), picked, arrays, (solved.near, solved.near_step),
+            (tol.close, tol.singular), blocks,
+        )  # fmt: skip
+    check_finite(arrays, code, np.isfinite(err))
+    ws.status[pick], ws.failed[pick], error[pick] = code, step, err
+    into = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
+    into |= {"body": ws.derived.body, "element": ws.derived.element}
+    got = {"x": solved.x, "v": solved.v, "a": solved.a, "trans": solved.trans}
+    got |= {"body": solved.derived.body, "element": solved.derived.element}
+    for (name, lead), row in rows.items():
+        if keep[row]:
+            index: tuple[int | np.ndarray, ...] = (*lead, pick)
+            into[name][index] = got[name][lead]
 
 
 def _prepared(plan: SolvePlan, n: int, workspace: Workspace | None) -> Workspace:
@@ -320,8 +497,21 @@ def _check_blocks(
             take(plan, b) if per_sample else plan, (q[:, b], qd[:, b], qdd[:, b]), arrays,
             status[b], failed[b], near, tol, designs, b.start,
         )  # fmt: skip
-        if not change_points:
-            continue
+    if change_points:
+        found, tail = _search_blocks(plan, (x, v, q_given, qd, trans), carry, blocks)
+    return error, found, tail
+
+
+def _search_blocks(
+    plan: SolvePlan, arrays: tuple[F, F, F, F, F], carry: Carry, blocks: list[slice]
+) -> tuple[list[ChangePoint], Tail | None]:
+    """The change points, block by block (searched in the dyads that come near flat in
+    the block, and between it and the block before), in plan order, and the last tail.
+    ``arrays``: x, v, the inputs as given, their rates and the transmission angles."""
+    x, v, q_given, qd, trans = arrays
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    for b in blocks:
         here = (x[..., b], v[..., b], q_given[:, b], qd[:, b], trans[:, b])
         found += find_change_points(
             plan, here[0], v=here[1], q=here[2], qd=here[3], trans=here[4],
@@ -330,7 +520,7 @@ def _check_blocks(
         tail = Tail.of(*here, before=tail)
     order = {plan.points[st.point]: unit for unit, st in dyads(plan)}
     found.sort(key=lambda cp: order[cp.point])  # plan order, each dyad's in sample order
-    return error, found, tail
+    return found, tail
 
 
 #: a result at least this large (bytes) is made of ordinary pages (`_small_pages`),
