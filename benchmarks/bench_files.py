@@ -7,7 +7,9 @@ Run: ``python benchmarks/bench_files.py [--large]``. On ``examples/fourbar.toml`
   same frame. Target for CSV: ≥ 10× pandas.
 * **to_frame** of 10⁶ samples against their solve. Target: ≤ 1× (no copies).
 * **columns=**: writing 10⁶ samples' whole table against 3 columns of it (``columns=``), CSV
-  and Parquet, as the ratio of their times.
+  and Parquet, as the ratio of their times; and solving them: ``solve_stream`` of 10⁶
+  four-bar and excavator samples (10⁷ with ``--large``), every part's table made, 3 columns
+  against every column (the compiled kernel writes out only the rows asked).
 * **excavkin solve** of 10⁶ samples to CSV and to Parquet, end to end (a process each).
 * with ``--large`` (about 4 GB of memory and 20 GB of disk for a while): the in-memory solve's
   time per sample at 10⁷ against 10⁶ (target ≤ 1.3×; beside it, for reference, the same with
@@ -89,6 +91,58 @@ def selected(n: int, folder: Path) -> None:
               f"   ratio {t_all / t_some:5.1f}")  # fmt: skip
 
 
+#: the three columns a streamed solve asks of each model (`streamed`)
+ASKED = {"fourbar": ["B.x", "B.y", "rocker.angle"], "excavator": ["W.x", "W.y", "bucket.angle"]}
+
+
+def streamed(n: int, repeat: int = 3) -> None:
+    """``solve_stream`` of ``n`` samples (rates given), every part's table made, asking three
+    columns against every column: the compiled kernel writes out only the rows asked (and
+    those the checks read), every status as the full solve's. Runs taken in turn; the
+    processor time of every thread (steadier than the wall's on a busy machine) and the wall
+    time, each the least of the runs, and the kernel's rows written out a sample."""
+    from excavkin.kinematics import compiled
+    from excavkin.kinematics.selection import asked_names, kept_rows
+    from excavkin.kinematics.vectorise import written_rows
+    from excavkin.sweeps import Linspace
+
+    print(f"solve_stream of {n:,} samples, every part's to_frame(): all columns against 3")
+    for name, asked in ASKED.items():
+        mech = excavkin.load(excavkin.example_path(name))
+        values: dict[str, object] = {}
+        for k, v in mech.sketch_values().items():  # every driver about its sketch value
+            if mech.input_kind(k) == "angle":
+                values[k] = Linspace(v - 0.3, v + 0.3, n)
+            else:
+                values[k] = Linspace(0.97 * v, 1.03 * v, n)
+        rates = {k: 0.5 for k in values}
+
+        def run(
+            columns: list[str] | None,
+            mech: excavkin.Mechanism = mech,
+            values: dict[str, object] = values,
+            rates: dict[str, float] = rates,
+        ) -> tuple[float, float]:
+            cpu, wall = time.process_time(), time.perf_counter()
+            for part in mech.solve_stream(values, rates, columns=columns, backend="numba"):
+                part.to_frame()
+            return time.process_time() - cpu, time.perf_counter() - wall
+
+        run(asked)  # the kernels compiled (or loaded) before
+        runs: dict[bool, list[tuple[float, float]]] = {False: [], True: []}
+        for _ in range(repeat):
+            for some in (False, True):
+                runs[some].append(run(asked if some else None))
+        every, some = ([min(r[k] for r in runs[s]) for k in range(2)] for s in (False, True))
+        rows, n_rows = written_rows(compiled.kernel_source(mech.plan, keep=True))
+        kept = int(kept_rows(mech.plan, rows, n_rows, asked_names(mech.plan, asked)).sum())
+        print(f"  {name:10s} every column ({len(rows)} rows written): {every[0] / n * 1e9:4.0f} "
+              f"ns/sample processor, {every[1] / n * 1e9:4.0f} wall")  # fmt: skip
+        print(f"  {'':10s} 3 columns ({kept} rows written):     {some[0] / n * 1e9:4.0f} "
+              f"ns/sample processor, {some[1] / n * 1e9:4.0f} wall; 3 columns / every: "
+              f"processor {some[0] / every[0]:.2f}, wall {some[1] / every[1]:.2f}")  # fmt: skip
+
+
 def command(args: list[str], suffix: str, folder: Path) -> tuple[float, int, int]:
     """Seconds, peak resident memory (bytes) and the file's size of an ``excavkin`` run
     writing a table of that suffix."""
@@ -165,8 +219,10 @@ def main() -> None:
         writing(200_000, folder)
         frames(1_000_000)
         selected(1_000_000, folder)
+        streamed(1_000_000)
         end_to_end(1_000_000, folder)
         if big:
+            streamed(10_000_000, repeat=2)
             large(folder)
 
 

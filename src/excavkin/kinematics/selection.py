@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from excavkin.arrays import FloatArray as F
 from excavkin.errors import InputError, UnknownNameError, unknown_name
-from excavkin.kinematics.change_points import ChangePoint, dyads
+from excavkin.kinematics.change_points import ChangePoint
 from excavkin.kinematics.columns import Column, select_columns
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.structure.plan import SolvePlan
@@ -104,11 +104,11 @@ def kept_rows(
     """The kernel's scratch rows to write out (1) for the columns ``names``: each column's
     own row (a column that is its input's, such as a driven length, or zero throughout, such
     as a fixed point's velocity, needs none; one made of several rows keeps every row), and
-    those the checks read back from the arrays — with ``change_points``, every transmission
-    angle and the positions and velocities of every dyad's three points
-    (`excavkin.kinematics.change_points.find_change_points`). The precision check reads
-    none: the kernel keeps its scales (`tops`) and the samples it checks are solved again
-    whole.
+    with ``change_points`` every transmission angle: the change-point search reads them to
+    find the dyads that come near flat (a block where one whose positions and velocities
+    were not kept does is solved again whole,
+    `excavkin.kinematics.solve.solve_selected`). The precision check reads none: the
+    kernel keeps its scales (`tops`) and the samples it checks are solved again whole.
 
     Parameters
     ----------
@@ -125,7 +125,31 @@ def kept_rows(
     Returns
     -------
     ndarray of int8, shape (n_rows,)
+        (One array per plan, columns and kernel, kept: not to be changed.)
     """
+    key = (id(plan), frozenset(names), change_points, id(rows))
+    made = _kept.get(key)
+    if made is not None and made[0] is plan and made[1] is rows:
+        return made[2]
+    keep = _kept_rows(plan, rows, n_rows, names, change_points)
+    if len(_kept) >= 16:
+        _kept.clear()
+    _kept[key] = (plan, rows, keep)
+    return keep
+
+
+#: the last rows kept (a stream asks again for each of its parts), by plan, columns, kernel
+_kept: dict[tuple[int, frozenset[str], bool, int], tuple[SolvePlan, object, NDArray[np.int8]]] = {}
+
+
+def _kept_rows(
+    plan: SolvePlan,
+    rows: dict[tuple[str, tuple[int, ...]], int],
+    n_rows: int,
+    names: Collection[str],
+    change_points: bool,
+) -> NDArray[np.int8]:
+    """`kept_rows`, made."""
     keep = np.zeros(n_rows, dtype=np.int8)
     marked = _marked(plan, rows)
     for value in marked.columns_named(list(names)).values():
@@ -135,15 +159,9 @@ def kept_rows(
         elif not (mark <= 0.0 and mark.is_integer()):  # (0: at rest, never written)
             keep[:] = 1  # (not a row of its own: every row, to be sure)
     if change_points:
-        read: list[tuple[str, tuple[int, ...]]] = [
-            ("trans", (i,)) for i in range(len(plan.transmissions))
-        ]
-        for _, st in dyads(plan):
-            for p in (st.point, st.a, st.b):
-                read += [(arr, (p, axis)) for arr in ("x", "v") for axis in (0, 1)]
-        for key in read:
-            if key in rows:
-                keep[rows[key]] = 1
+        for i in range(len(plan.transmissions)):
+            if ("trans", (i,)) in rows:
+                keep[rows[("trans", (i,))]] = 1
     return keep
 
 

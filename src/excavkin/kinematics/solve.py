@@ -10,6 +10,7 @@ Newton, so that every sample stays on the sketch's assembly branch.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 import os
 import threading
@@ -27,12 +28,21 @@ from excavkin.errors import AssemblyError
 from excavkin.execution import DEFAULT, Execution
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import compiled_newton, kernels, precision
-from excavkin.kinematics.change_points import ChangePoint, Tail, dyads, find_change_points
+from excavkin.kinematics.change_points import (
+    MAX_GAP,
+    ChangePoint,
+    Tail,
+    dyads,
+    find_change_points,
+    searched,
+)
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
 from excavkin.kinematics.result import Derived, KinematicResult, Status
+from excavkin.kinematics.selection import kept_rows
 from excavkin.kinematics.steps import run_steps
 from excavkin.kinematics.threads import over_chunks
+from excavkin.kinematics.vectorise import written_rows
 from excavkin.step_kinds import NewtonGroup, of_kind
 from excavkin.structure.design import DesignBatch, take
 from excavkin.structure.plan import SolvePlan
@@ -301,9 +311,10 @@ def solve_selected(
     carry: Carry | None = None,
     change_points: bool = True,
 ) -> tuple[KinematicResult, Carry] | None:
-    """`solve_part` of some columns by the compiled kernel made for a study
-    (`excavkin.kinematics.compiled.run_designs`, one design, or a column of constants a
-    sample), where the backend solves this plan compiled; None where it does not (NumPy, a
+    """`solve_part` of some columns by the plan's compiled kernel made to keep some rows
+    (`excavkin.kinematics.compiled.kernel_source` ``keep``, run as
+    `excavkin.kinematics.compiled.run_designs` runs a study's), where the backend solves
+    this plan compiled; None where it does not (NumPy, a
     device, a plan with Newton groups or one that does not compile, a part that does not
     start a block): then `solve_part` solves every column.
 
@@ -334,9 +345,6 @@ def solve_selected(
         The result (only the kept rows of its arrays hold values) and the carry for the
         part after.
     """
-    from excavkin.kinematics.selection import kept_rows
-    from excavkin.kinematics.vectorise import written_rows
-
     carry = carry or Carry()
     n = q.shape[1]
     if plan.has_newton or n == 0 or carry.start % BLOCK:
@@ -347,19 +355,20 @@ def solve_selected(
         return None
     if backends.choose(execution.backend, plain, n).name != "numba":
         return None  # (the backend a full solve takes: the same numbers)
-    text = compiled_plan.kernel_source(plan, by_design=True)
+    text = compiled_plan.kernel_source(plan, each, keep=True)
     kernel = backends.kernel_of(text, "kinematics")
     rows, n_rows = written_rows(text)
     keep = kept_rows(plan, rows, n_rows, columns, change_points)
     ws = _prepared(plan, n, None)
     consts, stride = compiled_plan.table(compiled_plan.constants(plan), n)
-    poses = 1 if stride else n  # one column: every sample's design is the first
-    tops = np.zeros((-(-n // BLOCK), len(precision.KINDS)), dtype=np.int64)
+    # chunks that divide a block (a power of two), each with its own share of the scales
+    chunk = 1 << (min(max(execution.chunk_or(CHUNK), 1), BLOCK).bit_length() - 1)
+    shares = np.zeros((-(-n // chunk), len(precision.KINDS)), dtype=np.int64)
     report = _Reporter(execution.progress, n)
     derived = ws.derived
 
     def one(s: int) -> None:
-        e = min(s + BLOCK, n)
+        e = min(s + chunk, n)
         part = slice(s, e)
         ws.failed[part] = -1
         bad = None if unbuildable is None else unbuildable[part]
@@ -369,23 +378,31 @@ def solve_selected(
             tol.close, tol.singular,
         )  # fmt: skip
         compiled_plan.run_designs(
-            kernel, consts[:, part] if stride else consts, poses, 0, c, derived.body,
-            derived.element, ws.near, ws.near_step, keep, tops[s // BLOCK], precision.NEAR, s,
+            kernel, consts[:, part] if stride else consts, stride, 0, c, derived.body,
+            derived.element, ws.near, ws.near_step, keep, shares[s // chunk], precision.NEAR, s,
         )  # fmt: skip
         report(e - s)
 
-    over_chunks(n, BLOCK, execution.workers, one)
+    over_chunks(n, chunk, execution.workers, one)
+    # each block's scales: the largest of its chunks' (as integers: 0 is none)
+    per = BLOCK // chunk
+    padded = np.zeros((-(-n // BLOCK) * per, len(precision.KINDS)), dtype=np.int64)
+    padded[: shares.shape[0]] = shares
+    tops = padded.reshape(-1, per, len(precision.KINDS)).max(axis=1)
+    again = functools.partial(
+        _solve_again, plan, kernel, (consts, stride), (q, qd, qdd), tol, unbuildable, n_rows
+    )
     error = np.full(n, np.nan)
     pick = np.flatnonzero((ws.status == Code.OK) & (ws.near < precision.NEAR))
+    improved = None
     if pick.size:  # the samples near a dead position: solved again whole, checked together
-        _check_picked(plan, kernel, (consts, stride), (q, qd, qdd), pick, tops, tol, ws,
-                      error, keep, rows)  # fmt: skip
+        picked = (q[:, pick], qd[:, pick], qdd[:, pick])
+        solved = _check_picked(plan, again, picked, pick, tops, tol, ws, error, keep, rows)
+        improved = (pick, solved)
     found: list[ChangePoint] = []
     tail = carry.tail
     if change_points:
-        found, tail = _search_blocks(
-            plan, (ws.x, ws.v, q, qd, ws.trans), carry, _blocks(carry.start, n)
-        )
+        found, tail = _search_selected(plan, ws, (q, qd), carry, (keep, rows), again, improved)
     result = KinematicResult.build(
         plan, ws.x, ws.v, ws.a, q, qd, qdd, ws.trans, derived, Status(ws.status, ws.failed, plan)
     )
@@ -393,10 +410,41 @@ def solve_selected(
     return result, Carry(carry.start + n, tail, carry.reached)
 
 
-def _check_picked(
+def _solve_again(
     plan: SolvePlan,
     kernel: Kernel,
     consts: tuple[F, int],
+    inputs: tuple[F, F, F],
+    tol: Tolerances,
+    unbuildable: np.ndarray | None,
+    n_rows: int,
+    index: np.ndarray,
+) -> Workspace:
+    """`solve_selected`'s samples ``index`` solved again whole (every row) by its kernel,
+    their inputs checked as the first solve checked them: the same values, to the bit
+    (``n_rows``: the kernel's scratch rows, every one written out)."""
+    table, stride = consts
+    q, qd, qdd = (arr[:, index] for arr in inputs)
+    out = Workspace.of(plan, index.size)
+    out.failed.fill(-1)
+    bad = None if unbuildable is None else unbuildable[index]
+    checked = check_inputs(plan, q, qd, qdd, out.status, bad)
+    c = Chunk(
+        out.x, out.v, out.a, checked, qd, qdd, out.trans, out.status, out.failed, tol.close,
+        tol.singular,
+    )  # fmt: skip
+    compiled_plan.run_designs(
+        kernel, np.ascontiguousarray(table[:, index]) if stride else table, stride, 0, c,
+        out.derived.body, out.derived.element, out.near, out.near_step,
+        np.ones(n_rows, dtype=np.int8), np.zeros(len(precision.KINDS), dtype=np.int64),
+        precision.NEAR,
+    )  # fmt: skip
+    return out
+
+
+def _check_picked(
+    plan: SolvePlan,
+    again: Callable[[np.ndarray], Workspace],
     inputs: tuple[F, F, F],
     pick: np.ndarray,
     tops: np.ndarray,
@@ -405,36 +453,22 @@ def _check_picked(
     error: F,
     keep: np.ndarray,
     rows: dict[tuple[str, tuple[int, ...]], int],
-) -> None:
+) -> Workspace:
     """`solve_selected`'s precision check: the samples ``pick`` (ok, near a dead position)
-    solved again whole by ``kernel`` and checked together, each against its block's scales
+    solved again whole (``again``) and checked together, each against its block's scales
     (``tops``); their statuses, failed steps and error estimates set in ``ws`` and
     ``error``, and their improved values copied to the rows ``keep`` (`written_rows`'
-    ``rows``)."""
-    table, stride = consts
-    q, qd, qdd = inputs
-    k = pick.size
+    ``rows``). Returns their whole state, improved."""
     blocks = []
     for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
         upto = int(np.searchsorted(pick, (b + 1) * BLOCK))
         far = tops[b].view(np.float64).tolist()
         blocks.append((upto - int(at), dict(zip(precision.KINDS, far, strict=True))))
-    solved = Workspace.of(plan, k)
-    solved.failed.fill(-1)
-    picked = (q[:, pick], qd[:, pick], qdd[:, pick])
-    c = Chunk(
-        solved.x, solved.v, solved.a, *picked, solved.trans, solved.status, solved.failed,
-        tol.close, tol.singular,
-    )  # fmt: skip
-    compiled_plan.run_designs(
-        kernel, np.ascontiguousarray(table[:, pick]) if stride else table, 1 if stride else k,
-        0, c, solved.derived.body, solved.derived.element, solved.near, solved.near_step,
-        np.ones_like(keep), np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
-    )  # fmt: skip
+    solved = again(pick)
     arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         err, code, step = precision.check_picked(
-            take(plan, pick), picked, arrays, (solved.near, solved.near_step),
+            take(plan, pick), inputs, arrays, (solved.near, solved.near_step),
             (tol.close, tol.singular), blocks,
         )  # fmt: skip
     check_finite(arrays, code, np.isfinite(err))
@@ -447,6 +481,61 @@ def _check_picked(
         if keep[row]:
             index: tuple[int | np.ndarray, ...] = (*lead, pick)
             into[name][index] = got[name][lead]
+    return solved
+
+
+def _search_selected(
+    plan: SolvePlan,
+    ws: Workspace,
+    inputs: tuple[F, F],
+    carry: Carry,
+    kept: tuple[np.ndarray, dict[tuple[str, tuple[int, ...]], int]],
+    again: Callable[[np.ndarray], Workspace],
+    improved: tuple[np.ndarray, Workspace] | None,
+) -> tuple[list[ChangePoint], Tail | None]:
+    """`_search_blocks` for `solve_selected`: a dyad's change points are searched in its
+    positions and velocities only where its triangle comes near flat
+    (`excavkin.kinematics.change_points.searched`, from the transmission angles, always
+    kept); a block where a dyad whose rows were not kept is searched is solved again whole
+    (``again``, the precision check's ``improved`` samples' values put in), and so is the
+    tail each block hands the next. The same change points, to the bit."""
+    q, qd = inputs
+    keep, rows = kept
+    unkept = {
+        unit
+        for unit, st in dyads(plan)
+        for p in (st.point, st.a, st.b)
+        for key in (("x", (p, 0)), ("x", (p, 1)), ("v", (p, 0)), ("v", (p, 1)))
+        if key in rows and not keep[rows[key]]
+    }
+
+    def state(index: np.ndarray) -> tuple[F, F]:
+        out = again(index)
+        if improved is not None:
+            pick, solved = improved
+            _, i, j = np.intersect1d(index, pick, assume_unique=True, return_indices=True)
+            out.x[..., i], out.v[..., i] = solved.x[..., j], solved.v[..., j]
+        return out.x, out.v
+
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    for b in _blocks(carry.start, ws.status.size):
+        trans = ws.trans[:, b]
+        whole = any(unit in unkept for unit, _ in searched(plan, ws.x[..., b], trans, tail))
+        x, v = state(np.arange(b.start, b.stop)) if whole else (ws.x[..., b], ws.v[..., b])
+        found += find_change_points(
+            plan, x, v=v, q=q[:, b], qd=qd[:, b], trans=trans, offset=carry.start + b.start,
+            tail=tail,
+        )  # fmt: skip
+        last = np.arange(max(b.start, b.stop - MAX_GAP - 1), b.stop)
+        if unkept and not whole:
+            x, v = state(last)
+        else:
+            x, v = x[..., last - b.start], v[..., last - b.start]
+        tail = Tail.of(x, v, q[:, last], qd[:, last], ws.trans[:, last], before=tail)
+    order = {plan.points[st.point]: unit for unit, st in dyads(plan)}
+    found.sort(key=lambda cp: order[cp.point])  # plan order, each dyad's in sample order
+    return found, tail
 
 
 def _prepared(plan: SolvePlan, n: int, workspace: Workspace | None) -> Workspace:
