@@ -122,7 +122,8 @@ def test_the_excavator() -> None:
     rates = {name: rng.normal(0.0, 0.05, n) for name in mech.inputs}
     whole = mech.solve(values, rates, backend="numba")
     assert 0.5 < whole.status.ok.mean() < 1.0
-    for asked in (["Q.*", "bucket.omega", "L.transmission"], ["W.ay"]):
+    driven = [f"{mech.inputs[0]}.value", f"{mech.inputs[1]}.rate"]  # (their inputs, exactly)
+    for asked in (["Q.*", "bucket.omega", "L.transmission", *driven], ["W.ay"]):
         parts = list(mech.solve_stream(values, rates, columns=asked, backend="numba"))
         _same(whole, parts, asked)
 

@@ -171,10 +171,12 @@ class SelectedResult:
     it gives those columns, by name or as a table, and each sample's status — the status of
     the sample solved whole, whatever the columns asked. Its other values were not kept: the
     arrays of a `KinematicResult` (``positions``, ``velocities`` …) and any column not asked
-    raise an error naming it, never a number.
+    raise an error naming it, never a number. Made by `of`.
 
-    Attributes
+    Parameters
     ----------
+    _whole : KinematicResult
+        The result solved: only the rows of the columns asked hold values.
     names : tuple of str
         The columns asked, in table order (``status`` aside).
     """

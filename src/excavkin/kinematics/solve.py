@@ -36,6 +36,7 @@ from excavkin.kinematics.change_points import (
     find_change_points,
     searched,
 )
+from excavkin.kinematics.columns import driver_columns
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
 from excavkin.kinematics.result import Derived, KinematicResult, Status
@@ -403,9 +404,16 @@ def solve_selected(
     tail = carry.tail
     if change_points:
         found, tail = _search_selected(plan, ws, (q, qd), carry, (keep, rows), again, improved)
+    for j, e in enumerate(plan.elements):  # a driven length asked: its input, exactly
+        if e.input < 0 or e.ratio:
+            continue
+        for k, c in enumerate(driver_columns(e.name, "length")):
+            if c.name in columns:
+                derived.element[k, j] = (q, qd, qdd)[k][e.input]
     result = KinematicResult.build(
-        plan, ws.x, ws.v, ws.a, q, qd, qdd, ws.trans, derived, Status(ws.status, ws.failed, plan)
-    )
+        plan, ws.x, ws.v, ws.a, q, qd, qdd, ws.trans, derived,
+        Status(ws.status, ws.failed, plan), lengths=False,
+    )  # fmt: skip
     result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
     return result, Carry(carry.start + n, tail, carry.reached)
 
