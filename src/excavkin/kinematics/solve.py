@@ -360,7 +360,7 @@ def solve_selected(
     kernel = backends.kernel_of(text, "kinematics")
     rows, n_rows = written_rows(text)
     keep = kept_rows(plan, rows, n_rows, columns, change_points)
-    ws = _prepared(plan, n, None)
+    ws = _unwritten(plan, n, rows)
     consts, stride = compiled_plan.table(compiled_plan.constants(plan), n)
     # chunks that divide a block (a power of two), each with its own share of the scales
     chunk = 1 << (min(max(execution.chunk_or(CHUNK), 1), BLOCK).bit_length() - 1)
@@ -416,6 +416,30 @@ def solve_selected(
     )  # fmt: skip
     result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
     return result, Carry(carry.start + n, tail, carry.reached)
+
+
+def _unwritten(plan: SolvePlan, n: int, rows: dict[tuple[str, tuple[int, ...]], int]) -> Workspace:
+    """`solve_selected`'s arrays: none written (not even zeroed, as `Workspace.of` zeroes
+    the velocities and accelerations: a fresh array's pages are zeroed when first touched,
+    but memory used before is zeroed in full), but the rows no kernel writes (`rows`: those
+    it does), which are zero, as a solve's are (a fixed point's rates, the ground's row)."""
+    n_pts = len(plan.points)
+    per_sample = 8 * (6 * n_pts + len(plan.transmissions) + 3 * len(plan.bodies))
+    with _small_pages(n * (per_sample + 48 * len(plan.elements))):
+        ws = Workspace(
+            np.empty((n_pts, 2, n)), np.empty((n_pts, 2, n)), np.empty((n_pts, 2, n)),
+            np.empty((len(plan.transmissions), n)),
+            Derived(np.empty((3, len(plan.bodies), n)), np.empty((6, len(plan.elements), n))),
+            np.zeros(n, dtype=np.int8), np.empty(n, dtype=np.int16), np.empty(n),
+            np.empty(n, dtype=np.int16),
+        )  # fmt: skip
+    arrays = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
+    arrays |= {"body": ws.derived.body, "element": ws.derived.element}
+    for name, arr in arrays.items():
+        for lead in np.ndindex(*arr.shape[:-1]):
+            if (name, lead) not in rows:
+                arr[lead] = 0.0
+    return ws
 
 
 def _solve_again(
