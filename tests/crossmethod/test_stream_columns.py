@@ -14,7 +14,7 @@ import excavkin
 from excavkin.errors import InputError, UnknownNameError
 from excavkin.kinematics import compiled
 from excavkin.kinematics import solve as solve_module
-from excavkin.kinematics.selection import SelectedResult, asked_names, kept_rows
+from excavkin.kinematics.selection import SelectedResult, asked_names, kept_rows, resting_rows
 from excavkin.kinematics.solve import BLOCK
 from excavkin.kinematics.vectorise import written_rows
 from excavkin.mechanism import SolvedPart
@@ -61,8 +61,8 @@ def marked(monkeypatch: pytest.MonkeyPatch) -> list[Arrays]:
     made = solve_module._unwritten
     out: list[Arrays] = []
 
-    def marking(plan, n, rows):  # type: ignore[no-untyped-def]
-        ws = made(plan, n, rows)
+    def marking(plan, n, rows, rest):  # type: ignore[no-untyped-def]
+        ws = made(plan, n, rows, rest)
         arrays = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
         arrays |= {"body": ws.derived.body, "element": ws.derived.element}
         for name, lead in rows:
@@ -216,13 +216,18 @@ def test_newton_groups_keep_the_full_solve() -> None:
 def test_rows_kept_are_the_columns_and_the_checks() -> None:
     mech = excavkin.load(FOURBAR)
     plan = mech.plan
-    rows, n_rows = written_rows(compiled.kernel_source(plan, by_design=True))
+    rows, n_rows = written_rows(compiled.kernel_source(plan, keep=True))
     every = kept_rows(plan, rows, n_rows, asked_names(plan, ["*"]), change_points=False)
     assert every.sum() == len(rows)  # every written row holds some column
     keep = kept_rows(plan, rows, n_rows, {"B.ax"}, change_points=False)
     assert np.flatnonzero(keep).tolist() == [rows[("a", (plan.points.index("B"), 0))]]
-    # a driven length's or a fixed point's columns are no row's
+    # a driven length's or a fixed point's columns are no row's: the fixed point's rates are
+    # zero, made so where asked
     assert not kept_rows(plan, rows, n_rows, {"crank.value", "O2.vx"}, False).any()
+    o2 = plan.points.index("O2")
+    rest = resting_rows(plan, rows, {"O2.vx", "O2.ay", "B.x"})
+    assert sorted(rest) == [("a", (o2, 1)), ("v", (o2, 0))]
+    assert resting_rows(plan, rows, {"O2.x", "B.x", "crank.value"}) == []
     # the change points read the transmission angles (and solve a block again where a dyad
     # not kept comes near flat)
     checks = kept_rows(plan, rows, n_rows, set(), change_points=True)

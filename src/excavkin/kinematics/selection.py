@@ -33,10 +33,15 @@ if TYPE_CHECKING:
     import pandas as pd
 
 
-def _marked(plan: SolvePlan, rows: dict[tuple[str, tuple[int, ...]], int]) -> KinematicResult:
+def _marked(
+    plan: SolvePlan,
+    rows: dict[tuple[str, tuple[int, ...]], int],
+    rest: list[tuple[str, tuple[int, ...]]] | None = None,
+) -> KinematicResult:
     """A one-sample result whose every row written by the kernel holds 1000 + its scratch
     row's number, the inputs negative numbers: its columns read back say which row holds
-    each."""
+    each. ``rest``: each row that no kernel writes holds −10⁶ − its place in ``rest``,
+    appended (else 0)."""
     n_pts = len(plan.points)
     arrays = {
         "x": np.zeros((n_pts, 2, 1)), "v": np.zeros((n_pts, 2, 1)),
@@ -46,6 +51,12 @@ def _marked(plan: SolvePlan, rows: dict[tuple[str, tuple[int, ...]], int]) -> Ki
     arrays |= {"body": derived.body, "element": derived.element}
     for (name, lead), row in rows.items():
         arrays[name][(*lead, 0)] = 1000.0 + row
+    if rest is not None:
+        for name, arr in arrays.items():
+            for lead in np.ndindex(*arr.shape[:-1]):
+                if (name, lead) not in rows:
+                    arr[(*lead, 0)] = -1e6 - len(rest)
+                    rest.append((name, lead))
     n_in = len(plan.inputs)
     marks = -1.0 - np.arange(3 * n_in, dtype=np.float64).reshape(3, n_in, 1)
     status = Status(np.zeros(1, dtype=np.int8), np.full(1, -1, dtype=np.int16), plan)
@@ -127,19 +138,24 @@ def kept_rows(
     ndarray of int8, shape (n_rows,)
         (One array per plan, columns and kernel, kept: not to be changed.)
     """
-    key = (id(plan), frozenset(names), change_points, id(rows))
-    made = _kept.get(key)
-    if made is not None and made[0] is plan and made[1] is rows:
-        return made[2]
-    keep = _kept_rows(plan, rows, n_rows, names, change_points)
-    if len(_kept) >= 16:
-        _kept.clear()
-    _kept[key] = (plan, rows, keep)
-    return keep
+    key = ("kept", id(plan), frozenset(names), change_points, id(rows))
+    made = _made.get(key)
+    if made is None or made[0] is not plan or made[1] is not rows:
+        made = (plan, rows, _kept_rows(plan, rows, n_rows, names, change_points))
+        _keep(key, made)
+    out: NDArray[np.int8] = made[2]
+    return out
 
 
-#: the last rows kept (a stream asks again for each of its parts), by plan, columns, kernel
-_kept: dict[tuple[int, frozenset[str], bool, int], tuple[SolvePlan, object, NDArray[np.int8]]] = {}
+#: the last rows found (a stream asks again for each of its parts), by what they are of:
+#: the plan and kernel rows themselves kept, so that an id reused is not taken for them
+_made: dict[tuple[object, ...], tuple[SolvePlan, object, Any]] = {}
+
+
+def _keep(key: tuple[object, ...], made: tuple[SolvePlan, object, Any]) -> None:
+    if len(_made) >= 32:
+        _made.clear()
+    _made[key] = made
 
 
 def _kept_rows(
@@ -163,6 +179,43 @@ def _kept_rows(
             if ("trans", (i,)) in rows:
                 keep[rows[("trans", (i,))]] = 1
     return keep
+
+
+def resting_rows(
+    plan: SolvePlan, rows: dict[tuple[str, tuple[int, ...]], int], names: Collection[str]
+) -> list[tuple[str, tuple[int, ...]]]:
+    """The rows that no kernel writes (a fixed point's velocity and acceleration, the
+    ground's angle: zero throughout) that the columns ``names`` read: those a solve of
+    some columns sets to zero, and no others.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+    rows : dict of (str, tuple of int) to int
+        The kernel's written rows (`excavkin.kinematics.vectorise.written_rows`).
+    names : collection of str
+        Kinematic columns (`asked_names`).
+
+    Returns
+    -------
+    list of (str, tuple of int)
+        Each row's array and its indices before the sample's. (One list per plan, columns
+        and kernel, kept: not to be changed.)
+    """
+    key = ("resting", id(plan), frozenset(names), id(rows))
+    made = _made.get(key)
+    if made is None or made[0] is not plan or made[1] is not rows:
+        rest: list[tuple[str, tuple[int, ...]]] = []
+        marked = _marked(plan, rows, rest)
+        found = []
+        for value in marked.columns_named(list(names)).values():
+            mark = float(value[0])
+            if mark <= -1e6:
+                found.append(rest[int(-1e6 - mark)])
+        made = (plan, rows, found)
+        _keep(key, made)
+    out: list[tuple[str, tuple[int, ...]]] = made[2]
+    return out
 
 
 @dataclass(frozen=True, slots=True, repr=False)

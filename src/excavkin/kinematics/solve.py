@@ -40,7 +40,7 @@ from excavkin.kinematics.columns import driver_columns
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
 from excavkin.kinematics.result import Derived, KinematicResult, Status
-from excavkin.kinematics.selection import kept_rows
+from excavkin.kinematics.selection import kept_rows, resting_rows
 from excavkin.kinematics.steps import run_steps
 from excavkin.kinematics.threads import over_chunks
 from excavkin.kinematics.vectorise import written_rows
@@ -360,7 +360,7 @@ def solve_selected(
     kernel = backends.kernel_of(text, "kinematics")
     rows, n_rows = written_rows(text)
     keep = kept_rows(plan, rows, n_rows, columns, change_points)
-    ws = _unwritten(plan, n, rows)
+    ws = _unwritten(plan, n, rows, resting_rows(plan, rows, columns))
     consts, stride = compiled_plan.table(compiled_plan.constants(plan), n)
     # chunks that divide a block (a power of two), each with its own share of the scales
     chunk = 1 << (min(max(execution.chunk_or(CHUNK), 1), BLOCK).bit_length() - 1)
@@ -418,11 +418,17 @@ def solve_selected(
     return result, Carry(carry.start + n, tail, carry.reached)
 
 
-def _unwritten(plan: SolvePlan, n: int, rows: dict[tuple[str, tuple[int, ...]], int]) -> Workspace:
+def _unwritten(
+    plan: SolvePlan,
+    n: int,
+    rows: dict[tuple[str, tuple[int, ...]], int],
+    rest: list[tuple[str, tuple[int, ...]]],
+) -> Workspace:
     """`solve_selected`'s arrays: none written (not even zeroed, as `Workspace.of` zeroes
     the velocities and accelerations: a fresh array's pages are zeroed when first touched,
-    but memory used before is zeroed in full), but the rows no kernel writes (`rows`: those
-    it does), which are zero, as a solve's are (a fixed point's rates, the ground's row)."""
+    but memory used before is zeroed in full), but the rows ``rest``, which no kernel
+    writes and a column asked reads: zero, as a solve's are (a fixed point's rates, the
+    ground's angle). (``rows``: the rows the kernel writes.)"""
     n_pts = len(plan.points)
     per_sample = 8 * (6 * n_pts + len(plan.transmissions) + 3 * len(plan.bodies))
     with _small_pages(n * (per_sample + 48 * len(plan.elements))):
@@ -435,10 +441,9 @@ def _unwritten(plan: SolvePlan, n: int, rows: dict[tuple[str, tuple[int, ...]], 
         )  # fmt: skip
     arrays = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
     arrays |= {"body": ws.derived.body, "element": ws.derived.element}
-    for name, arr in arrays.items():
-        for lead in np.ndindex(*arr.shape[:-1]):
-            if (name, lead) not in rows:
-                arr[lead] = 0.0
+    for name, lead in rest:
+        if (name, lead) not in rows:
+            arrays[name][lead] = 0.0
     return ws
 
 
