@@ -170,16 +170,19 @@ class SolvedPart:
         return self.start + len(self.result)
 
 
-def _selected(parts: Iterator[SolvedPart], columns: tuple[str, ...]) -> Iterator[SolvedPart]:
+def _selected(
+    parts: Iterator[SolvedPart], columns: tuple[str, ...], some: bool
+) -> Iterator[SolvedPart]:
     """The parts, each to make a table of only ``columns``; the names checked on the first.
-    A kinematic part's result gives those columns alone
-    (`excavkin.kinematics.selection.SelectedResult`: its other rows may hold no values)."""
+    ``some``: the kinematics were solved for those columns, and each part's result gives
+    them alone (`excavkin.kinematics.selection.SelectedResult`: its other rows may hold
+    no values)."""
     from excavkin.kinematics.selection import SelectedResult
 
     for i, part in enumerate(parts):
         if i == 0:
             part.result.to_frame(columns=columns)  # views only: raises on a name unknown
-        if isinstance(part.result, KinematicResult):
+        if some and isinstance(part.result, KinematicResult):
             selected = SelectedResult.of(part.result, columns)
             part = dataclasses.replace(part, result=selected)
         yield dataclasses.replace(part, columns=columns)
@@ -631,6 +634,10 @@ class Mechanism:
             ``"*.x"``, ``"crank.*"``), in the table's order, ``status`` always. A name or
             pattern that matches no column raises
             [`UnknownNameError`][excavkin.errors.UnknownNameError] when the first part comes.
+            Without ``loads`` and ``sensitivities`` only those columns are solved for
+            (the compiled kernel writes out only their rows; every status is the full
+            solve's, ``docs/streaming.md``) and each part's result is a
+            [`SelectedResult`][excavkin.kinematics.selection.SelectedResult] of them.
 
         Yields
         ------
@@ -685,7 +692,8 @@ class Mechanism:
         stream = self._stream(kinematics, batch, span, size, sensitivities, loads, given, run)
         if columns is None:
             return stream
-        return _selected(stream, (columns,) if isinstance(columns, str) else tuple(columns))
+        names = (columns,) if isinstance(columns, str) else tuple(columns)
+        return _selected(stream, names, asked is not None)
 
     def _stream(
         self,

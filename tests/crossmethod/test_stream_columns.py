@@ -259,3 +259,7 @@ def test_a_selected_result_refuses_what_was_not_asked() -> None:
         res.column("nope")
     assert res.rows(10, 20).to_frame().shape == (10, 8)
     assert res.status.all_ok and "crank" in res.describe_sample(3)
+    # sensitivities (and forces) solve every column: the part keeps the whole result
+    part = next(iter(mech.solve_stream(q, columns=["B.x"], sensitivities=["O4-B"])))
+    assert isinstance(part.result, excavkin.KinematicResult)
+    assert list(part.to_frame().columns) == ["B.x", "status"]
