@@ -261,12 +261,15 @@ def run_designs(
     """`run_table` for consecutive samples of a study (designs × ``poses``, design-major),
     with the kernel made ``by_design`` (`kernel_source`): ``consts`` is the constants table
     (`table`) of the designs from the chunk's first sample's on, one column a design, and
-    ``first`` that sample's pose. The outputs' sample ``start`` is the chunk's first.
+    ``first`` that sample's pose. The outputs' sample ``start`` is the chunk's first. A
+    kernel made with ``keep`` (a solve of some columns) runs the same way, ``consts`` and
+    ``poses`` as `run_table`'s table and stride, ``first`` unread.
 
     Parameters
     ----------
     kernel : callable
-        The plan's kernel, compiled from ``kernel_source(plan, by_design=True)``.
+        The plan's kernel, compiled from ``kernel_source(plan, by_design=True)`` (or
+        ``kernel_source(plan, per_sample, keep=True)``).
     consts : ndarray, shape (k, designs)
         The constants, a column per design, the chunk's first sample's design first.
     poses : int
