@@ -323,11 +323,13 @@ def solve_selected(
     finiteness of every value in the kernel; the precision check's scales kept by the kernel
     (its ``tops``), each block's, and the samples near a dead position solved again whole and
     checked together (`excavkin.kinematics.precision.check_picked`), their improved values
-    copied to the rows kept; the change points searched in the rows they read, which are
-    kept (`excavkin.kinematics.selection.kept_rows`). So every status, error estimate and
-    change point, and every value of a row kept, is the full solve's to the bit. Only the
-    kept rows of the result's arrays are written (the others are never touched: their pages
-    are never faulted in), and hold values.
+    copied to the rows kept; the change points found from the transmission angles, always
+    kept (`excavkin.kinematics.selection.kept_rows`), and a block where a dyad whose rows
+    were not kept comes near flat solved again whole for them (`_search_selected`). So
+    every status, error estimate and change point, and every value of a row kept, is the
+    full solve's to the bit. Only the kept rows of the result's arrays are written, and the
+    rows no kernel writes that a column asked reads (zero): the others are never touched,
+    and hold no values.
 
     Parameters
     ----------
