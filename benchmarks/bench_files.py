@@ -7,7 +7,9 @@ Run: ``python benchmarks/bench_files.py [--large]``. On ``examples/fourbar.toml`
   same frame. Target for CSV: ≥ 10× pandas.
 * **to_frame** of 10⁶ samples against their solve. Target: ≤ 1× (no copies).
 * **columns=**: writing 10⁶ samples' whole table against 3 columns of it (``columns=``), CSV
-  and Parquet, as the ratio of their times.
+  and Parquet, as the ratio of their times; and solving them: ``solve_stream`` of 10⁶
+  four-bar and excavator samples (10⁷ with ``--large``), every part's table made, 3 columns
+  against every column (the compiled kernel writes out only the rows asked).
 * **parts**: 2·10⁶ rows of the whole table, in parts of 262 144, written as one Parquet file
   (one encoding thread) and as a folder of parts (``write_parts``, a thread a core).
 * **excavkin solve** of 10⁶ samples to CSV and to Parquet, end to end (a process each).
@@ -114,6 +116,58 @@ def parted(n: int, size: int, folder: Path) -> None:
     print(f"{n:,} rows × {frame.shape[1]} columns in {len(pieces)} parts to Parquet: one file "
           f"{t_one:5.2f} s, a folder of parts on {part_threads()} threads {t_parts:5.2f} s; "
           f"ratio {t_one / t_parts:4.2f}")  # fmt: skip
+
+
+#: the three columns a streamed solve asks of each model (`streamed`)
+ASKED = {"fourbar": ["B.x", "B.y", "rocker.angle"], "excavator": ["W.x", "W.y", "bucket.angle"]}
+
+
+def streamed(n: int, repeat: int = 3) -> None:
+    """``solve_stream`` of ``n`` samples (rates given), every part's table made, asking three
+    columns against every column: the compiled kernel writes out only the rows asked (and
+    those the checks read), every status as the full solve's. Runs taken in turn; the
+    processor time of every thread (steadier than the wall's on a busy machine) and the wall
+    time, each the least of the runs, and the kernel's rows written out a sample."""
+    from excavkin.kinematics import compiled
+    from excavkin.kinematics.selection import asked_names, kept_rows
+    from excavkin.kinematics.vectorise import written_rows
+    from excavkin.sweeps import Linspace
+
+    print(f"solve_stream of {n:,} samples, every part's to_frame(): all columns against 3")
+    for name, asked in ASKED.items():
+        mech = excavkin.load(excavkin.example_path(name))
+        values: dict[str, object] = {}
+        for k, v in mech.sketch_values().items():  # every driver about its sketch value
+            if mech.input_kind(k) == "angle":
+                values[k] = Linspace(v - 0.3, v + 0.3, n)
+            else:
+                values[k] = Linspace(0.97 * v, 1.03 * v, n)
+        rates = {k: 0.5 for k in values}
+
+        def run(
+            columns: list[str] | None,
+            mech: excavkin.Mechanism = mech,
+            values: dict[str, object] = values,
+            rates: dict[str, float] = rates,
+        ) -> tuple[float, float]:
+            cpu, wall = time.process_time(), time.perf_counter()
+            for part in mech.solve_stream(values, rates, columns=columns, backend="numba"):
+                part.to_frame()
+            return time.process_time() - cpu, time.perf_counter() - wall
+
+        run(asked)  # the kernels compiled (or loaded) before
+        runs: dict[bool, list[tuple[float, float]]] = {False: [], True: []}
+        for _ in range(repeat):
+            for some in (False, True):
+                runs[some].append(run(asked if some else None))
+        every, some = ([min(r[k] for r in runs[s]) for k in range(2)] for s in (False, True))
+        rows, n_rows = written_rows(compiled.kernel_source(mech.plan, keep=True))
+        kept = int(kept_rows(mech.plan, rows, n_rows, asked_names(mech.plan, asked)).sum())
+        print(f"  {name:10s} every column ({len(rows)} rows written): {every[0] / n * 1e9:4.0f} "
+              f"ns/sample processor, {every[1] / n * 1e9:4.0f} wall")  # fmt: skip
+        print(f"  {'':10s} 3 columns ({kept} rows written):     {some[0] / n * 1e9:4.0f} "
+              f"ns/sample processor, {some[1] / n * 1e9:4.0f} wall; 3 columns / every: "
+              f"processor {some[0] / every[0]:.2f}, wall {some[1] / every[1]:.2f}")  # fmt: skip
 
 
 def command(args: list[str], suffix: str, folder: Path) -> tuple[float, int, int]:
@@ -230,8 +284,10 @@ def main() -> None:
         frames(1_000_000)
         selected(1_000_000, folder)
         parted(2_000_000, 262_144, folder)
+        streamed(1_000_000)
         end_to_end(1_000_000, folder)
         if big:
+            streamed(10_000_000, repeat=2)
             large(folder)
 
 

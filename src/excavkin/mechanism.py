@@ -32,6 +32,7 @@ from excavkin.sweeps import Lazy, part_of
 if TYPE_CHECKING:
     import pandas as pd
 
+    from excavkin.kinematics.selection import SelectedResult
     from excavkin.kinetostatics import ForceResult, Load, StaticsSystem
 
 
@@ -136,9 +137,12 @@ class SolvedPart:
     start : int
         The first sample's number in the sweep: row ``i`` of ``result`` is sample
         ``start + i``.
-    result : KinematicResult or ForceResult
+    result : KinematicResult, SelectedResult or ForceResult
         The part's result. Its change points are numbered in the whole sweep (one whose two
-        samples lie in two parts is the later part's).
+        samples lie in two parts is the later part's). A kinematic stream of some columns
+        (``columns=``) gives a
+        [`SelectedResult`][excavkin.kinematics.selection.SelectedResult]: those columns
+        alone, and every sample's status (the whole sample's).
     total : int
         The number of samples in the whole sweep.
     columns : tuple of str, optional
@@ -146,7 +150,7 @@ class SolvedPart:
     """
 
     start: int
-    result: KinematicResult | ForceResult
+    result: KinematicResult | SelectedResult | ForceResult
     total: int
     columns: tuple[str, ...] | None = None
 
@@ -166,11 +170,21 @@ class SolvedPart:
         return self.start + len(self.result)
 
 
-def _selected(parts: Iterator[SolvedPart], columns: tuple[str, ...]) -> Iterator[SolvedPart]:
-    """The parts, each to make a table of only ``columns``; the names checked on the first."""
+def _selected(
+    parts: Iterator[SolvedPart], columns: tuple[str, ...], some: bool
+) -> Iterator[SolvedPart]:
+    """The parts, each to make a table of only ``columns``; the names checked on the first.
+    ``some``: the kinematics were solved for those columns, and each part's result gives
+    them alone (`excavkin.kinematics.selection.SelectedResult`: its other rows may hold
+    no values)."""
+    from excavkin.kinematics.selection import SelectedResult
+
     for i, part in enumerate(parts):
         if i == 0:
             part.result.to_frame(columns=columns)  # views only: raises on a name unknown
+        if some and isinstance(part.result, KinematicResult):
+            selected = SelectedResult.of(part.result, columns)
+            part = dataclasses.replace(part, result=selected)
         yield dataclasses.replace(part, columns=columns)
 
 
@@ -620,6 +634,10 @@ class Mechanism:
             ``"*.x"``, ``"crank.*"``), in the table's order, ``status`` always. A name or
             pattern that matches no column raises
             [`UnknownNameError`][excavkin.errors.UnknownNameError] when the first part comes.
+            Without ``loads`` and ``sensitivities`` only those columns are solved for
+            (the compiled kernel writes out only their rows; every status is the full
+            solve's, ``docs/streaming.md``) and each part's result is a
+            [`SelectedResult`][excavkin.kinematics.selection.SelectedResult] of them.
 
         Yields
         ------
@@ -660,16 +678,22 @@ class Mechanism:
             for s in range(0, n, span):
                 yield batch.part(s, min(s + span, n))
 
+        asked = None  # the kinematic columns asked: only their rows are written out
+        if columns is not None and loads is None and not sensitivities:
+            from excavkin.kinematics.selection import asked_names
+
+            asked = asked_names(self.plan, (columns,) if isinstance(columns, str) else columns)
         kinematics = solve_parts(
             self.plan, self.assembly, parts, total=n, tol=tol or Tolerances(), execution=run,
-            continuation=continuation,
+            continuation=continuation, columns=asked,
         )  # fmt: skip
         given = None if loads is None or loads == "model" else list(loads)  # type: ignore[arg-type]
         # the inputs are checked above, at the call; the parts come as they are asked for
         stream = self._stream(kinematics, batch, span, size, sensitivities, loads, given, run)
         if columns is None:
             return stream
-        return _selected(stream, (columns,) if isinstance(columns, str) else tuple(columns))
+        names = (columns,) if isinstance(columns, str) else tuple(columns)
+        return _selected(stream, names, asked is not None)
 
     def _stream(
         self,

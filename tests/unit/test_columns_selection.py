@@ -123,7 +123,10 @@ def test_a_stream_of_selected_columns_is_the_whole_selection() -> None:
     streamed = pd.concat([p.to_frame() for p in parts], ignore_index=True)
     whole = mech.solve({"crank": q}).to_frame()
     _same_bits(streamed, whole[_expected(list(whole.columns))])
-    assert parts[0].result.to_frame().shape[1] == whole.shape[1]  # the result stays whole
+    # the result gives the columns asked alone: the others were not kept
+    assert list(parts[0].result.to_frame().columns) == list(streamed.columns)
+    with pytest.raises(AttributeError, match="positions"):
+        parts[0].result.positions  # noqa: B018
     with pytest.raises(UnknownNameError, match="B.q"):
         next(iter(mech.solve_stream({"crank": q}, size=4096, columns=["B.q"])))
 

@@ -247,9 +247,40 @@ def find_change_points(
     """
     out = []
     names = plan.points
-    for unit, st in dyads(plan):
+    for unit, st in searched(plan, x, trans, tail):
         if only is not None and unit != only:
             continue
+        found = [] if tail is None else _across(tail, x, v, q, qd, st, offset)
+        found += [(i + offset, j + offset, shape) for i, j, shape in _changes(x, v, q, qd, st)]
+        for i, j, shape in found:
+            partners = (names[st.a], names[st.b])
+            out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))
+    return out
+
+
+def searched(
+    plan: SolvePlan, x: F, trans: F | None, tail: Tail | None = None
+) -> list[tuple[Unit, Folding]]:
+    """The dyads that `find_change_points` searches: every one without ``trans``, else those
+    whose triangle comes nearer flat than sin γ = `NEVER_FLAT` in these samples or the
+    ``tail`` (a Newton group's dyad's angle measured from the positions ``x``; a closed-form
+    dyad's read from ``trans`` alone).
+
+    Parameters
+    ----------
+    plan : SolvePlan
+    x : ndarray, shape (n_points, 2, n)
+        The positions (read for a Newton group's dyads only).
+    trans : ndarray, shape (n_transmissions, n), optional
+    tail : Tail, optional
+
+    Returns
+    -------
+    list of (Unit, Folding)
+        In plan order.
+    """
+    out: list[tuple[Unit, Folding]] = []
+    for unit, st in dyads(plan):
         if trans is not None:
             if not isinstance(st, GroupDyad):  # a closed-form dyad: its own angle
                 angles = [trans[st.index]] + ([] if tail is None else [tail.trans[st.index]])
@@ -257,11 +288,7 @@ def find_change_points(
                 angles = [_angles(x, st)] + ([] if tail is None else [_angles(tail.x, st)])
             if min(_flattest(t) for t in angles) >= NEVER_FLAT:
                 continue
-        found = [] if tail is None else _across(tail, x, v, q, qd, st, offset)
-        found += [(i + offset, j + offset, shape) for i, j, shape in _changes(x, v, q, qd, st)]
-        for i, j, shape in found:
-            partners = (names[st.a], names[st.b])
-            out.append(ChangePoint(names[st.point], partners, i, j, continued, shape))
+        out.append((unit, st))
     return out
 
 

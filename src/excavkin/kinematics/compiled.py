@@ -116,20 +116,24 @@ def unsupported(plan: SolvePlan) -> str | None:
 #: the last kernel sources made, by plan of one design (its id, and the plan itself so that an
 #: id reused by another plan is not taken for it): a solve asks twice (is it cached? then run
 #: it), and a mechanism solves its one plan again and again
-_made: dict[tuple[int, bool, bool], tuple[SolvePlan, str]] = {}
+_made: dict[tuple[int, bool, bool, bool], tuple[SolvePlan, str]] = {}
 
 
-def kernel_source(plan: SolvePlan, per_sample: bool = False, by_design: bool = False) -> str:
+def kernel_source(
+    plan: SolvePlan, per_sample: bool = False, by_design: bool = False, keep: bool = False
+) -> str:
     """The source of the plan's compiled kernel (`compile_plan`): the generated loop
     (`source`) rewritten over blocks of samples, branch-free, so that the compiler
     vectorises it (`excavkin.kinematics.vectorise`). Made once per plan object (0.1–0.5 ms
     a time: a tenth of a four-bar solve of 10⁴ samples). ``by_design``: its constants table
-    has a column per design of a study, each design's poses one after another (`run_designs`)."""
-    key = (id(plan), per_sample, by_design)
+    has a column per design of a study, each design's poses one after another (`run_designs`).
+    ``keep``: `run_designs`' calling convention (the rows kept, the far samples' tops) with
+    the constants as ``per_sample`` reads them (`excavkin.kinematics.vectorise.vectorised`)."""
+    key = (id(plan), per_sample, by_design, keep)
     made = _made.get(key)
     if made is not None and made[0] is plan:
         return made[1]
-    text = vectorised(source(plan, write_at_rest=False), per_sample, by_design)
+    text = vectorised(source(plan, write_at_rest=False), per_sample, by_design, keep)
     if not any(np.ndim(v) for v in constants(plan)):  # (a family's plan holds its arrays)
         if len(_made) >= 16:
             _made.clear()
@@ -257,12 +261,15 @@ def run_designs(
     """`run_table` for consecutive samples of a study (designs × ``poses``, design-major),
     with the kernel made ``by_design`` (`kernel_source`): ``consts`` is the constants table
     (`table`) of the designs from the chunk's first sample's on, one column a design, and
-    ``first`` that sample's pose. The outputs' sample ``start`` is the chunk's first.
+    ``first`` that sample's pose. The outputs' sample ``start`` is the chunk's first. A
+    kernel made with ``keep`` (a solve of some columns) runs the same way, ``consts`` and
+    ``poses`` as `run_table`'s table and stride, ``first`` unread.
 
     Parameters
     ----------
     kernel : callable
-        The plan's kernel, compiled from ``kernel_source(plan, by_design=True)``.
+        The plan's kernel, compiled from ``kernel_source(plan, by_design=True)`` (or
+        ``kernel_source(plan, per_sample, keep=True)``).
     consts : ndarray, shape (k, designs)
         The constants, a column per design, the chunk's first sample's design first.
     poses : int

@@ -494,6 +494,7 @@ class KinematicResult:
         trans: F,
         derived: Derived,
         status: Status,
+        lengths: bool = True,
     ) -> KinematicResult:
         """Wrap the solver's arrays (n_points, 2, n) etc. as batch-first views.
 
@@ -514,6 +515,9 @@ class KinematicResult:
         status : Status
             Per-sample outcome. One not yet looked at for poses out of reach (its ``unmet``
             None) is (`diagnose`).
+        lengths : bool, default True
+            Set the element rows of driven lengths to their inputs (False: the caller has
+            set those it keeps).
 
         Returns
         -------
@@ -526,7 +530,7 @@ class KinematicResult:
         for j, e in enumerate(plan.elements):
             # a driven length is its input, exactly (failed samples too); a winch rope's, its
             # motor's angle times each design's R/(i·n), is its blocks' distance as solved
-            if e.input >= 0 and not e.ratio:
+            if e.input >= 0 and not e.ratio and lengths:
                 derived.element[0, j] = q[e.input]
                 derived.element[1, j] = qd[e.input]
                 derived.element[2, j] = qdd[e.input]

@@ -10,10 +10,11 @@ Newton, so that every sample stays on the sketch's assembly branch.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 import os
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Collection, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,12 +28,22 @@ from excavkin.errors import AssemblyError
 from excavkin.execution import DEFAULT, Execution
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import compiled_newton, kernels, precision
-from excavkin.kinematics.change_points import ChangePoint, Tail, dyads, find_change_points
+from excavkin.kinematics.change_points import (
+    MAX_GAP,
+    ChangePoint,
+    Tail,
+    dyads,
+    find_change_points,
+    searched,
+)
+from excavkin.kinematics.columns import driver_columns
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
 from excavkin.kinematics.result import Derived, KinematicResult, Status
+from excavkin.kinematics.selection import kept_rows, resting_rows
 from excavkin.kinematics.steps import run_steps
 from excavkin.kinematics.threads import over_chunks
+from excavkin.kinematics.vectorise import written_rows
 from excavkin.step_kinds import NewtonGroup, of_kind
 from excavkin.structure.design import DesignBatch, take
 from excavkin.structure.plan import SolvePlan
@@ -189,6 +200,7 @@ def solve_part(
     carry: Carry | None = None,
     workspace: Workspace | None = None,
     change_points: bool = True,
+    columns: Collection[str] | None = None,
 ) -> tuple[KinematicResult, Carry]:
     """Positions, velocities and accelerations of every point for consecutive samples of a
     sweep, each dyad on its sketch side.
@@ -222,6 +234,14 @@ def solve_part(
     change_points : bool
         Search the change points (default); False: the result lists none (a family of
         designs one after another, whose neighbouring samples are not a path).
+    columns : collection of str, optional
+        Only these kinematic columns (names, `excavkin.kinematics.selection.asked_names`)
+        are asked: where the plan's compiled kernel solves (a closed-form plan, one design
+        or a column of constants a sample, not in a workspace), it writes out only their
+        rows and those the checks read back (`solve_selected`), and the result's other rows
+        hold no values — to be read through
+        `excavkin.kinematics.selection.SelectedResult`. Every status is the full solve's.
+        None, or another path: every row.
 
     Returns
     -------
@@ -231,6 +251,13 @@ def solve_part(
         For the part after.
     """
     carry = carry or Carry()
+    if columns is not None and workspace is None and designs is None:
+        selected = solve_selected(
+            plan, q, qd, qdd, columns, tol=tol, execution=execution, unbuildable=unbuildable,
+            carry=carry, change_points=change_points,
+        )  # fmt: skip
+        if selected is not None:
+            return selected
     n_in, n = q.shape
     workspace = _prepared(plan, n, workspace)
     x, v, a, trans = workspace.x, workspace.v, workspace.a, workspace.trans
@@ -270,6 +297,284 @@ def solve_part(
     )
     result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
     return result, Carry(carry.start + n, tail, reached)
+
+
+def solve_selected(
+    plan: SolvePlan,
+    q: F,
+    qd: F,
+    qdd: F,
+    columns: Collection[str],
+    *,
+    tol: Tolerances = Tolerances(),
+    execution: Execution = DEFAULT,
+    unbuildable: np.ndarray | None = None,
+    carry: Carry | None = None,
+    change_points: bool = True,
+) -> tuple[KinematicResult, Carry] | None:
+    """`solve_part` of some columns by the plan's compiled kernel made to keep some rows
+    (`excavkin.kinematics.compiled.kernel_source` ``keep``, run as
+    `excavkin.kinematics.compiled.run_designs` runs a study's), where the backend solves
+    this plan compiled; None where it does not (NumPy, a
+    device, a plan with Newton groups or one that does not compile, a part that does not
+    start a block): then `solve_part` solves every column.
+
+    Every sample is solved whole, in registers, and checked as the full solve checks it: the
+    finiteness of every value in the kernel; the precision check's scales kept by the kernel
+    (its ``tops``), each block's, and the samples near a dead position solved again whole and
+    checked together (`excavkin.kinematics.precision.check_picked`), their improved values
+    copied to the rows kept; the change points found from the transmission angles, always
+    kept (`excavkin.kinematics.selection.kept_rows`), and a block where a dyad whose rows
+    were not kept comes near flat solved again whole for them (`_search_selected`). So
+    every status, error estimate and change point, and every value of a row kept, is the
+    full solve's to the bit. Only the kept rows of the result's arrays are written, and the
+    rows no kernel writes that a column asked reads (zero): the others are never touched,
+    and hold no values.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+        The plan (its constants one value each, or one a sample).
+    q, qd, qdd : ndarray, shape (n_inputs, n)
+        Driver values, rates and accelerations, SI, in ``plan.inputs`` order.
+    columns : collection of str
+        The kinematic columns asked (`excavkin.kinematics.selection.asked_names`).
+    tol, execution, unbuildable, carry, change_points
+        As for `solve_part`.
+
+    Returns
+    -------
+    (KinematicResult, Carry) or None
+        The result (only the kept rows of its arrays hold values) and the carry for the
+        part after.
+    """
+    carry = carry or Carry()
+    n = q.shape[1]
+    if plan.has_newton or n == 0 or carry.start % BLOCK:
+        return None
+    each = compiled_plan.per_sample(plan)
+    plain = compiled_plan.job(plan, each)
+    if plain.unsupported is not None:
+        return None
+    if backends.choose(execution.backend, plain, n).name != "numba":
+        return None  # (the backend a full solve takes: the same numbers)
+    text = compiled_plan.kernel_source(plan, each, keep=True)
+    kernel = backends.kernel_of(text, "kinematics")
+    rows, n_rows = written_rows(text)
+    keep = kept_rows(plan, rows, n_rows, columns, change_points)
+    ws = _unwritten(plan, n, rows, resting_rows(plan, rows, columns))
+    consts, stride = compiled_plan.table(compiled_plan.constants(plan), n)
+    # chunks that divide a block (a power of two), each with its own share of the scales
+    chunk = 1 << (min(max(execution.chunk_or(CHUNK), 1), BLOCK).bit_length() - 1)
+    shares = np.zeros((-(-n // chunk), len(precision.KINDS)), dtype=np.int64)
+    report = _Reporter(execution.progress, n)
+    derived = ws.derived
+
+    def one(s: int) -> None:
+        e = min(s + chunk, n)
+        part = slice(s, e)
+        ws.failed[part] = -1
+        bad = None if unbuildable is None else unbuildable[part]
+        qb = check_inputs(plan, q[:, part], qd[:, part], qdd[:, part], ws.status[part], bad)
+        c = Chunk(
+            ws.x, ws.v, ws.a, qb, qd[:, part], qdd[:, part], ws.trans, ws.status, ws.failed,
+            tol.close, tol.singular,
+        )  # fmt: skip
+        compiled_plan.run_designs(
+            kernel, consts[:, part] if stride else consts, stride, 0, c, derived.body,
+            derived.element, ws.near, ws.near_step, keep, shares[s // chunk], precision.NEAR, s,
+        )  # fmt: skip
+        report(e - s)
+
+    over_chunks(n, chunk, execution.workers, one)
+    # each block's scales: the largest of its chunks' (as integers: 0 is none)
+    per = BLOCK // chunk
+    padded = np.zeros((-(-n // BLOCK) * per, len(precision.KINDS)), dtype=np.int64)
+    padded[: shares.shape[0]] = shares
+    tops = padded.reshape(-1, per, len(precision.KINDS)).max(axis=1)
+    again = functools.partial(
+        _solve_again, plan, kernel, (consts, stride), (q, qd, qdd), tol, unbuildable, n_rows
+    )
+    error = np.full(n, np.nan)
+    pick = np.flatnonzero((ws.status == Code.OK) & (ws.near < precision.NEAR))
+    improved = None
+    if pick.size:  # the samples near a dead position: solved again whole, checked together
+        picked = (q[:, pick], qd[:, pick], qdd[:, pick])
+        solved = _check_picked(plan, again, picked, pick, tops, tol, ws, error, keep, rows)
+        improved = (pick, solved)
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    if change_points:
+        found, tail = _search_selected(plan, ws, (q, qd), carry, (keep, rows), again, improved)
+    for j, e in enumerate(plan.elements):  # a driven length asked: its input, exactly
+        if e.input < 0 or e.ratio:
+            continue
+        for k, c in enumerate(driver_columns(e.name, "length")):
+            if c.name in columns:
+                derived.element[k, j] = (q, qd, qdd)[k][e.input]
+    result = KinematicResult.build(
+        plan, ws.x, ws.v, ws.a, q, qd, qdd, ws.trans, derived,
+        Status(ws.status, ws.failed, plan), lengths=False,
+    )  # fmt: skip
+    result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
+    return result, Carry(carry.start + n, tail, carry.reached)
+
+
+def _unwritten(
+    plan: SolvePlan,
+    n: int,
+    rows: dict[tuple[str, tuple[int, ...]], int],
+    rest: list[tuple[str, tuple[int, ...]]],
+) -> Workspace:
+    """`solve_selected`'s arrays: none written (not even zeroed, as `Workspace.of` zeroes
+    the velocities and accelerations: a fresh array's pages are zeroed when first touched,
+    but memory used before is zeroed in full), but the rows ``rest``, which no kernel
+    writes and a column asked reads: zero, as a solve's are (a fixed point's rates, the
+    ground's angle). (``rows``: the rows the kernel writes.)"""
+    n_pts = len(plan.points)
+    per_sample = 8 * (6 * n_pts + len(plan.transmissions) + 3 * len(plan.bodies))
+    with _small_pages(n * (per_sample + 48 * len(plan.elements))):
+        ws = Workspace(
+            np.empty((n_pts, 2, n)), np.empty((n_pts, 2, n)), np.empty((n_pts, 2, n)),
+            np.empty((len(plan.transmissions), n)),
+            Derived(np.empty((3, len(plan.bodies), n)), np.empty((6, len(plan.elements), n))),
+            np.zeros(n, dtype=np.int8), np.empty(n, dtype=np.int16), np.empty(n),
+            np.empty(n, dtype=np.int16),
+        )  # fmt: skip
+    arrays = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
+    arrays |= {"body": ws.derived.body, "element": ws.derived.element}
+    for name, lead in rest:
+        if (name, lead) not in rows:
+            arrays[name][lead] = 0.0
+    return ws
+
+
+def _solve_again(
+    plan: SolvePlan,
+    kernel: Kernel,
+    consts: tuple[F, int],
+    inputs: tuple[F, F, F],
+    tol: Tolerances,
+    unbuildable: np.ndarray | None,
+    n_rows: int,
+    index: np.ndarray,
+) -> Workspace:
+    """`solve_selected`'s samples ``index`` solved again whole (every row) by its kernel,
+    their inputs checked as the first solve checked them: the same values, to the bit
+    (``n_rows``: the kernel's scratch rows, every one written out)."""
+    table, stride = consts
+    q, qd, qdd = (arr[:, index] for arr in inputs)
+    out = Workspace.of(plan, index.size)
+    out.failed.fill(-1)
+    bad = None if unbuildable is None else unbuildable[index]
+    checked = check_inputs(plan, q, qd, qdd, out.status, bad)
+    c = Chunk(
+        out.x, out.v, out.a, checked, qd, qdd, out.trans, out.status, out.failed, tol.close,
+        tol.singular,
+    )  # fmt: skip
+    compiled_plan.run_designs(
+        kernel, np.ascontiguousarray(table[:, index]) if stride else table, stride, 0, c,
+        out.derived.body, out.derived.element, out.near, out.near_step,
+        np.ones(n_rows, dtype=np.int8), np.zeros(len(precision.KINDS), dtype=np.int64),
+        precision.NEAR,
+    )  # fmt: skip
+    return out
+
+
+def _check_picked(
+    plan: SolvePlan,
+    again: Callable[[np.ndarray], Workspace],
+    inputs: tuple[F, F, F],
+    pick: np.ndarray,
+    tops: np.ndarray,
+    tol: Tolerances,
+    ws: Workspace,
+    error: F,
+    keep: np.ndarray,
+    rows: dict[tuple[str, tuple[int, ...]], int],
+) -> Workspace:
+    """`solve_selected`'s precision check: the samples ``pick`` (ok, near a dead position)
+    solved again whole (``again``) and checked together, each against its block's scales
+    (``tops``); their statuses, failed steps and error estimates set in ``ws`` and
+    ``error``, and their improved values copied to the rows ``keep`` (`written_rows`'
+    ``rows``). Returns their whole state, improved."""
+    blocks = []
+    for b, at in zip(*np.unique(pick // BLOCK, return_index=True), strict=True):
+        upto = int(np.searchsorted(pick, (b + 1) * BLOCK))
+        far = tops[b].view(np.float64).tolist()
+        blocks.append((upto - int(at), dict(zip(precision.KINDS, far, strict=True))))
+    solved = again(pick)
+    arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        err, code, step = precision.check_picked(
+            take(plan, pick), inputs, arrays, (solved.near, solved.near_step),
+            (tol.close, tol.singular), blocks,
+        )  # fmt: skip
+    check_finite(arrays, code, np.isfinite(err))
+    ws.status[pick], ws.failed[pick], error[pick] = code, step, err
+    into = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
+    into |= {"body": ws.derived.body, "element": ws.derived.element}
+    got = {"x": solved.x, "v": solved.v, "a": solved.a, "trans": solved.trans}
+    got |= {"body": solved.derived.body, "element": solved.derived.element}
+    for (name, lead), row in rows.items():
+        if keep[row]:
+            index: tuple[int | np.ndarray, ...] = (*lead, pick)
+            into[name][index] = got[name][lead]
+    return solved
+
+
+def _search_selected(
+    plan: SolvePlan,
+    ws: Workspace,
+    inputs: tuple[F, F],
+    carry: Carry,
+    kept: tuple[np.ndarray, dict[tuple[str, tuple[int, ...]], int]],
+    again: Callable[[np.ndarray], Workspace],
+    improved: tuple[np.ndarray, Workspace] | None,
+) -> tuple[list[ChangePoint], Tail | None]:
+    """`_search_blocks` for `solve_selected`: a dyad's change points are searched in its
+    positions and velocities only where its triangle comes near flat
+    (`excavkin.kinematics.change_points.searched`, from the transmission angles, always
+    kept); a block where a dyad whose rows were not kept is searched is solved again whole
+    (``again``, the precision check's ``improved`` samples' values put in), and so is the
+    tail each block hands the next. The same change points, to the bit."""
+    q, qd = inputs
+    keep, rows = kept
+    unkept = {
+        unit
+        for unit, st in dyads(plan)
+        for p in (st.point, st.a, st.b)
+        for key in (("x", (p, 0)), ("x", (p, 1)), ("v", (p, 0)), ("v", (p, 1)))
+        if key in rows and not keep[rows[key]]
+    }
+
+    def state(index: np.ndarray) -> tuple[F, F]:
+        out = again(index)
+        if improved is not None:
+            pick, solved = improved
+            _, i, j = np.intersect1d(index, pick, assume_unique=True, return_indices=True)
+            out.x[..., i], out.v[..., i] = solved.x[..., j], solved.v[..., j]
+        return out.x, out.v
+
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    for b in _blocks(carry.start, ws.status.size):
+        trans = ws.trans[:, b]
+        whole = any(unit in unkept for unit, _ in searched(plan, ws.x[..., b], trans, tail))
+        x, v = state(np.arange(b.start, b.stop)) if whole else (ws.x[..., b], ws.v[..., b])
+        found += find_change_points(
+            plan, x, v=v, q=q[:, b], qd=qd[:, b], trans=trans, offset=carry.start + b.start,
+            tail=tail,
+        )  # fmt: skip
+        last = np.arange(max(b.start, b.stop - MAX_GAP - 1), b.stop)
+        if unkept and not whole:
+            x, v = state(last)
+        else:
+            x, v = x[..., last - b.start], v[..., last - b.start]
+        tail = Tail.of(x, v, q[:, last], qd[:, last], ws.trans[:, last], before=tail)
+    order = {plan.points[st.point]: unit for unit, st in dyads(plan)}
+    found.sort(key=lambda cp: order[cp.point])  # plan order, each dyad's in sample order
+    return found, tail
 
 
 def _prepared(plan: SolvePlan, n: int, workspace: Workspace | None) -> Workspace:
@@ -320,8 +625,21 @@ def _check_blocks(
             take(plan, b) if per_sample else plan, (q[:, b], qd[:, b], qdd[:, b]), arrays,
             status[b], failed[b], near, tol, designs, b.start,
         )  # fmt: skip
-        if not change_points:
-            continue
+    if change_points:
+        found, tail = _search_blocks(plan, (x, v, q_given, qd, trans), carry, blocks)
+    return error, found, tail
+
+
+def _search_blocks(
+    plan: SolvePlan, arrays: tuple[F, F, F, F, F], carry: Carry, blocks: list[slice]
+) -> tuple[list[ChangePoint], Tail | None]:
+    """The change points, block by block (searched in the dyads that come near flat in
+    the block, and between it and the block before), in plan order, and the last tail.
+    ``arrays``: x, v, the inputs as given, their rates and the transmission angles."""
+    x, v, q_given, qd, trans = arrays
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    for b in blocks:
         here = (x[..., b], v[..., b], q_given[:, b], qd[:, b], trans[:, b])
         found += find_change_points(
             plan, here[0], v=here[1], q=here[2], qd=here[3], trans=here[4],
@@ -330,7 +648,7 @@ def _check_blocks(
         tail = Tail.of(*here, before=tail)
     order = {plan.points[st.point]: unit for unit, st in dyads(plan)}
     found.sort(key=lambda cp: order[cp.point])  # plan order, each dyad's in sample order
-    return error, found, tail
+    return found, tail
 
 
 #: a result at least this large (bytes) is made of ordinary pages (`_small_pages`),

@@ -17,7 +17,7 @@ result.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Collection, Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -80,6 +80,7 @@ def solve_parts(
     tol: Tolerances | None = None,
     execution: Execution = DEFAULT,
     continuation: str = "side",
+    columns: Collection[str] | None = None,
 ) -> Iterator[KinematicResult]:
     """One kinematic result per part, as `solve_kinematics` gives for the whole.
 
@@ -97,6 +98,10 @@ def solve_parts(
     execution : Execution
         As for `solve_part`; its ``progress(done, total)`` is over the whole sweep.
     continuation : {"side", "smooth"}
+    columns : collection of str, optional
+        Only these kinematic columns are asked (`solve_part`'s ``columns``: where the
+        compiled kernel solves, the results' other rows hold no values); the smooth
+        continuation solves every column.
 
     Yields
     ------
@@ -112,7 +117,7 @@ def solve_parts(
         result, carry = solve_part(
             p.plan, assembly, p.q, p.qd, p.qdd, tol=tol,
             execution=_shifted(execution, p.start, total), unbuildable=p.unbuildable,
-            designs=p.designs, carry=carry or Carry(p.start),
+            designs=p.designs, carry=carry or Carry(p.start), columns=columns,
         )  # fmt: skip
         yield result
 

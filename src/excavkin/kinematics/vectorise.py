@@ -59,7 +59,7 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
 
 
 @functools.lru_cache(maxsize=64)
-def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
+def vectorised(text: str, per_sample: bool, by_design: bool = False, keep: bool = False) -> str:
     """The compiled plan's source ``text`` (its loop over samples) rewritten over blocks of
     `WIDTH` samples in a contiguous scratch, branch-free. The kernel's inputs (``q``,
     ``qd``, ``qdd``, ``K``) are a chunk's samples; its outputs are the whole solve's arrays,
@@ -69,7 +69,11 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
     design's ``ks`` poses one after another (a study's samples, design-major): sample ``i``
     of the chunk reads column ``(r0_ + i) // ks``, ``r0_`` the kernel's last argument (the
     chunk's first sample's pose), so that a design's constants are made once, not copied
-    to each of its poses."""
+    to each of its poses. ``keep``: ``by_design``'s arguments (the rows kept, the far
+    samples' tops) and their use, with the constants as ``per_sample`` reads them (one
+    design's hoisted, or a column a sample: its poses argument the stride, 0 or 1; its first
+    pose unread): a solve of some columns (`excavkin.kinematics.solve.solve_selected`)."""
+    keep = keep or by_design
     per_sample = per_sample or by_design
     tree = ast.parse(text)
     fn = next(f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel")
@@ -91,7 +95,7 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
     tables = {**reads, **writes}  # (status and failed are both: one row each)
     out += [f"T_{name} = np.array({rows!r}, dtype=np.int64)" for name, rows in tables.items()]
     head = _HEAD.rstrip("\n")
-    if by_design:  # the chunk's first sample's pose, the rows kept, the far samples' tops
+    if keep:  # the chunk's first sample's pose, the rows kept, the far samples' tops
         head = head.replace(
             "numba.int64,\n)",
             "numba.int64, numba.int64,\n    numba.int8[::1], numba.int64[::1], numba.float64,\n)",
@@ -112,21 +116,23 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
         f"    for b0_ in range(0, n_, {WIDTH}):",
         f"        nb_ = min({WIDTH}, n_ - b0_)",
     ]
-    if by_design:  # each sample's design, once a block (not once a constant)
+    if by_design:  # each sample's design
+        out[-3:-3] = [f"    J_ = np.empty({WIDTH}, dtype=np.int64)"]
+    if keep:  # the far samples' mask, the rows as integers, each row's kind
         out[-3:-3] = [
-            f"    J_ = np.empty({WIDTH}, dtype=np.int64)",
             f"    M_ = np.empty({WIDTH}, dtype=np.int64)",
             "    SB_ = S_.view(np.int64)",
             f"    KIND_ = np.array({_kinds(writes, len(r.rows))!r}, dtype=np.int64)",
         ]
+    if by_design:  # each sample's design, once a block (not once a constant)
         out += ["        for l_ in range(nb_):", "            J_[l_] = (r0_ + b0_ + l_) // ks"]
     for name, rows in reads.items():
-        out += _copy(name, rows, into_scratch=True, by_design=by_design)
+        out += _copy(name, rows, into_scratch=True, by_design=by_design, keep=keep)
     out += passes
-    if by_design:
+    if keep:
         out += _tops(r.rows["status[i]"], r.rows["near[i]"], len(r.rows))
     for name, rows in writes.items():
-        out += _copy(name, rows, into_scratch=False, by_design=by_design)
+        out += _copy(name, rows, into_scratch=False, by_design=by_design, keep=keep)
     out.append("    fence()")
     return "\n".join(_own_indices(out)) + "\n"
 
@@ -322,14 +328,18 @@ def _tables(elements: dict[str, int]) -> dict[str, list[list[int]]]:
 
 
 def _copy(
-    name: str, rows: list[list[int]], into_scratch: bool, by_design: bool = False
+    name: str,
+    rows: list[list[int]],
+    into_scratch: bool,
+    by_design: bool = False,
+    keep: bool = False,
 ) -> list[str]:
     """A loop over an array's rows, each copied between the array and its scratch row: the
     inputs chunk-relative (the constants at column ``(b0_ + l_)·ks``), the outputs into the
     whole solve's arrays from ``s0``, by streaming stores (`streaming`:
     they read no line they write); ``by_design``: the constants at the sample's design's
-    column (``J_``, made for the block). (The loop's own names end in ``_``: the
-    generated loop's never do.)"""
+    column (``J_``, made for the block); ``keep``: an output row written only where
+    ``keep`` has it. (The loop's own names end in ``_``: the generated loop's never do.)"""
     lead = len(rows[0]) - 1
     row = f"{name}[{', '.join(f'T_{name}[k_, {k}]' for k in range(lead))}]" if lead else name
     scratch = f"S_[T_{name}[k_, {lead}] * {WIDTH} + l_]"
@@ -342,7 +352,7 @@ def _copy(
         copy = f"stream(row_, s0 + b0_ + l_, {scratch})"
     view = [] if into_scratch else [f"            row_ = {row}"]
     loop = [*view, "            for l_ in range(nb_):", f"                {copy}"]
-    if by_design and not into_scratch and name in _KIND:  # a row not kept is not written
+    if keep and not into_scratch and name in _KIND:  # a row not kept is not written
         loop = [f"            if keep[T_{name}[k_, {lead}]]:", *(f"    {line}" for line in loop)]
     return [f"        for k_ in range({len(rows)}):", *loop]
 

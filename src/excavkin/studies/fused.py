@@ -64,6 +64,7 @@ from excavkin.execution import current
 from excavkin.kinematics import compiled, precision
 from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.result import KinematicResult, Status
+from excavkin.kinematics.selection import kept_rows
 from excavkin.kinematics.solve import (
     BLOCK,
     Tolerances,
@@ -609,29 +610,8 @@ def _check_near(
 
 def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.int8]:
     """The kernel's rows that hold the columns ``names`` (1; the statuses are always
-    written): found by solving nothing — each written row of a one-sample workspace marked
-    with its own number, the inputs with negative ones, the columns read back. A column
-    that is no row's (a driven length is its input's) needs none; one that is computed
-    from several keeps every row."""
-    keep = np.zeros(kernel.n_rows, dtype=np.int8)
-    ws = Workspace.of(plan, 1)
-    arrays = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
-    arrays |= {"body": ws.derived.body, "element": ws.derived.element}
-    for (name, lead), row in kernel.rows.items():
-        arrays[name][(*lead, 0)] = 1000.0 + row
-    n_in = len(plan.inputs)
-    marks = -1.0 - np.arange(3 * n_in, dtype=np.float64).reshape(3, n_in, 1)
-    res = KinematicResult.build(
-        plan, ws.x, ws.v, ws.a, marks[0], marks[1], marks[2], ws.trans, ws.derived,
-        Status(ws.status, ws.failed, plan),
-    )  # fmt: skip
-    for value in res.columns_named(names).values():
-        mark = float(value[0])
-        if mark >= 1000.0 and mark - 1000.0 < kernel.n_rows and mark.is_integer():
-            keep[int(mark) - 1000] = 1
-        elif not (mark < 0.0 and mark.is_integer()):
-            keep[:] = 1  # (not a row of its own: every row, to be sure)
-    return keep
+    written): `excavkin.kinematics.selection.kept_rows`, no change points searched."""
+    return kept_rows(plan, kernel.rows, kernel.n_rows, names, change_points=False)
 
 
 def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F, F, F]:

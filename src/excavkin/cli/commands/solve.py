@@ -29,6 +29,7 @@ from excavkin.cli.progress import MIN_SAMPLES_FOR_BAR, compile_notes, progress
 from excavkin.cli.tally import Tally
 from excavkin.errors import InputError
 from excavkin.kinematics import KinematicResult
+from excavkin.kinematics.selection import SelectedResult
 from excavkin.mechanism import Mechanism
 from excavkin.outputs.table_parts import check_parts_target, write_parts
 from excavkin.outputs.tables import TABLE_SUFFIXES, check_target, write_tables
@@ -475,10 +476,10 @@ def parse_columns(text: str | None) -> list[str] | None:
     return names
 
 
-def _motion_note(result: KinematicResult | ForceResult) -> str:
+def _motion_note(result: KinematicResult | SelectedResult | ForceResult) -> str:
     """What the velocities or forces of a table are, when it is not a plain motion: static
     forces, or transfer functions of the drivers swept without ``--rate``."""
-    if isinstance(result, KinematicResult):
+    if isinstance(result, KinematicResult | SelectedResult):
         note = result.motion_note if result.unit_rates else ""
     else:
         note = result.motion_note
