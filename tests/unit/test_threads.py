@@ -7,7 +7,7 @@ import threading
 
 import pytest
 
-from excavkin.kinematics.threads import over_chunks, runs
+from excavkin.kinematics.threads import even, over_chunks, runs
 
 
 @pytest.mark.parametrize(("chunks", "threads"), [(1, 1), (7, 2), (8, 2), (30, 16), (3, 5)])
@@ -55,3 +55,26 @@ def test_each_thread_starts_on_its_own_run_and_a_slow_one_is_helped() -> None:
     slow = next(starts for starts in by_thread.values() if starts[0] == 0)
     assert slow == [0]
     assert sorted(s for starts in by_thread.values() for s in starts) == list(range(8))
+
+
+@pytest.mark.parametrize(
+    ("n", "chunk", "workers"),
+    [(8192, 7281, 2), (1_000_000, 7281, 2), (5, 10, 4), (1, 7281, 2), (100, 7, 3), (9, 1, 1)],
+)
+def test_even_chunks_share_the_samples_equally(n: int, chunk: int, workers: int) -> None:
+    """No chunk over ``chunk``; the threads' shares of samples (each a run of chunks) differ by
+    less than a chunk's worth plus one, and the chunks are as few as ``chunk`` allows."""
+    size = even(n, chunk, workers)
+    assert 1 <= size <= chunk
+    starts = range(0, n, size)
+    shares = [
+        sum(min(starts[i] + size, n) - starts[i] for i in run)
+        for run in runs(len(starts), min(workers, len(starts)))
+    ]
+    assert sum(shares) == n
+    assert max(shares) - min(shares) <= size
+    assert -(-n // size) <= workers * -(-n // (chunk * workers))
+
+
+def test_a_block_a_little_over_a_chunk_is_two_halves() -> None:
+    assert even(8192, 7281, 2) == 4096

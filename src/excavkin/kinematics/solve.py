@@ -32,7 +32,7 @@ from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.steps import run_steps
-from excavkin.kinematics.threads import over_chunks
+from excavkin.kinematics.threads import even, over_chunks
 from excavkin.step_kinds import NewtonGroup, of_kind
 from excavkin.structure.design import DesignBatch, take
 from excavkin.structure.plan import SolvePlan
@@ -740,11 +740,15 @@ def step_sizes(plan: SolvePlan) -> F:
 
 
 def wrapped_difference(delta: F, plan: SolvePlan) -> F:
-    """Input differences, angles the shorter way round (q and q ± 2π are one pose)."""
+    """Input differences, angles the shorter way round (q and q ± 2π are one pose): an angle
+    beyond ±π less the nearest whole turns, one within left as it is."""
     out = delta.copy()
     for i, kind in enumerate(plan.input_kinds):
         if kind == "angle":
-            out[i] = np.angle(np.exp(1j * out[i]))
+            d = out[i]
+            far = np.abs(d) > np.pi
+            if far.any():
+                d[far] -= 2 * np.pi * np.round(d[far] / (2 * np.pi))
     return out
 
 
@@ -770,10 +774,13 @@ def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
 
 def _at(arr: F, samples: np.ndarray | slice) -> F:
     """``arr``'s samples (the last axis): a view for a slice, else a copy that keeps the batch
-    axis last in memory, as the kernels want it (a fancy index would put it first)."""
+    axis last in memory, as the kernels want it (a fancy index would put it first). The copy
+    reads the samples alone (``np.take`` of a block's view would first copy the whole block)."""
     if isinstance(samples, slice):
         return arr[..., samples]
-    return np.take(arr, samples, axis=-1)
+    out = np.empty((*arr.shape[:-1], samples.size), dtype=arr.dtype)
+    out[...] = arr[..., samples]
+    return out
 
 
 #: most rungs of a sweep's ladder: a longer sweep spaces them more widely
@@ -846,7 +853,7 @@ def _continue_along_sweep(
         solved, at = solved[order], np.concatenate([at, x], axis=2)[:, :, order]
     # every sample from the nearest solved one behind it (or itself), by chunks, in place
     idx = np.zeros(q.shape[1], dtype=np.intp)  # a sample not valid fails by its own input
-    idx[valid] = _behind(solved, np.arange(valid.size), k0)
+    idx[valid] = _behind_each(solved, valid.size, k0)
 
     def one(s: int) -> None:
         part = slice(s, min(s + chunk, q.shape[1]))
@@ -855,6 +862,7 @@ def _continue_along_sweep(
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             _positions(take(plan, part), c, kernel)
 
+    chunk = even(q.shape[1], chunk, workers)  # (a block's samples in equal shares)
     over_chunks(q.shape[1], chunk, workers, one)
 
 
@@ -911,6 +919,16 @@ def _behind(solved: np.ndarray, idx: np.ndarray, k0: int) -> np.ndarray:
     up = np.searchsorted(solved, idx, side="right") - 1  # the last solved ≤ i
     down = np.searchsorted(solved, idx, side="left")  # the first solved ≥ i
     return np.where(idx >= k0, up, down)
+
+
+def _behind_each(solved: np.ndarray, n: int, k0: int) -> np.ndarray:
+    """`_behind` for every sample 0 … n − 1, by counting the solved samples up to each."""
+    mark = np.zeros(n, dtype=np.intp)
+    mark[solved] = 1
+    up: np.ndarray = np.cumsum(mark) - 1  # the last solved ≤ i
+    out: np.ndarray = up + (mark == 0)  # the first solved ≥ i
+    out[k0:] = up[k0:]
+    return out
 
 
 def _from_solved(

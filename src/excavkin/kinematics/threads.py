@@ -47,6 +47,29 @@ def over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], No
         list(pool.map(work, range(threads)))
 
 
+def even(n: int, chunk: int, workers: int | None) -> int:
+    """Samples per chunk, ``chunk`` at most, that deal ``n`` samples to ``workers`` threads
+    (default: one per core) in equal shares: a block of a little more than a chunk is two
+    halves side by side, not a whole chunk on one thread and a remnant on the other.
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    chunk : int
+        Samples per chunk at most.
+    workers : int, optional
+        Threads.
+
+    Returns
+    -------
+    int
+    """
+    threads = max(workers or os.cpu_count() or 1, 1)
+    rounds = -(-n // (chunk * threads))  # chunks per thread
+    return max(1, min(chunk, -(-n // (rounds * threads))))
+
+
 def runs(chunks: int, threads: int) -> list[deque[int]]:
     """The chunks' indices dealt into ``threads`` runs of consecutive chunks, their lengths
     differing by one at most.
