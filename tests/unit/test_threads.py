@@ -58,23 +58,21 @@ def test_each_thread_starts_on_its_own_run_and_a_slow_one_is_helped() -> None:
 
 
 @pytest.mark.parametrize(
-    ("n", "chunk", "workers"),
-    [(8192, 7281, 2), (1_000_000, 7281, 2), (5, 10, 4), (1, 7281, 2), (100, 7, 3), (9, 1, 1)],
+    ("n", "chunk"), [(65536, 7281), (1_000_000, 7281), (5, 10), (1, 7281), (100, 7), (9, 1)]
 )
-def test_even_chunks_share_the_samples_equally(n: int, chunk: int, workers: int) -> None:
-    """No chunk over ``chunk``; the threads' shares of samples (each a run of chunks) differ by
-    less than a chunk's worth plus one, and the chunks are as few as ``chunk`` allows."""
-    size = even(n, chunk, workers)
+def test_even_chunks_are_as_few_as_the_chunk_allows_and_of_one_size(n: int, chunk: int) -> None:
+    size = even(n, chunk)
     assert 1 <= size <= chunk
-    starts = range(0, n, size)
-    shares = [
-        sum(min(starts[i] + size, n) - starts[i] for i in run)
-        for run in runs(len(starts), min(workers, len(starts)))
-    ]
-    assert sum(shares) == n
-    assert max(shares) - min(shares) <= size
-    assert -(-n // size) <= workers * -(-n // (chunk * workers))
+    count = -(-n // size)
+    assert count == -(-n // chunk)  # as few chunks as before
+    last = n - (count - 1) * size
+    assert last > 0 and size - last < count  # the last short by less than their number
 
 
-def test_a_block_a_little_over_a_chunk_is_two_halves() -> None:
-    assert even(8192, 7281, 2) == 4096
+def test_a_block_is_dealt_to_two_threads_equally() -> None:
+    """65 536 samples in chunks of at most 7 281: nine of 6 554 and one of 6 550, five for
+    each thread, not nine whole chunks and a remnant of 7."""
+    size = even(65536, 7281)
+    assert size == 6554
+    shares = [sum(min(size, 65536 - i * size) for i in run) for run in runs(10, 2)]
+    assert shares == [32770, 32766]

@@ -816,9 +816,10 @@ def _continue_along_sweep(
     if not valid.size:  # no sample to reach (every input refused): no positions either
         full.x[:] = np.nan
         return
+    q_valid = q if valid.size == q.shape[1] else q[:, valid]  # (a view, when all are)
     q0 = start[1].reshape(-1, 1).copy()
-    far = np.abs(wrapped_difference(q[:, valid] - q0, plan)) / steps
-    k0 = int(np.argmin(far.max(axis=0)))  # among the valid samples
+    far = np.abs(wrapped_difference(q_valid - q0, plan)) / steps
+    k0 = int(np.argmin(far.max(axis=0) if far.shape[0] > 1 else far[0]))  # among the valid
     # the sketch → that sample, then its ladder's rungs either way along the sweep
     mini = _positions_only(full, valid[[k0]], q0.copy())
     mini.x[:] = start[0][:, :, None]
@@ -829,7 +830,7 @@ def _continue_along_sweep(
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
         _positions(first_plan, mini, kernel)
-    walked = np.concatenate([[0.0], np.cumsum(_moves(np.diff(q[:, valid], axis=1), plan, steps))])
+    walked = np.concatenate([[0.0], np.cumsum(_moves(np.diff(q_valid, axis=1), plan, steps))])
     span = max(walked[-1] - walked[k0], walked[k0] - walked[0])
     h = max(1.0, span / MAX_RUNGS)
     ahead, behind = _rungs(walked, k0, h)
@@ -862,7 +863,7 @@ def _continue_along_sweep(
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             _positions(take(plan, part), c, kernel)
 
-    chunk = even(q.shape[1], chunk, workers)  # (a block's samples in equal shares)
+    chunk = even(q.shape[1], chunk)  # (a block's samples in chunks of one size)
     over_chunks(q.shape[1], chunk, workers, one)
 
 
@@ -908,9 +909,13 @@ def _among(values: np.ndarray, ordered: np.ndarray) -> np.ndarray:
 def _moves(delta: F, plan: SolvePlan, steps: F) -> F:
     """Each step of a sweep in stages: its largest input move over that input's stage size,
     angles the shorter way round (q and q ± 2π are one pose)."""
-    turns = np.array([kind == "angle" for kind in plan.input_kinds])[:, None]
-    whole = np.where(turns, 2 * np.pi * np.round(delta / (2 * np.pi)), 0.0)
-    return np.abs((delta - whole) / steps).max(axis=0)  # type: ignore[no-any-return]
+    moves = np.empty_like(delta)
+    for i, kind in enumerate(plan.input_kinds):
+        d = delta[i]
+        if kind == "angle":
+            d = d - 2 * np.pi * np.round(d / (2 * np.pi))
+        moves[i] = np.abs(d) / steps[i, 0]
+    return moves.max(axis=0) if moves.shape[0] > 1 else moves[0]  # type: ignore[no-any-return]
 
 
 def _behind(solved: np.ndarray, idx: np.ndarray, k0: int) -> np.ndarray:

@@ -47,10 +47,12 @@ def over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], No
         list(pool.map(work, range(threads)))
 
 
-def even(n: int, chunk: int, workers: int | None) -> int:
-    """Samples per chunk, ``chunk`` at most, that deal ``n`` samples to ``workers`` threads
-    (default: one per core) in equal shares: a block of a little more than a chunk is two
-    halves side by side, not a whole chunk on one thread and a remnant on the other.
+def even(n: int, chunk: int) -> int:
+    """Samples per chunk that cut ``n`` samples into as few chunks as ``chunk`` allows, all
+    of about one size: a remnant of a few samples would leave the thread given it idle while
+    another solves a whole chunk more. It depends on ``n`` and ``chunk`` alone, not on the
+    threads (a NumPy Newton pass takes its chord steps a chunk at a time: the result stays the
+    same on any number of threads).
 
     Parameters
     ----------
@@ -58,16 +60,13 @@ def even(n: int, chunk: int, workers: int | None) -> int:
         Samples.
     chunk : int
         Samples per chunk at most.
-    workers : int, optional
-        Threads.
 
     Returns
     -------
     int
     """
-    threads = max(workers or os.cpu_count() or 1, 1)
-    rounds = -(-n // (chunk * threads))  # chunks per thread
-    return max(1, min(chunk, -(-n // (rounds * threads))))
+    chunks = max(-(-n // chunk), 1)
+    return max(1, -(-n // chunks))
 
 
 def runs(chunks: int, threads: int) -> list[deque[int]]:
