@@ -7,8 +7,7 @@ rope's length over its sheaves by `excavkin.step_kinds.rope_path`'s formulas) fi
 row and a Jacobian held in small scratch arrays, and the kernel's own LU with partial pivoting on
 equilibrated rows (`factor_source`, the arithmetic of `excavkin.step_kinds.small_systems.Factors`)
 solves them. The iteration has the NumPy path's start (the positions handed in), tolerance
-(a step below 1e-14 of the size, or a chord step whose successor would be below 1e-2 of that:
-`CHORD_STOP`), singular test (|det| over the rows' norms below 1e-13), cap
+(a step below 1e-14 of the size), singular test (|det| over the rows' norms below 1e-13), cap
 (50 passes), dyad sides (a dyad on the wrong side mirrored, then iterated again) and statuses
 (not converged where a residual stays above 1e-10·size²; a rope off its sheaves). Its rates solve
 the same Jacobian with the differentiated constraints, as `newton_rates` does; a group's branch
@@ -43,9 +42,6 @@ MAX_ITER = 50
 #: (`newton_solve.CHORD_FROM`, per sample)
 CHORD_FROM = 1e-4
 CHORD_RATE = 0.1
-#: a chord step whose successor (about size²/last) would be below this fraction of the
-#: tolerance ends the iteration (`newton_solve.CHORD_STOP`)
-CHORD_STOP = 1e-2
 
 _FACTOR = """
 
@@ -544,9 +540,7 @@ def _indent(lines: list[str], by: str) -> list[str]:
 def _iterate(n: _Names, st: Any) -> list[str]:
     """Newton passes from the points' current values (`newton_solve._iterate`, per sample):
     a chord step (the last factors again) once the last step is below `CHORD_FROM` of the
-    size, taken only if it shrinks by `CHORD_RATE`, else the next pass factors afresh; the
-    iteration ends at a step below the tolerance, or at a chord step whose successor would be
-    below `CHORD_STOP` of it."""
+    size, taken only if it shrinks by `CHORD_RATE`, else the next pass factors afresh."""
     body = [f"chord = have and last <= {CHORD_FROM} * scale", "if chord:"]
     body += _indent(_equations(n, st, False, 0), "    ")
     body += ["else:"]
@@ -570,13 +564,7 @@ def _iterate(n: _Names, st: Any) -> list[str]:
     ]
     for i, p in enumerate(st.points):
         body += [f"    X{p} -= {n.rv(2 * i)}", f"    Y{p} -= {n.rv(2 * i + 1)}"]
-    body += [
-        "if size <= small:",
-        "    break",
-        f"if chord and size * size <= {CHORD_STOP} * small * last:",
-        "    break",
-        "last = size",
-    ]
+    body += ["if size <= small:", "    break", "last = size"]
     head = ["have = False", "last = math.inf", "ratio = 1.0", f"for it in range({MAX_ITER}):"]
     return head + _indent(body, "    ")
 

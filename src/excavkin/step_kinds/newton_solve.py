@@ -317,10 +317,6 @@ def _system(
 #: the last factorisation (chord steps), as long as each shrinks by `CHORD_RATE` or more
 CHORD_FROM = 1e-4
 CHORD_RATE = 0.1
-#: a sample also stops after a chord step whose successor, about size²/last (the steps shrink
-#: at the rate of the last two, about constant for chord steps), would be below this fraction
-#: of the tolerance: the pass that only confirms it is not made
-CHORD_STOP = 1e-2
 #: the samples still moving are copied out (the others leave the iteration) once they are
 #: fewer than this fraction of those iterated; until then the converged ones are held still
 SHRINK = 0.75
@@ -426,8 +422,6 @@ def _iterate(c: Chunk, g: NewtonGroup, scale: float, max_iter: int) -> None:
                 lu = None
         for j, p in enumerate(pts):
             sub.x[p] -= step[2 * j : 2 * j + 2]
-        if chord:  # (a rejected step's size is inf: it goes on)
-            moving &= ~(size * size <= CHORD_STOP * small * last)
         moving &= ~(size <= small) & ~sing
         last = size
         count = np.count_nonzero(moving)
