@@ -242,10 +242,12 @@ def solve_part(
     # else each chunk checks its own inputs, on its thread, while they are in cache
     report = _Reporter(execution.progress, n)
     chunk, workers = execution.chunk_or(CHUNK), execution.workers
-    newton_near = np.ones(n) if plan.has_newton else None
-    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     # a plan with Newton groups: its kernels, where the backend takes them (one choice, here)
     newton = compiled_newton.kernel_for(plan, execution.backend, n) if plan.has_newton else None
+    # the groups' nearness to a dead position, per sample, for the NumPy rates (the compiled
+    # kernel keeps its own)
+    newton_near = np.ones(n) if plan.has_newton and newton is None else None
+    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     positions = None if newton is None else newton.positions  # type: ignore[attr-defined]
     blocks = _blocks(carry.start, n)
     reached = carry.reached
@@ -856,10 +858,14 @@ def _continue_along_sweep(
     idx = np.zeros(q.shape[1], dtype=np.intp)  # a sample not valid fails by its own input
     idx[valid] = _behind_each(solved, valid.size, k0)
 
+    # only the groups' points start from there: every other point is solved in the pass
+    pts = np.array(sorted({p for _, st in of_kind(plan.steps, NewtonGroup) for p in st.points}))
+    at = at[pts]
+
     def one(s: int) -> None:
         part = slice(s, min(s + chunk, q.shape[1]))
         c = _positions_only(full, part, q[:, part])
-        c.x[:] = at[:, :, idx[part]]
+        c.x[pts] = at[:, :, idx[part]]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             _positions(take(plan, part), c, kernel)
 
