@@ -7,7 +7,7 @@ import threading
 
 import pytest
 
-from excavkin.kinematics.threads import over_chunks, runs
+from excavkin.kinematics.threads import even, over_chunks, runs
 
 
 @pytest.mark.parametrize(("chunks", "threads"), [(1, 1), (7, 2), (8, 2), (30, 16), (3, 5)])
@@ -55,3 +55,24 @@ def test_each_thread_starts_on_its_own_run_and_a_slow_one_is_helped() -> None:
     slow = next(starts for starts in by_thread.values() if starts[0] == 0)
     assert slow == [0]
     assert sorted(s for starts in by_thread.values() for s in starts) == list(range(8))
+
+
+@pytest.mark.parametrize(
+    ("n", "chunk"), [(65536, 7281), (1_000_000, 7281), (5, 10), (1, 7281), (100, 7), (9, 1)]
+)
+def test_even_chunks_are_as_few_as_the_chunk_allows_and_of_one_size(n: int, chunk: int) -> None:
+    size = even(n, chunk)
+    assert 1 <= size <= chunk
+    count = -(-n // size)
+    assert count == -(-n // chunk)  # as few chunks as before
+    last = n - (count - 1) * size
+    assert last > 0 and size - last < count  # the last short by less than their number
+
+
+def test_a_block_is_dealt_to_two_threads_equally() -> None:
+    """65 536 samples in chunks of at most 7 281: nine of 6 554 and one of 6 550, five for
+    each thread, not nine whole chunks and a remnant of 7."""
+    size = even(65536, 7281)
+    assert size == 6554
+    shares = [sum(min(size, 65536 - i * size) for i in run) for run in runs(10, 2)]
+    assert shares == [32770, 32766]

@@ -42,7 +42,7 @@ from excavkin.kinematics.newton import rotary_branch_ok, side, wrong_side
 from excavkin.kinematics.result import Derived, KinematicResult, Status
 from excavkin.kinematics.selection import kept_rows, resting_rows
 from excavkin.kinematics.steps import run_steps
-from excavkin.kinematics.threads import over_chunks
+from excavkin.kinematics.threads import even, over_chunks
 from excavkin.kinematics.vectorise import written_rows
 from excavkin.step_kinds import NewtonGroup, of_kind
 from excavkin.structure.design import DesignBatch, take
@@ -269,10 +269,12 @@ def solve_part(
     # else each chunk checks its own inputs, on its thread, while they are in cache
     report = _Reporter(execution.progress, n)
     chunk, workers = execution.chunk_or(CHUNK), execution.workers
-    newton_near = np.ones(n) if plan.has_newton else None
-    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     # a plan with Newton groups: its kernels, where the backend takes them (one choice, here)
     newton = compiled_newton.kernel_for(plan, execution.backend, n) if plan.has_newton else None
+    # the groups' nearness to a dead position, per sample, for the NumPy rates (the compiled
+    # kernel keeps its own)
+    newton_near = np.ones(n) if plan.has_newton and newton is None else None
+    full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
     positions = None if newton is None else newton.positions  # type: ignore[attr-defined]
     blocks = _blocks(carry.start, n)
     reached = carry.reached
@@ -1058,11 +1060,15 @@ def step_sizes(plan: SolvePlan) -> F:
 
 
 def wrapped_difference(delta: F, plan: SolvePlan) -> F:
-    """Input differences, angles the shorter way round (q and q ± 2π are one pose)."""
+    """Input differences, angles the shorter way round (q and q ± 2π are one pose): an angle
+    beyond ±π less the nearest whole turns, one within left as it is."""
     out = delta.copy()
     for i, kind in enumerate(plan.input_kinds):
         if kind == "angle":
-            out[i] = np.angle(np.exp(1j * out[i]))
+            d = out[i]
+            far = np.abs(d) > np.pi
+            if far.any():
+                d[far] -= 2 * np.pi * np.round(d[far] / (2 * np.pi))
     return out
 
 
@@ -1088,10 +1094,13 @@ def _positions_only(full: Chunk, samples: np.ndarray | slice, q: F) -> Chunk:
 
 def _at(arr: F, samples: np.ndarray | slice) -> F:
     """``arr``'s samples (the last axis): a view for a slice, else a copy that keeps the batch
-    axis last in memory, as the kernels want it (a fancy index would put it first)."""
+    axis last in memory, as the kernels want it (a fancy index would put it first). The copy
+    reads the samples alone (``np.take`` of a block's view would first copy the whole block)."""
     if isinstance(samples, slice):
         return arr[..., samples]
-    return np.take(arr, samples, axis=-1)
+    out = np.empty((*arr.shape[:-1], samples.size), dtype=arr.dtype)
+    out[...] = arr[..., samples]
+    return out
 
 
 #: most rungs of a sweep's ladder: a longer sweep spaces them more widely
@@ -1127,9 +1136,10 @@ def _continue_along_sweep(
     if not valid.size:  # no sample to reach (every input refused): no positions either
         full.x[:] = np.nan
         return
+    q_valid = q if valid.size == q.shape[1] else q[:, valid]  # (a view, when all are)
     q0 = start[1].reshape(-1, 1).copy()
-    far = np.abs(wrapped_difference(q[:, valid] - q0, plan)) / steps
-    k0 = int(np.argmin(far.max(axis=0)))  # among the valid samples
+    far = np.abs(wrapped_difference(q_valid - q0, plan)) / steps
+    k0 = int(np.argmin(far.max(axis=0) if far.shape[0] > 1 else far[0]))  # among the valid
     # the sketch → that sample, then its ladder's rungs either way along the sweep
     mini = _positions_only(full, valid[[k0]], q0.copy())
     mini.x[:] = start[0][:, :, None]
@@ -1140,7 +1150,7 @@ def _continue_along_sweep(
     for k in range(1, first + 1):
         mini.q = q0 + leg * (k / first)
         _positions(first_plan, mini, kernel)
-    walked = np.concatenate([[0.0], np.cumsum(_moves(np.diff(q[:, valid], axis=1), plan, steps))])
+    walked = np.concatenate([[0.0], np.cumsum(_moves(np.diff(q_valid, axis=1), plan, steps))])
     span = max(walked[-1] - walked[k0], walked[k0] - walked[0])
     h = max(1.0, span / MAX_RUNGS)
     ahead, behind = _rungs(walked, k0, h)
@@ -1164,15 +1174,20 @@ def _continue_along_sweep(
         solved, at = solved[order], np.concatenate([at, x], axis=2)[:, :, order]
     # every sample from the nearest solved one behind it (or itself), by chunks, in place
     idx = np.zeros(q.shape[1], dtype=np.intp)  # a sample not valid fails by its own input
-    idx[valid] = _behind(solved, np.arange(valid.size), k0)
+    idx[valid] = _behind_each(solved, valid.size, k0)
+
+    # only the groups' points start from there: every other point is solved in the pass
+    pts = np.array(sorted({p for _, st in of_kind(plan.steps, NewtonGroup) for p in st.points}))
+    at = at[pts]
 
     def one(s: int) -> None:
         part = slice(s, min(s + chunk, q.shape[1]))
         c = _positions_only(full, part, q[:, part])
-        c.x[:] = at[:, :, idx[part]]
+        c.x[pts] = at[:, :, idx[part]]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             _positions(take(plan, part), c, kernel)
 
+    chunk = even(q.shape[1], chunk)  # (a block's samples in chunks of one size)
     over_chunks(q.shape[1], chunk, workers, one)
 
 
@@ -1218,9 +1233,13 @@ def _among(values: np.ndarray, ordered: np.ndarray) -> np.ndarray:
 def _moves(delta: F, plan: SolvePlan, steps: F) -> F:
     """Each step of a sweep in stages: its largest input move over that input's stage size,
     angles the shorter way round (q and q ± 2π are one pose)."""
-    turns = np.array([kind == "angle" for kind in plan.input_kinds])[:, None]
-    whole = np.where(turns, 2 * np.pi * np.round(delta / (2 * np.pi)), 0.0)
-    return np.abs((delta - whole) / steps).max(axis=0)  # type: ignore[no-any-return]
+    moves = np.empty_like(delta)
+    for i, kind in enumerate(plan.input_kinds):
+        d = delta[i]
+        if kind == "angle":
+            d = d - 2 * np.pi * np.round(d / (2 * np.pi))
+        moves[i] = np.abs(d) / steps[i, 0]
+    return moves.max(axis=0) if moves.shape[0] > 1 else moves[0]  # type: ignore[no-any-return]
 
 
 def _behind(solved: np.ndarray, idx: np.ndarray, k0: int) -> np.ndarray:
@@ -1229,6 +1248,16 @@ def _behind(solved: np.ndarray, idx: np.ndarray, k0: int) -> np.ndarray:
     up = np.searchsorted(solved, idx, side="right") - 1  # the last solved ≤ i
     down = np.searchsorted(solved, idx, side="left")  # the first solved ≥ i
     return np.where(idx >= k0, up, down)
+
+
+def _behind_each(solved: np.ndarray, n: int, k0: int) -> np.ndarray:
+    """`_behind` for every sample 0 … n − 1, by counting the solved samples up to each."""
+    mark = np.zeros(n, dtype=np.intp)
+    mark[solved] = 1
+    up: np.ndarray = np.cumsum(mark) - 1  # the last solved ≤ i
+    out: np.ndarray = up + (mark == 0)  # the first solved ≥ i
+    out[k0:] = up[k0:]
+    return out
 
 
 def _from_solved(

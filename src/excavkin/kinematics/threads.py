@@ -47,6 +47,28 @@ def over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], No
         list(pool.map(work, range(threads)))
 
 
+def even(n: int, chunk: int) -> int:
+    """Samples per chunk that cut ``n`` samples into as few chunks as ``chunk`` allows, all
+    of about one size: a remnant of a few samples would leave the thread given it idle while
+    another solves a whole chunk more. It depends on ``n`` and ``chunk`` alone, not on the
+    threads (a NumPy Newton pass takes its chord steps a chunk at a time: the result stays the
+    same on any number of threads).
+
+    Parameters
+    ----------
+    n : int
+        Samples.
+    chunk : int
+        Samples per chunk at most.
+
+    Returns
+    -------
+    int
+    """
+    chunks = max(-(-n // chunk), 1)
+    return max(1, -(-n // chunks))
+
+
 def runs(chunks: int, threads: int) -> list[deque[int]]:
     """The chunks' indices dealt into ``threads`` runs of consecutive chunks, their lengths
     differing by one at most.
