@@ -207,6 +207,46 @@ def tops(arrays: Arrays, use: np.ndarray) -> dict[str, float]:
     return top
 
 
+def runs_tops(arrays: Arrays, use: np.ndarray, counts: Sequence[int]) -> list[dict[str, float]]:
+    """`tops` of consecutive runs of the samples, ``counts[i]`` samples the ``i``-th, all
+    at once: the same numbers as `tops` of each run (a largest value is exact in any order),
+    a few NumPy calls per kind of quantity instead of some for every run and array.
+
+    Parameters
+    ----------
+    arrays : Arrays
+        The samples' solution (``sum(counts)`` samples), float64 or the wider type.
+    use : ndarray of bool, shape (n,)
+    counts : sequence of int
+        The runs' lengths, in order, adding up to n.
+
+    Returns
+    -------
+    list of dict of str to float
+        One per run, by kind of quantity (0 where none of the run's samples is used).
+    """
+    out = [dict.fromkeys(KINDS, 0.0) for _ in counts]
+    sizes = np.asarray(counts, dtype=np.intp)
+    runs = np.flatnonzero(sizes)  # (an empty run has nothing to reduce)
+    if not runs.size or not use.any():
+        return out
+    starts = (np.cumsum(sizes) - sizes)[runs]
+    for kind, group in _groups(arrays).items():
+        per: F | None = None
+        for arr in group:
+            if arr.size:
+                # each sample's largest over the rows (NaN passed over), in double, as
+                # `largest` takes it
+                mine = np.fmax.reduce(np.abs(arr), axis=0).astype(np.float64)
+                per = mine if per is None else np.fmax(per, mine)
+        if per is None:
+            continue
+        per = np.where(use & ~np.isnan(per), per, 0.0)
+        for r, top in zip(runs.tolist(), np.maximum.reduceat(per, starts).tolist(), strict=True):
+            out[r][kind] = max(0.0, top)
+    return out
+
+
 def check_picked(
     plan: SolvePlan,
     inputs: tuple[F, F, F],
@@ -263,19 +303,10 @@ def check_picked(
         ]
         # each block's scales: its far samples' tops and its wide solve's, one per sample
         per: dict[str, list[float]] = {kind: [] for kind in KINDS}
-        start = 0
-        for c, far in blocks:
-            part = slice(start, start + c)
-            w = wide.arrays
-            here = Arrays(
-                w.x[..., part], w.v[..., part], w.a[..., part], w.trans[:, part],
-                Derived(w.derived.body[..., part], w.derived.element[..., part]),
-            )  # fmt: skip
-            mine = tops(here, ok[part])
+        for (_, far), mine in zip(blocks, runs_tops(wide.arrays, ok, counts), strict=True):
             scale = floored({kind: max(far[kind], mine[kind]) for kind in KINDS})
             for kind in KINDS:
                 per[kind].append(scale[kind])
-            start += c
         scales = {kind: np.repeat(np.array(v), counts) for kind, v in per.items()}
         diff = _difference(out.x, out, wide.arrays, every, scales)
         swap = ok & (diff > SUBSTITUTE)
@@ -293,6 +324,27 @@ def check_picked(
     status[bad] = Code.IMPRECISE
     failed[bad] = step[bad]
     return error, status, failed
+
+
+def nudge_signs(seed: int, counts: Sequence[int]) -> F:
+    """The signs of a wide solve's nudges for several blocks' samples in turn, ``counts[i]``
+    the ``i``-th block's: each block's signs drawn anew from ``seed`` —
+    ``default_rng(seed).choice([-1.0, 1.0], c)`` — taken from one draw of the longest, whose
+    first ``c`` signs those are (a generator draws its values one after another: tested).
+
+    Parameters
+    ----------
+    seed : int
+    counts : sequence of int
+
+    Returns
+    -------
+    ndarray, shape (sum(counts),)
+        ±1.0.
+    """
+    sizes = list(counts)
+    draw = np.random.default_rng(seed).choice([-1.0, 1.0], max(sizes, default=0))
+    return np.concatenate([draw[:c] for c in sizes]) if sizes else draw
 
 
 @dataclasses.dataclass(slots=True)
@@ -323,8 +375,7 @@ def _solve_wide(
     q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
     moves = None
     if nudge:
-        signs = [np.random.default_rng(nudge).choice([-1.0, 1.0], c) for c in counts or [k]]
-        moves = (np.finfo(WIDE).eps * NUDGE * np.concatenate(signs)).astype(WIDE)
+        moves = (np.finfo(WIDE).eps * NUDGE * nudge_signs(nudge, counts or [k])).astype(WIDE)
     x: F = out.x[:, :, pick].astype(WIDE)
     v = np.zeros_like(x)
     a = np.zeros_like(x)

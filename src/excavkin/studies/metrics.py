@@ -8,6 +8,7 @@ it names none."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
@@ -463,16 +464,18 @@ def tabulate_sets(
         else:
             out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
     failed = np.zeros(d, dtype=np.int64)
-    why = np.full(d, "", dtype=object)
+    # each design's status as a code into its texts (0: "ok"), so that no text is made per
+    # design: the missing poses' counts and the constraints have a text each
+    code = np.zeros(d, dtype=np.int32)
+    texts = ["ok"]
     for name, ok in oks.items():
         miss = ok.shape[1] - np.count_nonzero(ok, axis=1)
         where = "" if name is None else f" of set {name!r}"
-        told = np.flatnonzero((why == "") & (miss > 0))  # (the text made for these alone)
+        told = np.flatnonzero((code == 0) & (miss > 0))  # (a design's first reason kept)
         if told.size:
-            text = np.char.add(
-                miss[told].astype(str), f" of {ok.shape[1]} poses{where} do not solve"
-            )
-            why[told] = text
+            counts, which = np.unique(miss[told], return_inverse=True)
+            code[told] = len(texts) + which
+            texts += [f"{c} of {ok.shape[1]} poses{where} do not solve" for c in counts.tolist()]
         failed += miss
     out["poses_failed"] = failed
     met = failed == 0
@@ -484,11 +487,49 @@ def tabulate_sets(
         if c.high is not None:
             inside &= value <= c.high
         hit = met & ~inside
-        why = np.where(hit, f"constraint on {c.metric} not met", why)
+        if hit.any():
+            code[hit] = len(texts)
+            texts.append(f"constraint on {c.metric} not met")
         met &= inside
     out["feasible"] = met
-    out["status"] = np.where(why == "", "ok", why).astype(str)
+    out["status"] = _status_column(code, texts)
     return pd.DataFrame(out)
+
+
+def _status_column(code: NDArray[np.int32], texts: Sequence[str]) -> Any:
+    """Each design's status text, ``texts[code]``, as the column pandas makes of an array of
+    text: made from the few texts by Arrow where pandas keeps text in Arrow (pandas 3), never
+    one Python string per design.
+
+    Parameters
+    ----------
+    code : ndarray of int32, shape (d,)
+        Each design's text, by its index in ``texts``.
+    texts : sequence of str
+
+    Returns
+    -------
+    ndarray or pandas extension array, shape (d,)
+        A column for ``pandas.DataFrame``, equal to ``numpy.array(texts)[code]`` as pandas
+        takes it.
+    """
+    import pandas as pd
+
+    kind = _text_dtype()
+    if not (isinstance(kind, pd.StringDtype) and kind.storage == "pyarrow"):
+        return np.asarray(texts)[code]
+    import pyarrow as pa
+
+    array = pa.DictionaryArray.from_arrays(pa.array(code), pa.array(list(texts), pa.string()))
+    return pd.array(array.cast(pa.large_string()), dtype=kind)
+
+
+@functools.cache
+def _text_dtype() -> Any:
+    """The dtype pandas gives a column made of an array of text."""
+    import pandas as pd
+
+    return pd.Series(np.array(["ok"])).dtype
 
 
 def _tile(v: Any, p: int, d: int) -> Any:

@@ -1,0 +1,126 @@
+"""A study's chunks: their default size (the fused evaluation's, or the full solve's, the
+same on every machine), a resumed run that keeps no part of other chunks, the cores shared
+among fewer chunks than cores, and each design's status made from a few texts."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import excavkin
+from excavkin.execution import Execution
+from excavkin.studies import study as study_module
+from excavkin.studies.metrics import Constraint, Metric, Poses, tabulate_sets
+from excavkin.studies.study import (
+    CHUNK_SAMPLES,
+    FUSED_CHUNK_SAMPLES,
+    Study,
+    chunks,
+    default_chunk_samples,
+    run_study,
+)
+
+
+def fourbar_study(samples: int, loads: str | None = None, poses: int = 40) -> Study:
+    metric = Metric("t", "crank.torque", "absmax") if loads else Metric("g", "B.transmission", "min")
+    return Study(
+        model=Path(excavkin.example_path("fourbar")),
+        bounds={"A-B": (0.10, 0.14), "O4-B": (0.07, 0.11)},
+        poses=Poses({"crank": np.linspace(0.0, 2 * np.pi, poses)}, {"crank": 31.4}, {}),
+        metrics=(metric, Metric("w", "rocker.omega", "absmax")) if not loads else (metric,),
+        samples=samples,
+        loads=loads,
+    )
+
+
+def test_a_fused_study_takes_larger_chunks_than_the_full_solve() -> None:
+    fused, full = fourbar_study(100_000), fourbar_study(100_000, loads="model")
+    assert fused.chunk_samples() == default_chunk_samples(fused) == FUSED_CHUNK_SAMPLES
+    assert full.chunk_samples() == default_chunk_samples(full) == CHUNK_SAMPLES
+    assert FUSED_CHUNK_SAMPLES > CHUNK_SAMPLES
+    # a whole number of designs a chunk, every design once, in order
+    for study, size in ((fused, FUSED_CHUNK_SAMPLES), (full, CHUNK_SAMPLES)):
+        spans = chunks(study)
+        assert spans == chunks(study, size)
+        assert spans[0] == (0, size // 40)
+        assert [s for s, _ in spans[1:]] == [e for _, e in spans[:-1]]
+        assert spans[-1][1] == 100_000
+    # the size does not depend on the machine's cores
+    assert chunks(fused) == chunks(fused, None)
+
+
+def test_a_run_with_other_chunks_starts_anew(tmp_path: Path) -> None:
+    """The parts of an interrupted run with other chunks overlap this run's designs: they
+    are not kept (the table is a fresh run's, every design once)."""
+    study = fourbar_study(60)
+    target = tmp_path / "out.parquet"
+    done: list[int] = []
+
+    def stop(d: int, total: int) -> None:
+        done.append(d)
+        if len(done) == 3:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, target, chunk_samples=7 * 40, progress=stop)
+    assert len(list((tmp_path / ".out.parquet.parts").glob("part-*.parquet"))) == 2
+    got = run_study(study, target, chunk_samples=11 * 40)
+    fresh = run_study(study, tmp_path / "fresh.parquet", chunk_samples=11 * 40)
+    a, b = pd.read_parquet(got), pd.read_parquet(fresh)
+    assert a["design"].tolist() == list(range(60))
+    pd.testing.assert_frame_equal(a, b, check_exact=True)
+
+
+def test_fewer_chunks_than_cores_share_the_cores(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Two chunks on four threads: each chunk's blocks on two of them; the table is the one
+    of a single thread, to the bit."""
+    study = fourbar_study(300)
+    seen: list[int | None] = []
+    real = study_module.evaluate_chunk
+
+    def spy(subject: object, start: int, stop: int, execution: Execution | None = None) -> object:
+        seen.append(None if execution is None else execution.workers)
+        return real(subject, start, stop, execution)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(study_module, "evaluate_chunk", spy)
+    kw = {"chunk_samples": 150 * 40, "backend": "numba"}
+    four = run_study(study, tmp_path / "four.parquet", execution=Execution(workers=4), **kw)
+    assert seen == [2, 2]
+    one = run_study(study, tmp_path / "one.parquet", execution=Execution(workers=1), **kw)
+    pd.testing.assert_frame_equal(pd.read_parquet(four), pd.read_parquet(one), check_exact=True)
+
+
+def test_each_designs_status_is_its_own_text() -> None:
+    """The status column, made from a few texts, against each design's text made alone:
+    the first set whose poses fail (their count), else the first constraint not met, else
+    ok."""
+    rng = np.random.default_rng(4)
+    d = 400
+    oks = {None: rng.random((d, 6)) > 0.04, "reach": rng.random((d, 5)) > 0.06}
+    metrics = [Metric("a", "x", "max"), Metric("b", "y", "min", poses="reach")]
+    series = {metrics[0].key: rng.random((d, 6)), metrics[1].key: rng.random((d, 5))}
+    constraints = (Constraint("a", 0.5, None), Constraint("b", None, 0.3))
+    frame = tabulate_sets({"p": rng.random(d)}, series, oks, metrics, constraints)
+    want = []
+    for i in range(d):
+        miss = {k: int((~ok[i]).sum()) for k, ok in oks.items()}
+        a, b = frame["a"][i], frame["b"][i]
+        if miss[None]:
+            want.append(f"{miss[None]} of 6 poses do not solve")
+        elif miss["reach"]:
+            want.append(f"{miss['reach']} of 5 poses of set 'reach' do not solve")
+        elif not a >= 0.5:
+            want.append("constraint on a not met")
+        elif not b <= 0.3:
+            want.append("constraint on b not met")
+        else:
+            want.append("ok")
+    assert frame["status"].tolist() == want
+    assert len(set(want)) > 5
+    assert frame["status"].dtype == pd.Series(np.array(["ok"])).dtype
+    assert (frame["feasible"] == (frame["status"] == "ok")).all()
