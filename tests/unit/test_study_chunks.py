@@ -25,7 +25,8 @@ from excavkin.studies.study import (
 
 
 def fourbar_study(samples: int, loads: str | None = None, poses: int = 40) -> Study:
-    metric = Metric("t", "crank.torque", "absmax") if loads else Metric("g", "B.transmission", "min")
+    gamma = Metric("g", "B.transmission", "min")
+    metric = Metric("t", "crank.torque", "absmax") if loads else gamma
     return Study(
         model=Path(excavkin.example_path("fourbar")),
         bounds={"A-B": (0.10, 0.14), "O4-B": (0.07, 0.11)},

@@ -373,7 +373,7 @@ def _solve_wide(
     assert WIDE is not None
     k = pick.size
     q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
-    moves = None
+    moves: F | None = None
     if nudge:
         moves = (np.finfo(WIDE).eps * NUDGE * nudge_signs(nudge, counts or [k])).astype(WIDE)
     x: F = out.x[:, :, pick].astype(WIDE)

@@ -185,6 +185,7 @@ def evaluate_fused(
     angles: set[str] = set()
     reduced: dict[str, F] = {}
     kernel = _study_kernel(mech, d * max(s.count for s in sets.values()))
+    spares = _Spares()  # (the compiled path's chunk-sized arrays, kept for the next chunk)
     for name, pose_set in sets.items():
         wanted = [m for m in metrics if m.poses == name]
         p = pose_set.count
@@ -194,14 +195,17 @@ def evaluate_fused(
             )
         else:
             got, oks[name], kinds = _solve_set_compiled(
-                mech, kernel, varied, sketch, unbuildable, pose_set, d, wanted
+                mech, kernel, varied, sketch, unbuildable, pose_set, d, wanted, spares
             )
         angles |= kinds
         for m in wanted:
             series[m.key] = got[m.key].reshape(d, p)
             if kernel is not None and reductions.compiled(m, kinds):
                 reduced[m.name] = reductions.reduce_designs(series[m.key], oks[name], m)
-    return tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
+    table = tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
+    del series, oks, got  # (no view of the spares left: the table's columns are its own)
+    spares.give_back()
+    return table
 
 
 @dataclasses.dataclass(frozen=True, slots=True)
@@ -348,13 +352,14 @@ def _solve_set_compiled(
     poses: Poses,
     d: int,
     metrics: Sequence[Metric],
+    spares: _Spares,
 ) -> tuple[dict[str, F], NDArray[np.bool_], set[str]]:
     """`_solve_set` by the study's kernel: the inputs checked once for the set, each
     design's constants a column of one table read by its poses, a block one kernel call
     (only the metrics' rows written out, its far samples' precision scales kept), the
     metrics' series taken once a `SPAN`, and the samples near a dead position of every
     block solved again and checked together; the same numbers, to the bit, as the blocks
-    solved by `solve_part`."""
+    solved by `solve_part`. Its chunk-sized arrays are ``spares``' (`_Spares`)."""
     plan = mech.plan
     p = poses.count
     n = d * p
@@ -362,12 +367,13 @@ def _solve_set_compiled(
     consts, stride = compiled.table(compiled.constants(varied), d)
     if not stride:  # (no constant varies: every design reads the one column)
         consts = np.broadcast_to(consts, (consts.shape[0], max(d, 1)))
-    q, qd, qdd = _inputs(plan, poses, sketch, d)
-    status = np.zeros(n, dtype=np.int8)
+    q, qd, qdd = _inputs(plan, poses, sketch, d, spares)
+    status = spares.empty(n, np.int8)
+    status.fill(0)
     bad = np.repeat(unbuildable, p) if unbuildable.any() else None
     solving = check_inputs(plan, q, qd, qdd, status, bad)
-    out = {m.key: np.empty(n) for m in metrics}
-    ok = np.empty(n, dtype=bool)
+    out = {m.key: spares.empty(n, np.float64) for m in metrics}
+    ok = spares.empty(n, np.bool_)
     angles: list[set[str]] = []
     names = {
         f"{pt}.{axis}" for m in metrics if m.clearance for pt in m.clearance for axis in "xy"
@@ -487,11 +493,14 @@ def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.
     return keep
 
 
-def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F, F, F]:
+def _inputs(
+    plan: SolvePlan, poses: Poses, sketch: list[Any], d: int, spares: _Spares
+) -> tuple[F, F, F]:
     """A pose set's inputs, rates and accelerations at every design's every pose
-    (design-major, shape (n_inputs, d·p) each, a broadcast where one value serves all), as
-    `_solve_set`'s blocks take them: a driver the set does not give held at each design's
-    sketch value, its rate 0 (1 where swept without a rate given)."""
+    (design-major, shape (n_inputs, d·p) each, a broadcast where one value serves all, else
+    an array of ``spares``), as `_solve_set`'s blocks take them: a driver the set does not
+    give held at each design's sketch value, its rate 0 (1 where swept without a rate
+    given)."""
     p = poses.count
     rows: list[list[Any]] = [[], [], []]
     for i, name in enumerate(plan.inputs):
@@ -512,17 +521,17 @@ def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F
                 rows[k].append(a[None, :])  # a pose's value for every design
             else:
                 rows[k].append(float(a))
-    q, qd, qdd = (_full(r, d, p) for r in rows)
+    q, qd, qdd = (_full(r, d, p, spares) for r in rows)
     return q, qd, qdd
 
 
-def _full(values: list[Any], d: int, p: int) -> F:
+def _full(values: list[Any], d: int, p: int, spares: _Spares) -> F:
     """Rows of ``d·p`` samples (`_rows` for the whole set), each value broadcast over the
-    designs × poses."""
+    designs × poses (an array of ``spares`` where one varies)."""
     if all(np.ndim(v) == 0 for v in values):
         shape = (len(values), d * p)
         return np.broadcast_to(np.array(values, dtype=np.float64).reshape(-1, 1), shape)
-    out = np.empty((len(values), d, p))
+    out = spares.empty(len(values) * d * p, np.float64).reshape(len(values), d, p)
     for i, v in enumerate(values):
         out[i] = v
     return out.reshape(len(values), d * p)
@@ -553,6 +562,59 @@ def _rows(values: list[Any], k: int) -> F:
 #: samples of a pose set that a study's kernel solves into one workspace (16 blocks), of
 #: which it writes only the rows its metrics read: the pages of the others are never touched
 SPAN = 16 * BLOCK
+
+#: bytes of a study's chunk-sized arrays kept for the next chunks, per core (`_Spares`)
+SPARE_BYTES = 64 << 20
+
+#: chunk-sized arrays given back by a study's chunks, newest last, for the next chunks
+_spare: list[NDArray[Any]] = []
+
+
+class _Spares:
+    """A chunk's arrays of a study (its metrics' series, its statuses, its inputs), taken
+    from those earlier chunks gave back and given back together once its table is made.
+
+    A fresh array's pages are mapped as they are first written and unmapped when it is
+    freed, holding the GIL — for the 45 MB of a chunk of 2²⁰ four-bar samples, ≈ 1.5 ms of
+    the GIL and several of page faults; an array kept is written again in place. At most
+    `SPARE_BYTES` a core are kept (the newest)."""
+
+    def __init__(self) -> None:
+        self.taken: list[NDArray[Any]] = []
+
+    def empty(self, n: int, dtype: Any) -> NDArray[Any]:
+        """``n`` values of ``dtype``, not set: a kept array's, of ``n`` to ``2n`` values, or
+        a new one.
+
+        Parameters
+        ----------
+        n : int
+        dtype : numpy dtype
+
+        Returns
+        -------
+        ndarray, shape (n,)
+        """
+        kind = np.dtype(dtype)
+        with _lock:
+            for i, arr in enumerate(_spare):
+                if arr.dtype == kind and n <= arr.size <= 2 * n:
+                    whole = _spare.pop(i)
+                    break
+            else:
+                whole = np.empty(n, dtype=kind)
+        self.taken.append(whole)
+        return whole[:n]
+
+    def give_back(self) -> None:
+        """Keep the arrays taken for the next chunks (no view of them may be in use)."""
+        cap = SPARE_BYTES * (os.cpu_count() or 1)
+        with _lock:
+            _spare.extend(self.taken)
+            while sum(a.nbytes for a in _spare) > cap:
+                del _spare[0]
+        self.taken = []
+
 
 #: free workspaces, by the plan they were made for: a study's blocks take them in turn
 _free: list[tuple[SolvePlan, Workspace]] = []
