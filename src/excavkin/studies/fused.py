@@ -471,7 +471,28 @@ def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.
     written): found by solving nothing — each written row of a one-sample workspace marked
     with its own number, the inputs with negative ones, the columns read back. A column
     that is no row's (a driven length is its input's) needs none; one that is computed
-    from several keeps every row."""
+    from several keeps every row. Found once for a plan and columns (each chunk of a
+    study asks again)."""
+    key = (id(plan), frozenset(names))  # (a plan has one study kernel, its rows)
+    with _lock:
+        found = _kept_rows.get(key)
+    if found is not None and found[0] is plan:
+        return found[1]
+    keep = _find_kept(plan, kernel, names)
+    with _lock:
+        if len(_kept_rows) >= 16:
+            _kept_rows.clear()
+        _kept_rows[key] = (plan, keep)
+    return keep
+
+
+#: `_kept`'s rows found, by plan and columns (the plan kept, so that its id is not
+#: another's)
+_kept_rows: dict[tuple[int, frozenset[str]], tuple[SolvePlan, NDArray[np.int8]]] = {}
+
+
+def _find_kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.int8]:
+    """`_kept`, found."""
     keep = np.zeros(kernel.n_rows, dtype=np.int8)
     ws = Workspace.of(plan, 1)
     arrays = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
