@@ -125,3 +125,35 @@ def test_each_designs_status_is_its_own_text() -> None:
     assert len(set(want)) > 5
     assert frame["status"].dtype == pd.Series(np.array(["ok"])).dtype
     assert (frame["feasible"] == (frame["status"] == "ok")).all()
+
+
+def test_a_chunks_arrays_are_kept_for_the_next_and_its_table_is_the_same() -> None:
+    """The compiled path's chunk-sized arrays, given back after a chunk's table is made, are
+    the next chunk's (written again in place): each chunk's table is the one it has alone,
+    to the bit, a chunk of another size and one with pose sets between them."""
+    from excavkin.execution import use
+    from excavkin.studies import fused
+    from excavkin.studies.design_space import sample_designs
+    from excavkin.studies.metrics import evaluate
+
+    mech = excavkin.load(excavkin.example_path("fourbar"))
+    bounds = {"A-B": (0.0, 0.16), "O4-B": (0.05, 0.12)}
+    first, other = (sample_designs(bounds, n, "sobol", seed) for n, seed in ((300, 1), (170, 2)))
+    poses = Poses({"crank": np.linspace(0.0, 2 * np.pi, 30)}, {"crank": 5.0}, {})
+    sets = {"b": Poses({"crank": np.linspace(0.0, 1.0, 7)}, {}, {})}
+    metrics = [Metric("g", "B.transmission", "min"), Metric("w", "rocker.omega", "max")]
+    metrics.append(Metric("a", "rocker.angle", "change", poses="b"))
+    with use(Execution(backend="numba", workers=1)):
+        fused._spare.clear()
+        alone = evaluate(mech, first, poses, metrics, pose_sets=sets)
+        got = fused.evaluate_fused(mech, first, poses, metrics, pose_sets=sets)
+        kept = {id(a) for a in fused._spare}
+        assert len(kept) == 9  # two sets: inputs, statuses, oks, and a series per metric
+        between = fused.evaluate_fused(mech, other, poses, metrics, pose_sets=sets)
+        assert {id(a) for a in fused._spare} == kept  # (170 designs: 300's arrays serve)
+        again = fused.evaluate_fused(mech, first, poses, metrics, pose_sets=sets)
+        assert {id(a) for a in fused._spare} == kept
+        between_alone = evaluate(mech, other, poses, metrics, pose_sets=sets)
+    pd.testing.assert_frame_equal(got, alone, check_exact=True)
+    pd.testing.assert_frame_equal(again, alone, check_exact=True)
+    pd.testing.assert_frame_equal(between, between_alone, check_exact=True)
