@@ -82,13 +82,13 @@ def test_fewer_chunks_than_cores_share_the_cores(
     of a single thread, to the bit."""
     study = fourbar_study(300)
     seen: list[int | None] = []
-    real = study_module.evaluate_chunk
+    real = study_module.evaluate_part
 
     def spy(subject: object, start: int, stop: int, execution: Execution | None = None) -> object:
         seen.append(None if execution is None else execution.workers)
         return real(subject, start, stop, execution)  # type: ignore[arg-type]
 
-    monkeypatch.setattr(study_module, "evaluate_chunk", spy)
+    monkeypatch.setattr(study_module, "evaluate_part", spy)
     kw = {"chunk_samples": 150 * 40, "backend": "numba"}
     four = run_study(study, tmp_path / "four.parquet", execution=Execution(workers=4), **kw)
     assert seen == [2, 2]
@@ -157,3 +157,42 @@ def test_a_chunks_arrays_are_kept_for_the_next_and_its_table_is_the_same() -> No
     pd.testing.assert_frame_equal(got, alone, check_exact=True)
     pd.testing.assert_frame_equal(again, alone, check_exact=True)
     pd.testing.assert_frame_equal(between, between_alone, check_exact=True)
+
+
+def test_a_chunks_columns_make_the_part_its_frame_makes() -> None:
+    """A chunk's columns (`Study.chunk_columns`) make the frame `Study.evaluate_chunk`
+    gives (the designs' table, its ``design`` first) and, under the schema made once,
+    the Arrow table its frame makes, metadata included — for the fused evaluation and the
+    full solve, chunks with failing poses and NaN metrics among them."""
+    import pyarrow as pa
+
+    from excavkin.studies.fused import evaluate_designs
+    from excavkin.studies.study import _mechanism, part_table, sample_designs
+
+    for study in (fourbar_study(90, poses=30), fourbar_study(70, loads="model", poses=30)):
+        # a coupler of no length or less: designs that build no mechanism, NaN metrics
+        wide = dataclass_replace(study, bounds={"A-B": (-0.05, 0.16), "O4-B": (0.05, 0.12)})
+        mech = _mechanism(wide.model)
+        seen = []
+        for start, stop in ((0, 30), (30, 60), (60, wide.designs)):
+            columns = wide.chunk_columns(start, stop)
+            frame = wide.evaluate_chunk(start, stop)
+            part = sample_designs(wide.bounds, wide.samples, wide.method, wide.seed, (start, stop))
+            alone = evaluate_designs(
+                mech, part, wide.poses, wide.metrics, wide.constraints, wide.loads
+            )
+            alone.insert(0, "design", np.arange(start, stop))
+            pd.testing.assert_frame_equal(frame, alone, check_exact=True)
+            pd.testing.assert_frame_equal(pd.DataFrame(columns), frame, check_exact=True)
+            want = pa.Table.from_pandas(frame, preserve_index=False)
+            assert part_table(columns).equals(want, check_metadata=True)
+            assert part_table(frame).equals(want, check_metadata=True)
+            seen.append(frame)
+        every = pd.concat(seen)
+        assert (every["status"] != "ok").any() and every.iloc[:, 3].isna().any()
+
+
+def dataclass_replace(study: Study, **changes: object) -> Study:
+    import dataclasses
+
+    return dataclasses.replace(study, **changes)  # type: ignore[arg-type]

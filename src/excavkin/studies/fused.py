@@ -74,7 +74,7 @@ from excavkin.studies.metrics import (
     check_pose_sets,
     evaluate,
     pose_sets_of,
-    tabulate_sets,
+    tabulate_columns,
 )
 
 if TYPE_CHECKING:
@@ -83,7 +83,7 @@ if TYPE_CHECKING:
     from excavkin.mechanism import Mechanism
     from excavkin.structure.plan import SolvePlan
 
-__all__ = ["evaluate_designs", "evaluate_fused", "fusable"]
+__all__ = ["evaluate_designs", "evaluate_fused", "evaluate_fused_columns", "fusable"]
 
 
 def fusable(mech: Mechanism, loads: Any = None) -> bool:
@@ -170,6 +170,34 @@ def evaluate_fused(
     pandas.DataFrame
         As `evaluate`.
     """
+    import pandas as pd
+
+    return pd.DataFrame(
+        evaluate_fused_columns(mech, designs, poses, metrics, constraints, pose_sets)
+    )
+
+
+def evaluate_fused_columns(
+    mech: Mechanism,
+    designs: Mapping[str, F],
+    poses: Poses,
+    metrics: Sequence[Metric],
+    constraints: Sequence[Constraint] = (),
+    pose_sets: Mapping[str, Poses] | None = None,
+) -> dict[str, Any]:
+    """`evaluate_fused`'s columns by name, in the table's order, without making the table
+    ([`tabulate_columns`][excavkin.studies.metrics.tabulate_columns]).
+
+    Parameters
+    ----------
+    mech, designs, poses, metrics, constraints, pose_sets
+        As `evaluate_fused` takes them.
+
+    Returns
+    -------
+    dict of str to array
+        One value per design each.
+    """
     if not fusable(mech):
         raise ValueError("evaluate_fused: a plan with a Newton group takes evaluate()")
     sets = pose_sets_of(poses, pose_sets)
@@ -202,7 +230,7 @@ def evaluate_fused(
             series[m.key] = got[m.key].reshape(d, p)
             if kernel is not None and reductions.compiled(m, kinds):
                 reduced[m.name] = reductions.reduce_designs(series[m.key], oks[name], m)
-    table = tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
+    table = tabulate_columns(arrays, series, oks, metrics, constraints, angles, reduced)
     del series, oks, got  # (no view of the spares left: the table's columns are its own)
     spares.give_back()
     return table

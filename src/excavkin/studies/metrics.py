@@ -449,6 +449,35 @@ def tabulate_sets(
     """
     import pandas as pd
 
+    return pd.DataFrame(
+        tabulate_columns(designs, columns, oks, metrics, constraints, angles, reduced)
+    )
+
+
+def tabulate_columns(
+    designs: Mapping[str, F],
+    columns: Mapping[str, F],
+    oks: Mapping[str | None, NDArray[np.bool_]],
+    metrics: Sequence[Metric],
+    constraints: Sequence[Constraint] = (),
+    angles: Collection[str] = (),
+    reduced: Mapping[str, F] | None = None,
+) -> dict[str, Any]:
+    """`tabulate_sets`' columns by name, in the table's order, without making the table
+    (a study writes them as Arrow arrays, `excavkin.studies.study.part_table`).
+
+    Parameters
+    ----------
+    designs, columns, oks, metrics, constraints, angles, reduced
+        As `tabulate_sets` takes them.
+
+    Returns
+    -------
+    dict of str to array
+        The columns of the table [`evaluate`][excavkin.studies.metrics.evaluate] gives,
+        each an array of one value per design (the status's as pandas makes a column of
+        text).
+    """
     d = next(iter(oks.values())).shape[0]
     out: dict[str, Any] = {f"design.{k}": np.asarray(v) for k, v in designs.items()}
     for m in metrics:
@@ -493,7 +522,7 @@ def tabulate_sets(
         met &= inside
     out["feasible"] = met
     out["status"] = _status_column(code, texts)
-    return pd.DataFrame(out)
+    return out
 
 
 def _status_column(code: NDArray[np.int32], texts: Sequence[str]) -> Any:

@@ -183,15 +183,38 @@ class Study:
             per metric, ``poses_failed``, ``feasible`` and ``status``, as
             `excavkin.studies.metrics.evaluate` gives them.
         """
-        from excavkin.studies.fused import evaluate_designs
+        import pandas as pd
+
+        return pd.DataFrame(self.chunk_columns(start, stop))
+
+    def chunk_columns(self, start: int, stop: int) -> dict[str, Any]:
+        """`evaluate_chunk`'s columns by name, in the table's order, without making the table
+        where the metrics are fused
+        ([`evaluate_fused_columns`][excavkin.studies.fused.evaluate_fused_columns]): a
+        local run writes them as Arrow arrays (`part_table`).
+
+        Parameters
+        ----------
+        start, stop : int
+            The first design and one past the last.
+
+        Returns
+        -------
+        dict of str to array
+            ``design`` first, one value per design each.
+        """
+        from excavkin.studies.fused import evaluate_fused_columns, fusable
+        from excavkin.studies.metrics import evaluate
 
         mech = _mechanism(self.model)
         part = sample_designs(self.bounds, self.samples, self.method, self.seed, (start, stop))
-        frame = evaluate_designs(
-            mech, part, self.poses, self.metrics, self.constraints, self.loads, self.pose_sets
-        )
-        frame.insert(0, "design", np.arange(start, stop))
-        return frame
+        args = (mech, part, self.poses, self.metrics, self.constraints)
+        if fusable(mech, self.loads):
+            columns = evaluate_fused_columns(*args, self.pose_sets)
+        else:
+            frame = evaluate(*args, self.loads, self.pose_sets)
+            columns = {str(c): frame[c] for c in frame.columns}
+        return {"design": np.arange(start, stop), **columns}
 
     def chunk_samples(self) -> int:
         """The samples (designs × poses) a chunk of the study solves by default: the fused
@@ -316,6 +339,28 @@ def evaluate_chunk(
     ``execution`` (default: the settings in use, `excavkin.execution.current`)."""
     with use(execution or current()):
         return study.evaluate_chunk(start, stop)
+
+
+def evaluate_part(
+    study: Subject, start: int, stop: int, execution: Execution | None = None
+) -> pd.DataFrame | dict[str, Any]:
+    """`evaluate_chunk`, or a `Study`'s columns alone (`Study.chunk_columns`: no table
+    made, for `part_table`).
+
+    Parameters
+    ----------
+    study : Study
+    start, stop : int
+    execution : Execution, optional
+
+    Returns
+    -------
+    pandas.DataFrame or dict of str to array
+    """
+    if not isinstance(study, Study):
+        return evaluate_chunk(study, start, stop, execution)
+    with use(execution or current()):
+        return study.chunk_columns(start, stop)
 
 
 def run_study(
@@ -680,7 +725,7 @@ def check_scheduler(address: str) -> None:
 
 def _run(
     study: Subject, todo: list[tuple[int, int]], scheduler: str | None, execution: Execution
-) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
+) -> Iterator[tuple[tuple[int, int], Rows]]:
     if scheduler is None:
         yield from _run_here(study, todo, execution)
         return
@@ -735,7 +780,7 @@ def _run(
 
 def _run_here(
     study: Subject, todo: list[tuple[int, int]], execution: Execution
-) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
+) -> Iterator[tuple[tuple[int, int], Rows]]:
     """The chunks here: several at once, one per thread (each solved on its share of the
     cores — one, where there are as many chunks as cores — so that one chunk's serial work,
     its designs and its table, overlaps the others' solves), a bounded window of them in
@@ -747,7 +792,7 @@ def _run_here(
     threads = min(cores, len(todo))
     if threads <= 1 or not isinstance(study, Study):
         for s, e in todo:
-            yield (s, e), evaluate_chunk(study, s, e, execution)
+            yield (s, e), evaluate_part(study, s, e, execution)
         return
     from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 
@@ -755,11 +800,11 @@ def _run_here(
     alone = dataclasses.replace(execution, workers=max(1, cores // threads))
     pending = iter(todo)
     with ThreadPoolExecutor(threads) as pool:
-        running: dict[Future[pd.DataFrame], tuple[int, int]] = {}
+        running: dict[Future[Rows], tuple[int, int]] = {}
 
         def submit(n: int) -> None:
             for s, e in itertools.islice(pending, n):
-                running[pool.submit(evaluate_chunk, study, s, e, alone)] = (s, e)
+                running[pool.submit(evaluate_part, study, s, e, alone)] = (s, e)
 
         submit(2 * threads)
         try:
@@ -787,18 +832,16 @@ def _stamp(path: Path) -> Any:
         return None
 
 
-def _write_part(frame: pd.DataFrame, path: Path) -> Any:
-    """A chunk's rows, written whole or not at all; returns them as the Arrow table written.
+def _write_part(rows: Rows, path: Path) -> Any:
+    """A chunk's rows, written whole or not at all; returns them as the Arrow table written
+    (`part_table`).
 
     The parts' folder is the study's own: a temporary file that a killed run leaves in it is
     never read (the parts are ``part-*.parquet``) and goes with the folder, so that a write
     does not list the folder's thousands of parts for leftovers (`write_atomic` does)."""
-    import pyarrow as pa
     import pyarrow.parquet as pq
 
-    # as frame.to_parquet makes it, on this thread (Arrow's pool of threads started for a
-    # few thousand rows cost 5–20× the conversion)
-    table = pa.Table.from_pandas(frame, preserve_index=False, nthreads=1)
+    table = part_table(rows)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
         pq.write_table(table, tmp)
@@ -807,6 +850,54 @@ def _write_part(frame: pd.DataFrame, path: Path) -> Any:
         tmp.unlink(missing_ok=True)
         raise
     return table
+
+
+def part_table(rows: Rows) -> Any:
+    """A chunk's rows as the Arrow table ``pyarrow.Table.from_pandas`` makes of their frame
+    (no index), on this thread (Arrow's pool of threads started for a few thousand rows
+    cost 5–20× the conversion).
+
+    A table's schema, pandas' metadata with it, depends on its columns' names and types
+    alone: it is made from a frame once a study (≈ 1 ms of Python holding the GIL, and the
+    frame's own), and every other chunk's columns are put under it as arrays.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame or dict of str to array
+        A chunk's frame (`Study.evaluate_chunk`) or its columns (`Study.chunk_columns`).
+
+    Returns
+    -------
+    pyarrow.Table
+        Equal to ``pa.Table.from_pandas(pd.DataFrame(rows), preserve_index=False)``, its
+        metadata included.
+    """
+    import pandas as pd
+    import pyarrow as pa
+
+    if isinstance(rows, pd.DataFrame):
+        return pa.Table.from_pandas(rows, preserve_index=False, nthreads=1)
+    key = tuple((name, str(getattr(v, "dtype", type(v)))) for name, v in rows.items())
+    with _loaded_lock:
+        schema = _schemas.get(key)
+    if schema is None:
+        table = pa.Table.from_pandas(pd.DataFrame(rows), preserve_index=False, nthreads=1)
+        with _loaded_lock:
+            if len(_schemas) >= 16:
+                _schemas.clear()
+            _schemas[key] = table.schema
+        return table
+    arrays = [
+        pa.array(v, type=f.type, from_pandas=True)  # (a float's NaN a null, as there)
+        for v, f in zip(rows.values(), schema, strict=True)
+    ]
+    return pa.Table.from_arrays(arrays, schema=schema)
+
+
+#: a chunk's rows: its frame, or its columns by name
+Rows = Any
+#: `part_table`'s schemas (pandas' metadata included), by the columns' names and types
+_schemas: dict[tuple[tuple[str, str], ...], Any] = {}
 
 
 def _assemble(
