@@ -16,9 +16,10 @@ metrics on a closed-form plan:
   change points, meaningless between one design's last pose and the next design's first, are
   not searched.
 
-So memory is bounded by a workspace per thread plus the metrics' series of the chunk, and the
-table is the one `evaluate` gives, to the bit (tested for every kind of metric a study file
-can name).
+So memory is bounded by a workspace per thread plus the metrics' series of the chunk (kept,
+with its statuses and inputs, for the next chunk: at most `SPARE_BYTES` a core, `_Spares`),
+and the table is the one `evaluate` gives, to the bit (tested for every kind of metric a
+study file can name).
 
 Where numba solves (`excavkin.backends.choose`: ``"auto"`` with the kernel cached or the
 batch large, or ``"numba"``), a pose set takes the study's own kernel instead
