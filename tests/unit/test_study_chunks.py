@@ -196,3 +196,25 @@ def dataclass_replace(study: Study, **changes: object) -> Study:
     import dataclasses
 
     return dataclasses.replace(study, **changes)  # type: ignore[arg-type]
+
+
+@pytest.mark.filterwarnings("ignore:.*balance properties of Sobol:UserWarning")
+def test_a_chunks_sobol_points_from_a_kept_engine_are_a_new_ones() -> None:
+    """The Sobol' engine a chunk gives back, reset, makes the next chunk's points as a new
+    engine would: every part of the sequence, from its start or skipped to, in any order."""
+    from scipy.stats import qmc
+
+    from excavkin.studies import design_space
+    from excavkin.studies.design_space import sample_designs
+
+    bounds = {"a": (0.0, 1.0), "b": (-2.0, 3.0), "c": (10.0, 11.0)}
+    design_space._engines.clear()
+    for start, stop in ((0, 100), (100, 333), (0, 7), (5000, 9000), (333, 334), (0, 100)):
+        got = sample_designs(bounds, 9000, "sobol", 5, (start, stop))
+        engine = qmc.Sobol(3, scramble=True, seed=5)
+        if start:
+            engine.fast_forward(start)
+        want = qmc.scale(engine.random(stop - start), [0.0, -2.0, 10.0], [1.0, 3.0, 11.0])
+        for j, name in enumerate(bounds):
+            np.testing.assert_array_equal(got[name], want[:, j])
+    assert len(design_space._engines[(3, 5)]) == 1  # one engine, taken and given back

@@ -297,10 +297,12 @@ def check_picked(
         counts = [c for c, _ in blocks]
         wide = _solve_wide(plan, q, qd, qdd, out, every, tol)
         ok = wide.status == Code.OK
-        shaken = [
-            _solve_wide(plan, q, qd, qdd, out, every, tol, nudge=seed, counts=counts)
-            for seed in (1, 2)
-        ]
+        # the two nudged solves as one of both draws' samples in turn (a sample's solve is
+        # its own: the same numbers as two solves), then taken apart
+        twice = np.concatenate([every, every])
+        signs = np.concatenate([nudge_signs(seed, counts) for seed in (1, 2)])
+        both = _solve_wide(take(plan, twice), q, qd, qdd, out, twice, tol, signs=signs)
+        shaken = [_samples(both.arrays, slice(0, k)), _samples(both.arrays, slice(k, 2 * k))]
         # each block's scales: its far samples' tops and its wide solve's, one per sample
         per: dict[str, list[float]] = {kind: [] for kind in KINDS}
         for (_, far), mine in zip(blocks, runs_tops(wide.arrays, ok, counts), strict=True):
@@ -311,7 +313,7 @@ def check_picked(
         diff = _difference(out.x, out, wide.arrays, every, scales)
         swap = ok & (diff > SUBSTITUTE)
         moved = np.maximum(
-            *(_difference(wide.arrays.x, wide.arrays, s.arrays, None, scales) for s in shaken)
+            *(_difference(wide.arrays.x, wide.arrays, s, None, scales) for s in shaken)
         )
         wide_error = np.maximum(diff * RATIO, moved / NUDGE) * MARGIN
         error = np.where(swap, wide_error, diff + wide_error + 4 * np.finfo(np.float64).eps)
@@ -347,6 +349,14 @@ def nudge_signs(seed: int, counts: Sequence[int]) -> F:
     return np.concatenate([draw[:c] for c in sizes]) if sizes else draw
 
 
+def _samples(arr: Arrays, part: slice) -> Arrays:
+    """The arrays of the samples ``part`` (views)."""
+    return Arrays(
+        arr.x[..., part], arr.v[..., part], arr.a[..., part], arr.trans[:, part],
+        Derived(arr.derived.body[..., part], arr.derived.element[..., part]),
+    )  # fmt: skip
+
+
 @dataclasses.dataclass(slots=True)
 class _Wide:
     arrays: Arrays
@@ -364,18 +374,22 @@ def _solve_wide(
     tol: tuple[float, float],
     nudge: int = 0,
     counts: Sequence[int] | None = None,
+    signs: F | None = None,
 ) -> _Wide:
     """The picked samples solved again in the wider type, by ``plan`` (already taken at them;
     Newton groups start from the double solution and refine it). ``nudge`` > 0 emulates
     rounding: every step's cancelling difference and output move by `NUDGE` units of the
     wide rounding, with a sign per sample drawn from that seed (``counts``: the picked
-    samples are several blocks' in turn, so many each, each block's signs drawn anew)."""
+    samples are several blocks' in turn, so many each, each block's signs drawn anew), or
+    ``signs`` given, one per picked sample."""
     assert WIDE is not None
     k = pick.size
     q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
     moves: F | None = None
     if nudge:
-        moves = (np.finfo(WIDE).eps * NUDGE * nudge_signs(nudge, counts or [k])).astype(WIDE)
+        signs = nudge_signs(nudge, counts or [k])
+    if signs is not None:  # (given: each sample's own sign, `nudge_signs`)
+        moves = (np.finfo(WIDE).eps * NUDGE * signs).astype(WIDE)
     x: F = out.x[:, :, pick].astype(WIDE)
     v = np.zeros_like(x)
     a = np.zeros_like(x)

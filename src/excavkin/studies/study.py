@@ -453,7 +453,7 @@ def run_study(
         if set(sets) - {None}
         else None
     )
-    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note, described, kept)
+    _assemble(parts, target, fingerprint, kinds, name, study.motion_note, described, kept)
     shutil.rmtree(parts)
     return StudyResult(target, getattr(study, "units", {}))
 
