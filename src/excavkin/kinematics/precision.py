@@ -207,6 +207,46 @@ def tops(arrays: Arrays, use: np.ndarray) -> dict[str, float]:
     return top
 
 
+def runs_tops(arrays: Arrays, use: np.ndarray, counts: Sequence[int]) -> list[dict[str, float]]:
+    """`tops` of consecutive runs of the samples, ``counts[i]`` samples the ``i``-th, all
+    at once: the same numbers as `tops` of each run (a largest value is exact in any order),
+    a few NumPy calls per kind of quantity instead of some for every run and array.
+
+    Parameters
+    ----------
+    arrays : Arrays
+        The samples' solution (``sum(counts)`` samples), float64 or the wider type.
+    use : ndarray of bool, shape (n,)
+    counts : sequence of int
+        The runs' lengths, in order, adding up to n.
+
+    Returns
+    -------
+    list of dict of str to float
+        One per run, by kind of quantity (0 where none of the run's samples is used).
+    """
+    out = [dict.fromkeys(KINDS, 0.0) for _ in counts]
+    sizes = np.asarray(counts, dtype=np.intp)
+    runs = np.flatnonzero(sizes)  # (an empty run has nothing to reduce)
+    if not runs.size or not use.any():
+        return out
+    starts = (np.cumsum(sizes) - sizes)[runs]
+    for kind, group in _groups(arrays).items():
+        per: F | None = None
+        for arr in group:
+            if arr.size:
+                # each sample's largest over the rows (NaN passed over), in double, as
+                # `largest` takes it
+                mine = np.fmax.reduce(np.abs(arr), axis=0).astype(np.float64)
+                per = mine if per is None else np.fmax(per, mine)
+        if per is None:
+            continue
+        per = np.where(use & ~np.isnan(per), per, 0.0)
+        for r, top in zip(runs.tolist(), np.maximum.reduceat(per, starts).tolist(), strict=True):
+            out[r][kind] = max(0.0, top)
+    return out
+
+
 def check_picked(
     plan: SolvePlan,
     inputs: tuple[F, F, F],
@@ -257,30 +297,23 @@ def check_picked(
         counts = [c for c, _ in blocks]
         wide = _solve_wide(plan, q, qd, qdd, out, every, tol)
         ok = wide.status == Code.OK
-        shaken = [
-            _solve_wide(plan, q, qd, qdd, out, every, tol, nudge=seed, counts=counts)
-            for seed in (1, 2)
-        ]
+        # the two nudged solves as one of both draws' samples in turn (a sample's solve is
+        # its own: the same numbers as two solves), then taken apart
+        twice = np.concatenate([every, every])
+        signs = np.concatenate([nudge_signs(seed, counts) for seed in (1, 2)])
+        both = _solve_wide(take(plan, twice), q, qd, qdd, out, twice, tol, signs=signs)
+        shaken = [_samples(both.arrays, slice(0, k)), _samples(both.arrays, slice(k, 2 * k))]
         # each block's scales: its far samples' tops and its wide solve's, one per sample
         per: dict[str, list[float]] = {kind: [] for kind in KINDS}
-        start = 0
-        for c, far in blocks:
-            part = slice(start, start + c)
-            w = wide.arrays
-            here = Arrays(
-                w.x[..., part], w.v[..., part], w.a[..., part], w.trans[:, part],
-                Derived(w.derived.body[..., part], w.derived.element[..., part]),
-            )  # fmt: skip
-            mine = tops(here, ok[part])
+        for (_, far), mine in zip(blocks, runs_tops(wide.arrays, ok, counts), strict=True):
             scale = floored({kind: max(far[kind], mine[kind]) for kind in KINDS})
             for kind in KINDS:
                 per[kind].append(scale[kind])
-            start += c
         scales = {kind: np.repeat(np.array(v), counts) for kind, v in per.items()}
         diff = _difference(out.x, out, wide.arrays, every, scales)
         swap = ok & (diff > SUBSTITUTE)
         moved = np.maximum(
-            *(_difference(wide.arrays.x, wide.arrays, s.arrays, None, scales) for s in shaken)
+            *(_difference(wide.arrays.x, wide.arrays, s, None, scales) for s in shaken)
         )
         wide_error = np.maximum(diff * RATIO, moved / NUDGE) * MARGIN
         error = np.where(swap, wide_error, diff + wide_error + 4 * np.finfo(np.float64).eps)
@@ -293,6 +326,35 @@ def check_picked(
     status[bad] = Code.IMPRECISE
     failed[bad] = step[bad]
     return error, status, failed
+
+
+def nudge_signs(seed: int, counts: Sequence[int]) -> F:
+    """The signs of a wide solve's nudges for several blocks' samples in turn, ``counts[i]``
+    the ``i``-th block's: each block's signs drawn anew from ``seed`` —
+    ``default_rng(seed).choice([-1.0, 1.0], c)`` — taken from one draw of the longest, whose
+    first ``c`` signs those are (a generator draws its values one after another: tested).
+
+    Parameters
+    ----------
+    seed : int
+    counts : sequence of int
+
+    Returns
+    -------
+    ndarray, shape (sum(counts),)
+        ±1.0.
+    """
+    sizes = list(counts)
+    draw = np.random.default_rng(seed).choice([-1.0, 1.0], max(sizes, default=0))
+    return np.concatenate([draw[:c] for c in sizes]) if sizes else draw
+
+
+def _samples(arr: Arrays, part: slice) -> Arrays:
+    """The arrays of the samples ``part`` (views)."""
+    return Arrays(
+        arr.x[..., part], arr.v[..., part], arr.a[..., part], arr.trans[:, part],
+        Derived(arr.derived.body[..., part], arr.derived.element[..., part]),
+    )  # fmt: skip
 
 
 @dataclasses.dataclass(slots=True)
@@ -312,19 +374,22 @@ def _solve_wide(
     tol: tuple[float, float],
     nudge: int = 0,
     counts: Sequence[int] | None = None,
+    signs: F | None = None,
 ) -> _Wide:
     """The picked samples solved again in the wider type, by ``plan`` (already taken at them;
     Newton groups start from the double solution and refine it). ``nudge`` > 0 emulates
     rounding: every step's cancelling difference and output move by `NUDGE` units of the
     wide rounding, with a sign per sample drawn from that seed (``counts``: the picked
-    samples are several blocks' in turn, so many each, each block's signs drawn anew)."""
+    samples are several blocks' in turn, so many each, each block's signs drawn anew), or
+    ``signs`` given, one per picked sample."""
     assert WIDE is not None
     k = pick.size
     q, qd, qdd = (arr[:, pick].astype(WIDE) for arr in (q, qd, qdd))
-    moves = None
+    moves: F | None = None
     if nudge:
-        signs = [np.random.default_rng(nudge).choice([-1.0, 1.0], c) for c in counts or [k]]
-        moves = (np.finfo(WIDE).eps * NUDGE * np.concatenate(signs)).astype(WIDE)
+        signs = nudge_signs(nudge, counts or [k])
+    if signs is not None:  # (given: each sample's own sign, `nudge_signs`)
+        moves = (np.finfo(WIDE).eps * NUDGE * signs).astype(WIDE)
     x: F = out.x[:, :, pick].astype(WIDE)
     v = np.zeros_like(x)
     a = np.zeros_like(x)

@@ -3,7 +3,10 @@ hypercube, or a full grid."""
 
 from __future__ import annotations
 
+import os
+import threading
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -68,7 +71,7 @@ def sample_designs(
     from scipy.stats import qmc
 
     if method == "sobol":
-        engine: qmc.QMCEngine = qmc.Sobol(d, scramble=True, seed=seed)
+        engine: qmc.QMCEngine = _sobol(d, seed)
     elif method == "halton":
         engine = qmc.Halton(d, scramble=True, seed=seed)
     elif method == "lhs":
@@ -85,5 +88,37 @@ def sample_designs(
             if start:
                 engine.fast_forward(start)
             unit = engine.random(stop - start)
+    if method == "sobol":
+        _give_back(d, seed, engine)
     values = qmc.scale(unit, lo, hi)
     return {k: np.ascontiguousarray(values[:, j]) for j, k in enumerate(names)}
+
+
+#: scrambled Sobol' engines made before, by dimension and seed: a study's chunks each take
+#: one, reset to the sequence's start (its scrambling, made once, is a third of a chunk's
+#: points' time), and give it back
+_engines: dict[tuple[int, int], list[Any]] = {}
+_lock = threading.Lock()
+
+
+def _sobol(d: int, seed: int) -> Any:
+    """A scrambled Sobol' engine of ``d`` dimensions and ``seed`` at the sequence's start:
+    one given back before, reset (the same points as a new one: tested), or a new one."""
+    from scipy.stats import qmc
+
+    with _lock:
+        spare = _engines.get((d, seed))
+        engine = spare.pop() if spare else None
+    if engine is None:
+        return qmc.Sobol(d, scramble=True, seed=seed)
+    return engine.reset()
+
+
+def _give_back(d: int, seed: int, engine: Any) -> None:
+    """Keep an engine for the next chunk: two per core of a kind, eight kinds, at most."""
+    with _lock:
+        if (d, seed) not in _engines and len(_engines) >= 8:
+            _engines.clear()
+        spare = _engines.setdefault((d, seed), [])
+        if len(spare) < 2 * (os.cpu_count() or 1):
+            spare.append(engine)

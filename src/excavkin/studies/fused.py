@@ -16,9 +16,10 @@ metrics on a closed-form plan:
   change points, meaningless between one design's last pose and the next design's first, are
   not searched.
 
-So memory is bounded by a workspace per thread plus the metrics' series of the chunk, and the
-table is the one `evaluate` gives, to the bit (tested for every kind of metric a study file
-can name).
+So memory is bounded by a workspace per thread plus the metrics' series of the chunk (kept,
+with its statuses and inputs, for the next chunk: at most `SPARE_BYTES` a core, `_Spares`),
+and the table is the one `evaluate` gives, to the bit (tested for every kind of metric a
+study file can name).
 
 Where numba solves (`excavkin.backends.choose`: ``"auto"`` with the kernel cached or the
 batch large, or ``"numba"``), a pose set takes the study's own kernel instead
@@ -85,7 +86,7 @@ from excavkin.studies.metrics import (
     check_pose_sets,
     evaluate,
     pose_sets_of,
-    tabulate_sets,
+    tabulate_columns,
 )
 
 if TYPE_CHECKING:
@@ -94,7 +95,7 @@ if TYPE_CHECKING:
     from excavkin.mechanism import Mechanism
     from excavkin.structure.plan import SolvePlan
 
-__all__ = ["evaluate_designs", "evaluate_fused", "fusable"]
+__all__ = ["evaluate_designs", "evaluate_fused", "evaluate_fused_columns", "fusable"]
 
 
 def fusable(mech: Mechanism, loads: Any = None) -> bool:
@@ -181,6 +182,34 @@ def evaluate_fused(
     pandas.DataFrame
         As `evaluate`.
     """
+    import pandas as pd
+
+    return pd.DataFrame(
+        evaluate_fused_columns(mech, designs, poses, metrics, constraints, pose_sets)
+    )
+
+
+def evaluate_fused_columns(
+    mech: Mechanism,
+    designs: Mapping[str, F],
+    poses: Poses,
+    metrics: Sequence[Metric],
+    constraints: Sequence[Constraint] = (),
+    pose_sets: Mapping[str, Poses] | None = None,
+) -> dict[str, Any]:
+    """`evaluate_fused`'s columns by name, in the table's order, without making the table
+    ([`tabulate_columns`][excavkin.studies.metrics.tabulate_columns]).
+
+    Parameters
+    ----------
+    mech, designs, poses, metrics, constraints, pose_sets
+        As `evaluate_fused` takes them.
+
+    Returns
+    -------
+    dict of str to array
+        One value per design each.
+    """
     if not fusable(mech):
         raise ValueError("evaluate_fused: a plan with a Newton group takes evaluate()")
     sets = pose_sets_of(poses, pose_sets)
@@ -197,6 +226,8 @@ def evaluate_fused(
     reduced: dict[str, F] = {}
     kernel = _study_kernel(mech, d * max(s.count for s in sets.values()))
     on_device = _device_solver(mech, metrics) if kernel is None else None
+    spares = _Spares()  # (the compiled path's chunk-sized arrays, kept for the next chunk)
+    got: dict[str, F] = {}
     for name, pose_set in sets.items():
         wanted = [m for m in metrics if m.poses == name]
         p = pose_set.count
@@ -212,7 +243,7 @@ def evaluate_fused(
             got, ok, kinds = _solve_set(mech, varied, sketch, unbuildable, pose_set, d, wanted)
         else:
             got, ok, kinds = _solve_set_compiled(
-                mech, kernel, varied, sketch, unbuildable, pose_set, d, wanted
+                mech, kernel, varied, sketch, unbuildable, pose_set, d, wanted, spares
             )
         oks[name] = ok
         angles |= kinds
@@ -220,7 +251,10 @@ def evaluate_fused(
             series[m.key] = got[m.key].reshape(d, p)
             if kernel is not None and reductions.compiled(m, kinds):
                 reduced[m.name] = reductions.reduce_designs(series[m.key], ok, m)
-    return tabulate_sets(arrays, series, oks, metrics, constraints, angles, reduced)
+    table = tabulate_columns(arrays, series, oks, metrics, constraints, angles, reduced)
+    del series, oks, got  # (no view of the spares left: the table's columns are its own)
+    spares.give_back()
+    return table
 
 
 @dataclasses.dataclass(frozen=True, slots=True)
@@ -473,13 +507,14 @@ def _solve_set_compiled(
     poses: Poses,
     d: int,
     metrics: Sequence[Metric],
+    spares: _Spares,
 ) -> tuple[dict[str, F], NDArray[np.bool_], set[str]]:
     """`_solve_set` by the study's kernel: the inputs checked once for the set, each
     design's constants a column of one table read by its poses, a block one kernel call
     (only the metrics' rows written out, its far samples' precision scales kept), the
     metrics' series taken once a `SPAN`, and the samples near a dead position of every
     block solved again and checked together; the same numbers, to the bit, as the blocks
-    solved by `solve_part`."""
+    solved by `solve_part`. Its chunk-sized arrays are ``spares``' (`_Spares`)."""
     plan = mech.plan
     p = poses.count
     n = d * p
@@ -487,12 +522,13 @@ def _solve_set_compiled(
     consts, stride = compiled.table(compiled.constants(varied), d)
     if not stride:  # (no constant varies: every design reads the one column)
         consts = np.broadcast_to(consts, (consts.shape[0], max(d, 1)))
-    q, qd, qdd = _inputs(plan, poses, sketch, d)
-    status = np.zeros(n, dtype=np.int8)
+    q, qd, qdd = _inputs(plan, poses, sketch, d, spares)
+    status = spares.empty(n, np.int8)
+    status.fill(0)
     bad = np.repeat(unbuildable, p) if unbuildable.any() else None
     solving = check_inputs(plan, q, qd, qdd, status, bad)
-    out = {m.key: np.empty(n) for m in metrics}
-    ok = np.empty(n, dtype=bool)
+    out = {m.key: spares.empty(n, np.float64) for m in metrics}
+    ok = spares.empty(n, np.bool_)
     angles: list[set[str]] = []
     names = {
         f"{pt}.{axis}" for m in metrics if m.clearance for pt in m.clearance for axis in "xy"
@@ -610,15 +646,34 @@ def _check_near(
 
 def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.int8]:
     """The kernel's rows that hold the columns ``names`` (1; the statuses are always
-    written): `excavkin.kinematics.selection.kept_rows`, no change points searched."""
-    return kept_rows(plan, kernel.rows, kernel.n_rows, names, change_points=False)
+    written): `excavkin.kinematics.selection.kept_rows`, no change points searched. Found
+    once for a plan and columns (each chunk of a study asks again)."""
+    key = (id(plan), frozenset(names))  # (a plan has one study kernel, its rows)
+    with _lock:
+        found = _kept_rows.get(key)
+    if found is not None and found[0] is plan:
+        return found[1]
+    keep = kept_rows(plan, kernel.rows, kernel.n_rows, names, change_points=False)
+    with _lock:
+        if len(_kept_rows) >= 16:
+            _kept_rows.clear()
+        _kept_rows[key] = (plan, keep)
+    return keep
 
 
-def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F, F, F]:
+#: `_kept`'s rows found, by plan and columns (the plan kept, so that its id is not
+#: another's)
+_kept_rows: dict[tuple[int, frozenset[str]], tuple[SolvePlan, NDArray[np.int8]]] = {}
+
+
+def _inputs(
+    plan: SolvePlan, poses: Poses, sketch: list[Any], d: int, spares: _Spares
+) -> tuple[F, F, F]:
     """A pose set's inputs, rates and accelerations at every design's every pose
-    (design-major, shape (n_inputs, d·p) each, a broadcast where one value serves all), as
-    `_solve_set`'s blocks take them: a driver the set does not give held at each design's
-    sketch value, its rate 0 (1 where swept without a rate given)."""
+    (design-major, shape (n_inputs, d·p) each, a broadcast where one value serves all, else
+    an array of ``spares``), as `_solve_set`'s blocks take them: a driver the set does not
+    give held at each design's sketch value, its rate 0 (1 where swept without a rate
+    given)."""
     p = poses.count
     rows: list[list[Any]] = [[], [], []]
     for i, name in enumerate(plan.inputs):
@@ -639,7 +694,7 @@ def _inputs(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> tuple[F
                 rows[k].append(a[None, :])  # a pose's value for every design
             else:
                 rows[k].append(float(a))
-    q, qd, qdd = (_full(r, d, p) for r in rows)
+    q, qd, qdd = (_full(r, d, p, spares) for r in rows)
     return q, qd, qdd
 
 
@@ -671,13 +726,13 @@ def _input_tables(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> d
     return device.Inputs(by_pose, by_design, design)
 
 
-def _full(values: list[Any], d: int, p: int) -> F:
+def _full(values: list[Any], d: int, p: int, spares: _Spares) -> F:
     """Rows of ``d·p`` samples (`_rows` for the whole set), each value broadcast over the
-    designs × poses."""
+    designs × poses (an array of ``spares`` where one varies)."""
     if all(np.ndim(v) == 0 for v in values):
         shape = (len(values), d * p)
         return np.broadcast_to(np.array(values, dtype=np.float64).reshape(-1, 1), shape)
-    out = np.empty((len(values), d, p))
+    out = spares.empty(len(values) * d * p, np.float64).reshape(len(values), d, p)
     for i, v in enumerate(values):
         out[i] = v
     return out.reshape(len(values), d * p)
@@ -708,6 +763,59 @@ def _rows(values: list[Any], k: int) -> F:
 #: samples of a pose set that a study's kernel solves into one workspace (16 blocks), of
 #: which it writes only the rows its metrics read: the pages of the others are never touched
 SPAN = 16 * BLOCK
+
+#: bytes of a study's chunk-sized arrays kept for the next chunks, per core (`_Spares`)
+SPARE_BYTES = 64 << 20
+
+#: chunk-sized arrays given back by a study's chunks, newest last, for the next chunks
+_spare: list[NDArray[Any]] = []
+
+
+class _Spares:
+    """A chunk's arrays of a study (its metrics' series, its statuses, its inputs), taken
+    from those earlier chunks gave back and given back together once its table is made.
+
+    A fresh array's pages are mapped as they are first written and unmapped when it is
+    freed, holding the GIL — for the 45 MB of a chunk of 2²⁰ four-bar samples, ≈ 1.5 ms of
+    the GIL and several of page faults; an array kept is written again in place. At most
+    `SPARE_BYTES` a core are kept (the newest)."""
+
+    def __init__(self) -> None:
+        self.taken: list[NDArray[Any]] = []
+
+    def empty(self, n: int, dtype: Any) -> NDArray[Any]:
+        """``n`` values of ``dtype``, not set: a kept array's, of ``n`` to ``2n`` values, or
+        a new one.
+
+        Parameters
+        ----------
+        n : int
+        dtype : numpy dtype
+
+        Returns
+        -------
+        ndarray, shape (n,)
+        """
+        kind = np.dtype(dtype)
+        with _lock:
+            for i, arr in enumerate(_spare):
+                if arr.dtype == kind and n <= arr.size <= 2 * n:
+                    whole = _spare.pop(i)
+                    break
+            else:
+                whole = np.empty(n, dtype=kind)
+        self.taken.append(whole)
+        return whole[:n]
+
+    def give_back(self) -> None:
+        """Keep the arrays taken for the next chunks (no view of them may be in use)."""
+        cap = SPARE_BYTES * (os.cpu_count() or 1)
+        with _lock:
+            _spare.extend(self.taken)
+            while sum(a.nbytes for a in _spare) > cap:
+                del _spare[0]
+        self.taken = []
+
 
 #: free workspaces, by the plan they were made for: a study's blocks take them in turn
 _free: list[tuple[SolvePlan, Workspace]] = []

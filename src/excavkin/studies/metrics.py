@@ -8,6 +8,7 @@ it names none."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
@@ -466,6 +467,35 @@ def tabulate_sets(
     """
     import pandas as pd
 
+    return pd.DataFrame(
+        tabulate_columns(designs, columns, oks, metrics, constraints, angles, reduced)
+    )
+
+
+def tabulate_columns(
+    designs: Mapping[str, F],
+    columns: Mapping[str, F],
+    oks: Mapping[str | None, NDArray[np.bool_] | SolvedPoses],
+    metrics: Sequence[Metric],
+    constraints: Sequence[Constraint] = (),
+    angles: Collection[str] = (),
+    reduced: Mapping[str, F] | None = None,
+) -> dict[str, Any]:
+    """`tabulate_sets`' columns by name, in the table's order, without making the table
+    (a study writes them as Arrow arrays, `excavkin.studies.study.part_table`).
+
+    Parameters
+    ----------
+    designs, columns, oks, metrics, constraints, angles, reduced
+        As `tabulate_sets` takes them.
+
+    Returns
+    -------
+    dict of str to array
+        The columns of the table [`evaluate`][excavkin.studies.metrics.evaluate] gives,
+        each an array of one value per design (the status's as pandas makes a column of
+        text).
+    """
     first = next(iter(oks.values()))
     d = first.solved.shape[0] if isinstance(first, SolvedPoses) else first.shape[0]
     out: dict[str, Any] = {f"design.{k}": np.asarray(v) for k, v in designs.items()}
@@ -484,17 +514,21 @@ def tabulate_sets(
         else:
             out[m.name] = _reduce(np.where(ok, col, np.nan), m.reduce)
     failed = np.zeros(d, dtype=np.int64)
-    why = np.full(d, "", dtype=object)
+    # each design's status as a code into its texts (0: "ok"), so that no text is made per
+    # design: the missing poses' counts and the constraints have a text each
+    code = np.zeros(d, dtype=np.int32)
+    texts = ["ok"]
     for name, ok in oks.items():
         if isinstance(ok, SolvedPoses):
             total, miss = ok.poses, ok.poses - ok.solved
         else:
             total, miss = ok.shape[1], ok.shape[1] - np.count_nonzero(ok, axis=1)
         where = "" if name is None else f" of set {name!r}"
-        told = np.flatnonzero((why == "") & (miss > 0))  # (the text made for these alone)
+        told = np.flatnonzero((code == 0) & (miss > 0))  # (a design's first reason kept)
         if told.size:
-            text = np.char.add(miss[told].astype(str), f" of {total} poses{where} do not solve")
-            why[told] = text
+            counts, which = np.unique(miss[told], return_inverse=True)
+            code[told] = len(texts) + which
+            texts += [f"{c} of {total} poses{where} do not solve" for c in counts.tolist()]
         failed += miss
     out["poses_failed"] = failed
     met = failed == 0
@@ -506,11 +540,49 @@ def tabulate_sets(
         if c.high is not None:
             inside &= value <= c.high
         hit = met & ~inside
-        why = np.where(hit, f"constraint on {c.metric} not met", why)
+        if hit.any():
+            code[hit] = len(texts)
+            texts.append(f"constraint on {c.metric} not met")
         met &= inside
     out["feasible"] = met
-    out["status"] = np.where(why == "", "ok", why).astype(str)
-    return pd.DataFrame(out)
+    out["status"] = _status_column(code, texts)
+    return out
+
+
+def _status_column(code: NDArray[np.int32], texts: Sequence[str]) -> Any:
+    """Each design's status text, ``texts[code]``, as the column pandas makes of an array of
+    text: made from the few texts by Arrow where pandas keeps text in Arrow (pandas 3), never
+    one Python string per design.
+
+    Parameters
+    ----------
+    code : ndarray of int32, shape (d,)
+        Each design's text, by its index in ``texts``.
+    texts : sequence of str
+
+    Returns
+    -------
+    ndarray or pandas extension array, shape (d,)
+        A column for ``pandas.DataFrame``, equal to ``numpy.array(texts)[code]`` as pandas
+        takes it.
+    """
+    import pandas as pd
+
+    kind = _text_dtype()
+    if not (isinstance(kind, pd.StringDtype) and kind.storage == "pyarrow"):
+        return np.asarray(texts)[code]
+    import pyarrow as pa
+
+    array = pa.DictionaryArray.from_arrays(pa.array(code), pa.array(list(texts), pa.string()))
+    return pd.array(array.cast(pa.large_string()), dtype=kind)
+
+
+@functools.cache
+def _text_dtype() -> Any:
+    """The dtype pandas gives a column made of an array of text."""
+    import pandas as pd
+
+    return pd.Series(np.array(["ok"])).dtype
 
 
 def _tile(v: Any, p: int, d: int) -> Any:

@@ -46,8 +46,19 @@ if TYPE_CHECKING:
     from excavkin.mechanism import Mechanism
     from excavkin.studies.plots import StudyPlot
 
-#: samples (designs × poses) solved at once: a chunk's arrays stay within a few hundred MB
+#: samples (designs × poses) solved at once by the full solve (a study with loads, a model
+#: with a Newton group, a machine's study): it holds every sample's whole state (a few hundred
+#: bytes to a few kB a sample), so that a chunk's arrays stay within a few hundred MB
 CHUNK_SAMPLES = 1 << 18
+#: samples solved at once by a study whose metrics are fused
+#: ([`evaluate_fused`][excavkin.studies.fused.evaluate_fused]): it keeps only the metrics'
+#: series, the statuses and the inputs (about 50 B a sample for the four-bar's three
+#: metrics; its solves' workspaces are per thread, not per chunk), so 2²⁰ samples hold
+#: ≈ 50 MB. A chunk carries serial work of its own, in Python and holding the GIL — its
+#: designs' points, its precision check, its table and Parquet part, ≈ 3–5 ms whatever its
+#: size — against ≈ 40 ms of its kernel for 2²⁰ samples on one core: at 2¹⁸ that work held
+#: the GIL a fifth of a study's wall time on two cores (`benchmarks/bench_study.py`)
+FUSED_CHUNK_SAMPLES = 1 << 20
 #: samples (designs × poses) below which a study run with ``backend="auto"`` in a process that
 #: has not imported numba runs on NumPy: importing numba and loading a cached kernel takes about
 #: half a second, which the compiled solve (≈ 0.15 µs a sample faster) repays only past
@@ -172,15 +183,57 @@ class Study:
             per metric, ``poses_failed``, ``feasible`` and ``status``, as
             `excavkin.studies.metrics.evaluate` gives them.
         """
-        from excavkin.studies.fused import evaluate_designs
+        import pandas as pd
+
+        return pd.DataFrame(self.chunk_columns(start, stop))
+
+    def chunk_columns(self, start: int, stop: int) -> dict[str, Any]:
+        """`evaluate_chunk`'s columns by name, in the table's order, without making the table
+        where the metrics are fused
+        ([`evaluate_fused_columns`][excavkin.studies.fused.evaluate_fused_columns]): a
+        local run writes them as Arrow arrays (`part_table`).
+
+        Parameters
+        ----------
+        start, stop : int
+            The first design and one past the last.
+
+        Returns
+        -------
+        dict of str to array
+            ``design`` first, one value per design each.
+        """
+        from excavkin.studies.fused import evaluate_fused_columns, fusable
+        from excavkin.studies.metrics import evaluate
 
         mech = _mechanism(self.model)
         part = sample_designs(self.bounds, self.samples, self.method, self.seed, (start, stop))
-        frame = evaluate_designs(
-            mech, part, self.poses, self.metrics, self.constraints, self.loads, self.pose_sets
-        )
-        frame.insert(0, "design", np.arange(start, stop))
-        return frame
+        args = (mech, part, self.poses, self.metrics, self.constraints)
+        if fusable(mech, self.loads):
+            columns = evaluate_fused_columns(*args, self.pose_sets)
+        else:
+            frame = evaluate(*args, self.loads, self.pose_sets)
+            columns = {str(c): frame[c] for c in frame.columns}
+        return {"design": np.arange(start, stop), **columns}
+
+    def chunk_samples(self) -> int:
+        """The samples (designs × poses) a chunk of the study solves by default: the fused
+        evaluation's `FUSED_CHUNK_SAMPLES` where it applies
+        ([`fusable`][excavkin.studies.fused.fusable]), else the full solve's
+        `CHUNK_SAMPLES`. The same on every machine (the cores decide how many chunks run at
+        once, and on how many threads each, never a chunk's designs): a chunk's results
+        depend on where its blocks start (their precision check's scales), so a study's
+        table is the same wherever it runs.
+
+        Returns
+        -------
+        int
+        """
+        from excavkin.studies.fused import fusable
+
+        mech = _mechanism(self.model)
+        fused = fusable(mech, self.loads)
+        return FUSED_CHUNK_SAMPLES if fused else CHUNK_SAMPLES
 
     def fingerprint(self) -> str:
         """A hash of everything that decides the results (the model file's text included), so
@@ -242,11 +295,41 @@ class Subject(Protocol):
     def evaluate_chunk(self, start: int, stop: int) -> pd.DataFrame: ...
 
 
-def chunks(study: Subject, chunk_samples: int = CHUNK_SAMPLES) -> list[tuple[int, int]]:
-    """The designs' index ranges, each solved as one batch."""
-    per = max(1, chunk_samples // study.pose_count)
+def chunks(study: Subject, chunk_samples: int | None = None) -> list[tuple[int, int]]:
+    """The designs' index ranges, each solved as one batch: ``chunk_samples`` samples
+    (designs × poses) each, default `default_chunk_samples`, a whole number of designs (one
+    at least).
+
+    Parameters
+    ----------
+    study : Study
+    chunk_samples : int, optional
+
+    Returns
+    -------
+    list of (int, int)
+        ``(start, stop)`` of each chunk's designs, in order.
+    """
+    size = default_chunk_samples(study) if chunk_samples is None else chunk_samples
+    per = max(1, size // study.pose_count)
     n = study.designs
     return [(s, min(s + per, n)) for s in range(0, n, per)]
+
+
+def default_chunk_samples(study: Subject) -> int:
+    """The samples a chunk of ``study`` solves unless told: a `Study`'s own
+    (`Study.chunk_samples`: `FUSED_CHUNK_SAMPLES` for fused metrics, else `CHUNK_SAMPLES`),
+    `CHUNK_SAMPLES` for another subject (a machine's study, solved whole).
+
+    Parameters
+    ----------
+    study : Study
+
+    Returns
+    -------
+    int
+    """
+    return study.chunk_samples() if isinstance(study, Study) else CHUNK_SAMPLES
 
 
 def evaluate_chunk(
@@ -258,6 +341,28 @@ def evaluate_chunk(
         return study.evaluate_chunk(start, stop)
 
 
+def evaluate_part(
+    study: Subject, start: int, stop: int, execution: Execution | None = None
+) -> pd.DataFrame | dict[str, Any]:
+    """`evaluate_chunk`, or a `Study`'s columns alone (`Study.chunk_columns`: no table
+    made, for `part_table`).
+
+    Parameters
+    ----------
+    study : Study
+    start, stop : int
+    execution : Execution, optional
+
+    Returns
+    -------
+    pandas.DataFrame or dict of str to array
+    """
+    if not isinstance(study, Study):
+        return evaluate_chunk(study, start, stop, execution)
+    with use(execution or current()):
+        return study.chunk_columns(start, stop)
+
+
 def run_study(
     study: Subject,
     out: str | Path,
@@ -266,7 +371,7 @@ def run_study(
     resume: bool = True,
     progress: Callable[[int, int], None] | None = None,
     scheduler: str | None = None,
-    chunk_samples: int = CHUNK_SAMPLES,
+    chunk_samples: int | None = None,
     backend: str | None = None,
     execution: Execution | None = None,
 ) -> StudyResult:
@@ -287,8 +392,9 @@ def run_study(
         ``None`` to run here; ``"dask"`` for a local Dask cluster; ``"tcp://host:port"`` for an
         existing Dask scheduler (a scheme of `SCHEDULER_SCHEMES`), given up after
         `SCHEDULER_TIMEOUT` seconds (`SchedulerError`).
-    chunk_samples : int
-        Designs × poses solved at once.
+    chunk_samples : int, optional
+        Designs × poses solved at once (default `default_chunk_samples`: the same on every
+        machine, so that the table is; the chunk is also the unit of resuming).
     backend : {"auto", "numpy", "numba", "cuda"}, optional
         Where every solve runs, here or on the Dask workers, as for
         [`Mechanism.solve`][excavkin.mechanism.Mechanism.solve]; ``"auto"`` runs a study of
@@ -318,11 +424,14 @@ def run_study(
     parts = target.parent / f".{target.name}.parts"
     fingerprint = study.fingerprint()
     stamp = parts / "study.json"
-    if parts.exists() and (not resume or _stamp(stamp) != fingerprint):
+    spans = chunks(study, chunk_samples)
+    # the parts of a run with other chunks are not this run's (their designs overlap)
+    mark = {"fingerprint": fingerprint, "designs_per_chunk": spans[0][1] - spans[0][0]}
+    if parts.exists() and (not resume or _stamp(stamp) != mark):
         shutil.rmtree(parts)
     parts.mkdir(exist_ok=True)
-    stamp.write_text(json.dumps({"fingerprint": fingerprint}), encoding="utf-8")
-    todo = [(s, e) for s, e in chunks(study, chunk_samples) if not _part(parts, s).exists()]
+    stamp.write_text(json.dumps(mark), encoding="utf-8")
+    todo = [(s, e) for s, e in spans if not _part(parts, s).exists()]
     done = study.designs - sum(e - s for s, e in todo)
     if progress is not None:
         progress(done, study.designs)
@@ -344,7 +453,7 @@ def run_study(
         if set(sets) - {None}
         else None
     )
-    _assemble(parts, target, study.fingerprint(), kinds, name, study.motion_note, described, kept)
+    _assemble(parts, target, fingerprint, kinds, name, study.motion_note, described, kept)
     shutil.rmtree(parts)
     return StudyResult(target, getattr(study, "units", {}))
 
@@ -551,7 +660,9 @@ def _check(study: Study) -> Mechanism:
     from excavkin import load
     from excavkin.errors import unknown_name
 
-    mech = load(study.model)
+    # the chunks' own mechanism (loaded once for the study); a file that is not there: the
+    # loader's message, with the nearest example
+    mech = _mechanism(study.model) if Path(study.model).is_file() else load(study.model)
     for name in study.bounds:
         if name not in mech.parameters:
             raise unknown_name("parameter", name, list(mech.parameters))
@@ -614,7 +725,7 @@ def check_scheduler(address: str) -> None:
 
 def _run(
     study: Subject, todo: list[tuple[int, int]], scheduler: str | None, execution: Execution
-) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
+) -> Iterator[tuple[tuple[int, int], Rows]]:
     if scheduler is None:
         yield from _run_here(study, todo, execution)
         return
@@ -669,28 +780,31 @@ def _run(
 
 def _run_here(
     study: Subject, todo: list[tuple[int, int]], execution: Execution
-) -> Iterator[tuple[tuple[int, int], pd.DataFrame]]:
-    """The chunks here: several at once, one per thread (each solved on its thread alone, so
-    that one chunk's serial work — its designs, its table — overlaps the others' solves), a
-    bounded window of them in flight, each yielded as it finishes; a single chunk, or one
-    thread, solves its blocks on every thread instead (and so does another subject than a
-    `Study`: a machine study's chunks, one after another, as before). A chunk's rows do not
-    depend on the threads: they are those of a Dask worker's solve, to the bit."""
-    threads = min(execution.workers or os.cpu_count() or 1, len(todo))
+) -> Iterator[tuple[tuple[int, int], Rows]]:
+    """The chunks here: several at once, one per thread (each solved on its share of the
+    cores — one, where there are as many chunks as cores — so that one chunk's serial work,
+    its designs and its table, overlaps the others' solves), a bounded window of them in
+    flight, each yielded as it finishes; a single chunk, or one thread, solves its blocks on
+    every thread instead (and so does another subject than a `Study`: a machine study's
+    chunks, one after another, as before). A chunk's rows do not depend on the threads: they
+    are those of a Dask worker's solve, to the bit."""
+    cores = execution.workers or os.cpu_count() or 1
+    threads = min(cores, len(todo))
     if threads <= 1 or not isinstance(study, Study):
         for s, e in todo:
-            yield (s, e), evaluate_chunk(study, s, e, execution)
+            yield (s, e), evaluate_part(study, s, e, execution)
         return
     from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
 
-    alone = dataclasses.replace(execution, workers=1)
+    # fewer chunks than cores: each chunk's blocks on its share of them, no core idle
+    alone = dataclasses.replace(execution, workers=max(1, cores // threads))
     pending = iter(todo)
     with ThreadPoolExecutor(threads) as pool:
-        running: dict[Future[pd.DataFrame], tuple[int, int]] = {}
+        running: dict[Future[Rows], tuple[int, int]] = {}
 
         def submit(n: int) -> None:
             for s, e in itertools.islice(pending, n):
-                running[pool.submit(evaluate_chunk, study, s, e, alone)] = (s, e)
+                running[pool.submit(evaluate_part, study, s, e, alone)] = (s, e)
 
         submit(2 * threads)
         try:
@@ -710,25 +824,24 @@ def _part(parts: Path, start: int) -> Path:
     return parts / f"part-{start:012d}.parquet"
 
 
-def _stamp(path: Path) -> str | None:
+def _stamp(path: Path) -> Any:
+    """What a parts folder's stamp says (its study's fingerprint and chunks), or None."""
     try:
-        return str(json.loads(path.read_text(encoding="utf-8"))["fingerprint"])
-    except (OSError, ValueError, KeyError, TypeError):
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
         return None
 
 
-def _write_part(frame: pd.DataFrame, path: Path) -> Any:
-    """A chunk's rows, written whole or not at all; returns them as the Arrow table written.
+def _write_part(rows: Rows, path: Path) -> Any:
+    """A chunk's rows, written whole or not at all; returns them as the Arrow table written
+    (`part_table`).
 
     The parts' folder is the study's own: a temporary file that a killed run leaves in it is
     never read (the parts are ``part-*.parquet``) and goes with the folder, so that a write
     does not list the folder's thousands of parts for leftovers (`write_atomic` does)."""
-    import pyarrow as pa
     import pyarrow.parquet as pq
 
-    # as frame.to_parquet makes it, on this thread (Arrow's pool of threads started for a
-    # few thousand rows cost 5–20× the conversion)
-    table = pa.Table.from_pandas(frame, preserve_index=False, nthreads=1)
+    table = part_table(rows)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
         pq.write_table(table, tmp)
@@ -737,6 +850,54 @@ def _write_part(frame: pd.DataFrame, path: Path) -> Any:
         tmp.unlink(missing_ok=True)
         raise
     return table
+
+
+def part_table(rows: Rows) -> Any:
+    """A chunk's rows as the Arrow table ``pyarrow.Table.from_pandas`` makes of their frame
+    (no index), on this thread (Arrow's pool of threads started for a few thousand rows
+    cost 5–20× the conversion).
+
+    A table's schema, pandas' metadata with it, depends on its columns' names and types
+    alone: it is made from a frame once a study (≈ 1 ms of Python holding the GIL, and the
+    frame's own), and every other chunk's columns are put under it as arrays.
+
+    Parameters
+    ----------
+    rows : pandas.DataFrame or dict of str to array
+        A chunk's frame (`Study.evaluate_chunk`) or its columns (`Study.chunk_columns`).
+
+    Returns
+    -------
+    pyarrow.Table
+        Equal to ``pa.Table.from_pandas(pd.DataFrame(rows), preserve_index=False)``, its
+        metadata included.
+    """
+    import pandas as pd
+    import pyarrow as pa
+
+    if isinstance(rows, pd.DataFrame):
+        return pa.Table.from_pandas(rows, preserve_index=False, nthreads=1)
+    key = tuple((name, str(getattr(v, "dtype", type(v)))) for name, v in rows.items())
+    with _loaded_lock:
+        schema = _schemas.get(key)
+    if schema is None:
+        table = pa.Table.from_pandas(pd.DataFrame(rows), preserve_index=False, nthreads=1)
+        with _loaded_lock:
+            if len(_schemas) >= 16:
+                _schemas.clear()
+            _schemas[key] = table.schema
+        return table
+    arrays = [
+        pa.array(v, type=f.type, from_pandas=True)  # (a float's NaN a null, as there)
+        for v, f in zip(rows.values(), schema, strict=True)
+    ]
+    return pa.Table.from_arrays(arrays, schema=schema)
+
+
+#: a chunk's rows: its frame, or its columns by name
+Rows = Any
+#: `part_table`'s schemas (pandas' metadata included), by the columns' names and types
+_schemas: dict[tuple[tuple[str, str], ...], Any] = {}
 
 
 def _assemble(
