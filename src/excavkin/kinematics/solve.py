@@ -506,13 +506,7 @@ def _check_picked(
         far = tops[b].view(np.float64).tolist()
         blocks.append((upto - int(at), dict(zip(precision.KINDS, far, strict=True))))
     solved = again(pick)
-    arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        err, code, step = precision.check_picked(
-            take(plan, pick), inputs, arrays, (solved.near, solved.near_step),
-            (tol.close, tol.singular), blocks,
-        )  # fmt: skip
-    check_finite(arrays, code, np.isfinite(err))
+    _, err, code, step = check_solved_again(take(plan, pick), inputs, solved, tol, blocks)
     ws.status[pick], ws.failed[pick], error[pick] = code, step, err
     into = {"x": ws.x, "v": ws.v, "a": ws.a, "trans": ws.trans}
     into |= {"body": ws.derived.body, "element": ws.derived.element}
@@ -786,6 +780,46 @@ def check_precision(
         error = precision.check(plan, q, qd, qdd, arrays, status, failed, nearest, limits, plan_at)
     check_finite(arrays, status, np.isfinite(error))
     return error
+
+
+def check_solved_again(
+    picked: SolvePlan,
+    inputs: tuple[F, F, F],
+    solved: Workspace,
+    tol: Tolerances,
+    blocks: list[tuple[int, dict[str, float]]],
+) -> tuple[precision.Arrays, F, np.ndarray, np.ndarray]:
+    """Samples picked near a dead position and solved again whole (``solved``), checked
+    together against their blocks' scales (`excavkin.kinematics.precision.check_picked`),
+    and every value not finite flagged (`check_finite`).
+
+    Parameters
+    ----------
+    picked : SolvePlan
+        The plan of the picked samples (their designs' constants, `take`).
+    inputs : tuple of ndarray
+        Their inputs, rates and accelerations.
+    solved : Workspace
+        Their whole state.
+    tol : Tolerances
+    blocks : list of (int, dict)
+        Per block, in the picks' order: how many picks are its, and its far samples' tops.
+
+    Returns
+    -------
+    arrays : precision.Arrays
+        The state checked (``solved``'s arrays).
+    error, code, step : ndarray
+        Each sample's error estimate, status and failed step.
+    """
+    arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        error, code, step = precision.check_picked(
+            picked, inputs, arrays, (solved.near, solved.near_step),
+            (tol.close, tol.singular), blocks,
+        )  # fmt: skip
+    check_finite(arrays, code, np.isfinite(error))
+    return arrays, error, code, step
 
 
 def check_finite(arrays: precision.Arrays, status: np.ndarray, which: np.ndarray) -> None:

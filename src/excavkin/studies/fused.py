@@ -70,8 +70,8 @@ from excavkin.kinematics.solve import (
     BLOCK,
     Tolerances,
     Workspace,
-    check_finite,
     check_inputs,
+    check_solved_again,
     solve_part,
 )
 from excavkin.kinematics.threads import over_chunks
@@ -631,13 +631,7 @@ def _check_near(
         np.ones(kernel.n_rows, dtype=np.int8),
         np.zeros(len(precision.KINDS), dtype=np.int64), precision.NEAR,
     )  # fmt: skip
-    arrays = precision.Arrays(solved.x, solved.v, solved.a, solved.trans, solved.derived)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        error, code, step = precision.check_picked(
-            take(varied, designs), inputs, arrays, (solved.near, solved.near_step),
-            (tol.close, tol.singular), blocks,
-        )  # fmt: skip
-    check_finite(arrays, code, np.isfinite(error))
+    arrays, _, code, step = check_solved_again(take(varied, designs), inputs, solved, tol, blocks)
     return KinematicResult.build(
         plan, arrays.x, arrays.v, arrays.a, *inputs, arrays.trans, arrays.derived,
         Status(code, step, plan),
@@ -677,15 +671,7 @@ def _inputs(
     p = poses.count
     rows: list[list[Any]] = [[], [], []]
     for i, name in enumerate(plan.inputs):
-        val = poses.values.get(name)
-        rate = poses.rates.get(name)
-        accel = poses.accels.get(name)
-        swept = val is not None and np.ndim(val) == 1
-        given = (
-            sketch[i] if val is None else val,
-            (1.0 if swept else 0.0) if rate is None else rate,
-            0.0 if accel is None else accel,
-        )
+        val, given = _given(poses, name, sketch[i])
         for k, v in enumerate(given):
             a = np.asarray(v, dtype=np.float64)
             if a.ndim and (val is None and k == 0):
@@ -698,6 +684,21 @@ def _inputs(
     return q, qd, qdd
 
 
+def _given(poses: Poses, name: str, held: Any) -> tuple[Any, tuple[Any, Any, Any]]:
+    """A driver's value as the pose set gives it (None: not given), and its value, rate and
+    acceleration at the set's poses: one not given held at ``held`` (each design's sketch
+    value), its rate 0 (1 where swept without a rate given)."""
+    val = poses.values.get(name)
+    rate = poses.rates.get(name)
+    accel = poses.accels.get(name)
+    swept = val is not None and np.ndim(val) == 1
+    return val, (
+        held if val is None else val,
+        (1.0 if swept else 0.0) if rate is None else rate,
+        0.0 if accel is None else accel,
+    )
+
+
 def _input_tables(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> device.Inputs:
     """`_inputs` as tables (`excavkin.studies.device.Inputs`): a row a pose's or a
     design's, not a sample's."""
@@ -707,15 +708,7 @@ def _input_tables(plan: SolvePlan, poses: Poses, sketch: list[Any], d: int) -> d
     by_design = np.zeros((3, n_in, max(d, 1)))
     design = np.zeros((3, n_in), dtype=np.int8)
     for i, name in enumerate(plan.inputs):
-        val = poses.values.get(name)
-        rate = poses.rates.get(name)
-        accel = poses.accels.get(name)
-        swept = val is not None and np.ndim(val) == 1
-        given = (
-            sketch[i] if val is None else val,
-            (1.0 if swept else 0.0) if rate is None else rate,
-            0.0 if accel is None else accel,
-        )
+        val, given = _given(poses, name, sketch[i])
         for k, v in enumerate(given):
             a = np.asarray(v, dtype=np.float64)
             if a.ndim and (val is None and k == 0):
