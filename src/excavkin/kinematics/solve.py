@@ -235,13 +235,9 @@ def solve_part(
         Search the change points (default); False: the result lists none (a family of
         designs one after another, whose neighbouring samples are not a path).
     columns : collection of str, optional
-        Only these kinematic columns (names, `excavkin.kinematics.selection.asked_names`)
-        are asked: where the plan's compiled kernel solves (a closed-form plan, one design
-        or a column of constants a sample, not in a workspace), it writes out only their
-        rows and those the checks read back (`solve_selected`), and the result's other rows
-        hold no values — to be read through
-        `excavkin.kinematics.selection.SelectedResult`. Every status is the full solve's.
-        None, or another path: every row.
+        Only these kinematic columns are asked (`excavkin.kinematics.selection.asked_names`):
+        where `solve_selected` can, only their rows hold values (read them through
+        `excavkin.kinematics.selection.SelectedResult`). None: every row.
 
     Returns
     -------
@@ -268,25 +264,16 @@ def solve_part(
         q = check_inputs(plan, q, qd, qdd, status, unbuildable)
     # else each chunk checks its own inputs, on its thread, while they are in cache
     report = _Reporter(execution.progress, n)
-    chunk, workers = execution.chunk_or(CHUNK), execution.workers
-    # a plan with Newton groups: its kernels, where the backend takes them (one choice, here)
-    newton = compiled_newton.kernel_for(plan, execution.backend, n) if plan.has_newton else None
-    # the groups' nearness to a dead position, per sample, for the NumPy rates (the compiled
-    # kernel keeps its own)
-    newton_near = np.ones(n) if plan.has_newton and newton is None else None
+    newton, newton_near = _newton_kernels(plan, execution, n)
     full = Chunk(x, v, a, q, qd, qdd, trans, status, failed, tol.close, tol.singular, newton_near)
-    positions = None if newton is None else newton.positions  # type: ignore[attr-defined]
     blocks = _blocks(carry.start, n)
     reached = carry.reached
     near, near_step = workspace.near, workspace.near_step
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if plan.has_newton:  # positions by continuation, block by block; then the rates
-            chunk = _newton_chunk(plan, chunk)
-            execution = dataclasses.replace(execution, chunk=chunk)  # (the rates' chunks too)
-            for b in blocks:
-                reached = _solve_newton(
-                    take(plan, b), assembly, _view(full, b), reached, chunk, workers, positions
-                )
+            reached, execution = _continue_blocks(
+                plan, assembly, full, blocks, reached, execution, newton
+            )
         checked = assembly if plan.has_newton else None  # the Newton groups' branch
         _solve_chunks(plan, full, derived, (near, near_step), execution, report, designs,
                       checked, unbuildable, newton)  # fmt: skip
@@ -299,6 +286,40 @@ def solve_part(
     )
     result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
     return result, Carry(carry.start + n, tail, reached)
+
+
+def _newton_kernels(
+    plan: SolvePlan, execution: Execution, n: int
+) -> tuple[Kernel | None, F | None]:
+    """A plan with Newton groups: its compiled kernels, where the backend takes them (one
+    choice, here), and the groups' nearness to a dead position a sample for the NumPy rates
+    (None where the compiled kernel keeps its own)."""
+    if not plan.has_newton:
+        return None, None
+    newton = compiled_newton.kernel_for(plan, execution.backend, n)
+    return newton, np.ones(n) if newton is None else None
+
+
+def _continue_blocks(
+    plan: SolvePlan,
+    assembly: Assembly,
+    full: Chunk,
+    blocks: list[slice],
+    reached: tuple[F, F] | None,
+    execution: Execution,
+    newton: Kernel | None,
+) -> tuple[tuple[F, F] | None, Execution]:
+    """`solve_part`'s positions of a plan with Newton groups: by continuation, block by block
+    (`_solve_newton`), in chunks of the groups' size (`_newton_chunk`), by the compiled
+    positions kernel where ``newton`` has one. Returns the last sample reached, and the
+    execution with that chunk (the rates' chunks too)."""
+    chunk = _newton_chunk(plan, execution.chunk_or(CHUNK))
+    positions = None if newton is None else newton.positions  # type: ignore[attr-defined]
+    for b in blocks:
+        reached = _solve_newton(
+            take(plan, b), assembly, _view(full, b), reached, chunk, execution.workers, positions
+        )
+    return reached, dataclasses.replace(execution, chunk=chunk)
 
 
 def solve_selected(
@@ -352,7 +373,44 @@ def solve_selected(
     """
     carry = carry or Carry()
     n = q.shape[1]
-    if plan.has_newton or n == 0 or carry.start % BLOCK:
+    text = _keep_source(plan, execution, n) if n and not carry.start % BLOCK else None
+    if text is None:
+        return None
+    kernel = backends.kernel_of(text, "kinematics")
+    rows, n_rows = written_rows(text)
+    keep = kept_rows(plan, rows, n_rows, columns, change_points)
+    ws = _unwritten(plan, n, rows, resting_rows(plan, rows, columns))
+    consts, stride = compiled_plan.table(compiled_plan.constants(plan), n)
+    tops = _run_kept(plan, kernel, (consts, stride), ws, (q, qd, qdd), keep, tol, execution,
+                     unbuildable)  # fmt: skip
+    derived = ws.derived
+    again = functools.partial(
+        _solve_again, plan, kernel, (consts, stride), (q, qd, qdd), tol, unbuildable, n_rows
+    )
+    error = np.full(n, np.nan)
+    pick = np.flatnonzero((ws.status == Code.OK) & (ws.near < precision.NEAR))
+    improved = None
+    if pick.size:  # the samples near a dead position: solved again whole, checked together
+        picked = (q[:, pick], qd[:, pick], qdd[:, pick])
+        solved = _check_picked(plan, again, picked, pick, tops, tol, ws, error, keep, rows)
+        improved = (pick, solved)
+    found: list[ChangePoint] = []
+    tail = carry.tail
+    if change_points:
+        found, tail = _search_selected(plan, ws, (q, qd), carry, (keep, rows), again, improved)
+    _driven_lengths(plan, derived, columns, (q, qd, qdd))
+    result = KinematicResult.build(
+        plan, ws.x, ws.v, ws.a, q, qd, qdd, ws.trans, derived,
+        Status(ws.status, ws.failed, plan), lengths=False,
+    )  # fmt: skip
+    result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
+    return result, Carry(carry.start + n, tail, carry.reached)
+
+
+def _keep_source(plan: SolvePlan, execution: Execution, n: int) -> str | None:
+    """`solve_selected`'s kernel source (``keep``), where the backend a full solve of ``n``
+    samples takes is numba and the plan compiles; None: a full solve."""
+    if plan.has_newton:
         return None
     each = compiled_plan.per_sample(plan)
     plain = compiled_plan.job(plan, each)
@@ -360,13 +418,27 @@ def solve_selected(
         return None
     if backends.choose(execution.backend, plain, n).name != "numba":
         return None  # (the backend a full solve takes: the same numbers)
-    text = compiled_plan.kernel_source(plan, each, keep=True)
-    kernel = backends.kernel_of(text, "kinematics")
-    rows, n_rows = written_rows(text)
-    keep = kept_rows(plan, rows, n_rows, columns, change_points)
-    ws = _unwritten(plan, n, rows, resting_rows(plan, rows, columns))
-    consts, stride = compiled_plan.table(compiled_plan.constants(plan), n)
-    # chunks that divide a block (a power of two), each with its own share of the scales
+    return compiled_plan.kernel_source(plan, each, keep=True)
+
+
+def _run_kept(
+    plan: SolvePlan,
+    kernel: Kernel,
+    table: tuple[F, int],
+    ws: Workspace,
+    inputs: tuple[F, F, F],
+    keep: np.ndarray,
+    tol: Tolerances,
+    execution: Execution,
+    unbuildable: np.ndarray | None,
+) -> np.ndarray:
+    """`solve_selected`'s samples solved by the ``keep`` kernel into ``ws``, in chunks that
+    divide a block (a power of two), each with its own share of the precision check's
+    scales. Returns each block's scales, the largest of its chunks' (as integers: 0 is
+    none)."""
+    q, qd, qdd = inputs
+    consts, stride = table
+    n = q.shape[1]
     chunk = 1 << (min(max(execution.chunk_or(CHUNK), 1), BLOCK).bit_length() - 1)
     shares = np.zeros((-(-n // chunk), len(precision.KINDS)), dtype=np.int64)
     report = _Reporter(execution.progress, n)
@@ -389,37 +461,24 @@ def solve_selected(
         report(e - s)
 
     over_chunks(n, chunk, execution.workers, one)
-    # each block's scales: the largest of its chunks' (as integers: 0 is none)
     per = BLOCK // chunk
     padded = np.zeros((-(-n // BLOCK) * per, len(precision.KINDS)), dtype=np.int64)
     padded[: shares.shape[0]] = shares
-    tops = padded.reshape(-1, per, len(precision.KINDS)).max(axis=1)
-    again = functools.partial(
-        _solve_again, plan, kernel, (consts, stride), (q, qd, qdd), tol, unbuildable, n_rows
-    )
-    error = np.full(n, np.nan)
-    pick = np.flatnonzero((ws.status == Code.OK) & (ws.near < precision.NEAR))
-    improved = None
-    if pick.size:  # the samples near a dead position: solved again whole, checked together
-        picked = (q[:, pick], qd[:, pick], qdd[:, pick])
-        solved = _check_picked(plan, again, picked, pick, tops, tol, ws, error, keep, rows)
-        improved = (pick, solved)
-    found: list[ChangePoint] = []
-    tail = carry.tail
-    if change_points:
-        found, tail = _search_selected(plan, ws, (q, qd), carry, (keep, rows), again, improved)
-    for j, e in enumerate(plan.elements):  # a driven length asked: its input, exactly
+    tops: np.ndarray = padded.reshape(-1, per, len(precision.KINDS)).max(axis=1)
+    return tops
+
+
+def _driven_lengths(
+    plan: SolvePlan, derived: Derived, columns: Collection[str], inputs: tuple[F, F, F]
+) -> None:
+    """A driven length's columns asked: its input, rate and acceleration, exactly (no kernel
+    writes them)."""
+    for j, e in enumerate(plan.elements):
         if e.input < 0 or e.ratio:
             continue
         for k, c in enumerate(driver_columns(e.name, "length")):
             if c.name in columns:
-                derived.element[k, j] = (q, qd, qdd)[k][e.input]
-    result = KinematicResult.build(
-        plan, ws.x, ws.v, ws.a, q, qd, qdd, ws.trans, derived,
-        Status(ws.status, ws.failed, plan), lengths=False,
-    )  # fmt: skip
-    result = dataclasses.replace(result, change_points=tuple(found), error_estimate=error)
-    return result, Carry(carry.start + n, tail, carry.reached)
+                derived.element[k, j] = inputs[k][e.input]
 
 
 def _unwritten(
