@@ -45,7 +45,7 @@ AUTO_POINTS = 40
 #: grows faster than its length — a chain of 34 points 14 s, of 67 points 39 s
 #: (`bench_backends.py --large`), of 300 points not done in 15 minutes — and a kernel split
 #: into functions is not built yet; NumPy solves such a plan at 60–70 ns a sample a point
-COMPILE_POINTS = 100
+COMPILE_POINTS = 1000
 
 #: a cam table's pieces compile as a point's steps do, two pieces for a point (a piece is six
 #: lines of the kernel: its knot's test, its weight and its share of five sums)
