@@ -1,17 +1,19 @@
 """A generated scalar loop over samples cut into kernels of bounded length.
 
-LLVM's optimisation of one function grows faster than its length: the forces kernel of a
-chain of 300 points, one loop of some 30,000 statements, took eleven minutes to compile. Here
-such a source (a ``kernel`` whose body is one loop ``for i in range(BOUND):`` over samples,
-as `excavkin.kinetostatics.compiled` writes it) is rewritten as several kernels, ``pass0_``,
-``pass1_`` …, each the loop over the same samples with `PASS` of its statements, compiled one
-by one, and a Python ``kernel`` of the same arguments that runs them one after another over
-`SCRATCH` bytes' worth of samples at a time. A value made in one pass and used in a later one
-is stored, at the end of its pass, in a scratch array of its type (float, integer, boolean:
-`excavkin.kinematics.vectorise.value_types`), a row a sample, and read back at the start of
-each pass that uses it. Each pass is a kernel called from Python, not from another kernel: no
-pass is inlined into another, so that the compile time grows with the length, not faster.
-The statements and their order are the one loop's: the same numbers, to the bit (tested).
+numba's compile of one function (its own passes and LLVM's) grows faster than its length: the
+forces kernel of a chain of 300 points, one loop of some 22,000 statements, took eleven
+minutes. Here such a source (a ``kernel`` whose body is one loop ``for i in range(BOUND):``
+over samples, as `excavkin.kinetostatics.compiled` writes it) is rewritten as several
+kernels, ``pass0_``, ``pass1_`` …, each the loop over the same samples with `PASS` of its
+statements, compiled one by one, and a Python ``kernel`` of the same arguments that runs them
+one after another over `SCRATCH` bytes' worth of samples at a time. The statements are first
+reordered (`sunk`) so that few values cross from one pass to another. A value made in one
+pass and used in a later one is stored, at the end of its pass, in a scratch array of its
+type (float, integer, boolean: `excavkin.kinematics.vectorise.value_types`), a row a sample,
+and read back at the start of each pass that uses it. Each pass is a kernel called from
+Python, not from another kernel: no pass is inlined into another, so that the compile time
+grows with the length, not faster. The arithmetic is the one loop's, on the same values: the
+same numbers, to the bit (tested).
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ import re
 
 from excavkin.kinematics.vectorise import value_types
 
-__all__ = ["PASS", "SCRATCH", "split"]
+__all__ = ["PASS", "SCRATCH", "split", "sunk"]
 
 #: top-level statements of the loop in one pass, at most
 PASS = 2000
@@ -59,7 +61,8 @@ def split(text: str) -> str:
     if not (isinstance(loop, ast.For) and len(fn.body) == 1) or len(loop.body) <= PASS:
         return text
     assert isinstance(loop.target, ast.Name) and loop.target.id == "i"
-    cuts = [loop.body[k : k + PASS] for k in range(0, len(loop.body), PASS)]
+    body = sunk(loop.body)
+    cuts = [body[k : k + PASS] for k in range(0, len(body), PASS)]
     args = [a.arg for a in fn.args.args]
     assigned = [_assigned(cut) for cut in cuts]
     used = [_names(cut) for cut in cuts]
@@ -122,6 +125,118 @@ def split(text: str) -> str:
     if not re.search(r"^import numpy as np$", text, re.MULTILINE):
         text = text.replace("import numba\n", "import numba\nimport numpy as np\n", 1)
     return text
+
+
+def sunk(body: list[ast.stmt]) -> list[ast.stmt]:
+    """The statements reordered so that few values are live at any point (the values a pass
+    hands to the next): a value is made just before the first statement that reads it (the
+    forces' loads of every body, made first, are read one step after another down the
+    plan), and a value that only outputs read is made, and stored, as soon as what it reads
+    is. Moved: an assignment of one name assigned nowhere else, of an expression that reads
+    only such names, the loop's other names and arrays the loop does not write, so that it
+    computes the same value wherever it stands; and a store of such a value into an output
+    (an array the loop never reads, each element stored once). The others keep their order.
+    The same arithmetic on the same values: the same numbers, to the bit.
+
+    Parameters
+    ----------
+    body : list of ast.stmt
+        The loop's statements.
+
+    Returns
+    -------
+    list of ast.stmt
+    """
+    stores: dict[str, int] = {}
+    written: set[str] = set()
+    loaded: set[str] = set()
+    elements: dict[str, int] = {}
+    made: dict[str, int] = {}  # a name's (last) assigning statement
+    for k, st in enumerate(body):
+        for n in ast.walk(st):
+            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store):
+                stores[n.id] = stores.get(n.id, 0) + 1
+                made[n.id] = k
+            if isinstance(n, ast.Subscript):
+                array = ast.unparse(n.value)
+                if isinstance(n.ctx, ast.Store):
+                    written.add(array)
+                    elements[ast.unparse(n)] = elements.get(ast.unparse(n), 0) + 1
+                else:
+                    loaded.add(array)
+    reads = [
+        {n.id for n in ast.walk(st) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+        for st in body
+    ]
+    free: set[int] = set()  # statements that may move
+    outputs: set[int] = set()
+    for k, st in enumerate(body):
+        if not isinstance(st, ast.Assign) or len(st.targets) != 1:
+            continue
+        if any(stores.get(r, 1) != 1 for r in reads[k]):
+            continue
+        target = st.targets[0]
+        if isinstance(target, ast.Name) and stores[target.id] == 1:
+            arrays = {
+                ast.unparse(n.value) for n in ast.walk(st.value) if isinstance(n, ast.Subscript)
+            }
+            if not arrays & written:
+                free.add(k)
+        elif isinstance(target, ast.Subscript):
+            array = ast.unparse(target.value)
+            if array not in loaded and elements[ast.unparse(target)] == 1:
+                free.add(k)
+                outputs.add(k)
+    deps = [sorted({made[r] for r in reads[k] if r in made}) for k in range(len(body))]
+    readers: list[list[int]] = [[] for _ in body]
+    for k, ds in enumerate(deps):
+        for d in ds:
+            readers[d].append(k)
+    eager = set(outputs)  # outputs, and values only outputs read: made as soon as they can
+    for k in range(len(body) - 1, -1, -1):
+        if k in free and readers[k] and all(r in eager for r in readers[k]):
+            eager.add(k)
+    waiting = {k: len(deps[k]) for k in eager}
+    placed: set[int] = set()
+    out: list[ast.stmt] = []
+
+    def emit(k: int) -> None:  # k, then each eager statement it makes ready
+        ready = [k]
+        while ready:
+            top = ready.pop()
+            placed.add(top)
+            out.append(body[top])
+            for r in readers[top]:
+                if r in eager and r not in placed:
+                    waiting[r] -= 1
+                    if waiting[r] == 0:
+                        ready.append(r)
+
+    def place(k: int) -> None:  # k after the statements it reads (the lazy ones just before)
+        stack = [(k, [d for d in reversed(deps[k]) if d not in placed])]
+        while stack:
+            top, todo = stack[-1]
+            while todo and todo[-1] in placed:
+                todo.pop()
+            if todo:
+                d = todo.pop()
+                stack.append((d, [e for e in reversed(deps[d]) if e not in placed]))
+                continue
+            stack.pop()
+            if top not in placed:
+                emit(top)
+
+    for k in range(len(body)):
+        if k in placed:
+            continue
+        if k not in free:
+            place(k)
+        elif k in eager and waiting[k] == 0:
+            emit(k)  # (an output of nothing the loop makes)
+    for k in range(len(body)):  # read by no statement that stays: in their order
+        if k not in placed:
+            place(k)
+    return out
 
 
 def _closing(text: str, at: int) -> int:
