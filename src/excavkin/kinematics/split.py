@@ -61,7 +61,7 @@ def split(text: str) -> str:
     if not (isinstance(loop, ast.For) and len(fn.body) == 1) or len(loop.body) <= PASS:
         return text
     assert isinstance(loop.target, ast.Name) and loop.target.id == "i"
-    body = sunk(loop.body)
+    body = sunk([_flag(st) for st in loop.body])
     cuts = [body[k : k + PASS] for k in range(0, len(body), PASS)]
     args = [a.arg for a in fn.args.args]
     assigned = [_assigned(cut) for cut in cuts]
@@ -187,7 +187,10 @@ def sunk(body: list[ast.stmt]) -> list[ast.stmt]:
             if array not in loaded and elements[ast.unparse(target)] == 1:
                 free.add(k)
                 outputs.add(k)
-    deps = [sorted({made[r] for r in reads[k] if r in made}) for k in range(len(body))]
+    deps = [  # the statements of the values it reads, assigned once (always before it)
+        sorted({made[r] for r in reads[k] if r in made and stores[r] == 1 and made[r] < k})
+        for k in range(len(body))
+    ]
     readers: list[list[int]] = [[] for _ in body]
     for k, ds in enumerate(deps):
         for d in ds:
@@ -237,6 +240,26 @@ def sunk(body: list[ast.stmt]) -> list[ast.stmt]:
         if k not in placed:
             place(k)
     return out
+
+
+def _flag(st: ast.stmt) -> ast.stmt:
+    """A flag raised in a branch (``if c: sg = True``) as one assignment (``sg = sg | (c)``):
+    the same value, and no block of its own (numba's SSA pass goes over a name's blocks once
+    for each of its assignments: a large model's forces raise hundreds of flags)."""
+    if not isinstance(st, ast.If) or st.orelse or len(st.body) != 1:
+        return st
+    (inner,) = st.body
+    if (
+        isinstance(inner, ast.Assign)
+        and len(inner.targets) == 1
+        and isinstance(inner.targets[0], ast.Name)
+        and isinstance(inner.value, ast.Constant)
+        and inner.value.value is True
+    ):
+        name = inner.targets[0].id
+        flag = ast.BinOp(ast.Name(name, ast.Load()), ast.BitOr(), st.test)
+        return ast.Assign([ast.Name(name, ast.Store())], flag, lineno=0)
+    return st
 
 
 def _closing(text: str, at: int) -> int:
