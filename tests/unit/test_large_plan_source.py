@@ -70,7 +70,10 @@ def test_a_large_chain_solves_by_default_at_a_compiled_size() -> None:
     np.testing.assert_array_equal(result.positions[::4096], small.positions)
 
 
-def test_a_kernel_cut_in_passes_gives_the_same_numbers(monkeypatch: pytest.MonkeyPatch) -> None:
+@pytest.mark.parametrize("functions", [True, False])
+def test_a_kernel_cut_in_passes_gives_the_same_numbers(
+    monkeypatch: pytest.MonkeyPatch, functions: bool
+) -> None:
     """A large plan's loop body is cut into passes of `vectorise.PASS` statements, each a
     kernel of its own, the values carried between them in typed scratch rows: cut small here,
     the four-bar's kernel (and a family of designs') gives the one-pass kernel's numbers and
@@ -94,17 +97,21 @@ def test_a_kernel_cut_in_passes_gives_the_same_numbers(monkeypatch: pytest.Monke
 
     whole = solve()
     monkeypatch.setattr(vectorise, "PASS", 23)
+    if not functions:  # the passes in one function (a plan of a few passes)
+        monkeypatch.setattr(vectorise, "SPLIT_PASSES", 10**6)
     text = vectorised(compiled.source(Mechanism(chain(1)).plan, write_at_rest=False), False)
     assert text.count("for l") > 10 and "SL_" in text  # passes, booleans carried
     tree = ast.parse(text)
     passes = [f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name[:4] == "pass"]
-    assert len(passes) > 5  # a kernel of its own for each pass
+    if not functions:
+        passes = [f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel"]
+    assert len(passes) > 5 or not functions  # a kernel of its own for each pass
     for kernel in passes:
         assigned = [t.id for n in ast.walk(kernel) if isinstance(n, ast.Assign)
                     for t in n.targets if isinstance(t, ast.Name)]  # fmt: skip
         assert len(assigned) == len(set(assigned))
     fourbar = compiled.source(load(example_path("fourbar")).plan, write_at_rest=False)
-    assert "def pass2_(" in vectorised(fourbar, False)
+    assert ("def pass2_(" in vectorised(fourbar, False)) == functions
     cut = solve()
     assert (np.asarray(whole[-1]) != 0).any()  # some designs fail
     for a, b in zip(whole, cut, strict=True):

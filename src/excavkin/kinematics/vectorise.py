@@ -112,7 +112,7 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
           for line in _copy(name, rows, into_scratch=False, by_design=by_design)),
     ]  # fmt: skip
     kinds = f"    KIND_ = np.array({_kinds(writes, len(r.rows))!r}, dtype=np.int64)"
-    if len(passes) > 1:  # a kernel of its own for each pass, run one after another
+    if len(passes) >= SPLIT_PASSES:  # a kernel of its own for each pass, one after another
         study = kinds if by_design else None
         out += _split(head, passes, first, last, hoisted, n_rows, spilled, per_sample, study)
         return "\n".join(_own_indices(out)) + "\n"
@@ -133,7 +133,7 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False) -> str:
     if by_design:  # each sample's design, once a block (not once a constant)
         out[-3:-3] = _BY_DESIGN
         out[-3:-3] = [kinds]
-    out += [*first, *passes[0], *last]
+    out += [*first, *(line for lines in passes for line in lines), *last]
     out.append("    fence()")
     return "\n".join(_own_indices(out)) + "\n"
 
@@ -184,6 +184,13 @@ _BY_DESIGN = [
     f"    M_ = np.empty({WIDTH}, dtype=np.int64)",
     "    SB_ = S_.view(np.int64)",
 ]
+
+#: passes from which a kernel is split into a kernel for each (`_split`), fewer staying one
+#: function: split, its compile grows about linearly, but it runs several times slower (a
+#: 34-point chain's kernel cut into 4 functions 2.5 µs a sample, as one 0.4 µs, NumPy 0.86 µs;
+#: the passes' scratch is an argument, which the compiler cannot prove apart from the other
+#: arrays), so that a plan of up to about 100 points (3 passes) keeps its one function
+SPLIT_PASSES = 4
 
 #: a split kernel's scratch, at most (bytes): its passes run over this many blocks of a chunk
 #: at a time, each block's rows in a row of it, so that the values carried from pass to pass
