@@ -8,10 +8,11 @@ Run: ``python benchmarks/bench_backends.py [N]`` (default N = 10 000 samples). P
 - the first compile of each model's kinematic kernel, in a fresh cache folder (what a user
   waits for once per model structure, announced by the CLI), and the load of that cached
   kernel by a new process (numba's import included), which ``"auto"`` pays once per process;
-- with ``--large``: the first compile of larger models' kinematic kernels (chains of four-bars
-  of about 34 and 67 points, each in a fresh process and cache), its peak memory and its
-  growth exponent, and what ``backend="numba"`` says of a model over
-  `excavkin.kinematics.compiled.COMPILE_POINTS` points.
+- with ``--large``: the first compile of larger models' kinematic and forces kernels (chains of
+  four-bars of 34, 67, 101 and 301 points, each in a fresh process and cache; a kernel over
+  `excavkin.kinematics.vectorise.PASS` statements is compiled in passes, one by one), the
+  peak memory and the growth exponent of the compile times, and what ``backend="numba"``
+  says of a model over `excavkin.kinematics.compiled.COMPILE_POINTS` points.
 
 Not a test: machines differ; the ratios are what is tracked.
 """
@@ -89,24 +90,32 @@ def first_compile_and_load(name: str) -> None:
 
 
 LARGE = """
-import resource, sys, time, numpy as np, excavkin, excavkin.errors
-mech = excavkin.load(sys.argv[1])
+import dataclasses, resource, sys, time, numpy as np, excavkin, excavkin.errors
+model = excavkin.load(sys.argv[1]).model  # each moving body of a unit mass: forces to compile
+bodies = tuple(b if b.ground else dataclasses.replace(b, mass=1.0) for b in model.bodies)
+mech = excavkin.Mechanism(dataclasses.replace(model, bodies=bodies))
 q = {k: np.full(8, v) for k, v in mech.sketch_values().items()}
 t = time.perf_counter()
 try:
-    mech.solve(q, backend="numba")
-    print(time.perf_counter() - t, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20)
+    kin = mech.solve(q, backend="numba")
+    seconds = time.perf_counter() - t
+    t = time.perf_counter()
+    mech.forces(kin, [excavkin.Gravity()], backend="numba")
+    forces = time.perf_counter() - t
+    gib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
+    print(seconds, forces, gib)
 except excavkin.errors.InputError as e:
     print("refused:", e)
 """
 
 
-def large_compiles(points: tuple[int, ...] = (34, 67, 301)) -> None:
-    """The kinematic kernel's first compile of chains of four-bars (3·stages + 1 points)."""
+def large_compiles(points: tuple[int, ...] = (34, 67, 101, 301)) -> None:
+    """The kinematic and forces kernels' first compile of chains of four-bars (3·stages + 1
+    points), and the growth exponent of each (a least-squares fit of log time on log points)."""
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the tests' generators
     from tests.models import fourbar_chain
 
-    seen: list[tuple[int, float]] = []
+    seen: list[tuple[int, float, float]] = []
     for n in points:
         with tempfile.TemporaryDirectory() as cache:
             model = Path(cache) / "chain.toml"
@@ -118,12 +127,17 @@ def large_compiles(points: tuple[int, ...] = (34, 67, 301)) -> None:
         if out.startswith("refused"):
             print(f"  {n:4d} points: {out}")
             continue
-        seconds, gib = (float(v) for v in out.split())
-        seen.append((n, seconds))
-        print(f"  {n:4d} points: first compile {seconds:6.1f} s, peak memory {gib:.2f} GiB")
+        seconds, forces, gib = (float(v) for v in out.split())
+        seen.append((n, seconds, forces))
+        print(
+            f"  {n:4d} points: first compile {seconds:6.1f} s (kinematics), {forces:6.1f} s "
+            f"(forces), peak memory {gib:.2f} GiB"
+        )
     if len(seen) >= 2:
-        (n1, t1), (n2, t2) = seen[0], seen[-1]
-        print(f"  growth exponent of the compile time: {np.log(t2 / t1) / np.log(n2 / n1):.2f}")
+        logs = np.log(np.array(seen))
+        kin = np.polyfit(logs[:, 0], logs[:, 1], 1)[0]
+        forces = np.polyfit(logs[:, 0], logs[:, 2], 1)[0]
+        print(f"  growth exponent of the compile time: kinematics {kin:.2f}, forces {forces:.2f}")
 
 
 def main(n: int) -> None:

@@ -70,11 +70,15 @@ def test_a_large_chain_solves_by_default_at_a_compiled_size() -> None:
     np.testing.assert_array_equal(result.positions[::4096], small.positions)
 
 
-def test_a_kernel_cut_in_passes_gives_the_same_numbers(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A large plan's loop body is cut into passes of `vectorise.PASS` statements, the values
-    carried between them in typed scratch rows: cut small here, the four-bar's kernel (and a
-    family of designs') gives the one-pass kernel's numbers and statuses to the bit, failing
-    samples included, and numba sees no name assigned twice."""
+@pytest.mark.parametrize("functions", [True, False])
+def test_a_kernel_cut_in_passes_gives_the_same_numbers(
+    monkeypatch: pytest.MonkeyPatch, functions: bool
+) -> None:
+    """A large plan's loop body is cut into passes of `vectorise.PASS` statements, each a
+    kernel of its own, the values carried between them in typed scratch rows: cut small here,
+    the four-bar's kernel (a family of designs', and one that keeps some columns' rows)
+    gives the one-pass kernel's numbers and statuses to the bit, failing samples included,
+    and numba sees no name assigned twice in a pass."""
     from excavkin import example_path, load
     from excavkin.kinematics import vectorise
 
@@ -86,20 +90,32 @@ def test_a_kernel_cut_in_passes_gives_the_same_numbers(monkeypatch: pytest.Monke
         one = mech.solve(q, r, backend="numba")
         params = {"A-B": np.linspace(0.5, 4.0, 3000) * mech.parameters["A-B"]}
         fam = mech.solve(q, r, params=params, backend="numba")
+        asked = ["B.x", "B.vy", "rocker.angle", "crank.value"]  # a kernel that keeps rows
+        (part,) = mech.solve_stream(q, r, columns=asked, backend="numba")
+        some = part.to_frame()
         return [
             *(getattr(res, f) for res in (one, fam) for f in ("positions", "accelerations")),
             one.body_angle, one.transmission, one.status.code, fam.status.code,
+            *(some[c].to_numpy() for c in asked), some["status"].to_numpy().astype(str),
         ]  # fmt: skip
 
     whole = solve()
     monkeypatch.setattr(vectorise, "PASS", 23)
+    if not functions:  # the passes in one function (a plan of a few passes)
+        monkeypatch.setattr(vectorise, "SPLIT_PASSES", 10**6)
     text = vectorised(compiled.source(Mechanism(chain(1)).plan, write_at_rest=False), False)
     assert text.count("for l") > 10 and "SL_" in text  # passes, booleans carried
     tree = ast.parse(text)
-    kernel = next(f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel")
-    assigned = [t.id for n in ast.walk(kernel) if isinstance(n, ast.Assign) for t in n.targets
-                if isinstance(t, ast.Name)]  # fmt: skip
-    assert len(assigned) == len(set(assigned))
+    passes = [f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name[:4] == "pass"]
+    if not functions:
+        passes = [f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel"]
+    assert len(passes) > 5 or not functions  # a kernel of its own for each pass
+    for kernel in passes:
+        assigned = [t.id for n in ast.walk(kernel) if isinstance(n, ast.Assign)
+                    for t in n.targets if isinstance(t, ast.Name)]  # fmt: skip
+        assert len(assigned) == len(set(assigned))
+    fourbar = compiled.source(load(example_path("fourbar")).plan, write_at_rest=False)
+    assert ("def pass2_(" in vectorised(fourbar, False)) == functions
     cut = solve()
     assert (np.asarray(whole[-1]) != 0).any()  # some designs fail
     for a, b in zip(whole, cut, strict=True):

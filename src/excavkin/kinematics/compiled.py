@@ -36,16 +36,17 @@ from excavkin.kinematics.vectorise import vectorised
 from excavkin.step_kinds import Dist, kind_of
 from excavkin.structure.plan import SolvePlan
 
-#: a plan of more points is not compiled unasked: numba's compile time and memory grow faster
-#: than the kernel's length (a 68-point chain's kernel took minutes and 4 GB), and one kernel
-#: per plan has no way to split it yet (a kernel compiled before is used all the same)
+#: a plan of more points is not compiled unasked: numba's compile takes about a second a point
+#: (a kernel of more than `excavkin.kinematics.vectorise.PASS` statements is compiled in
+#: passes, one by one: `bench_backends.py --large`), which a batch does not pay back (a kernel
+#: compiled before is used all the same)
 AUTO_POINTS = 40
 
-#: a plan of more points is not compiled at all (`too_large`): as one kernel, numba's compile
-#: grows faster than its length — a chain of 34 points 14 s, of 67 points 39 s
-#: (`bench_backends.py --large`), of 300 points not done in 15 minutes — and a kernel split
-#: into functions is not built yet; NumPy solves such a plan at 60–70 ns a sample a point
-COMPILE_POINTS = 100
+#: a plan of more points is not compiled at all (`too_large`): its kernel, compiled in passes,
+#: grows about linearly — a chain of 34 points 14 s, of 301 points 4–8 minutes on a loaded
+#: machine (`bench_backends.py --large`) — so that one of 1,000 points would take half an
+#: hour; NumPy solves such a plan at 60–70 ns a sample a point
+COMPILE_POINTS = 1000
 
 #: a cam table's pieces compile as a point's steps do, two pieces for a point (a piece is six
 #: lines of the kernel: its knot's test, its weight and its share of five sums)

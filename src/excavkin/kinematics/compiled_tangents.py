@@ -41,6 +41,35 @@ if TYPE_CHECKING:
 
 #: samples per kernel call (a thread's share of the work at a time)
 CHUNK = 16384
+
+#: a plan of more points (`excavkin.kinematics.compiled.size`) has its tangents solved in
+#: NumPy: the tangent kernel is one loop, not yet cut into kernels compiled one by one as the
+#: kinematic and forces kernels are, and numba's compile of one loop grows faster than its
+#: length
+COMPILE_POINTS = 100
+
+
+def unsupported(plan: SolvePlan) -> str | None:
+    """Why the plan's tangents cannot be compiled (None: they can): the plan's own reason
+    (`excavkin.kinematics.compiled.unsupported`), or more than `COMPILE_POINTS` points.
+
+    Parameters
+    ----------
+    plan : SolvePlan
+
+    Returns
+    -------
+    str or None
+    """
+    points = compiled_plan.size(plan)
+    if points > COMPILE_POINTS:
+        return (
+            f"of this plan ({points} points) would take the compiler too long: more than "
+            f"{COMPILE_POINTS} points are solved in NumPy"
+        )
+    return compiled_plan.unsupported(plan)
+
+
 #: the NumPy tangent path's tolerances for its own masks (the solve's statuses decide the rest)
 CLOSE_TOL, SINGULAR_TOL = 1e-10, 1e-7
 

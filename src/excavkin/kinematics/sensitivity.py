@@ -96,7 +96,7 @@ def solve_tangents(
         source,
         numpy=lambda: _numpy_tangents(out, plan, (q, qd, qdd), names, given, base, result),
         compiled=compiled,
-        unsupported=compiled_plan.unsupported(plan),
+        unsupported=compiled_tangents.unsupported(plan),
         unasked=compiled_plan.size(plan) <= compiled_plan.AUTO_POINTS,
         scalar=source,  # (a plain loop already)
         device=lambda kernel: compiled(kernel, 1),  # the chunks one after another

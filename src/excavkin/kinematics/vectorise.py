@@ -102,11 +102,31 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False, keep: bool 
         )
         head = head.replace("near_step, s0):", "near_step, s0, r0_, keep, tops, near_at):")
     passes, spilled = in_passes(straight_line(body), len(r.rows))
+    n_rows = len(r.rows) + spilled["f"]
+    hoisted = [f"    {name} = K[{c}, 0]" for name, c in r.hoisted.items()]
+    first = [  # the block's inputs into the scratch
+        *(["        for l_ in range(nb_):", "            J_[l_] = (r0_ + b0_ + l_) // ks"]
+          if by_design else []),
+        *(line for name, rows in reads.items()
+          for line in _copy(name, rows, into_scratch=True, by_design=by_design, keep=keep)),
+    ]  # fmt: skip
+    last = [  # its outputs out of it
+        *(_tops(r.rows["status[i]"], r.rows["near[i]"], len(r.rows)) if keep else []),
+        *(line for name, rows in writes.items()
+          for line in _copy(name, rows, into_scratch=False, by_design=by_design, keep=keep)),
+    ]  # fmt: skip
+    kinds = f"    KIND_ = np.array({_kinds(writes, len(r.rows))!r}, dtype=np.int64)"
+    if len(passes) >= SPLIT_PASSES:  # a kernel of its own for each pass, one after another
+        study = kinds if keep else None
+        out += _split(
+            head, passes, first, last, hoisted, n_rows, spilled, per_sample, study, by_design
+        )
+        return "\n".join(_own_indices(out)) + "\n"
     out += [
         head,
         *([] if per_sample else _ONE_DESIGN),
-        *(f"    {name} = K[{c}, 0]" for name, c in r.hoisted.items()),
-        f"    S_ = np.empty({(len(r.rows) + spilled['f']) * WIDTH})",
+        *hoisted,
+        f"    S_ = np.empty({n_rows * WIDTH})",
         *(
             f"    {_SPILL[t]} = np.empty({spilled[t] * WIDTH}, dtype=np.{_DTYPE[t]})"
             for t in "ib"
@@ -116,23 +136,9 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False, keep: bool 
         f"    for b0_ in range(0, n_, {WIDTH}):",
         f"        nb_ = min({WIDTH}, n_ - b0_)",
     ]
-    if by_design:  # each sample's design
-        out[-3:-3] = [f"    J_ = np.empty({WIDTH}, dtype=np.int64)"]
-    if keep:  # the far samples' mask, the rows as integers, each row's kind
-        out[-3:-3] = [
-            f"    M_ = np.empty({WIDTH}, dtype=np.int64)",
-            "    SB_ = S_.view(np.int64)",
-            f"    KIND_ = np.array({_kinds(writes, len(r.rows))!r}, dtype=np.int64)",
-        ]
-    if by_design:  # each sample's design, once a block (not once a constant)
-        out += ["        for l_ in range(nb_):", "            J_[l_] = (r0_ + b0_ + l_) // ks"]
-    for name, rows in reads.items():
-        out += _copy(name, rows, into_scratch=True, by_design=by_design, keep=keep)
-    out += passes
-    if keep:
-        out += _tops(r.rows["status[i]"], r.rows["near[i]"], len(r.rows))
-    for name, rows in writes.items():
-        out += _copy(name, rows, into_scratch=False, by_design=by_design, keep=keep)
+    if keep:  # each sample's design (a study's), the far samples' mask, the rows' kinds
+        out[-3:-3] = [*(_BY_DESIGN[:1] if by_design else []), *_BY_DESIGN[1:], kinds]
+    out += [*first, *(line for lines in passes for line in lines), *last]
     out.append("    fence()")
     return "\n".join(_own_indices(out)) + "\n"
 
@@ -176,8 +182,106 @@ PASS = 2000
 _SPILL = {"f": "S_", "i": "SI_", "b": "SL_"}
 _DTYPE = {"i": "int64", "b": "bool_"}
 
+#: a study kernel's block scratch for its designs' columns and its far samples' mask, and its
+#: rows' kinds of quantity as integers
+_BY_DESIGN = [
+    f"    J_ = np.empty({WIDTH}, dtype=np.int64)",
+    f"    M_ = np.empty({WIDTH}, dtype=np.int64)",
+    "    SB_ = S_.view(np.int64)",
+]
 
-def in_passes(body: list[str], rows: int) -> tuple[list[str], dict[str, int]]:
+#: passes from which a kernel is split into a kernel for each (`_split`), fewer staying one
+#: function: split, its compile grows about linearly, but it runs several times slower (a
+#: 34-point chain's kernel cut into 4 functions 2.5 µs a sample, as one 0.4 µs, NumPy 0.86 µs;
+#: the passes' scratch is an argument, which the compiler cannot prove apart from the other
+#: arrays), so that a plan of up to about 100 points (3 passes) keeps its one function
+SPLIT_PASSES = 4
+
+#: a split kernel's scratch, at most (bytes): its passes run over this many blocks of a chunk
+#: at a time, each block's rows in a row of it, so that the values carried from pass to pass
+#: stay in memory between the calls
+SPLIT_SCRATCH = 32 << 20
+
+
+def _split(
+    head: str,
+    passes: list[list[str]],
+    first: list[str],
+    last: list[str],
+    hoisted: list[str],
+    n_rows: int,
+    spilled: dict[str, int],
+    per_sample: bool,
+    study: str | None,
+    by_design: bool = False,
+) -> list[str]:
+    """The kernel of several passes as a kernel of its own for each (``pass0_`` …), compiled
+    one by one, and a Python ``kernel`` (the whole kernel's arguments) that runs them one
+    after another over a few blocks of the chunk at a time: each block's scratch rows are a
+    row of ``S2_`` (``SI2_``, ``SL2_``: the carried integers and booleans), kept from one pass
+    to the next. The first pass copies the block's inputs into its rows, the last copies its
+    outputs out (and, for a kernel that keeps rows, raises the tops: ``study`` is its rows'
+    kinds' line, None for a full solve's kernel; ``by_design``: a study's, each sample's
+    design found in the first pass). Numba compiles each pass's loop alone
+    (called from Python, no pass is inlined into another): its compile time grows with the
+    plan's length, not faster. The statements are the one kernel's, to the bit."""
+    found = re.search(r"def kernel\((?P<args>[^)]*)\):", head)
+    assert found is not None
+    args = " ".join(found["args"].split())
+    sig_at = head.index("SIGNATURE = numba.void(")
+    close = head.index("\n)\n", sig_at)
+    scratch = "numba.float64[:, ::1], numba.int64[:, ::1], numba.bool_[:, ::1]"
+    types = head[:close] + f"\n    {scratch}, numba.int64, numba.int64,\n)\n"
+    decorator = head[head.index("@numba.njit(", close) :].split("\n", 1)[0]
+    rows = {"f": n_rows, "i": spilled["i"], "b": spilled["b"]}
+    per = max(8 * sum(rows.values()) * WIDTH, 1)
+    blocks = max(1, min(64, SPLIT_SCRATCH // per))
+    out = [types.rstrip("\n"), "", f"ROWS_ = {n_rows}", f"BLOCKS_ = {blocks}"]
+    for k, lines in enumerate(passes):
+        body = [*(first if k == 0 else []), *lines, *(last if k == len(passes) - 1 else [])]
+        used = set(re.findall(r"\bK_\d+\b", "\n".join(body)))
+        prologue = [h for h in hoisted if h.split(" = ")[0].strip() in used]
+        if by_design and k == 0:
+            prologue.append(_BY_DESIGN[0])
+        if study is not None and k == len(passes) - 1:
+            prologue += [_BY_DESIGN[1], study]
+        views = [f"        S_ = S2_[(b0_ - lo_) // {WIDTH}]"]
+        views += [f"        {_SPILL[t]} = {_SPILL[t][:-1]}2_[(b0_ - lo_) // {WIDTH}]"
+                  for t in "ib" if spilled[t]]  # fmt: skip
+        if study is not None and k == len(passes) - 1:
+            views.append("        SB_ = S_.view(np.int64)")
+        out += [
+            "",
+            "",
+            decorator,
+            f"def pass{k}_({args}, S2_, SI2_, SL2_, lo_, hi_):",
+            "    nan = math.nan",
+            *prologue,
+            f"    for b0_ in range(lo_, hi_, {WIDTH}):",
+            f"        nb_ = min({WIDTH}, hi_ - b0_)",
+            *views,
+            *body,
+            *(["    fence()"] if k == len(passes) - 1 else []),
+        ]
+    call = f"({args}, S2_, SI2_, SL2_, lo_, hi_)"
+    out += [
+        "",
+        "",
+        f"def kernel({args}):",
+        '    """The passes one after another, over `BLOCKS_` blocks of the chunk at a time."""',
+        *([] if per_sample else _ONE_DESIGN),
+        "    n_ = q.shape[1]",
+        f"    S2_ = np.empty((BLOCKS_, {n_rows * WIDTH}))",
+        f"    SI2_ = np.empty((BLOCKS_, {max(spilled['i'], 1) * WIDTH}), dtype=np.int64)",
+        f"    SL2_ = np.empty((BLOCKS_, {max(spilled['b'], 1) * WIDTH}), dtype=np.bool_)",
+        f"    for lo_ in range(0, n_, BLOCKS_ * {WIDTH}):",
+        f"        hi_ = min(n_, lo_ + BLOCKS_ * {WIDTH})",
+        *(f"        pass{k}_{call}" for k in range(len(passes))),
+    ]
+    return out
+
+
+def in_passes(body: list[str], rows: int) -> tuple[list[list[str]], dict[str, int]]:
     """The loop over a block's samples of `straight_line` statements, as one pass, or cut into
     passes of at most `PASS` statements for a large plan: a name assigned in one pass and
     read in a later one is stored in a scratch row of its type (`value_types`) at the end of
@@ -192,15 +296,16 @@ def in_passes(body: list[str], rows: int) -> tuple[list[str], dict[str, int]]:
 
     Returns
     -------
-    lines : list of str
-        The loops, indented in the kernel's block loop.
+    passes : list of list of str
+        Each pass's loop, indented in the kernel's block loop.
     spilled : dict
         Rows added per type (``"f"``, ``"i"``, ``"b"``).
     """
     cuts = [body[k : k + PASS] for k in range(0, len(body), PASS)]
     spilled = {"f": 0, "i": 0, "b": 0}
     if len(cuts) == 1:
-        return ["        for l_ in range(nb_):", *(f"            {line}" for line in body)], spilled
+        loop = ["        for l_ in range(nb_):", *(f"            {line}" for line in body)]
+        return [loop], spilled
     trees = [[ast.parse(line).body[0] for line in cut] for cut in cuts]
     made: dict[str, int] = {}  # each name's pass (single assignments: one)
     for k, cut in enumerate(trees):
@@ -225,7 +330,7 @@ def in_passes(body: list[str], rows: int) -> tuple[list[str], dict[str, int]]:
                     spilled[kind] += 1
                     slot[name] = f"{_SPILL[kind]}[{row * WIDTH} + l_]"
                 reads[k].append(name)
-    out: list[str] = []
+    out: list[list[str]] = []
     for k, cut in enumerate(trees):
         stores = [n for n, m in made.items() if m == k and n in slot]
         own = {name: f"{name}p{k}_" for name in reads[k]}  # read back under names of its own
@@ -233,20 +338,21 @@ def in_passes(body: list[str], rows: int) -> tuple[list[str], dict[str, int]]:
             for node in ast.walk(st):
                 if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load):
                     node.id = own.get(node.id, node.id)
-        out += [
+        out.append([
             "        for l_ in range(nb_):",
             *(f"            {own[name]} = {slot[name]}" for name in reads[k]),
             *(f"            {ast.unparse(st)}" for st in cut),
             *(f"            {slot[name]} = {name}" for name in stores),
-        ]
+        ])  # fmt: skip
     return out, spilled
 
 
 def value_types(body: list[ast.stmt]) -> dict[str, str]:
     """Each assigned name's type as numba will type it: ``"f"`` (float64), ``"i"`` (int64) or
     ``"b"`` (bool), from the statements' expressions (the kernels' arithmetic: numbers,
-    comparisons, ``&``/``|``/``not``, selects, ``abs``/``max``/``min``, the math module's
-    functions, scratch reads).
+    comparisons, ``&``/``|``/``not``, selects and ``if`` expressions, ``abs``/``max``/``min``,
+    the math module's functions (``floor`` and ``ceil`` integers, ``isfinite`` … booleans),
+    array reads (floats, but the integer and boolean scratch and tables); a swap of names).
 
     Parameters
     ----------
@@ -266,7 +372,7 @@ def value_types(body: list[ast.stmt]) -> dict[str, str]:
             v = e.value
             return "b" if isinstance(v, bool) else "i" if isinstance(v, int) else "f"
         if isinstance(e, ast.Name):
-            return env.get(e.id, "i" if e.id in ("l_", "b0_", "nb_", "ks", "s0") else "f")
+            return env.get(e.id, "i" if e.id in ("i", "l_", "b0_", "nb_", "ks", "s0") else "f")
         if isinstance(e, ast.Compare):
             return "b"
         if isinstance(e, ast.UnaryOp):
@@ -278,6 +384,12 @@ def value_types(body: list[ast.stmt]) -> dict[str, str]:
             if isinstance(e.op, ast.Div):
                 return "f"
             return unify(a, b, "i")
+        if isinstance(e, ast.IfExp):
+            return unify(of(e.body), of(e.orelse))
+        if isinstance(e, ast.Call) and isinstance(e.func, ast.Attribute):
+            if e.func.attr in ("isfinite", "isnan", "isinf"):
+                return "b"
+            return "i" if e.func.attr in ("floor", "ceil") else "f"  # (numba's: integers)
         if isinstance(e, ast.Call) and isinstance(e.func, ast.Name):
             if e.func.id == "_sel":
                 return unify(of(e.args[1]), of(e.args[2]))
@@ -286,13 +398,27 @@ def value_types(body: list[ast.stmt]) -> dict[str, str]:
             if e.func.id == "int":
                 return "i"
         if isinstance(e, ast.Subscript) and isinstance(e.value, ast.Name):
-            return "f" if e.value.id == "S_" else "i"
+            array = e.value.id  # the kernels' arrays of integers and of booleans
+            return (
+                "i"
+                if array in ("SI_", "J_") or array.startswith("T_")
+                else ("b" if array == "SL_" else "f")
+            )
         return "f"  # the math module's functions, the arctangent
 
     for st in body:
         if isinstance(st, ast.Assign):
             for t in _targets(st):
                 env[t.id] = of(st.value)
+            pairs = [
+                (leaf, value)
+                for group in st.targets
+                if isinstance(group, ast.Tuple) and isinstance(st.value, ast.Tuple)
+                for leaf, value in zip(group.elts, st.value.elts, strict=False)
+            ]
+            for leaf, value in pairs:  # a swap: each takes the type of the value it is given
+                if isinstance(leaf, ast.Name):
+                    env[leaf.id] = of(value)
     return env
 
 
@@ -429,8 +555,10 @@ def written_rows(text: str) -> tuple[dict[tuple[str, tuple[int, ...]], int], int
                     rows[(name, tuple(row[:-1]))] = row[-1]
     n_rows = next(
         int(line.split("np.empty(")[1].split(")")[0]) // WIDTH
+        if line.startswith("    S_")
+        else int(line.removeprefix("ROWS_ = "))
         for line in text.splitlines()
-        if line.startswith("    S_ = np.empty(")
+        if line.startswith(("    S_ = np.empty(", "ROWS_ = "))
     )
     return rows, n_rows
 

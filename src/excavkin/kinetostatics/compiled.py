@@ -17,7 +17,9 @@ every value — a mass, a centre of mass, a load — is read from a constants ta
 for all samples, or one per sample for a family of designs or loads that vary), so one kernel
 serves every design of a model, and it is cached on disk. Its length grows with the model's
 size, and so does numba's compile time: the automatic choice compiles models of at most
-`excavkin.kinematics.compiled.AUTO_POINTS` points, as the kinematics does.
+`excavkin.kinematics.compiled.AUTO_POINTS` points, as the kinematics does, and a source of more
+than `excavkin.kinematics.split.PASS` statements is compiled in passes, one by one
+(`excavkin.kinematics.split`), so that the compile grows about as the model does.
 """
 
 from __future__ import annotations

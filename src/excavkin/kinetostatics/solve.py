@@ -25,6 +25,7 @@ from excavkin.errors import InputError
 from excavkin.execution import Execution, settings
 from excavkin.kinematics.compiled import AUTO_POINTS, PIECES_PER_POINT, too_large
 from excavkin.kinematics.result import KinematicResult
+from excavkin.kinematics.split import split
 from excavkin.kinetostatics.body_loads import body_loads
 from excavkin.kinetostatics.equilibrium import (
     StaticsSystem,
@@ -267,7 +268,7 @@ def _solve_chosen(
         return
     job = Job(
         "forces",
-        source,
+        lambda: split(source()),  # a large model's kernel in passes compiled one by one
         numpy=lambda: _solve_sparse(known, motion, out, singular, chunk),
         compiled=compiled,
         # a cam's lift law given as a function cannot be traced
