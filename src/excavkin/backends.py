@@ -90,6 +90,10 @@ class Job:
     device : callable, optional
         ``device(kernel)``: run it with a kernel of ``scalar``'s calling convention; None:
         ``compiled`` does (the two conventions are the same).
+    slower : callable, optional
+        ``slower()``: whether its compiled kernel is known to run slower than NumPy (a large
+        plan's kernel split into functions), so that ``"auto"`` keeps NumPy, cached kernel
+        or not; a backend named still runs it. None: never.
     """
 
     what: str
@@ -100,6 +104,7 @@ class Job:
     unasked: bool = True
     scalar: Callable[[], str] | None = None
     device: Callable[[Kernel], None] | None = None
+    slower: Callable[[], bool] | None = None
 
 
 class Backend(Protocol):
@@ -341,7 +346,8 @@ def choose(name: str, job: Job, n: int) -> Backend:
     ----------
     name : {"auto", "numpy", "numba", "cuda"}
         ``"auto"``: a compiling backend whose kernel is ready (at any ``n``), or one that
-        compiles it when ``n`` is at least `COMPILE_AT` and the job allows it, else NumPy.
+        compiles it when ``n`` is at least `COMPILE_AT` and the job allows it, else NumPy
+        (NumPy too for a job whose compiled kernel runs slower, `Job` ``slower``).
         A backend named is used, or it is an error saying why it cannot be.
     job : Job
     n : int
@@ -362,6 +368,8 @@ def choose(name: str, job: Job, n: int) -> Backend:
         for candidate in AUTO:
             b = REGISTRY[candidate]
             if not b.supports(job) or b.unavailable() is not None:
+                continue
+            if job.slower is not None and job.slower():
                 continue
             if b.ready(job) or (job.unasked and n >= COMPILE_AT):
                 return b

@@ -120,3 +120,23 @@ def test_a_kernel_cut_in_passes_gives_the_same_numbers(
     assert (np.asarray(whole[-1]) != 0).any()  # some designs fail
     for a, b in zip(whole, cut, strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_auto_solves_a_split_kernels_plan_in_numpy(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A kernel split into a kernel for each pass runs slower than NumPy: ``"auto"`` keeps
+    NumPy for it at any size (cached or not), a backend named still runs it, and a kernel of
+    one function is taken as before."""
+    from excavkin import example_path, load
+    from excavkin.kinematics import vectorise
+
+    whole = load(example_path("fourbar")).plan
+    vectorise.vectorised.cache_clear()
+    assert not compiled.split(compiled.kernel_source(whole))
+    assert backends.choose("auto", compiled.job(whole), 10**6).name == "numba"
+    monkeypatch.setattr(vectorise, "PASS", 23)
+    vectorise.vectorised.cache_clear()
+    cut = load(example_path("fourbar")).plan
+    assert compiled.split(compiled.kernel_source(cut))
+    assert backends.choose("auto", compiled.job(cut), 10**6).name == "numpy"
+    assert backends.choose("numba", compiled.job(cut), 10).name == "numba"
+    vectorise.vectorised.cache_clear()

@@ -389,6 +389,7 @@ def _study_kernel(mech: Mechanism, n: int) -> _StudyKernel | None:
         lambda: None,
         lambda kernel: None,
         unasked=compiled.size(plan) <= compiled.AUTO_POINTS,
+        slower=lambda: compiled.split(compiled.kernel_source(plan, by_design=True)),
     )
     if backends.choose(backend, job, n).name != "numba":
         return None
