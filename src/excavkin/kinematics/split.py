@@ -147,23 +147,7 @@ def sunk(body: list[ast.stmt]) -> list[ast.stmt]:
     -------
     list of ast.stmt
     """
-    stores: dict[str, int] = {}
-    written: set[str] = set()
-    loaded: set[str] = set()
-    elements: dict[str, int] = {}
-    made: dict[str, int] = {}  # a name's (last) assigning statement
-    for k, st in enumerate(body):
-        for n in ast.walk(st):
-            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store):
-                stores[n.id] = stores.get(n.id, 0) + 1
-                made[n.id] = k
-            if isinstance(n, ast.Subscript):
-                array = ast.unparse(n.value)
-                if isinstance(n.ctx, ast.Store):
-                    written.add(array)
-                    elements[ast.unparse(n)] = elements.get(ast.unparse(n), 0) + 1
-                else:
-                    loaded.add(array)
+    stores, made, written, loaded, elements = _assignments(body)
     reads = [
         {n.id for n in ast.walk(st) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
         for st in body
@@ -240,6 +224,32 @@ def sunk(body: list[ast.stmt]) -> list[ast.stmt]:
         if k not in placed:
             place(k)
     return out
+
+
+def _assignments(
+    body: list[ast.stmt],
+) -> tuple[dict[str, int], dict[str, int], set[str], set[str], dict[str, int]]:
+    """`sunk`'s survey of the statements: each name's number of assignments and its (last)
+    assigning statement, the arrays written and read, and each array element's number of
+    stores."""
+    stores: dict[str, int] = {}
+    made: dict[str, int] = {}
+    written: set[str] = set()
+    loaded: set[str] = set()
+    elements: dict[str, int] = {}
+    for k, st in enumerate(body):
+        for n in ast.walk(st):
+            if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store):
+                stores[n.id] = stores.get(n.id, 0) + 1
+                made[n.id] = k
+            if isinstance(n, ast.Subscript):
+                array = ast.unparse(n.value)
+                if isinstance(n.ctx, ast.Store):
+                    written.add(array)
+                    elements[ast.unparse(n)] = elements.get(ast.unparse(n), 0) + 1
+                else:
+                    loaded.add(array)
+    return stores, made, written, loaded, elements
 
 
 def _flag(st: ast.stmt) -> ast.stmt:
