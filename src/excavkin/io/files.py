@@ -175,6 +175,47 @@ def write_atomic(path: str | Path, writer: Callable[[Path], None]) -> Path:
     return p
 
 
+def check_folder_target(
+    path: str | Path, *, force: bool, replaceable: Callable[[Path], bool]
+) -> Path:
+    """Check that a folder may be made at ``path`` (`write_folder_atomic`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The folder.
+    force : bool
+        Whether an existing folder may be replaced.
+    replaceable : callable
+        ``replaceable(folder) -> bool``: whether an existing folder holds nothing but what
+        such a write makes.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    OutputError
+        A missing parent folder; something there without ``force``; a file or a link there,
+        or a folder that is not ``replaceable``.
+    """
+    p = Path(path)
+    if not p.parent.exists():
+        raise OutputError(f"{p}: the folder {p.parent} does not exist")
+    if not (p.exists() or p.is_symlink()):
+        return p
+    if not force:
+        raise OutputError(f"{p} exists; pass --force to replace it")
+    if p.is_symlink() or not p.is_dir():
+        raise OutputError(f"{p} exists and is not a folder; not replaced")
+    if not replaceable(p):
+        raise OutputError(
+            f"{p} is a folder that holds other files than a table's parts; not replaced"
+        )
+    return p
+
+
 def write_folder_atomic(
     path: str | Path,
     writer: Callable[[Path], None],
@@ -205,13 +246,7 @@ def write_folder_atomic(
     OutputError
         An existing folder that is not ``replaceable``, or a file in the folder's place.
     """
-    p = Path(path)
-    if p.is_symlink() or (p.exists() and not p.is_dir()):
-        raise OutputError(f"{p} exists and is not a folder; not replaced")
-    if p.exists() and not replaceable(p):
-        raise OutputError(
-            f"{p} is a folder that holds other files than a table's parts; not replaced"
-        )
+    p = check_folder_target(path, force=True, replaceable=replaceable)  # (again: just before)
     remove_leftovers(p)
     tmp = p.parent / _TMP.format(name=p.name, pid=os.getpid(), suffix="")
     old = p.parent / _TMP.format(name=p.name, pid=os.getpid(), suffix=".old")

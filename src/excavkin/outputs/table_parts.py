@@ -26,7 +26,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from excavkin.io.files import OutputError, write_folder_atomic
+from excavkin.io.files import OutputError, check_folder_target, write_folder_atomic
 from excavkin.outputs.tables import Rows, TableWriter, select_frame
 
 if TYPE_CHECKING:
@@ -78,18 +78,7 @@ def check_parts_target(path: str | Path, *, force: bool) -> Path:
     p = Path(path)
     if p.suffix.lower() == ".csv":
         raise OutputError(f"{p}: parts are Parquet files; name the folder without .csv")
-    if not p.parent.exists():
-        raise OutputError(f"{p}: the folder {p.parent} does not exist")
-    if p.exists() or p.is_symlink():
-        if not force:
-            raise OutputError(f"{p} exists; pass --force to replace it")
-        if p.is_symlink() or not p.is_dir():
-            raise OutputError(f"{p} exists and is not a folder; not replaced")
-        if not holds_only_parts(p):
-            raise OutputError(
-                f"{p} is a folder that holds other files than a table's parts; not replaced"
-            )
-    return p
+    return check_folder_target(p, force=force, replaceable=holds_only_parts)
 
 
 def holds_only_parts(folder: Path) -> bool:
