@@ -200,8 +200,9 @@ def dataclass_replace(study: Study, **changes: object) -> Study:
 
 @pytest.mark.filterwarnings("ignore:.*balance properties of Sobol:UserWarning")
 def test_a_chunks_sobol_points_from_a_kept_engine_are_a_new_ones() -> None:
-    """The Sobol' engine a chunk gives back, reset, makes the next chunk's points as a new
-    engine would: every part of the sequence, from its start or skipped to, in any order."""
+    """The Sobol' engine a chunk gives back, taken again where it stopped (skipped on) or
+    reset, makes the next chunk's points as a new engine would: every part of the sequence,
+    from its start or skipped to, in any order."""
     from scipy.stats import qmc
 
     from excavkin.studies import design_space
@@ -218,3 +219,33 @@ def test_a_chunks_sobol_points_from_a_kept_engine_are_a_new_ones() -> None:
         for j, name in enumerate(bounds):
             np.testing.assert_array_equal(got[name], want[:, j])
     assert len(design_space._engines[(3, 5)]) == 1  # one engine, taken and given back
+    assert design_space._engines[(3, 5)][0].num_generated == 100  # kept where it stopped
+
+
+def test_a_chunk_in_order_takes_the_sobol_engine_where_the_one_before_stopped(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Chunks drawn in order skip nothing: each takes the engine the chunk before gave back,
+    at its first design (skipping from the sequence's start would cost each chunk a step
+    for every design before it)."""
+    from scipy.stats import qmc
+
+    from excavkin.studies import design_space
+    from excavkin.studies.design_space import sample_designs
+
+    bounds = {"a": (0.0, 1.0), "b": (-2.0, 3.0)}
+    design_space._engines.clear()
+    whole = sample_designs(bounds, 4096, "sobol", 9)
+    design_space._engines.clear()
+    skipped: list[int] = []
+    real = qmc.Sobol.fast_forward
+
+    def counted(self: qmc.Sobol, n: int) -> qmc.Sobol:
+        skipped.append(n)
+        return real(self, n)
+
+    monkeypatch.setattr(qmc.Sobol, "fast_forward", counted)
+    parts = [sample_designs(bounds, 4096, "sobol", 9, (s, s + 512)) for s in range(0, 4096, 512)]
+    assert skipped == []
+    for name in bounds:
+        np.testing.assert_array_equal(np.concatenate([p[name] for p in parts]), whole[name])

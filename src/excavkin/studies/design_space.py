@@ -71,7 +71,7 @@ def sample_designs(
     from scipy.stats import qmc
 
     if method == "sobol":
-        engine: qmc.QMCEngine = _sobol(d, seed)
+        engine: qmc.QMCEngine = _sobol(d, seed, start)
     elif method == "halton":
         engine = qmc.Halton(d, scramble=True, seed=seed)
     elif method == "lhs":
@@ -84,9 +84,9 @@ def sample_designs(
         warnings.simplefilter("ignore", UserWarning)
         if method == "lhs":  # a Latin hypercube is one permutation of all its designs
             unit = engine.random(n)[start:stop]
-        else:  # a sequence: skip to the part
-            if start:
-                engine.fast_forward(start)
+        else:  # a sequence: skip to the part (a kept Sobol' engine is there already, or near)
+            if start > engine.num_generated:
+                engine.fast_forward(start - engine.num_generated)
             unit = engine.random(stop - start)
     if method == "sobol":
         _give_back(d, seed, engine)
@@ -94,31 +94,41 @@ def sample_designs(
     return {k: np.ascontiguousarray(values[:, j]) for j, k in enumerate(names)}
 
 
-#: scrambled Sobol' engines made before, by dimension and seed: a study's chunks each take
-#: one, reset to the sequence's start (its scrambling, made once, is a third of a chunk's
-#: points' time), and give it back
+#: scrambled Sobol' engines made before, by dimension and seed, each where it stopped in the
+#: sequence: a study's chunks, drawn mostly in order, each take the one nearest before their
+#: first design (skipping to a design costs one step a design skipped, in Python's thread:
+#: skipping from the start would make a study's draws grow as its designs squared; the
+#: scrambling, made once, is a third of a chunk's points' time), and give it back
 _engines: dict[tuple[int, int], list[Any]] = {}
 _lock = threading.Lock()
 
 
-def _sobol(d: int, seed: int) -> Any:
-    """A scrambled Sobol' engine of ``d`` dimensions and ``seed`` at the sequence's start:
-    one given back before, reset (the same points as a new one: tested), or a new one."""
+def _sobol(d: int, seed: int, start: int) -> Any:
+    """A scrambled Sobol' engine of ``d`` dimensions and ``seed`` at most at design ``start``:
+    the one given back before nearest before it, reset to the sequence's start where all are
+    past it (the same points as a new one: tested), or a new one."""
     from scipy.stats import qmc
 
     with _lock:
-        spare = _engines.get((d, seed))
-        engine = spare.pop() if spare else None
+        spare = _engines.get((d, seed), [])
+        before = [e for e in spare if e.num_generated <= start]
+        engine = max(before, key=lambda e: e.num_generated) if before else None
+        if engine is None and spare:
+            engine = spare[0]
+        if engine is not None:
+            spare.remove(engine)
     if engine is None:
         return qmc.Sobol(d, scramble=True, seed=seed)
-    return engine.reset()
+    return engine if engine.num_generated <= start else engine.reset()
 
 
 def _give_back(d: int, seed: int, engine: Any) -> None:
-    """Keep an engine for the next chunk: two per core of a kind, eight kinds, at most."""
+    """Keep an engine for the next chunk: two per core of a kind, eight kinds, at most (the
+    one furthest behind in the sequence given up first)."""
     with _lock:
         if (d, seed) not in _engines and len(_engines) >= 8:
             _engines.clear()
         spare = _engines.setdefault((d, seed), [])
-        if len(spare) < 2 * (os.cpu_count() or 1):
-            spare.append(engine)
+        spare.append(engine)
+        if len(spare) > 2 * (os.cpu_count() or 1):
+            spare.remove(min(spare, key=lambda e: e.num_generated))

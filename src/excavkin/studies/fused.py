@@ -759,7 +759,7 @@ def _rows(values: list[Any], k: int) -> F:
 SPAN = 16 * BLOCK
 
 #: bytes of a study's chunk-sized arrays kept for the next chunks, per core (`_Spares`)
-SPARE_BYTES = 64 << 20
+SPARE_BYTES = 128 << 20
 
 #: chunk-sized arrays given back by a study's chunks, newest last, for the next chunks
 _spare: list[NDArray[Any]] = []
@@ -772,7 +772,8 @@ class _Spares:
     A fresh array's pages are mapped as they are first written and unmapped when it is
     freed, holding the GIL — for the 45 MB of a chunk of 2²⁰ four-bar samples, ≈ 1.5 ms of
     the GIL and several of page faults; an array kept is written again in place. At most
-    `SPARE_BYTES` a core are kept (the newest)."""
+    `SPARE_BYTES` a core are kept (the newest: about two chunks' of 2²¹ four-bar samples,
+    68 MB each)."""
 
     def __init__(self) -> None:
         self.taken: list[NDArray[Any]] = []

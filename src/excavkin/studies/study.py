@@ -52,13 +52,14 @@ if TYPE_CHECKING:
 CHUNK_SAMPLES = 1 << 18
 #: samples solved at once by a study whose metrics are fused
 #: ([`evaluate_fused`][excavkin.studies.fused.evaluate_fused]): it keeps only the metrics'
-#: series, the statuses and the inputs (about 50 B a sample for the four-bar's three
-#: metrics; its solves' workspaces are per thread, not per chunk), so 2²⁰ samples hold
-#: ≈ 50 MB. A chunk carries serial work of its own, in Python and holding the GIL — its
+#: series, the statuses and the inputs (about 34 B a sample for the four-bar's three
+#: metrics; its solves' workspaces are per thread, not per chunk), so 2²¹ samples hold
+#: ≈ 68 MB. A chunk carries serial work of its own, in Python and holding the GIL — its
 #: designs' points, its precision check, its table and Parquet part, ≈ 3–5 ms whatever its
-#: size — against ≈ 40 ms of its kernel for 2²⁰ samples on one core: at 2¹⁸ that work held
-#: the GIL a fifth of a study's wall time on two cores (`benchmarks/bench_study.py`)
-FUSED_CHUNK_SAMPLES = 1 << 20
+#: size — against ≈ 80 ms of its kernel for 2²¹ samples on one core: at 2¹⁸ that work held
+#: the GIL a fifth of a study's wall time on two cores, at 2²⁰ 8–13 %, at 2²¹ 5–8 %
+#: (`benchmarks/bench_study.py`)
+FUSED_CHUNK_SAMPLES = 1 << 21
 #: samples (designs × poses) below which a study run with ``backend="auto"`` in a process that
 #: has not imported numba runs on NumPy: importing numba and loading a cached kernel takes about
 #: half a second, which the compiled solve (≈ 0.15 µs a sample faster) repays only past
