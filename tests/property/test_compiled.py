@@ -33,7 +33,7 @@ def assert_same(a: excavkin.KinematicResult, b: excavkin.KinematicResult) -> Non
         np.testing.assert_array_equal(x[np.isinf(x)], y[np.isinf(x)], err_msg=col)
         finite = np.isfinite(x)
         scale = max(np.max(np.abs(x[finite]), initial=0.0), 1e-300)
-        assert np.max(np.abs(x - y)[finite], initial=0.0) <= 1e-15 * scale, col
+        assert np.max(np.abs(x[finite] - y[finite]), initial=0.0) <= 1e-15 * scale, col
     np.testing.assert_array_equal(np.isnan(a.error_estimate), np.isnan(b.error_estimate))
     assert a.change_points == b.change_points
 

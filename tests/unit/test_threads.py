@@ -3,7 +3,9 @@ thread a run of consecutive chunks, a slow thread's chunks taken by the others."
 
 from __future__ import annotations
 
+import os
 import threading
+import time
 
 import pytest
 
@@ -76,3 +78,85 @@ def test_a_block_is_dealt_to_two_threads_equally() -> None:
     assert size == 6554
     shares = [sum(min(size, 65536 - i * size) for i in run) for run in runs(10, 2)]
     assert shares == [32770, 32766]
+
+
+def test_the_helper_threads_are_started_once_and_shared() -> None:
+    """A second call reuses the helpers of the first (no pool started and joined per call)."""
+    idents: list[set[int]] = []
+    for _ in range(2):
+        seen: set[int] = set()
+        lock = threading.Lock()
+        gate = threading.Barrier(2, timeout=30)
+
+        def one(s: int, seen: set[int] = seen, lock: threading.Lock = lock) -> None:
+            gate.wait()  # (both threads run a chunk at once: two threads, surely)
+            with lock:
+                seen.add(threading.get_ident())
+
+        over_chunks(2, 1, 2, one)
+        idents.append(seen)
+    assert threading.get_ident() in idents[0]  # the caller takes a run itself
+    assert idents[0] == idents[1] and len(idents[0]) == 2
+
+
+def test_a_chunk_that_splits_again_runs_its_own_chunks_in_its_thread() -> None:
+    """`over_chunks` called from a chunk a helper runs does not wait on the pool (whose
+    threads may all be busy with the outer chunks): its chunks run in that thread."""
+    inner: dict[int, set[int]] = {}
+    lock = threading.Lock()
+
+    def outer(s: int) -> None:
+        mine: set[int] = set()
+
+        def one(_: int) -> None:
+            with lock:
+                mine.add(threading.get_ident())
+
+        over_chunks(8, 1, 4, one)
+        with lock:
+            inner[s] = mine
+
+    over_chunks(4, 1, 4, outer)
+    assert sorted(inner) == [0, 1, 2, 3]
+    helpers = {s: ids for s, ids in inner.items() if threading.get_ident() not in ids}
+    assert helpers and all(len(ids) == 1 for ids in helpers.values())
+
+
+def test_an_error_in_a_chunk_is_raised_once_every_chunk_has_stopped() -> None:
+    done: list[int] = []
+    lock = threading.Lock()
+
+    def one(s: int) -> None:
+        if s == 5:
+            raise ValueError("chunk 5")
+        with lock:
+            done.append(s)
+
+    with pytest.raises(ValueError, match="chunk 5"):
+        over_chunks(8, 1, 2, one)
+    settled = list(done)
+    assert len(settled) >= 4  # the other thread's run finished; nothing runs after the raise
+    threading.Event().wait(0.05)
+    assert done == settled
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="os.fork is POSIX's")
+def test_a_forked_child_starts_its_own_helpers() -> None:
+    """A child forked after the helpers started has none of its parent's threads: its chunks
+    still run (the pool it inherited would wait forever)."""
+    over_chunks(4, 1, 2, lambda s: None)  # (the parent's helpers started)
+    pid = os.fork()
+    if pid == 0:  # the child: its chunks, on two threads, then out
+        seen: list[int] = []
+        over_chunks(4, 1, 2, seen.append)
+        os._exit(0 if sorted(seen) == [0, 1, 2, 3] else 1)
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline:
+        done, status = os.waitpid(pid, os.WNOHANG)
+        if done:
+            assert os.waitstatus_to_exitcode(status) == 0
+            return
+        time.sleep(0.01)
+    os.kill(pid, 9)
+    os.waitpid(pid, 0)
+    pytest.fail("the forked child's chunks did not finish in 30 s")

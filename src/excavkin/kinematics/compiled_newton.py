@@ -23,6 +23,7 @@ the reference: tests hold the two to 1e-12 and to the same statuses.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 
 import numpy as np
@@ -314,9 +315,31 @@ def run_positions(kernel: Kernel, plan: SolvePlan, c: Chunk) -> None:
         Its ``x``, ``status`` and ``failed`` are written.
     """
     n = c.status.shape[0]
-    k, stride = compiled_plan.table(compiled_plan.constants(plan), n)
+    k, stride = _table(plan, n)
     q = np.broadcast_to(c.q, (c.q.shape[0], n))
     kernel(q, k, stride, c.x, c.status, c.failed, c.close_tol, c.singular_tol, plan.scale)
+
+
+def _table(plan: SolvePlan, n: int) -> tuple[F, int]:
+    """`compiled.table` of the plan's constants for ``n`` samples; a table of one column
+    (every constant one number) made once for a plan (a continuation's passes ask hundreds
+    of times, ≈ 30 µs each)."""
+    with _lock:
+        kept = _tables.get(id(plan))
+    if kept is not None and kept[0] is plan:
+        return kept[1], 0
+    k, stride = compiled_plan.table(compiled_plan.constants(plan), n)
+    if stride == 0:
+        with _lock:
+            if len(_tables) >= 16:
+                _tables.clear()
+            _tables[id(plan)] = (plan, k)  # (the plan kept, so that its id is not another's)
+    return k, stride
+
+
+#: `_table`'s tables of one column, by plan
+_tables: dict[int, tuple[SolvePlan, F]] = {}
+_lock = threading.Lock()
 
 
 def run_rates(

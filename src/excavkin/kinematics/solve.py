@@ -1270,18 +1270,30 @@ def _continue_along_sweep(
     idx[valid] = _behind_each(solved, valid.size, k0)
 
     # only the groups' points start from there: every other point is solved in the pass
-    pts = np.array(sorted({p for _, st in of_kind(plan.steps, NewtonGroup) for p in st.points}))
-    at = at[pts]
+    pts = sorted({p for _, st in of_kind(plan.steps, NewtonGroup) for p in st.points})
+    at = np.ascontiguousarray(at[pts])  # (each point's rows read in turn, below)
+
+    at_samples = _taker(plan)
 
     def one(s: int) -> None:
         part = slice(s, min(s + chunk, q.shape[1]))
         c = _positions_only(full, part, q[:, part])
-        c.x[pts] = at[:, :, idx[part]]
+        behind = idx[part]
+        for j, p in enumerate(pts):  # (a fancy index's gather into a view: 3× slower)
+            np.take(at[j], behind, axis=1, out=c.x[p], mode="clip")
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            _positions(take(plan, part), c, kernel)
+            _positions(at_samples(part), c, kernel)
 
     chunk = even(q.shape[1], chunk)  # (a block's samples in chunks of one size)
     over_chunks(q.shape[1], chunk, workers, one)
+
+
+def _taker(plan: SolvePlan) -> Callable[[slice | np.ndarray], SolvePlan]:
+    """``take(plan, ·)``, or the plan itself where no constant is per sample (one design):
+    `take` asks every step, ≈ 30 µs a call, and a continuation takes hundreds of parts."""
+    if compiled_plan.per_sample(plan):
+        return functools.partial(take, plan)
+    return lambda _: plan
 
 
 def _positions(plan: SolvePlan, c: Chunk, kernel: Kernel | None) -> None:
@@ -1365,13 +1377,14 @@ def _from_solved(
     """The positions of ``samples``, each solved from its column of ``start`` (the solution
     of a sample behind it), by chunks; the samples' statuses are left as they are."""
     out = np.empty_like(start)
+    at_samples = _taker(plan)
 
     def one(s: int) -> None:
         part = slice(s, min(s + chunk, samples.size))
         c = _positions_only(full, samples[part], _at(full.q, samples[part]))
         c.x[:] = start[:, :, part]
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            _positions(take(plan, samples[part]), c, kernel)
+            _positions(at_samples(samples[part]), c, kernel)
         out[:, :, part] = c.x
 
     over_chunks(samples.size, chunk, workers, one)
@@ -1391,6 +1404,7 @@ def _climb(
     filled in from ``at[:, :, 0]``."""
     ahead = list(range(1, 1 + n_ahead))
     behind = list(range(1 + n_ahead, len(rungs)))
+    at_samples = _taker(plan)
     for r in range(max(len(ahead), len(behind))):
         here = [side[r] for side in (ahead, behind) if r < len(side)]
         prev = [side[r - 1] if r else 0 for side in (ahead, behind) if r < len(side)]
@@ -1398,7 +1412,7 @@ def _climb(
         c = _positions_only(full, samples, _at(full.q, samples))
         c.x[:] = at[:, :, prev]
         c.status[:] = 0
-        _positions(take(plan, samples), c, kernel)
+        _positions(at_samples(samples), c, kernel)
         at[:, :, here] = c.x
 
 
@@ -1423,6 +1437,7 @@ def _continue_from_sketch(
             if kind == "angle":
                 delta[i] -= 2 * np.pi * np.sign(delta[i])
     stages = int(min(max(np.ceil(np.nanmax(np.abs(delta) / steps)), 1), 400))
+    at_samples = _taker(plan)
 
     def one(s: int) -> None:
         part = slice(s, min(s + chunk, samples.size))
@@ -1431,7 +1446,7 @@ def _continue_from_sketch(
         c.x[:] = assembly.positions[:, :, None]
         c.status[:] = 0
         c.failed[:] = -1
-        here = take(plan, these)
+        here = at_samples(these)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             for k in range(1, stages + 1):
                 c.q = q0 + delta[:, part] * (k / stages)

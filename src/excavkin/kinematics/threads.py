@@ -8,6 +8,9 @@ dealt out in turn, every thread wrote into the same pages at once (a huge page i
 chunks of a row), and the threads queued on each page's fault; with a run each, a page is
 first touched, and faulted in, by the one thread that writes it, and the threads fault their
 pages side by side.
+
+The caller solves the first run itself; the others' runs go to helper threads of one pool,
+started once for the process (and anew in a forked child), not for every call.
 """
 
 from __future__ import annotations
@@ -16,16 +19,18 @@ import os
 import threading
 from collections import deque
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 
 
 def over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], None]) -> None:
     """``one(start)`` for every chunk of ``chunk`` samples of ``n``, on ``workers`` threads
-    (default: one per core; one chunk or one worker: in this thread, in order). Each thread
-    solves a run of consecutive chunks, then helps the others with theirs (`runs`)."""
+    (default: one per core; one chunk or one worker: in this thread, in order): this thread
+    and helpers from a pool started once (`_shared`). Each thread solves a run of
+    consecutive chunks, then helps the others with theirs (`runs`). Called from a chunk
+    that a helper runs, it runs in that thread alone."""
     starts = range(0, n, chunk)
     threads = min(workers or os.cpu_count() or 1, len(starts))
-    if threads <= 1:
+    if threads <= 1 or getattr(_inside, "here", False):
         for s in starts:
             one(s)
         return
@@ -43,8 +48,48 @@ def over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], No
         while (s := next_start(t)) is not None:
             one(s)
 
-    with ThreadPoolExecutor(threads) as pool:
-        list(pool.map(work, range(threads)))
+    def helper(t: int) -> None:
+        _inside.here = True
+        try:
+            work(t)
+        finally:
+            _inside.here = False
+
+    pool = _shared(threads)
+    helpers = [pool.submit(helper, t) for t in range(1, threads)]
+    try:
+        work(0)  # (this thread takes the first run: it would wait idle otherwise)
+    finally:
+        wait(helpers)  # (no chunk left running when this returns, or raises)
+    for h in helpers:
+        h.result()
+
+
+def _shared(threads: int) -> ThreadPoolExecutor:
+    """The pool of helper threads every `over_chunks` shares, at least ``threads - 1`` of
+    them: started once (a pool started and joined for each call cost ≈ 160 µs, a tenth of
+    a 10⁴-sample solve, and a continuation calls it dozens of times)."""
+    global _pool, _pool_size
+    with _pool_lock:
+        if _pool is None or _pool_size < threads - 1:
+            _pool_size = max(threads - 1, (os.cpu_count() or 1) - 1, 1)
+            _pool = ThreadPoolExecutor(_pool_size, thread_name_prefix="excavkin-chunks")
+        return _pool
+
+
+def _forget_pool() -> None:
+    """A forked child has none of its parent's threads: its pool starts anew."""
+    global _pool, _pool_lock
+    _pool, _pool_lock = None, threading.Lock()
+
+
+_pool: ThreadPoolExecutor | None = None
+_pool_size = 0
+_pool_lock = threading.Lock()
+#: whether this thread is one of the pool's, running chunks (its chunks' own `over_chunks`
+#: then runs in it alone: waiting on the pool from inside it could wait on itself)
+_inside = threading.local()
+os.register_at_fork(after_in_child=_forget_pool)
 
 
 def even(n: int, chunk: int) -> int:
