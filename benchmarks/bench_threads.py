@@ -96,8 +96,8 @@ def streamed(n: int, repeat: int) -> None:
         print(f"  {label:10s}: {n / min(times) / 1e6:6.2f}; "
               f"{n / float(np.median(times)) / 1e6:6.2f} M samples/s")  # fmt: skip
     ratio = min(got["before"]) / min(got["as shipped"])
-    shipped, before = got.values()
-    per_round = float(np.median([b / a for a, b in zip(shipped, before, strict=True)]))
+    times_shipped, times_before = got.values()
+    per_round = float(np.median([b / a for a, b in zip(times_shipped, times_before, strict=True)]))
     print(f"  before / as shipped: {ratio:.2f}×; {per_round:.2f}× (median)")
 
 
