@@ -192,9 +192,9 @@ _BY_DESIGN = [
 
 #: passes from which a kernel is split into a kernel for each (`_split`), fewer staying one
 #: function: split, its compile grows about linearly, but it runs several times slower (a
-#: 34-point chain's kernel cut into 4 functions 2.5 µs a sample, as one 0.4 µs, NumPy 0.86 µs;
-#: the passes' scratch is an argument, which the compiler cannot prove apart from the other
-#: arrays), so that a plan of up to about 100 points (3 passes) keeps its one function
+#: 34-point chain's kernel cut into 4 functions 2.5 µs a sample, as one 0.4 µs, NumPy 0.86 µs:
+#: the passes' loops are not vectorised — not for their scratch's aliasing, docs/design.md),
+#: so that a plan of up to about 100 points (3 passes) keeps its one function
 SPLIT_PASSES = 4
 
 #: a split kernel's scratch, at most (bytes): its passes run over this many blocks of a chunk
