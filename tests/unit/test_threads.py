@@ -88,7 +88,12 @@ def test_the_helper_threads_are_started_once_and_shared() -> None:
         lock = threading.Lock()
         gate = threading.Barrier(2, timeout=30)
 
-        def one(s: int, seen: set[int] = seen, lock: threading.Lock = lock) -> None:
+        def one(
+            s: int,
+            seen: set[int] = seen,
+            lock: threading.Lock = lock,
+            gate: threading.Barrier = gate,
+        ) -> None:
             gate.wait()  # (both threads run a chunk at once: two threads, surely)
             with lock:
                 seen.add(threading.get_ident())
