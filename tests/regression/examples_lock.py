@@ -64,13 +64,16 @@ def example_tables() -> dict[str, dict[str, object]]:
             continue
         mech = excavkin.load(path)
         values, rates = sweep(mech)
-        result = mech.solve(values, rates, workers=1)
+        # the reference path, whatever kernels this machine has compiled: a compiled path
+        # equals it to 1e-12 of a column's scale (tests/property, tests/crossmethod), where a
+        # column of round-off alone (a locked rate of 1e-17) has no scale to hold it to
+        result = mech.solve(values, rates, workers=1, backend="numpy")
         entry: dict[str, object] = {
             "plan": hashlib.sha256(mech.plan.describe().encode()).hexdigest(),
             "kinematics": _table(result.to_frame()),
         }
         try:  # the model's own loads and gravity, or inertia alone
-            forces = mech.forces(result)
+            forces = mech.forces(result, backend="numpy")
         except excavkin.ModelError:  # statically indeterminate: no forces to lock
             pass
         else:
