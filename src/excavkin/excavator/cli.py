@@ -41,10 +41,15 @@ def _machine(path: str) -> Machine:
 
 
 def _save_png(fig, path: str, force: bool) -> None:  # type: ignore[no-untyped-def]
+    import matplotlib.pyplot as plt
+
     from excavkin.outputs.tables import check_target, write_atomic
 
     target = check_target(path, force=force, suffixes=(".png", ".svg", ".pdf"))
-    write_atomic(target, lambda tmp: fig.savefig(tmp, dpi=100, format=target.suffix[1:]))
+    try:
+        write_atomic(target, lambda tmp: fig.savefig(tmp, dpi=100, format=target.suffix[1:]))
+    finally:
+        plt.close(fig)  # (a command's figures are its own: none left open in the process)
     click.echo(f"wrote {target}")
 
 

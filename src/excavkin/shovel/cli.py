@@ -10,6 +10,7 @@ and writes: the result's ``summary()`` on the terminal, its ``to_frame()`` to a 
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
@@ -62,9 +63,14 @@ def _write(result: Any, output: str | None, plot: str | None, force: bool, draw:
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
+        from excavkin.io.files import write_atomic
+
         handle = draw()
-        handle.figure.savefig(plot, dpi=120)
-        plt.close(handle.figure)
+        fig, kind = handle.figure, Path(plot).suffix[1:].lower()
+        try:  # (its target checked before the work, `_check`): written whole or not at all
+            write_atomic(plot, lambda tmp: fig.savefig(tmp, dpi=120, format=kind))
+        finally:
+            plt.close(fig)
         click.echo(f"wrote {plot}")
 
 

@@ -109,7 +109,12 @@ def report_optimum(best: Optimum, out: str | None, plot: str | None, force: bool
         fig = best.plot().get_figure(root=True)
         assert fig is not None
         fig.tight_layout()
-        write_atomic(plot, lambda tmp: fig.savefig(tmp, dpi=110, format=Path(plot).suffix[1:]))
+        import matplotlib.pyplot as plt
+
+        try:
+            write_atomic(plot, lambda tmp: fig.savefig(tmp, dpi=110, format=Path(plot).suffix[1:]))
+        finally:
+            plt.close(fig)
         click.echo(f"wrote {plot}")
 
 

@@ -181,7 +181,14 @@ def command(
         fig = plot_bands(bands, shown[0], x, x_label=label).ax.get_figure(root=True)
         assert fig is not None
         fig.tight_layout()
-        write_atomic(figure, lambda tmp: fig.savefig(tmp, dpi=110, format=Path(figure).suffix[1:]))
+        import matplotlib.pyplot as plt
+
+        try:
+            write_atomic(
+                figure, lambda tmp: fig.savefig(tmp, dpi=110, format=Path(figure).suffix[1:])
+            )
+        finally:
+            plt.close(fig)
         click.echo(f"wrote {figure}")
 
 
