@@ -118,9 +118,13 @@ def vectorised(text: str, per_sample: bool, by_design: bool = False, keep: bool 
     kinds = f"    KIND_ = np.array({_kinds(writes, len(r.rows))!r}, dtype=np.int64)"
     if len(passes) >= SPLIT_PASSES:  # a kernel of its own for each pass, one after another
         study = kinds if keep else None
+        # each later pass copies the inputs into their rows again (the same values): a pass's
+        # loop is vectorised only behind a loop that stores into the scratch (`_split`)
+        again = _copy("q", reads["q"], into_scratch=True) if "q" in reads else []
         out += _split(
-            head, passes, first, last, hoisted, n_rows, spilled, per_sample, study, by_design
-        )
+            head, passes, (first, again), last, hoisted, n_rows, spilled, per_sample, study,
+            by_design,
+        )  # fmt: skip
         return "\n".join(_own_indices(out)) + "\n"
     out += [
         head,
@@ -191,10 +195,10 @@ _BY_DESIGN = [
 ]
 
 #: passes from which a kernel is split into a kernel for each (`_split`), fewer staying one
-#: function: split, its compile grows about linearly, but it runs several times slower (a
-#: 34-point chain's kernel cut into 4 functions 2.5 µs a sample, as one 0.4 µs, NumPy 0.86 µs:
-#: the passes' loops are not vectorised — not for their scratch's aliasing, docs/design.md),
-#: so that a plan of up to about 100 points (3 passes) keeps its one function
+#: function: split, its compile grows about linearly, but it runs slower (a 24-point chain's
+#: kernel cut into 5 functions 0.54 µs a sample, as one 0.35 µs; the 300-point chain 17 µs,
+#: NumPy 7 µs; docs/design.md), so that a plan of up to about 100 points (3 passes) keeps its
+#: one function
 SPLIT_PASSES = 4
 
 #: a split kernel's scratch, at most (bytes): its passes run over this many blocks of a chunk
@@ -206,7 +210,7 @@ SPLIT_SCRATCH = 32 << 20
 def _split(
     head: str,
     passes: list[list[str]],
-    first: list[str],
+    copies: tuple[list[str], list[str]],
     last: list[str],
     hoisted: list[str],
     n_rows: int,
@@ -219,8 +223,12 @@ def _split(
     one by one, and a Python ``kernel`` (the whole kernel's arguments) that runs them one
     after another over a few blocks of the chunk at a time: each block's scratch rows are a
     row of ``S2_`` (``SI2_``, ``SL2_``: the carried integers and booleans), kept from one pass
-    to the next. The first pass copies the block's inputs into its rows, the last copies its
-    outputs out (and, for a kernel that keeps rows, raises the tops: ``study`` is its rows'
+    to the next. The first pass copies the block's inputs into its rows (``copies``: those
+    copies, and the inputs' alone), each later one copies the inputs again, the same values
+    (LLVM vectorises a pass's loop over the block only behind a loop that stores into the
+    scratch: without it a 24-point chain's passes had 129–395 packed instructions each, with
+    it 588–2,010, and ran 2× faster), the last copies its outputs out
+    (and, for a kernel that keeps rows, raises the tops: ``study`` is its rows'
     kinds' line, None for a full solve's kernel; ``by_design``: a study's, each sample's
     design found in the first pass). Numba compiles each pass's loop alone
     (called from Python, no pass is inlined into another): its compile time grows with the
@@ -237,8 +245,9 @@ def _split(
     per = max(8 * sum(rows.values()) * WIDTH, 1)
     blocks = max(1, min(64, SPLIT_SCRATCH // per))
     out = [types.rstrip("\n"), "", f"ROWS_ = {n_rows}", f"BLOCKS_ = {blocks}"]
+    first, again = copies
     for k, lines in enumerate(passes):
-        body = [*(first if k == 0 else []), *lines, *(last if k == len(passes) - 1 else [])]
+        body = [*(first if k == 0 else again), *lines, *(last if k == len(passes) - 1 else [])]
         used = set(re.findall(r"\bK_\d+\b", "\n".join(body)))
         prologue = [h for h in hoisted if h.split(" = ")[0].strip() in used]
         if by_design and k == 0:
