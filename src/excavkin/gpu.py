@@ -25,6 +25,8 @@ from typing import Any
 
 import numpy as np
 
+from excavkin.kinematics.one_at_a_time import one_at_a_time
+
 __all__ = ["THREADS", "DeviceKernel", "device_source", "why_not"]
 
 #: threads per block
@@ -115,6 +117,13 @@ def device_source(text: str, by_design: bool = False) -> str:
     return out[: loop.start()] + guard + out[loop.end() :]
 
 
+@one_at_a_time
+def _kernel_of(text: str) -> ast.FunctionDef:
+    """The ``kernel`` function of a generated source, parsed."""
+    tree = ast.parse(text)
+    return next(f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel")
+
+
 class DeviceKernel:
     """A device kernel called as its CPU kernel is: with host arrays.
 
@@ -128,8 +137,7 @@ class DeviceKernel:
     """
 
     def __init__(self, kernel: Any, text: str) -> None:
-        tree = ast.parse(text)
-        fn = next(f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "kernel")
+        fn = _kernel_of(text)
         self.kernel = kernel
         self.params = [a.arg for a in fn.args.args]
         written: set[str] = set()

@@ -32,6 +32,7 @@ from excavkin.arrays import FloatArray as F
 from excavkin.kinematics import compiled as compiled_plan
 from excavkin.kinematics import fast_atan2
 from excavkin.kinematics.dual import Dual, seed
+from excavkin.kinematics.one_at_a_time import one_at_a_time
 from excavkin.kinematics.threads import over_chunks
 from excavkin.structure.design import take, vary
 from excavkin.structure.plan import SolvePlan
@@ -267,6 +268,7 @@ def source(plan: SolvePlan, keep: Keep | None = None) -> str:
 
 
 @functools.lru_cache(maxsize=64)
+@one_at_a_time
 def _source(text: str, inputs: int, frozen: tuple[tuple[str, tuple[Any, ...]], ...] | None) -> str:
     """`source` from the compiled plan's source (the same text: the same kernel)."""
     keep = None if frozen is None else {k: set(v) for k, v in frozen}

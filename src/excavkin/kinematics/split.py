@@ -22,6 +22,7 @@ import ast
 import functools
 import re
 
+from excavkin.kinematics.one_at_a_time import one_at_a_time
 from excavkin.kinematics.vectorise import value_types
 
 __all__ = ["PASS", "SCRATCH", "split", "sunk"]
@@ -39,6 +40,7 @@ _NUMBA = "numba.float64[:, ::1], numba.int64[:, ::1], numba.boolean[:, ::1]"
 
 
 @functools.lru_cache(maxsize=16)
+@one_at_a_time
 def split(text: str) -> str:
     """The generated source ``text`` as kernels of at most `PASS` statements each, run one
     after another by a Python ``kernel`` of the same arguments; ``text`` itself where its loop

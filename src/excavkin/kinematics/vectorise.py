@@ -27,6 +27,8 @@ import hashlib
 import re
 from pathlib import Path
 
+from excavkin.kinematics.one_at_a_time import one_at_a_time
+
 #: samples a block: its scratch (a few hundred rows at most) stays in the core's L2 cache
 WIDTH = 256
 
@@ -59,6 +61,7 @@ def kernel(q, qd, qdd, K, ks, x, v, a, trans, body, element, status, failed, clo
 
 
 @functools.lru_cache(maxsize=64)
+@one_at_a_time
 def vectorised(text: str, per_sample: bool, by_design: bool = False, keep: bool = False) -> str:
     """The compiled plan's source ``text`` (its loop over samples) rewritten over blocks of
     `WIDTH` samples in a contiguous scratch, branch-free. The kernel's inputs (``q``,
@@ -538,6 +541,7 @@ def _tops(status: int, near: int, n_rows: int) -> list[str]:
 
 
 @functools.lru_cache(maxsize=16)
+@one_at_a_time
 def written_rows(text: str) -> tuple[dict[tuple[str, tuple[int, ...]], int], int]:
     """A kernel's rows (`vectorised` ``by_design``): each written array element's scratch
     row, by the array's name and its indices before the sample's (``("x", (3, 0))``), and
