@@ -26,8 +26,9 @@ def over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], No
     """``one(start)`` for every chunk of ``chunk`` samples of ``n``, on ``workers`` threads
     (default: one per core; one chunk or one worker: in this thread, in order): this thread
     and helpers from a pool started once (`_shared`). Each thread solves a run of
-    consecutive chunks, then helps the others with theirs (`runs`). Called from a chunk
-    that a helper runs, it runs in that thread alone."""
+    consecutive chunks, then helps the others with theirs (`runs`). Called from within a
+    chunk, it runs in that chunk's thread alone (the pool's threads may all be busy with
+    the outer chunks: waiting on them would idle this one)."""
     starts = range(0, n, chunk)
     threads = min(workers or os.cpu_count() or 1, len(starts))
     if threads <= 1 or getattr(_inside, "here", False):
@@ -48,17 +49,18 @@ def over_chunks(n: int, chunk: int, workers: int | None, one: Callable[[int], No
         while (s := next_start(t)) is not None:
             one(s)
 
-    def helper(t: int) -> None:
+    def inside(t: int) -> None:  # a chunk's own `over_chunks` runs in its thread
+        outer = getattr(_inside, "here", False)
         _inside.here = True
         try:
             work(t)
         finally:
-            _inside.here = False
+            _inside.here = outer
 
     pool = _shared(threads)
-    helpers = [pool.submit(helper, t) for t in range(1, threads)]
+    helpers = [pool.submit(inside, t) for t in range(1, threads)]
     try:
-        work(0)  # (this thread takes the first run: it would wait idle otherwise)
+        inside(0)  # (this thread takes the first run: it would wait idle otherwise)
     finally:
         wait(helpers)  # (no chunk left running when this returns, or raises)
     for h in helpers:
@@ -86,8 +88,8 @@ def _forget_pool() -> None:
 _pool: ThreadPoolExecutor | None = None
 _pool_size = 0
 _pool_lock = threading.Lock()
-#: whether this thread is one of the pool's, running chunks (its chunks' own `over_chunks`
-#: then runs in it alone: waiting on the pool from inside it could wait on itself)
+#: whether this thread is running a chunk (a chunk's own `over_chunks` then runs in it
+#: alone: waiting on the pool from inside a chunk could wait on the outer chunks, or itself)
 _inside = threading.local()
 os.register_at_fork(after_in_child=_forget_pool)
 
