@@ -170,7 +170,7 @@ def job(
 def split(text: str) -> bool:
     """Whether a generated kernel is split into a kernel for each pass
     (`excavkin.kinematics.vectorise.SPLIT_PASSES`): a large plan's, which compiles in a time
-    that grows with its length but runs slower than NumPy (a 300-point chain 17 against 7 µs a
+    that grows with its length but runs slower than NumPy (a 300-point chain 16 against 7 µs a
     sample), so that ``backend="auto"`` solves it in NumPy.
 
     Parameters

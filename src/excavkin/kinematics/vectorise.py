@@ -199,15 +199,17 @@ _BY_DESIGN = [
 
 #: passes from which a kernel is split into a kernel for each (`_split`), fewer staying one
 #: function: split, its compile grows about linearly, but it runs slower (a 24-point chain's
-#: kernel cut into 5 functions 0.54 µs a sample, as one 0.35 µs; the 300-point chain 17 µs,
+#: kernel cut into 5 functions 0.54 µs a sample, as one 0.35 µs; the 300-point chain 16 µs,
 #: NumPy 7 µs; docs/design.md), so that a plan of up to about 100 points (3 passes) keeps its
 #: one function
 SPLIT_PASSES = 4
 
 #: a split kernel's scratch, at most (bytes): its passes run over this many blocks of a chunk
 #: at a time, each block's rows in a row of it, so that the values carried from pass to pass
-#: stay in memory between the calls
-SPLIT_SCRATCH = 32 << 20
+#: stay in memory between the calls; a few MB, so that two threads' stay in the last-level
+#: cache (the 300-point chain, a block's rows 7 MB: at 32 MB 17.2 µs a sample, at 8 MB, one
+#: block a call, 15.6 µs; its dispatch, a call a pass and block, ≈ 6 % of its time)
+SPLIT_SCRATCH = 8 << 20
 
 
 def _split(
