@@ -35,6 +35,7 @@ from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.kinematics.vectorise import vectorised
 from excavkin.step_kinds import Dist, kind_of
 from excavkin.structure.plan import SolvePlan
+from excavkin.structure.plan_memo import PlanMemo
 
 #: a plan of more points is not compiled unasked: numba's compile takes about a second a point
 #: (a kernel of more than `excavkin.kinematics.vectorise.PASS` statements is compiled in
@@ -114,10 +115,9 @@ def unsupported(plan: SolvePlan) -> str | None:
     return None
 
 
-#: the last kernel sources made, by plan of one design (its id, and the plan itself so that an
-#: id reused by another plan is not taken for it): a solve asks twice (is it cached? then run
-#: it), and a mechanism solves its one plan again and again
-_made: dict[tuple[int, bool, bool, bool], tuple[SolvePlan, str]] = {}
+#: the last kernel sources made, by plan of one design: a solve asks twice (is it cached? then
+#: run it), and a mechanism solves its one plan again and again
+_made: PlanMemo[str] = PlanMemo()
 
 
 def kernel_source(
@@ -130,15 +130,13 @@ def kernel_source(
     has a column per design of a study, each design's poses one after another (`run_designs`).
     ``keep``: `run_designs`' calling convention (the rows kept, the far samples' tops) with
     the constants as ``per_sample`` reads them (`excavkin.kinematics.vectorise.vectorised`)."""
-    key = (id(plan), per_sample, by_design, keep)
-    made = _made.get(key)
-    if made is not None and made[0] is plan:
-        return made[1]
+    key = (per_sample, by_design, keep)
+    made = _made.get(plan, key)
+    if made is not None:
+        return made
     text = vectorised(source(plan, write_at_rest=False), per_sample, by_design, keep)
     if not any(np.ndim(v) for v in constants(plan)):  # (a family's plan holds its arrays)
-        if len(_made) >= 16:
-            _made.clear()
-        _made[key] = (plan, text)
+        _made.put(plan, text, key)
     return text
 
 

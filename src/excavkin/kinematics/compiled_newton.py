@@ -23,7 +23,6 @@ the reference: tests hold the two to 1e-12 and to the same statuses.
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 
 import numpy as np
@@ -37,6 +36,7 @@ from excavkin.kinematics.kernels import Chunk, Code
 from excavkin.step_kinds import NewtonGroup, kind_of, of_kind
 from excavkin.step_kinds.newton_emit import factor_source
 from excavkin.structure.plan import SolvePlan
+from excavkin.structure.plan_memo import PlanMemo
 
 Kernel = Callable[..., None]
 
@@ -156,9 +156,8 @@ def _function(g: NewtonSource, head: str, body: list[str]) -> str:
     return out + "".join(f"        {line}\n" for line in body)
 
 
-#: the last sources made, by plan (its id, and the plan itself: an id reused is not taken for
-#: it): a solve asks twice (is it cached? then run it)
-_made: dict[int, tuple[SolvePlan, str]] = {}
+#: the last sources made, by plan: a solve asks twice (is it cached? then run it)
+_made: PlanMemo[str] = PlanMemo()
 
 
 def source(plan: SolvePlan) -> str:
@@ -180,9 +179,9 @@ def source(plan: SolvePlan) -> str:
     -------
     str
     """
-    made = _made.get(id(plan))
-    if made is not None and made[0] is plan:
-        return made[1]
+    made = _made.get(plan)
+    if made is not None:
+        return made
     g = NewtonSource("positions")
     for k, st in enumerate(plan.steps):
         kind_of(st).emit(g, st, k)
@@ -205,9 +204,7 @@ def source(plan: SolvePlan) -> str:
     body = [f"chk{m} = 0.0" for m in range(8)] + g.lines
     text += _function(g, _RATES, body) + "\n\nkernel.positions = positions\n"
     if not compiled_plan.per_sample(plan):  # (a family's plan holds its arrays)
-        if len(_made) >= 16:
-            _made.clear()
-        _made[id(plan)] = (plan, text)
+        _made.put(plan, text)
     return text
 
 
@@ -324,22 +321,17 @@ def _table(plan: SolvePlan, n: int) -> tuple[F, int]:
     """`compiled.table` of the plan's constants for ``n`` samples; a table of one column
     (every constant one number) made once for a plan (a continuation's passes ask hundreds
     of times, ≈ 30 µs each)."""
-    with _lock:
-        kept = _tables.get(id(plan))
-    if kept is not None and kept[0] is plan:
-        return kept[1], 0
+    kept = _tables.get(plan)
+    if kept is not None:
+        return kept, 0
     k, stride = compiled_plan.table(compiled_plan.constants(plan), n)
     if stride == 0:
-        with _lock:
-            if len(_tables) >= 16:
-                _tables.clear()
-            _tables[id(plan)] = (plan, k)  # (the plan kept, so that its id is not another's)
+        _tables.put(plan, k)
     return k, stride
 
 
 #: `_table`'s tables of one column, by plan
-_tables: dict[int, tuple[SolvePlan, F]] = {}
-_lock = threading.Lock()
+_tables: PlanMemo[F] = PlanMemo()
 
 
 def run_rates(

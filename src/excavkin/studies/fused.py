@@ -77,6 +77,7 @@ from excavkin.kinematics.solve import (
 from excavkin.kinematics.threads import over_chunks
 from excavkin.kinematics.vectorise import written_rows
 from excavkin.structure.design import take, vary
+from excavkin.structure.plan_memo import PlanMemo
 from excavkin.studies import device, reductions
 from excavkin.studies.metrics import (
     Constraint,
@@ -643,22 +644,16 @@ def _kept(plan: SolvePlan, kernel: _StudyKernel, names: set[str]) -> NDArray[np.
     """The kernel's rows that hold the columns ``names`` (1; the statuses are always
     written): `excavkin.kinematics.selection.kept_rows`, no change points searched. Found
     once for a plan and columns (each chunk of a study asks again)."""
-    key = (id(plan), frozenset(names))  # (a plan has one study kernel, its rows)
-    with _lock:
-        found = _kept_rows.get(key)
-    if found is not None and found[0] is plan:
-        return found[1]
+    key = frozenset(names)  # (a plan has one study kernel, its rows)
+    found = _kept_rows.get(plan, key)
+    if found is not None:
+        return found
     keep = kept_rows(plan, kernel.rows, kernel.n_rows, names, change_points=False)
-    with _lock:
-        if len(_kept_rows) >= 16:
-            _kept_rows.clear()
-        _kept_rows[key] = (plan, keep)
-    return keep
+    return _kept_rows.put(plan, keep, key)
 
 
-#: `_kept`'s rows found, by plan and columns (the plan kept, so that its id is not
-#: another's)
-_kept_rows: dict[tuple[int, frozenset[str]], tuple[SolvePlan, NDArray[np.int8]]] = {}
+#: `_kept`'s rows found, by plan and columns
+_kept_rows: PlanMemo[NDArray[np.int8]] = PlanMemo()
 
 
 def _inputs(
